@@ -1,0 +1,47 @@
+# The two set-up commands of the README, and a few helpers. Everything real lives in CMake.
+JOBS   ?= $(shell nproc)
+BUILD  ?= build/release
+ASAN   ?= build/asan
+SCENE  ?= scenes/cornell.json
+
+.PHONY: deps build build-asan demo test test-release test-asan bench bench-report bench-quick clean
+
+deps:
+	bash scripts/install-deps.sh
+
+build: deps
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD) -j $(JOBS)
+
+build-asan: deps
+	cmake -S . -B $(ASAN) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DFIRSTSHOT_SANITIZE=ON
+	cmake --build $(ASAN) -j $(JOBS)
+
+## The main job: the shipped Cornell box through the whole pipeline, results under out/.
+demo: build
+	bash scripts/demo.sh $(BUILD) $(SCENE)
+
+## Every test, in the Release build and again under ASan+UBSan.
+test: test-release test-asan
+
+test-release: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+test-asan: build-asan
+	cd $(ASAN) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	bash bench/run.sh $(BUILD)
+
+## Speed against error of each method on cornell and many-lights, and the preprocessing accuracy report:
+## CSV, plots and tables under out/bench/, the plots also in docs/figures/ (bench/firstshot_bench.py).
+bench-report: build
+	/usr/bin/python3 bench/firstshot_bench.py --build $(BUILD) --figures docs/figures $(BENCH_ARGS) cornell many-lights
+
+## A one-to-two-minute smoke check of the same harness (results under out/bench/quick/).
+bench-quick: build
+	/usr/bin/python3 bench/firstshot_bench.py --build $(BUILD) --quick $(BENCH_ARGS) cornell many-lights
+
+clean:
+	rm -rf build out

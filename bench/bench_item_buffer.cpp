@@ -1,0 +1,142 @@
+// Item buffers: milliseconds per light sample (all views of a window, rendered and read back) for the
+// GL (OSMesa, EGL) and Embree back ends on a Cornell-like box of ~23k patches.
+//   bench_item_buffer [--benchmark_filter=...]
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "preprocess/embree_item_buffer.h"
+#include "preprocess/gl_item_buffer.h"
+#include "preprocess/window.h"
+
+namespace fs {
+namespace {
+
+/// The Cornell box (REFERENCE.md, metres): five walls and two blocks, subdivided into patches of at
+/// most @p size. (To be replaced by the shipped scene once it exists.)
+PatchMesh cornellPatches(double size) {
+  const double mm = 1e-3;
+  std::vector<std::vector<Vec3d>> quads = {
+      {{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}},                  // floor
+      {{556, 548.8, 0}, {556, 548.8, 559.2}, {0, 548.8, 559.2}, {0, 548.8, 0}},      // ceiling
+      {{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}},    // back
+      {{0, 0, 559.2}, {0, 0, 0}, {0, 548.8, 0}, {0, 548.8, 559.2}},                  // right
+      {{552.8, 0, 0}, {549.6, 0, 559.2}, {556, 548.8, 559.2}, {556, 548.8, 0}},      // left
+  };
+  auto block = [&](const Vec3d (&top)[4]) {  // top face and four sides down to y = 0
+    quads.push_back({top[0], top[1], top[2], top[3]});
+    for (int i = 0; i < 4; ++i) {
+      const Vec3d a = top[i], b = top[(i + 1) % 4];
+      quads.push_back({{a.x, 0, a.z}, {b.x, 0, b.z}, b, a});
+    }
+  };
+  const Vec3d shortTop[4] = {{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}};
+  const Vec3d tallTop[4] = {{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}};
+  block(shortTop);
+  block(tallTop);
+  PatchMesh mesh;
+  std::vector<std::vector<Vec3d>> polys;
+  for (auto& q : quads) {
+    for (Vec3d& v : q) v *= mm;
+    subdividePolygon(q.data(), 4, size, polys);
+  }
+  for (const auto& poly : polys) {
+    Patch p;
+    p.count = static_cast<uint32_t>(poly.size());
+    for (uint32_t i = 0; i < p.count; ++i) p.v[i] = Vec3(poly[i]);
+    computePatchGeometry(p);
+    mesh.patches.push_back(p);
+  }
+  mesh.patchSize = size;
+  return mesh;
+}
+
+struct Fixture {
+  PatchMesh mesh = cornellPatches(0.009);
+  ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
+  std::map<std::string, std::unique_ptr<ItemBufferRenderer>> renderers;
+
+  ItemBufferRenderer* get(const std::string& name) {
+    auto it = renderers.find(name);
+    if (it != renderers.end()) return it->second.get();
+    std::unique_ptr<ItemBufferRenderer> r;
+    try {
+      if (name == "embree") r = std::make_unique<EmbreeItemBuffer>(geometry, geometry.bounds);
+      else r = std::make_unique<GLItemBuffer>(geometry, geometry.bounds, parseGLBackend(name));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s unavailable: %s\n", name.c_str(), e.what());
+    }
+    return (renderers[name] = std::move(r)).get();
+  }
+};
+
+Fixture& fixture() {
+  static Fixture f;
+  return f;
+}
+
+void benchWindow(benchmark::State& state, const std::string& backend, WindowKind kind,
+                 EmbreeRayMode mode = EmbreeRayMode::Packet16) {
+  Fixture& f = fixture();
+  ItemBufferRenderer* r = f.get(backend);
+  if (!r) {
+    state.SkipWithError("back end unavailable");
+    return;
+  }
+  if (auto* e = dynamic_cast<EmbreeItemBuffer*>(r)) e->setRayMode(mode);
+  const int R = static_cast<int>(state.range(0));
+  const Window w = kind == WindowKind::Cube ? makeCubeWindow(R) : makeHemicubeWindow(R);
+  std::vector<View> views;
+  if (kind == WindowKind::Cube)
+    views = placeWindow(w, {0.278, 0.274, 0.28}, Framed(Vec3d(0, 1, 0)));
+  else
+    views = placeWindow(w, {0.278, 0.5483, 0.2795}, Framed(Vec3d(0, -1, 0)), areaLightEyeOffset(f.geometry.bounds));
+  std::vector<uint32_t> ids;
+  size_t seen = 0;
+  for (auto _ : state) {
+    for (const View& v : views) {
+      r->render(v, ids);
+      seen += ids[ids.size() / 2] != kNoPatch;
+    }
+    benchmark::ClobberMemory();
+  }
+  benchmark::DoNotOptimize(seen);
+  state.counters["patches"] = f.mesh.size();
+  state.counters["Mpix/s"] =
+      benchmark::Counter(double(w.pixelCount()) * state.iterations() / 1e6, benchmark::Counter::kIsRate);
+}
+
+void registerAll() {
+  for (const char* backend : {"osmesa", "egl", "embree"})
+    for (auto [kind, kname] : {std::pair{WindowKind::Cube, "cube"}, std::pair{WindowKind::Hemicube, "hemicube"}})
+      benchmark::RegisterBenchmark((std::string(kname) + "/" + backend).c_str(),
+                                   [backend = std::string(backend), kind = kind](benchmark::State& s) {
+                                     benchWindow(s, backend, kind);
+                                   })
+          ->Arg(128)->Arg(256)->Arg(512)->Unit(benchmark::kMillisecond)->UseRealTime();
+  // Embree ray layouts (identical results): which one is fastest here.
+  const std::pair<EmbreeRayMode, const char*> modes[] = {{EmbreeRayMode::Single, "single"},
+                                                        {EmbreeRayMode::Packet8, "packet8"},
+                                                        {EmbreeRayMode::Packet16, "packet16"},
+                                                        {EmbreeRayMode::Stream, "stream1M"}};
+  for (auto [mode, mname] : modes)
+    benchmark::RegisterBenchmark((std::string("cube/embree-") + mname).c_str(),
+                                 [mode = mode](benchmark::State& s) { benchWindow(s, "embree", WindowKind::Cube, mode); })
+        ->Arg(256)->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+
+}  // namespace
+}  // namespace fs
+
+int main(int argc, char** argv) {
+  fs::registerAll();
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  std::printf("mesh: %u patches\n", fs::fixture().mesh.size());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

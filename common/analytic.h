@@ -1,0 +1,57 @@
+#pragma once
+/// @file analytic.h
+/// Closed-form radiometry from ../shared/REFERENCE.md, for the small-light rule and for tests.
+#include <cmath>
+#include <vector>
+
+#include "common/math.h"
+
+namespace fs::analytic {
+
+/// Solid angle of triangle (a, b, c) seen from @p eye (Van Oosterom–Strackee), in [0, 2π].
+inline double solidAngleTriangle(const Vec3d& eye, const Vec3d& a, const Vec3d& b, const Vec3d& c) {
+  const Vec3d r1 = a - eye, r2 = b - eye, r3 = c - eye;
+  const double l1 = glm::length(r1), l2 = glm::length(r2), l3 = glm::length(r3);
+  const double num = std::abs(glm::dot(r1, glm::cross(r2, r3)));
+  const double den = l1 * l2 * l3 + glm::dot(r1, r2) * l3 + glm::dot(r1, r3) * l2 + glm::dot(r2, r3) * l1;
+  return 2.0 * std::atan2(num, den);
+}
+
+/// Solid angle of a convex planar polygon (fan of triangles) seen from @p eye.
+inline double solidAnglePolygon(const Vec3d& eye, const std::vector<Vec3d>& poly) {
+  double sum = 0;
+  for (size_t i = 1; i + 1 < poly.size(); ++i) sum += solidAngleTriangle(eye, poly[0], poly[i], poly[i + 1]);
+  return sum;
+}
+
+/// Point-to-polygon form factor for a Lambertian receiver at @p x with unit normal @p n:
+/// F = (1/2π) Σ γ_i n·(R_i×R_{i+1})/|R_i×R_{i+1}|. The sign convention makes F ≥ 0 for a polygon in
+/// front of the receiver whatever the polygon's winding. Irradiance from a uniform polygon: E = π·L·F.
+inline double pointPolygonFormFactor(const Vec3d& x, const Vec3d& n, const std::vector<Vec3d>& poly) {
+  double sum = 0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    const Vec3d a = glm::normalize(poly[i] - x), b = glm::normalize(poly[(i + 1) % poly.size()] - x);
+    const Vec3d c = glm::cross(a, b);
+    const double len = glm::length(c);
+    if (len <= 0) continue;
+    const double gamma = std::atan2(len, glm::dot(a, b));
+    sum += gamma * glm::dot(n, c / len);
+  }
+  return std::abs(sum) / (2.0 * kPi);
+}
+
+/// Form factor between parallel, directly opposed rectangles a×b at distance c.
+inline double parallelRectanglesFormFactor(double a, double b, double c) {
+  const double X = a / c, Y = b / c;
+  const double X2 = X * X, Y2 = Y * Y;
+  return 2.0 / (kPi * X * Y) *
+         (std::log(std::sqrt((1 + X2) * (1 + Y2) / (1 + X2 + Y2))) + X * std::sqrt(1 + Y2) * std::atan(X / std::sqrt(1 + Y2)) +
+          Y * std::sqrt(1 + X2) * std::atan(Y / std::sqrt(1 + X2)) - X * std::atan(X) - Y * std::atan(Y));
+}
+
+/// Irradiance from an isotropic point light of power @p phi at height @p h, horizontal offset @p x.
+inline double pointLightIrradiance(double phi, double h, double x) {
+  return phi * h / (4.0 * kPi * std::pow(h * h + x * x, 1.5));
+}
+
+}  // namespace fs::analytic

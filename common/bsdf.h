@@ -1,0 +1,170 @@
+#pragma once
+/// @file bsdf.h
+/// BSDFs in the local shading frame (z = normal), Nori / pbrt-v4 style.
+///
+/// Conventions
+/// - wo and wi are unit vectors pointing AWAY from the surface: wo towards the viewer (or the
+///   previous path vertex), wi towards the light (or the next vertex). f(wi, wo) is the BSDF, so
+///   reflected radiance is L_o(wo) = ∫ f(wi, wo) L_i(wi) |cos θ_i| dω_i.
+/// - The caller passes directions in the frame of the geometric normal as stored in the mesh (its
+///   front side is z > 0) and need not flip anything:
+///   * Reflection models (Lambert, stretched Phong, mirror) are two-sided: they depend on |cos θ|
+///     only and are zero unless wi and wo lie on the same side (wi.z·wo.z > 0). Flipping the frame
+///     so that wo.z > 0 (as a renderer may do for two-sided surfaces) is therefore harmless.
+///   * The smooth dielectric reads the side from the sign of wo.z: wo.z > 0 is outside (index 1),
+///     wo.z < 0 inside (index ior). For it the frame must NOT be flipped: use the outward normal.
+/// - A direction with z == 0 (grazing) gets zero BSDF and sample() fails there.
+///
+/// Delta lobes (mirror, dielectric): eval() and pdf() return 0 (a delta cannot be hit by a direction
+/// chosen elsewhere); sample() sets specular = true and pdf = the discrete probability of having
+/// chosen that lobe (1 for the mirror, R or 1−R for the dielectric). That pdf is not a solid-angle
+/// density and must not enter MIS against one.
+#include <cstdint>
+#include <variant>
+
+#include "common/math.h"
+
+namespace fs {
+
+struct MaterialDesc;
+
+/// Which quantity a path carries: radiance (paths from the camera) or importance (paths from the
+/// lights). Only refraction differs: radiance is scaled by 1/η² across an interface.
+enum class TransportMode : uint8_t { Radiance, Importance };
+
+/// Arguments and results of one BSDF query. All directions are in the local shading frame.
+struct BSDFQuery {
+  Vec3 wo{0.0f, 0.0f, 1.0f};  ///< in: unit direction towards the viewer / previous vertex
+  Vec3 wi{0.0f, 0.0f, 1.0f};  ///< in for eval/pdf; out of sample: towards the light / next vertex
+  float pdf = 0.0f;           ///< out of sample: solid-angle density of wi (discrete probability for a delta lobe), 0 on failure
+  bool specular = false;      ///< out of sample: wi was chosen by a delta lobe
+  float eta = 1.0f;           ///< out of sample: relative index η(wi side)/η(wo side); 1 unless refracted
+  TransportMode mode = TransportMode::Radiance;  ///< in
+
+  BSDFQuery() = default;
+  explicit BSDFQuery(const Vec3& wo_, TransportMode mode_ = TransportMode::Radiance) : wo(wo_), mode(mode_) {}
+  BSDFQuery(const Vec3& wi_, const Vec3& wo_, TransportMode mode_ = TransportMode::Radiance)
+      : wo(wo_), wi(wi_), mode(mode_) {}
+};
+
+// Each model below has the same four members:
+//   Color sample(BSDFQuery& q, const Vec2& u) const
+//       Draws wi for q.wo from u ∈ [0,1)², sets q.wi, q.pdf, q.specular, q.eta and returns the
+//       sample weight f(wi,wo)·|cos θ_i| / pdf (for a delta lobe: the lobe's reflectance or
+//       transmittance divided by its selection probability). Returns 0 (and q.pdf = 0) on failure,
+//       e.g. a lobe sample below the horizon; then q.wi is unspecified.
+//   Color eval(const BSDFQuery& q) const  -> f(wi, wo) in 1/sr; 0 for delta lobes.
+//   float pdf(const BSDFQuery& q) const   -> solid-angle density with which sample() draws q.wi
+//                                            given q.wo; 0 for delta lobes.
+//   Color albedo() const                  -> a reflectance-like colour for AOVs (see each model).
+
+/// Lambertian reflector: f = ρ/π (two-sided). Samples cos θ_i/π; the weight is exactly ρ.
+struct LambertBRDF {
+  Color rho{0.5f};  ///< diffuse reflectance ρ ∈ [0,1]³
+  Color sample(BSDFQuery& q, const Vec2& u) const;
+  Color eval(const BSDFQuery& q) const;
+  float pdf(const BSDFQuery& q) const;
+  Color albedo() const { return rho; }
+};
+
+/// Stretched ("max") Phong of Neumann, Neumann & Szirmay-Kalos (1999), the non-diffuse model of the
+/// incoming first-shot paper (which names it and cites it as [14] without printing the formula),
+/// plus a Lambertian part:
+///   f(wi, wo) = ρd/π + ks · max(0, R·V)^n / max(cos θ_i, cos θ_o),
+/// with R·V = reflect(wi)·wo = wi·reflect(wo) (symmetric, so f is reciprocal).
+/// Energy: the glossy directional albedo is a(θ_o) = ks ∫ cos^n ψ · cos θ_i / max(cos θ_i, cos θ_o) dω_i
+/// ≤ ks ∫_{ψ<π/2} cos^n ψ dω = ks · 2π/(n+1), because the cosine ratio is ≤ 1. Hence the lobe
+/// conserves energy for every incidence angle iff ks ≤ (n+1)/(2π) (glossyEnergyBound); the whole
+/// BRDF does when Σ ρd + ks·2π/(n+1) ≤ 1 per channel. Exact values: a(0°) = ks·2π/(n+2),
+/// a(→90°) = ks·π/(n+1).
+/// Sampling: one-sample mixture of cosine sampling (probability pd) and the Phong lobe
+/// (n+1)/(2π)·cos^n ψ around reflect(wo) (probability 1−pd), with pd = mean(ρd)/(mean(ρd) +
+/// mean(ks)·2π/(n+2)); pdf() is the mixture density pd·cos θ_i/π + (1−pd)·(n+1)/(2π)·cos^n ψ,
+/// and lobe samples below the horizon fail (weight 0), so ∫pdf over the hemisphere may be < 1.
+struct StretchedPhongBRDF {
+  Color rhoD{0.0f};  ///< diffuse reflectance ρd
+  Color ks{0.0f};    ///< glossy coefficient (1/sr); energy-conserving when ≤ glossyEnergyBound(n)
+  float n = 1.0f;    ///< Phong exponent ("shine"), ≥ 0; the first-shot paper uses 3
+  float pDiffuse = 1.0f;  ///< probability of sampling the diffuse part (set by the constructor)
+
+  StretchedPhongBRDF() = default;
+  StretchedPhongBRDF(const Color& rhoD_, const Color& ks_, float n_);
+  /// Largest ks for which the glossy lobe alone never reflects more than it receives: (n+1)/(2π).
+  static float glossyEnergyBound(float n) { return (n + 1.0f) * 0.5f * kInvPiF; }
+
+  Color sample(BSDFQuery& q, const Vec2& u) const;
+  Color eval(const BSDFQuery& q) const;
+  float pdf(const BSDFQuery& q) const;
+  /// ρd + ks·2π/(n+2): the total directional albedo at normal incidence.
+  Color albedo() const { return rhoD + ks * (2.0f * kPiF / (n + 2.0f)); }
+};
+
+/// Perfect mirror with tint: reflects wo about the normal, weight = tint (delta lobe, two-sided).
+struct MirrorBRDF {
+  Color tint{1.0f};  ///< reflectance
+  Color sample(BSDFQuery& q, const Vec2& u) const;
+  Color eval(const BSDFQuery&) const { return Color(0.0f); }
+  float pdf(const BSDFQuery&) const { return 0.0f; }
+  Color albedo() const { return tint; }
+};
+
+/// Smooth dielectric interface (outside index 1, inside index ior; the normal points outside).
+/// sample() reflects with probability R = Fresnel(|cos θ_o|) (weight 1, eta = 1) and otherwise
+/// refracts (weight = transmittance · 1/η² in Radiance mode, transmittance in Importance mode,
+/// q.eta = η = η(wi side)/η(wo side): ior when entering, 1/ior when leaving). The 1/η² is the
+/// change of radiance across the interface (L/η² is invariant), so radiance inside glass seen
+/// from outside is divided by ior². Beyond the critical angle (from inside, sin θ_o > 1/ior) R = 1.
+struct DielectricBSDF {
+  float ior = 1.5f;            ///< η_inside/η_outside, > 0
+  Color transmittance{1.0f};   ///< tint applied on each refraction
+  Color sample(BSDFQuery& q, const Vec2& u) const;
+  Color eval(const BSDFQuery&) const { return Color(0.0f); }
+  float pdf(const BSDFQuery&) const { return 0.0f; }
+  Color albedo() const { return transmittance; }
+};
+
+/// A BSDF as a small value type (no heap, ~40 bytes): one of the models above, dispatched by
+/// std::visit. Build one per material once and reuse it for every hit.
+class BSDF {
+ public:
+  using Model = std::variant<LambertBRDF, StretchedPhongBRDF, MirrorBRDF, DielectricBSDF>;
+  BSDF() = default;  ///< a Lambertian with ρ = 0.5 (LambertBRDF's default)
+  template <typename M>
+  BSDF(const M& model) : model_(model) {}  // NOLINT: implicit by design
+
+  /// See the model comments above for the exact contract of each call.
+  Color sample(BSDFQuery& q, const Vec2& u) const {
+    return std::visit([&](const auto& m) { return m.sample(q, u); }, model_);
+  }
+  Color eval(const BSDFQuery& q) const {
+    return std::visit([&](const auto& m) { return m.eval(q); }, model_);
+  }
+  float pdf(const BSDFQuery& q) const {
+    return std::visit([&](const auto& m) { return m.pdf(q); }, model_);
+  }
+  Color albedo() const {
+    return std::visit([](const auto& m) { return m.albedo(); }, model_);
+  }
+  /// True only for a purely Lambertian BSDF (irradiance caching may replace it by E·ρ/π).
+  bool isDiffuse() const { return std::holds_alternative<LambertBRDF>(model_); }
+  /// True if the BSDF consists of delta lobes only (eval and pdf are identically 0).
+  bool hasDelta() const {
+    return std::holds_alternative<MirrorBRDF>(model_) || std::holds_alternative<DielectricBSDF>(model_);
+  }
+  /// True if light can pass through (the frame must not be flipped; see the file comment).
+  bool hasTransmission() const { return std::holds_alternative<DielectricBSDF>(model_); }
+  /// Diffuse reflectance ρd (the Lambertian part), 0 for mirror and dielectric.
+  Color diffuseAlbedo() const;
+
+  const Model& model() const { return model_; }
+
+ private:
+  Model model_;
+};
+
+/// BSDF of a material: Diffuse → Lambert(albedo); Glossy → stretched Phong(albedo, ks = specular,
+/// n = exponent); Mirror → mirror(specular); Dielectric → dielectric(ior, transmittance).
+/// Emission is not part of the BSDF.
+BSDF makeBSDF(const MaterialDesc& material);
+
+}  // namespace fs

@@ -1,0 +1,266 @@
+// The .fsd file: writer and verifying reader (layout in docs/firstshot-format.md).
+#include "common/firstshot.h"
+
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/hash.h"
+
+namespace fs {
+namespace {
+
+constexpr char kMagic[8] = {'F', 'S', 'H', 'O', 'T', 'F', 'S', 'D'};
+constexpr char kEnd[8] = {'F', 'S', 'H', 'O', 'T', 'E', 'N', 'D'};
+constexpr uint32_t kVersion = 1;
+
+/// Appends plain values to a byte buffer (little-endian host assumed, checked at compile time).
+class Out {
+ public:
+  template <typename T>
+  void put(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto* p = reinterpret_cast<const char*>(&v);
+    buf.insert(buf.end(), p, p + sizeof(T));
+  }
+  void str(const std::string& s) {
+    put<uint32_t>(static_cast<uint32_t>(s.size()));
+    buf.insert(buf.end(), s.begin(), s.end());
+  }
+  template <typename T>
+  void array(const std::vector<T>& v) {
+    if (!v.empty()) {
+      const auto* p = reinterpret_cast<const char*>(v.data());
+      buf.insert(buf.end(), p, p + v.size() * sizeof(T));
+    }
+  }
+  /// Starts a tagged section; returns the offset of its length field.
+  size_t begin(const char (&tag)[5]) {
+    buf.insert(buf.end(), tag, tag + 4);
+    put<uint64_t>(0);
+    return buf.size();
+  }
+  void end(size_t start) {
+    const uint64_t len = buf.size() - start;
+    std::memcpy(buf.data() + start - 8, &len, 8);
+  }
+  std::vector<char> buf;
+};
+
+/// Reads plain values with bounds checks; every failure names the file and the section.
+class In {
+ public:
+  In(const std::string& path, const char* data, size_t size) : path_(path), p_(data), end_(data + size) {}
+  template <typename T>
+  T get(const char* what) {
+    T v;
+    need(sizeof(T), what);
+    std::memcpy(&v, p_, sizeof(T));
+    p_ += sizeof(T);
+    return v;
+  }
+  std::string str(const char* what) {
+    const uint32_t n = get<uint32_t>(what);
+    need(n, what);
+    std::string s(p_, n);
+    p_ += n;
+    return s;
+  }
+  template <typename T>
+  void array(std::vector<T>& v, uint64_t count, const char* what) {
+    if (count > uint64_t(end_ - p_) / sizeof(T)) fail(what, "truncated or corrupt: the section is shorter than its count");
+    v.resize(count);
+    if (count) std::memcpy(v.data(), p_, count * sizeof(T));
+    p_ += count * sizeof(T);
+  }
+  /// Enters a tagged section and returns its end.
+  const char* section(const char (&tag)[5]) {
+    need(12, tag);
+    if (std::memcmp(p_, tag, 4) != 0) fail(tag, "section missing or out of order (corrupt file)");
+    p_ += 4;
+    const uint64_t len = get<uint64_t>(tag);
+    need(len, tag);
+    return p_ + len;
+  }
+  void leave(const char* sectionEnd, const char* tag) {
+    if (p_ != sectionEnd) fail(tag, "section length does not match its contents (corrupt file)");
+  }
+  [[noreturn]] void fail(const char* what, const std::string& msg) const { throw InputError(path_, what, msg); }
+
+ private:
+  void need(uint64_t n, const char* what) const {
+    if (n > uint64_t(end_ - p_)) fail(what, "truncated file");
+  }
+  std::string path_;
+  const char* p_;
+  const char* end_;
+};
+
+}  // namespace
+
+uint64_t FirstShotSettings::hash() const {
+  Hasher h;
+  h.add(resolution).add(std::string_view(window)).add(std::string_view(backend));
+  h.add(patchSize).add(lightPatchSize).add(smallLightMaxSolidAngle).add(rotationSeed);
+  h.add(std::string_view(estimator));
+  return h.value();
+}
+
+bool FirstShotTable::replaces(uint32_t l) const {
+  for (uint32_t r : replacedLights)
+    if (r == l) return true;
+  return false;
+}
+
+Color FirstShotTable::irradiance(uint32_t j) const {
+  Color e(0.0f);
+  for (uint64_t k = rowStart[j]; k < rowStart[j + 1]; ++k) e += samples[sampleIndex[k]].emission * factor[k];
+  return e;
+}
+
+void writeFirstShot(const std::string& path, const FirstShotTable& t) {
+  static_assert(std::endian::native == std::endian::little, "the .fsd format is little-endian");
+  if (t.rowStart.size() != size_t(t.mesh.size()) + 1 || t.sampleIndex.size() != t.factor.size())
+    throw std::runtime_error(path + ": inconsistent first-shot table (internal error)");
+  Out o;
+  o.buf.insert(o.buf.end(), kMagic, kMagic + 8);
+  o.put(kVersion);
+  o.put<uint32_t>(0);  // flags
+  o.put(t.sceneHash);
+  o.put(t.settings.hash());
+  o.put(hashPatches(t.mesh));
+  size_t s = o.begin("SETT");
+  o.put(t.settings.resolution);
+  o.str(t.settings.window);
+  o.str(t.settings.backend);
+  o.put(t.settings.patchSize);
+  o.put(t.settings.lightPatchSize);
+  o.put(t.settings.smallLightMaxSolidAngle);
+  o.put(t.settings.rotationSeed);
+  o.str(t.settings.estimator);
+  o.end(s);
+  s = o.begin("PTCH");
+  o.put<uint64_t>(t.mesh.size());
+  o.put(t.mesh.patchSize);
+  for (const Patch& p : t.mesh.patches) {
+    o.put(p.count), o.put(p.material), o.put(p.shape);
+    for (const Vec3& v : p.v) o.put(v);
+    o.put(p.normal), o.put(p.centroid), o.put(p.area);
+  }
+  o.end(s);
+  s = o.begin("LSMP");
+  o.put<uint64_t>(t.samples.size());
+  for (const LightSample& l : t.samples) {
+    o.put(l.kind), o.put(l.light), o.put(l.position), o.put(l.normal), o.put(l.emission), o.put(l.weight);
+  }
+  o.put<uint64_t>(t.replacedLights.size());
+  o.array(t.replacedLights);
+  o.end(s);
+  s = o.begin("CSRR");
+  o.put<uint64_t>(t.factor.size());
+  o.array(t.rowStart);
+  o.array(t.sampleIndex);
+  o.array(t.factor);
+  o.end(s);
+  o.put(Hasher().bytes(o.buf.data(), o.buf.size()).value());
+  o.buf.insert(o.buf.end(), kEnd, kEnd + 8);
+
+  writeAtomically(path, [&](const std::string& tmp) {
+    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
+    if (!f) throw std::runtime_error(path + ": cannot create file");
+    f.write(o.buf.data(), std::streamsize(o.buf.size()));
+    f.close();
+    if (!f) throw std::runtime_error(path + ": write failed (disk full?)");
+  });
+}
+
+FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw InputError(path, "", "cannot open first-shot file");
+  std::vector<char> data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  In in(path, data.data(), data.size());
+  if (data.size() < 8 || std::memcmp(data.data(), kMagic, 8) != 0)
+    in.fail("header", "not a first-shot (.fsd) file: wrong magic");
+  in.get<uint64_t>("header");
+  const uint32_t version = in.get<uint32_t>("header");
+  if (version != kVersion)
+    in.fail("header", "format version " + std::to_string(version) + ", this build reads version " +
+                          std::to_string(kVersion) + ": run firstshot-preprocess again");
+  if (data.size() < 48 + 16 || std::memcmp(data.data() + data.size() - 8, kEnd, 8) != 0)
+    in.fail("trailer", "truncated file (end marker missing)");
+  uint64_t stored;
+  std::memcpy(&stored, data.data() + data.size() - 16, 8);
+  if (Hasher().bytes(data.data(), data.size() - 16).value() != stored)
+    in.fail("trailer", "checksum mismatch: the file is corrupt");
+
+  FirstShotTable t;
+  in.get<uint32_t>("header");  // flags
+  t.sceneHash = in.get<uint64_t>("header");
+  const uint64_t settingsHash = in.get<uint64_t>("header");
+  const uint64_t patchHash = in.get<uint64_t>("header");
+  if (expectedSceneHash != 0 && t.sceneHash != expectedSceneHash) {
+    std::ostringstream msg;
+    msg << "made for a different scene (scene hash " << std::hex << t.sceneHash << ", this scene " << expectedSceneHash
+        << "): run firstshot-preprocess on this scene again";
+    in.fail("header", msg.str());
+  }
+  const char* e = in.section("SETT");
+  t.settings.resolution = in.get<uint32_t>("SETT");
+  t.settings.window = in.str("SETT");
+  t.settings.backend = in.str("SETT");
+  t.settings.patchSize = in.get<double>("SETT");
+  t.settings.lightPatchSize = in.get<double>("SETT");
+  t.settings.smallLightMaxSolidAngle = in.get<double>("SETT");
+  t.settings.rotationSeed = in.get<uint64_t>("SETT");
+  t.settings.estimator = in.str("SETT");
+  in.leave(e, "SETT");
+  if (t.settings.hash() != settingsHash) in.fail("SETT", "settings do not match their hash (corrupt file)");
+
+  e = in.section("PTCH");
+  const uint64_t n = in.get<uint64_t>("PTCH");
+  if (n > std::numeric_limits<uint32_t>::max()) in.fail("PTCH", "patch count above 2^32-1 (corrupt file)");
+  t.mesh.patchSize = in.get<double>("PTCH");
+  constexpr size_t kPatchBytes = 12 + 4 * 12 + 12 + 12 + 8;
+  if (n > uint64_t(e - data.data()) / kPatchBytes) in.fail("PTCH", "truncated or corrupt: fewer patches than counted");
+  t.mesh.patches.resize(n);
+  for (Patch& p : t.mesh.patches) {
+    p.count = in.get<uint32_t>("PTCH"), p.material = in.get<uint32_t>("PTCH"), p.shape = in.get<uint32_t>("PTCH");
+    for (Vec3& v : p.v) v = in.get<Vec3>("PTCH");
+    p.normal = in.get<Vec3>("PTCH"), p.centroid = in.get<Vec3>("PTCH"), p.area = in.get<double>("PTCH");
+    if ((p.count != 3 && p.count != 4) || !(p.area > 0)) in.fail("PTCH", "invalid patch (corrupt file)");
+  }
+  in.leave(e, "PTCH");
+  if (hashPatches(t.mesh) != patchHash) in.fail("PTCH", "patches do not match their hash (corrupt file)");
+
+  e = in.section("LSMP");
+  const uint64_t ns = in.get<uint64_t>("LSMP");
+  if (ns > uint64_t(e - data.data()) / 48) in.fail("LSMP", "truncated or corrupt: fewer light samples than counted");
+  t.samples.resize(ns);
+  for (LightSample& l : t.samples) {
+    l.kind = in.get<LightSampleKind>("LSMP"), l.light = in.get<uint32_t>("LSMP");
+    l.position = in.get<Vec3>("LSMP"), l.normal = in.get<Vec3>("LSMP"), l.emission = in.get<Color>("LSMP");
+    l.weight = in.get<float>("LSMP");
+    if (uint32_t(l.kind) > uint32_t(LightSampleKind::AreaVertex)) in.fail("LSMP", "unknown light sample kind");
+  }
+  in.array(t.replacedLights, in.get<uint64_t>("LSMP"), "LSMP");
+  in.leave(e, "LSMP");
+
+  e = in.section("CSRR");
+  const uint64_t nnz = in.get<uint64_t>("CSRR");
+  in.array(t.rowStart, n + 1, "CSRR");
+  in.array(t.sampleIndex, nnz, "CSRR");
+  in.array(t.factor, nnz, "CSRR");
+  in.leave(e, "CSRR");
+  if (t.rowStart.front() != 0 || t.rowStart.back() != nnz) in.fail("CSRR", "row offsets do not span the factors");
+  for (uint64_t j = 0; j < n; ++j)
+    if (t.rowStart[j] > t.rowStart[j + 1]) in.fail("CSRR", "row offsets decrease (corrupt file)");
+  for (uint64_t k = 0; k < nnz; ++k)
+    if (t.sampleIndex[k] >= ns || !(t.factor[k] >= 0) || !std::isfinite(t.factor[k]))
+      in.fail("CSRR", "factor " + std::to_string(k) + " is invalid (corrupt file)");
+  return t;
+}
+
+}  // namespace fs

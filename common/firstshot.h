@@ -1,0 +1,73 @@
+#pragma once
+/// @file firstshot.h
+/// The first-shot table: the contract between firstshot-preprocess and firstshot-render.
+///
+/// For every patch j and light sample i the factor r_ij is such that the patch-averaged irradiance
+/// that sample i delivers to patch j is E_ij = emission_i · r_ij, and the first-shot radiance
+/// reflected at x on patch j towards ω is  Σ_i emission_i · r_ij · f_r(ω'_i, x, ω),
+/// with ω'_i the direction from x to the sample (for directional lights, against the light's direction).
+/// Units of emission and r_ij by kind (see ../shared/REFERENCE.md and docs/firstshot-format.md):
+///   Point, Spot:  emission = power Φ [W],        r_ij = Σ_p δω_p·I(p)/Φ / A_j      [1/m²]
+///   Directional:  emission = irradiance E⊥ [W/m²], r_ij = Σ_p δA⊥_p / A_j           [1]
+///   AreaVertex:   emission = radiance Le [W/m²sr], r_ij = (S_i/3)/A_j · Σ_p δω_p cosθL [sr]
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/math.h"
+#include "common/patches.h"
+
+namespace fs {
+
+enum class LightSampleKind : uint32_t { Point = 0, Spot = 1, Directional = 2, AreaVertex = 3 };
+
+/// One light sample: a point light, a spot, a directional light, or one vertex of a tessellated area light.
+struct LightSample {
+  LightSampleKind kind = LightSampleKind::Point;
+  uint32_t light = 0;     ///< index into SceneDesc::lights
+  Vec3 position{0.0f};    ///< world position (directional: unused)
+  Vec3 normal{0, -1, 0};  ///< area: light normal; spot: axis; directional: direction the light travels
+  Color emission{0.0f};   ///< Φ, E⊥ or Le by kind (see the file comment)
+  float weight = 1.0f;    ///< area vertex: S_i/3 in m² (already inside r_ij); otherwise 1
+};
+
+/// Preprocess settings that change the factors (hashed into the file).
+struct FirstShotSettings {
+  uint32_t resolution = 256;      ///< R, pixels across a full cube face
+  std::string window = "hemicube";///< hemicube | tetra (area lights)
+  std::string backend = "gl";     ///< gl | embree
+  double patchSize = 0.05;        ///< longest patch edge, m
+  double lightPatchSize = 0.02;   ///< area-light tessellation, m
+  double smallLightMaxSolidAngle = 1.0;
+  std::string estimator = "analytic"; ///< analytic: closed form × visible fraction (preprocess/coverage.h); pixels: Σ pixel weights
+  uint64_t rotationSeed = 0;      ///< 0: windows aligned with the light frame; else a random rotation per sample
+  uint64_t hash() const;
+};
+
+/// The whole table, as read from or written to a .fsd file.
+struct FirstShotTable {
+  uint64_t sceneHash = 0;
+  FirstShotSettings settings;
+  PatchMesh mesh;                       ///< the patches the factors refer to
+  std::vector<LightSample> samples;
+  std::vector<uint32_t> replacedLights; ///< indices into SceneDesc::lights of the small lights
+  /// CSR over patches: the factors of patch j are [rowStart[j], rowStart[j+1]).
+  std::vector<uint64_t> rowStart;       ///< size mesh.size()+1
+  std::vector<uint32_t> sampleIndex;    ///< light sample of each factor
+  std::vector<float> factor;            ///< r_ij
+
+  size_t nonZeros() const { return factor.size(); }
+  /// True if SceneDesc::lights[l] is replaced by this table.
+  bool replaces(uint32_t l) const;
+  /// Patch-averaged irradiance on patch j (Σ_i emission_i r_ij), W/m².
+  Color irradiance(uint32_t j) const;
+};
+
+/// Writes the table atomically (temp file, then rename). @throws std::runtime_error on I/O failure.
+void writeFirstShot(const std::string& path, const FirstShotTable& table);
+
+/// Reads and verifies a table: magic, version, sizes, checksum. If @p expectedSceneHash is non-zero
+/// it must match the file's scene hash. @throws InputError naming the file and the section at fault.
+FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash = 0);
+
+}  // namespace fs

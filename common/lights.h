@@ -1,0 +1,59 @@
+#pragma once
+/// @file lights.h
+/// Emission profiles of the positional lights, shared by the preprocessor and the renderer so that
+/// both stages see exactly the same light.
+///
+/// - Point light: isotropic, intensity I = Φ/(4π) in every direction.
+/// - Spot light: I(θ) = I0 · spotProfile(cos θ), θ the angle to the axis. The profile is 1 inside
+///   the inner half-angle, 0 outside the outer half-angle and a smoothstep in cos θ between them.
+///   Since a smoothstep over [a, b] integrates to (b − a)/2, the total power is
+///   Φ = 2π·I0·[(1 − cos inner) + (cos inner − cos outer)/2], which fixes I0 (spotIntensity0).
+/// - Directional light: irradiance E⊥ on a plane facing it; LightDesc::direction is the direction
+///   the light travels in.
+#include <algorithm>
+#include <cmath>
+
+#include "common/math.h"
+#include "common/scene_desc.h"
+
+namespace fs {
+
+/// Intensity of an isotropic point light, Φ/(4π) in W/sr.
+inline Color pointIntensity(const LightDesc& l) { return l.power * static_cast<float>(0.25 * kInvPi); }
+
+/// Spot profile in [0, 1] for the cosine of the angle between the emitted direction and the axis:
+/// 1 for cosθ ≥ cos(inner), 0 for cosθ ≤ cos(outer), smoothstep in cosθ between.
+/// A hard-edged spot (inner == outer) is a step: 1 for cosθ ≥ cos(inner).
+inline float spotProfile(const LightDesc& l, float cosTheta) {
+  const double cosInner = std::cos(glm::radians(l.innerAngleDeg));
+  const double cosOuter = std::cos(glm::radians(l.outerAngleDeg));
+  const double c = cosTheta;
+  if (c >= cosInner) return 1.0f;
+  if (c <= cosOuter || !(cosInner > cosOuter)) return 0.0f;
+  const double t = (c - cosOuter) / (cosInner - cosOuter);
+  return static_cast<float>(t * t * (3.0 - 2.0 * t));
+}
+
+/// Integral of spotProfile over the sphere of directions, in sr:
+/// 2π·[(1 − cos inner) + (cos inner − cos outer)/2].
+inline double spotProfileIntegral(const LightDesc& l) {
+  const double cosInner = std::cos(glm::radians(l.innerAngleDeg));
+  const double cosOuter = std::cos(glm::radians(l.outerAngleDeg));
+  return 2.0 * kPi * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter));
+}
+
+/// On-axis intensity I0 = Φ / spotProfileIntegral of a spot light in W/sr, so that the total
+/// emitted power is Φ. Zero for a spot of zero solid angle.
+inline Color spotIntensity0(const LightDesc& l) {
+  const double solidAngle = spotProfileIntegral(l);
+  if (!(solidAngle > 0)) return Color(0.0f);
+  return l.power * static_cast<float>(1.0 / solidAngle);
+}
+
+/// Intensity of a spot light in the world direction @p w (unit, pointing away from the light).
+inline Color spotIntensity(const LightDesc& l, const Vec3& w) {
+  const float cosTheta = glm::dot(w, Vec3(l.direction));
+  return spotIntensity0(l) * spotProfile(l, cosTheta);
+}
+
+}  // namespace fs

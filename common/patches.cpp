@@ -1,0 +1,116 @@
+// Splitting surfaces into patches.
+#include "common/patches.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "common/error.h"
+#include "common/hash.h"
+#include "common/scene_shapes.h"
+
+namespace fs {
+
+double PatchMesh::totalArea() const {
+  double sum = 0;
+  for (const auto& p : patches) sum += p.area;
+  return sum;
+}
+
+namespace {
+
+/// Area, normal and centroid of a planar polygon given in double precision.
+void polygonGeometry(Patch& p, const Vec3d* v) {
+  const Vec3d a(v[0]);
+  Vec3d cross(0.0), centroid(0.0);
+  double area = 0;
+  for (uint32_t i = 1; i + 1 < p.count; ++i) {
+    const Vec3d b(v[i]), c(v[i + 1]);
+    const Vec3d n = glm::cross(b - a, c - a);
+    const double ai = 0.5 * glm::length(n);
+    cross += n;
+    area += ai;
+    centroid += ai * (a + b + c) / 3.0;
+  }
+  p.area = area;
+  const double len = glm::length(cross);
+  p.normal = len > 0 ? Vec3(cross / len) : Vec3(0, 0, 1);
+  p.centroid = area > 0 ? Vec3(centroid / area) : Vec3(a);
+}
+
+}  // namespace
+
+void computePatchGeometry(Patch& p) {
+  Vec3d v[4];
+  for (uint32_t i = 0; i < p.count; ++i) v[i] = Vec3d(p.v[i]);
+  polygonGeometry(p, v);
+}
+
+void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std::vector<Vec3d>>& out) {
+  auto cells = [maxEdge](double len) { return std::max(1, static_cast<int>(std::ceil(len / maxEdge * (1 - 1e-12)))); };
+  if (count == 4) {
+    const int n = cells(std::max(glm::length(v[1] - v[0]), glm::length(v[2] - v[3])));
+    const int m = cells(std::max(glm::length(v[3] - v[0]), glm::length(v[2] - v[1])));
+    auto at = [&](int i, int k) {
+      const double s = double(i) / n, t = double(k) / m;
+      return (1 - t) * ((1 - s) * v[0] + s * v[1]) + t * ((1 - s) * v[3] + s * v[2]);
+    };
+    for (int k = 0; k < m; ++k)
+      for (int i = 0; i < n; ++i) out.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1), at(i, k + 1)});
+    return;
+  }
+  const int k = cells(std::max({glm::length(v[1] - v[0]), glm::length(v[2] - v[1]), glm::length(v[0] - v[2])}));
+  auto at = [&](int i, int j) { return v[0] + (double(i) / k) * (v[1] - v[0]) + (double(j) / k) * (v[2] - v[0]); };
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i + j < k; ++i) {
+      out.push_back({at(i, j), at(i + 1, j), at(i, j + 1)});
+      if (i + j + 1 < k) out.push_back({at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+}
+
+PatchMesh buildPatches(const SceneDesc& scene, double patchSize) {
+  PatchMesh mesh;
+  mesh.patchSize = patchSize;
+  std::vector<std::vector<Vec3d>> polys;
+  for (size_t si = 0; si < scene.shapes.size(); ++si) {
+    const ShapeDesc& s = scene.shapes[si];
+    if (scene.materials[s.material].isEmissive()) continue;
+    for (const Face& f : s.faces) {
+      Vec3d v[4];
+      for (int i = 0; i < f.count; ++i) v[i] = s.vertices[f.v[i]];
+      polys.clear();
+      subdividePolygon(v, f.count, patchSize, polys);
+      if (mesh.patches.size() + polys.size() > std::numeric_limits<uint32_t>::max())
+        throw InputError(scene.file, s.name, "more than 2^32-1 patches: raise settings.patch_size");
+      for (const auto& poly : polys) {
+        Patch p;
+        p.count = static_cast<uint32_t>(poly.size());
+        for (size_t i = 0; i < poly.size(); ++i) p.v[i] = Vec3(poly[i]);
+        if (p.count == 3) p.v[3] = p.v[2];
+        p.material = static_cast<uint32_t>(s.material);
+        p.shape = static_cast<uint32_t>(si);
+        polygonGeometry(p, poly.data());  // exact sub-polygon, before rounding to float
+        mesh.patches.push_back(p);
+      }
+    }
+  }
+  return mesh;
+}
+
+double shapeArea(const ShapeDesc& shape) {
+  double a = 0;
+  for (const auto& f : shape.faces) a += shapes::faceArea(shape, f);
+  return a;
+}
+
+uint64_t hashPatches(const PatchMesh& mesh) {
+  Hasher h;
+  h.add<uint64_t>(mesh.patches.size()).add(mesh.patchSize);
+  for (const auto& p : mesh.patches) {
+    h.bytes(p.v, sizeof(p.v)).add(p.count).add(p.material).add(p.shape);
+    h.add(p.normal).add(p.centroid).add(p.area);
+  }
+  return h.value();
+}
+
+}  // namespace fs

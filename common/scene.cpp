@@ -1,0 +1,183 @@
+// SceneDesc: loading by file type, validation, bounds and the content hash.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/hash.h"
+#include "common/mesh_import.h"
+#include "common/scene_desc.h"
+#include "common/scene_shapes.h"
+
+namespace fs {
+
+int SceneDesc::findMaterial(const std::string& name) const {
+  for (size_t i = 0; i < materials.size(); ++i)
+    if (materials[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+void SceneDesc::bounds(Vec3d& lo, Vec3d& hi) const {
+  lo = Vec3d(std::numeric_limits<double>::infinity());
+  hi = -lo;
+  for (const auto& s : shapes)
+    for (const auto& p : s.vertices) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const auto& l : lights)
+    if (l.type == LightType::Point || l.type == LightType::Spot) lo = glm::min(lo, l.position), hi = glm::max(hi, l.position);
+  if (lo.x > hi.x) lo = hi = Vec3d(0.0);
+}
+
+SceneDesc loadScene(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (!std::filesystem::exists(path)) throw InputError(path, "", "no such file");
+  SceneDesc scene;
+  if (ext == ".json") {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, "", "cannot open file");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    scene = parseSceneJson(ss.str(), path);
+  } else if (ext == ".obj" || ext == ".gltf" || ext == ".glb" || ext == ".ply") {
+    scene = importAssetScene(path);
+  } else {
+    throw InputError(path, "", "unknown scene file type \"" + ext + "\" (expected .json, .obj, .gltf, .glb or .ply)");
+  }
+  validateScene(scene);
+  return scene;
+}
+
+namespace {
+
+void validateShape(const SceneDesc& scene, const ShapeDesc& s) {
+  for (size_t i = 0; i < s.vertices.size(); ++i)
+    if (!isFinite(s.vertices[i]))
+      throw InputError(scene.file, s.name, "vertex " + std::to_string(i) + " is not finite (NaN or Inf)");
+  if (scene.materials[s.material].isEmissive()) {
+    double area = 0;
+    for (const Face& f : s.faces)
+      if (f.count >= 3 && f.count <= 4 && f.v[0] < s.vertices.size() && f.v[1] < s.vertices.size() &&
+          f.v[2] < s.vertices.size() && (f.count == 3 || f.v[3] < s.vertices.size()))
+        area += shapes::faceArea(s, f);
+    if (!(area > 0)) throw InputError(scene.file, s.name, "emitter has zero area");
+  }
+  const bool fromFile = !s.sourceFile.empty();
+  for (size_t k = 0; k < s.faces.size(); ++k) {
+    const Face& f = s.faces[k];
+    const std::string what = fromFile ? "triangle " + std::to_string(k) + " of " + s.sourceFile : "face " + std::to_string(k);
+    if (f.count != 3 && f.count != 4) throw InputError(scene.file, s.name, what + " has " + std::to_string(f.count) + " vertices");
+    double longest = 0;
+    for (int i = 0; i < f.count; ++i) {
+      if (f.v[i] >= s.vertices.size()) throw InputError(scene.file, s.name, what + " has a vertex index out of range");
+      longest = std::max(longest, glm::length(s.vertices[f.v[(i + 1) % f.count]] - s.vertices[f.v[i]]));
+    }
+    const double area = shapes::faceArea(s, f);
+    if (!(longest > 0) || !(area > 1e-10 * longest * longest))
+      throw InputError(scene.file, s.name, what + " is degenerate (zero area)");
+  }
+}
+
+void frameCamera(SceneDesc& scene) {
+  Vec3d lo, hi;
+  scene.bounds(lo, hi);
+  CameraDesc& c = scene.camera;
+  const Vec3d centre = 0.5 * (lo + hi);
+  const double radius = std::max(0.5 * glm::length(hi - lo), 1e-3);
+  const double halfFov = glm::radians(c.fovYDeg) * 0.5;
+  c.lookAt = centre;
+  c.up = Vec3d(0, 1, 0);
+  c.position = centre + Vec3d(0, 0, radius / std::sin(halfFov) * 1.05);
+}
+
+}  // namespace
+
+void validateScene(SceneDesc& scene) {
+  const std::string& file = scene.file;
+  const SettingsDesc& st = scene.settings;
+  if (!(st.patchSize > 0)) throw InputError(file, "settings.patch_size", "must be positive");
+  if (!(st.lightPatchSize > 0)) throw InputError(file, "settings.light_patch_size", "must be positive");
+  if (scene.materials.empty()) throw InputError(file, "materials", "the scene defines no material");
+  for (const auto& m : scene.materials) {
+    const std::string w = "materials." + m.name;
+    if (!isFinite(m.albedo) || !isFinite(m.specular) || !isFinite(m.emission))
+      throw InputError(file, w, "a value is not finite (NaN or Inf)");
+    if (glm::any(glm::lessThan(m.albedo, Color(0.0f))) || glm::any(glm::lessThan(m.emission, Color(0.0f))) ||
+        glm::any(glm::lessThan(m.specular, Color(0.0f))))
+      throw InputError(file, w, "negative albedo, specular or emission");
+    if (maxComponent(m.albedo) > 1.0f) throw InputError(file, w + ".albedo", "albedo above 1 reflects more light than it receives");
+    if (m.type == MaterialType::Glossy && maxComponent(m.albedo + m.specular) > 1.0f)
+      throw InputError(file, w, "albedo + specular above 1 reflects more light than it receives");
+    if (m.type == MaterialType::Mirror && maxComponent(m.specular) > 1.0f)
+      throw InputError(file, w + ".specular", "mirror reflectance above 1");
+    if (m.type == MaterialType::Dielectric && !(m.ior > 0)) throw InputError(file, w + ".ior", "must be positive");
+  }
+  if (scene.shapes.empty()) throw InputError(file, "shapes", "the scene has no shapes");
+  for (const auto& s : scene.shapes) {
+    if (s.material < 0 || size_t(s.material) >= scene.materials.size())
+      throw InputError(file, s.name, "material index out of range");
+    validateShape(scene, s);
+  }
+  // Point, spot and directional lights.
+  for (auto& l : scene.lights) {
+    if (l.type == LightType::Area) continue;
+    if (!isFinite(l.position) || !isFinite(l.direction) || !isFinite(l.power) || !isFinite(l.irradiance))
+      throw InputError(file, l.name, "a value is not finite (NaN or Inf)");
+    if (glm::any(glm::lessThan(l.power, Color(0.0f))) || glm::any(glm::lessThan(l.irradiance, Color(0.0f))))
+      throw InputError(file, l.name, "negative power or irradiance");
+    if (l.type != LightType::Point) {
+      if (!(glm::length(l.direction) > 0)) throw InputError(file, l.name + ".direction", "direction is zero");
+      l.direction = glm::normalize(l.direction);
+    }
+    if (l.type == LightType::Spot && !(l.innerAngleDeg <= l.outerAngleDeg && l.outerAngleDeg <= 180))
+      throw InputError(file, l.name, "spot angles need 0 < inner_angle <= outer_angle <= 180");
+  }
+  // Area lights: one per emissive shape (added once).
+  const bool haveArea = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                    [](const LightDesc& l) { return l.type == LightType::Area; });
+  if (!haveArea) {
+    for (size_t i = 0; i < scene.shapes.size(); ++i) {
+      const ShapeDesc& s = scene.shapes[i];
+      const MaterialDesc& m = scene.materials[s.material];
+      if (!m.isEmissive()) continue;
+      LightDesc l;
+      l.name = s.name;
+      l.type = LightType::Area;
+      l.shape = static_cast<int>(i);
+      l.small = s.small;
+      scene.lights.push_back(l);
+    }
+  }
+  // Camera.
+  CameraDesc& c = scene.camera;
+  if (!(c.fovYDeg > 0 && c.fovYDeg < 180)) throw InputError(file, "camera.fov_y", "must be in (0, 180) degrees");
+  if (!c.given) frameCamera(scene);
+  if (!(glm::length(c.lookAt - c.position) > 0)) throw InputError(file, "camera", "position and look_at coincide");
+  if (!(glm::length(glm::cross(c.lookAt - c.position, c.up)) > 0))
+    throw InputError(file, "camera.up", "up is zero or parallel to the viewing direction");
+}
+
+uint64_t hashScene(const SceneDesc& scene) {
+  // Everything that changes light transport: geometry, materials, lights. Not the camera or the
+  // render settings, so a first-shot table stays valid when only the view changes.
+  Hasher h;
+  h.add(std::string_view("firstshot-scene-v1"));
+  h.add<uint64_t>(scene.materials.size());
+  for (const auto& m : scene.materials) {
+    h.add(m.type).add(m.albedo).add(m.specular).add(m.exponent).add(m.ior).add(m.transmittance).add(m.emission);
+  }
+  h.add<uint64_t>(scene.shapes.size());
+  for (const auto& s : scene.shapes) {
+    h.add(s.material).add(s.small).add<uint64_t>(s.vertices.size()).add<uint64_t>(s.faces.size());
+    if (!s.vertices.empty()) h.bytes(s.vertices.data(), s.vertices.size() * sizeof(Vec3d));
+    for (const auto& f : s.faces) h.add(f.count).bytes(f.v, sizeof(f.v[0]) * f.count);
+  }
+  h.add<uint64_t>(scene.lights.size());
+  for (const auto& l : scene.lights) {
+    h.add(l.type).add(l.position).add(l.direction).add(l.power).add(l.irradiance);
+    h.add(l.innerAngleDeg).add(l.outerAngleDeg).add(l.shape).add(l.small);
+  }
+  return h.value();
+}
+
+}  // namespace fs

@@ -1,0 +1,119 @@
+#pragma once
+/// @file scene_desc.h
+/// The scene as plain data: parsed once from a file, validated, then only read. Geometry is already
+/// resolved to world-space polygons (metres, right-handed, y up); names keep the place in the input
+/// file so that later stages can still report errors precisely.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/math.h"
+
+namespace fs {
+
+enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric };
+
+/// A surface material. Emission makes the surface an area light (one-sided, front face).
+struct MaterialDesc {
+  std::string name;
+  MaterialType type = MaterialType::Diffuse;
+  Color albedo{0.0f};    ///< diffuse reflectance (diffuse, and the diffuse part of glossy)
+  Color specular{0.0f};  ///< glossy: the lobe's albedo bound (ks = specular·(n+1)/2π, see makeBSDF); mirror: reflectance
+  float exponent = 1.0f; ///< glossy: Phong exponent n
+  float ior = 1.5f;      ///< dielectric: index of refraction (outside is 1)
+  Color transmittance{1.0f};  ///< dielectric: tint of refracted light
+  Color emission{0.0f};  ///< emitted radiance, W/(m² sr)
+  bool isEmissive() const { return maxComponent(emission) > 0.0f; }
+};
+
+/// Whether a light is replaced by first-shot ("small") or stays in the renderer ("large").
+enum class SmallOverride : uint8_t { Auto, Small, Large };
+
+enum class LightType : uint8_t { Point, Spot, Directional, Area };
+
+/// A light. Area lights point at the emissive shape they come from.
+struct LightDesc {
+  std::string name;          ///< where it was defined, e.g. "lights[2]" or "shapes[5]"
+  LightType type = LightType::Point;
+  Vec3d position{0.0};       ///< point, spot
+  Vec3d direction{0, -1, 0}; ///< spot: axis; directional: direction light travels in (unit)
+  Color power{0.0f};         ///< point, spot: total emitted power, W
+  Color irradiance{0.0f};    ///< directional: irradiance on a plane facing the light, W/m²
+  double innerAngleDeg = 30; ///< spot: full intensity inside this half-angle
+  double outerAngleDeg = 45; ///< spot: zero intensity outside this half-angle (smoothstep between)
+  int shape = -1;            ///< area: index into SceneDesc::shapes
+  SmallOverride small = SmallOverride::Auto;
+};
+
+enum class ShapeType : uint8_t { Quad, Box, Sphere, Mesh };
+
+/// A polygon of a shape: 3 or 4 vertex indices, counter-clockwise seen from the front (normal side).
+struct Face {
+  uint32_t v[4] = {0, 0, 0, 0};
+  uint8_t count = 3;
+};
+
+/// A shape, resolved to world-space polygons. Quads are planar (non-planar input quads are split).
+struct ShapeDesc {
+  std::string name;        ///< e.g. "shapes[3]" plus the user's name if given
+  ShapeType type = ShapeType::Quad;
+  int material = 0;        ///< index into SceneDesc::materials
+  std::string sourceFile;  ///< mesh: the file the triangles came from
+  std::vector<Vec3d> vertices;
+  std::vector<Face> faces;
+  SmallOverride small = SmallOverride::Auto;  ///< for emissive shapes
+};
+
+/// Pinhole camera.
+struct CameraDesc {
+  Vec3d position{0, 1, 3};
+  Vec3d lookAt{0, 1, 0};
+  Vec3d up{0, 1, 0};
+  double fovYDeg = 45;  ///< vertical field of view, degrees
+  int width = 512, height = 512;
+  bool given = false;   ///< false when framed automatically
+};
+
+/// Settings that change results. Command-line options override them.
+struct SettingsDesc {
+  double patchSize = 0.05;         ///< longest patch edge, m
+  double lightPatchSize = 0.02;    ///< longest edge of an area light's tessellation, m
+  int spp = 64;                    ///< samples per pixel
+  uint64_t seed = 1;
+  int maxDepth = 16;               ///< longest path, in bounces
+  int itemBufferResolution = 256;  ///< R: pixels across a full cube face
+  std::string window = "hemicube"; ///< hemicube | tetra
+  double smallLightMaxSolidAngle = 1.0;  ///< sr; see docs/scene-format.md
+};
+
+/// The whole scene.
+struct SceneDesc {
+  std::string file;  ///< the file it was read from
+  CameraDesc camera;
+  std::vector<MaterialDesc> materials;
+  std::vector<ShapeDesc> shapes;
+  std::vector<LightDesc> lights;  ///< including one Area entry per emissive shape
+  SettingsDesc settings;
+
+  /// Index of a material by name, or -1.
+  int findMaterial(const std::string& name) const;
+  /// Axis-aligned bounds of all shape vertices and positional lights.
+  void bounds(Vec3d& lo, Vec3d& hi) const;
+};
+
+/// Loads a scene: .json (docs/scene-format.md) or .obj/.gltf/.glb/.ply directly.
+/// @throws InputError naming the file and element for any bad input.
+SceneDesc loadScene(const std::string& path);
+
+/// Loads a JSON scene from text; @p path is used for messages and to resolve relative mesh files.
+SceneDesc parseSceneJson(const std::string& text, const std::string& path);
+
+/// Checks a parsed scene (finite numbers, ranges, degenerate geometry, emitter area) and fills in
+/// derived data (area lights for emissive shapes, camera framing). @throws InputError.
+void validateScene(SceneDesc& scene);
+
+/// A stable 64-bit content hash of everything in the scene that changes results.
+uint64_t hashScene(const SceneDesc& scene);
+
+}  // namespace fs

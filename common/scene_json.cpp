@@ -1,0 +1,339 @@
+// Parsing the JSON scene format (docs/scene-format.md) into SceneDesc. Every key is checked:
+// unknown keys are errors, and every error names the file and the element's JSON path.
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include "common/error.h"
+#include "common/mesh_import.h"
+#include "common/scene_desc.h"
+#include "common/scene_shapes.h"
+
+namespace fs {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+/// Reads typed values out of JSON nodes, raising InputError with the node's path.
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+  [[noreturn]] void fail(const std::string& where, const std::string& msg) const { throw InputError(file_, where, msg); }
+
+  void keys(const Json& j, const std::string& where, std::initializer_list<const char*> allowed) const {
+    if (!j.is_object()) fail(where, "expected an object");
+    const std::set<std::string> ok(allowed.begin(), allowed.end());
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (!ok.count(it.key())) {
+        std::string list;
+        for (const auto& k : ok) list += (list.empty() ? "" : ", ") + k;
+        fail(where, "unknown key \"" + it.key() + "\" (allowed: " + list + ")");
+      }
+    }
+  }
+  const Json& need(const Json& j, const std::string& where, const char* key) const {
+    if (!j.contains(key)) fail(where, std::string("missing key \"") + key + "\"");
+    return j.at(key);
+  }
+  double number(const Json& j, const std::string& where) const {
+    if (!j.is_number()) fail(where, "expected a number");
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) fail(where, "value is not finite (NaN or Inf)");
+    return v;
+  }
+  double nonNegative(const Json& j, const std::string& where) const {
+    const double v = number(j, where);
+    if (v < 0) fail(where, "must not be negative (got " + std::to_string(v) + ")");
+    return v;
+  }
+  double positive(const Json& j, const std::string& where) const {
+    const double v = number(j, where);
+    if (!(v > 0)) fail(where, "must be positive (got " + std::to_string(v) + ")");
+    return v;
+  }
+  int64_t integer(const Json& j, const std::string& where, int64_t lo, int64_t hi) const {
+    if (!j.is_number_integer()) fail(where, "expected an integer");
+    const int64_t v = j.get<int64_t>();
+    if (v < lo || v > hi) fail(where, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return v;
+  }
+  Vec3d vec3(const Json& j, const std::string& where) const {
+    if (!j.is_array() || j.size() != 3) fail(where, "expected an array of 3 numbers");
+    return {number(j[0], where + "[0]"), number(j[1], where + "[1]"), number(j[2], where + "[2]")};
+  }
+  Color color(const Json& j, const std::string& where) const {
+    if (j.is_number()) {
+      const double v = nonNegative(j, where);
+      return Color(static_cast<float>(v));
+    }
+    if (!j.is_array() || j.size() != 3) fail(where, "expected an RGB array of 3 numbers (or one number)");
+    Color c;
+    for (int i = 0; i < 3; ++i) c[i] = static_cast<float>(nonNegative(j[i], where + "[" + std::to_string(i) + "]"));
+    return c;
+  }
+  std::string string(const Json& j, const std::string& where) const {
+    if (!j.is_string()) fail(where, "expected a string");
+    return j.get<std::string>();
+  }
+  bool boolean(const Json& j, const std::string& where) const {
+    if (!j.is_boolean()) fail(where, "expected true or false");
+    return j.get<bool>();
+  }
+  SmallOverride small(const Json& j, const std::string& where) const {
+    if (j.is_boolean()) return j.get<bool>() ? SmallOverride::Small : SmallOverride::Large;
+    if (j.is_string() && j.get<std::string>() == "auto") return SmallOverride::Auto;
+    fail(where, "expected true, false or \"auto\"");
+  }
+  const std::string& file() const { return file_; }
+
+ private:
+  std::string file_;
+};
+
+Mat4d parseTransform(const Reader& r, const Json& j, const std::string& where) {
+  r.keys(j, where, {"translate", "rotate", "scale", "matrix"});
+  if (j.contains("matrix")) {
+    if (j.size() != 1) r.fail(where, "\"matrix\" cannot be combined with translate/rotate/scale");
+    const Json& m = j["matrix"];
+    if (!m.is_array() || m.size() != 16) r.fail(where + ".matrix", "expected 16 numbers (row-major)");
+    Mat4d M(1.0);
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 4; ++col)
+        M[col][row] = r.number(m[row * 4 + col], where + ".matrix[" + std::to_string(row * 4 + col) + "]");
+    return M;
+  }
+  Mat4d S(1.0), R(1.0), T(1.0);
+  if (j.contains("scale")) {
+    Vec3d s = j["scale"].is_number() ? Vec3d(r.positive(j["scale"], where + ".scale"))
+                                     : r.vec3(j["scale"], where + ".scale");
+    if (s.x == 0 || s.y == 0 || s.z == 0) r.fail(where + ".scale", "scale must not be zero");
+    S = glm::scale(Mat4d(1.0), s);
+  }
+  if (j.contains("rotate")) {
+    const Json& rot = j["rotate"];
+    const std::string w = where + ".rotate";
+    if (!rot.is_array() || rot.size() != 4) r.fail(w, "expected [axis x, axis y, axis z, angle in degrees]");
+    Vec3d axis(r.number(rot[0], w + "[0]"), r.number(rot[1], w + "[1]"), r.number(rot[2], w + "[2]"));
+    if (glm::length(axis) == 0) r.fail(w, "rotation axis is zero");
+    R = glm::rotate(Mat4d(1.0), glm::radians(r.number(rot[3], w + "[3]")), glm::normalize(axis));
+  }
+  if (j.contains("translate")) T = glm::translate(Mat4d(1.0), r.vec3(j["translate"], where + ".translate"));
+  return T * R * S;
+}
+
+MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& name, const std::string& where) {
+  MaterialDesc m;
+  m.name = name;
+  const std::string type = r.string(r.need(j, where, "type"), where + ".type");
+  if (type == "diffuse") {
+    r.keys(j, where, {"type", "albedo", "emission"});
+    m.type = MaterialType::Diffuse;
+  } else if (type == "glossy") {
+    r.keys(j, where, {"type", "albedo", "specular", "exponent", "emission"});
+    m.type = MaterialType::Glossy;
+    m.specular = r.color(r.need(j, where, "specular"), where + ".specular");
+    m.exponent = static_cast<float>(r.nonNegative(r.need(j, where, "exponent"), where + ".exponent"));
+  } else if (type == "mirror") {
+    r.keys(j, where, {"type", "specular"});
+    m.type = MaterialType::Mirror;
+    m.specular = Color(1.0f);
+  } else if (type == "dielectric") {
+    r.keys(j, where, {"type", "ior", "transmittance"});
+    m.type = MaterialType::Dielectric;
+    m.ior = static_cast<float>(r.positive(r.need(j, where, "ior"), where + ".ior"));
+  } else {
+    r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric)");
+  }
+  if (j.contains("albedo")) m.albedo = r.color(j["albedo"], where + ".albedo");
+  if (j.contains("specular")) m.specular = r.color(j["specular"], where + ".specular");
+  if (j.contains("transmittance")) m.transmittance = r.color(j["transmittance"], where + ".transmittance");
+  if (j.contains("emission")) m.emission = r.color(j["emission"], where + ".emission");
+  return m;
+}
+
+ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, const SceneDesc& scene) {
+  ShapeDesc s;
+  s.name = where;
+  const std::string type = r.string(r.need(j, where, "type"), where + ".type");
+  std::initializer_list<const char*> common = {"type", "name", "material", "transform", "small", "flip_normals"};
+  std::vector<const char*> allowed(common);
+  auto allow = [&](std::initializer_list<const char*> extra) {
+    allowed.insert(allowed.end(), extra);
+    // keys() takes an initializer_list; check by hand against the vector.
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      bool ok = false;
+      for (const char* a : allowed) ok = ok || it.key() == a;
+      if (!ok) r.fail(where, "unknown key \"" + it.key() + "\" for a " + type + " shape");
+    }
+  };
+  if (j.contains("name")) s.name = where + " (\"" + r.string(j["name"], where + ".name") + "\")";
+  const std::string mat = r.string(r.need(j, where, "material"), where + ".material");
+  s.material = scene.findMaterial(mat);
+  if (s.material < 0) r.fail(where + ".material", "unknown material \"" + mat + "\"");
+  if (j.contains("small")) s.small = r.small(j["small"], where + ".small");
+
+  if (type == "quad") {
+    allow({"vertices"});
+    s.type = ShapeType::Quad;
+    const Json& v = r.need(j, where, "vertices");
+    if (!v.is_array() || v.size() != 4) r.fail(where + ".vertices", "a quad needs 4 vertices");
+    std::array<Vec3d, 4> q;
+    for (int i = 0; i < 4; ++i) q[i] = r.vec3(v[i], where + ".vertices[" + std::to_string(i) + "]");
+    shapes::makeQuad(s, q);
+  } else if (type == "box") {
+    allow({"min", "max"});
+    s.type = ShapeType::Box;
+    const Vec3d lo = r.vec3(r.need(j, where, "min"), where + ".min");
+    const Vec3d hi = r.vec3(r.need(j, where, "max"), where + ".max");
+    if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) r.fail(where, "box max must exceed min on every axis");
+    shapes::makeBox(s, lo, hi);
+  } else if (type == "sphere") {
+    allow({"center", "radius", "subdivisions"});
+    s.type = ShapeType::Sphere;
+    const Vec3d c = r.vec3(r.need(j, where, "center"), where + ".center");
+    const double rad = r.positive(r.need(j, where, "radius"), where + ".radius");
+    const int sub = j.contains("subdivisions") ? int(r.integer(j["subdivisions"], where + ".subdivisions", 0, 8)) : 3;
+    shapes::makeSphere(s, c, rad, sub);
+  } else if (type == "mesh") {
+    allow({"file"});
+    s.type = ShapeType::Mesh;
+    const std::string f = r.string(r.need(j, where, "file"), where + ".file");
+    std::filesystem::path p(f);
+    if (p.is_relative()) p = std::filesystem::path(r.file()).parent_path() / p;
+    s.sourceFile = p.string();
+    MeshData mesh = loadMeshFile(s.sourceFile, r.file(), where + ".file");
+    s.vertices = std::move(mesh.vertices);
+    s.faces = std::move(mesh.faces);
+  } else {
+    r.fail(where + ".type", "unknown shape type \"" + type + "\" (quad, box, sphere, mesh)");
+  }
+  if (j.contains("transform")) shapes::transform(s, parseTransform(r, j["transform"], where + ".transform"));
+  if (j.contains("flip_normals") && r.boolean(j["flip_normals"], where + ".flip_normals")) shapes::flip(s);
+  return s;
+}
+
+LightDesc parseLight(const Reader& r, const Json& j, const std::string& where) {
+  LightDesc l;
+  l.name = where;
+  const std::string type = r.string(r.need(j, where, "type"), where + ".type");
+  if (type == "point") {
+    r.keys(j, where, {"type", "name", "small", "position", "power"});
+    l.type = LightType::Point;
+  } else if (type == "spot") {
+    r.keys(j, where, {"type", "name", "small", "position", "power", "direction", "inner_angle", "outer_angle"});
+    l.type = LightType::Spot;
+    l.direction = r.vec3(r.need(j, where, "direction"), where + ".direction");
+    if (j.contains("inner_angle")) l.innerAngleDeg = r.positive(j["inner_angle"], where + ".inner_angle");
+    if (j.contains("outer_angle")) l.outerAngleDeg = r.positive(j["outer_angle"], where + ".outer_angle");
+  } else if (type == "directional") {
+    r.keys(j, where, {"type", "name", "small", "direction", "irradiance"});
+    l.type = LightType::Directional;
+    l.direction = r.vec3(r.need(j, where, "direction"), where + ".direction");
+    l.irradiance = r.color(r.need(j, where, "irradiance"), where + ".irradiance");
+  } else {
+    r.fail(where + ".type", "unknown light type \"" + type + "\" (point, spot, directional; area lights are emissive shapes)");
+  }
+  if (j.contains("name")) l.name = where + " (\"" + r.string(j["name"], where + ".name") + "\")";
+  if (l.type != LightType::Directional) {
+    l.position = r.vec3(r.need(j, where, "position"), where + ".position");
+    l.power = r.color(r.need(j, where, "power"), where + ".power");
+  }
+  if (j.contains("small")) l.small = r.small(j["small"], where + ".small");
+  return l;
+}
+
+void parseCamera(const Reader& r, const Json& j, CameraDesc& c) {
+  const std::string w = "camera";
+  r.keys(j, w, {"position", "look_at", "up", "fov_y", "resolution"});
+  c.given = true;
+  c.position = r.vec3(r.need(j, w, "position"), w + ".position");
+  c.lookAt = r.vec3(r.need(j, w, "look_at"), w + ".look_at");
+  if (j.contains("up")) c.up = r.vec3(j["up"], w + ".up");
+  if (j.contains("fov_y")) c.fovYDeg = r.positive(j["fov_y"], w + ".fov_y");
+  if (j.contains("resolution")) {
+    const Json& res = j["resolution"];
+    if (!res.is_array() || res.size() != 2) r.fail(w + ".resolution", "expected [width, height]");
+    c.width = int(r.integer(res[0], w + ".resolution[0]", 1, 1 << 15));
+    c.height = int(r.integer(res[1], w + ".resolution[1]", 1, 1 << 15));
+  }
+}
+
+void parseSettings(const Reader& r, const Json& j, SettingsDesc& s) {
+  const std::string w = "settings";
+  r.keys(j, w, {"patch_size", "light_patch_size", "spp", "seed", "max_depth", "item_buffer_resolution", "window",
+                "small_light_max_solid_angle"});
+  if (j.contains("patch_size")) s.patchSize = r.positive(j["patch_size"], w + ".patch_size");
+  if (j.contains("light_patch_size")) s.lightPatchSize = r.positive(j["light_patch_size"], w + ".light_patch_size");
+  if (j.contains("spp")) s.spp = int(r.integer(j["spp"], w + ".spp", 1, 1 << 24));
+  if (j.contains("seed")) s.seed = uint64_t(r.integer(j["seed"], w + ".seed", 0, INT64_MAX));
+  if (j.contains("max_depth")) s.maxDepth = int(r.integer(j["max_depth"], w + ".max_depth", 0, 1024));
+  if (j.contains("item_buffer_resolution"))
+    s.itemBufferResolution = int(r.integer(j["item_buffer_resolution"], w + ".item_buffer_resolution", 2, 8192));
+  if (j.contains("window")) {
+    s.window = r.string(j["window"], w + ".window");
+    if (s.window != "hemicube" && s.window != "tetra") r.fail(w + ".window", "expected \"hemicube\" or \"tetra\"");
+  }
+  if (j.contains("small_light_max_solid_angle"))
+    s.smallLightMaxSolidAngle = r.nonNegative(j["small_light_max_solid_angle"], w + ".small_light_max_solid_angle");
+}
+
+/// "line L, column C" of a byte offset in the text.
+std::string lineColumn(const std::string& text, size_t byte) {
+  size_t line = 1, col = 1;
+  for (size_t i = 0; i < text.size() && i + 1 < byte; ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      col = 1;
+    } else {
+      ++col;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(col);
+}
+
+}  // namespace
+
+SceneDesc parseSceneJson(const std::string& text, const std::string& path) {
+  Json root;
+  try {
+    root = Json::parse(text);
+  } catch (const Json::parse_error& e) {
+    std::string what = e.what();
+    const auto pos = what.find("syntax error");
+    throw InputError(path, lineColumn(text, e.byte),
+                     "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos)));
+  } catch (const Json::exception& e) {
+    // e.g. a number too large for a double ("1e999"): report it without the library's prefix.
+    std::string what = e.what();
+    const auto pos = what.find("] ");
+    throw InputError(path, "", "malformed JSON: " + (pos == std::string::npos ? what : what.substr(pos + 2)) +
+                                   " (numbers must be finite)");
+  }
+  Reader r(path);
+  SceneDesc scene;
+  scene.file = path;
+  r.keys(root, "scene", {"description", "camera", "materials", "shapes", "lights", "settings"});
+  if (root.contains("description")) r.string(root["description"], "description");
+  if (root.contains("settings")) parseSettings(r, root["settings"], scene.settings);
+  if (root.contains("camera")) parseCamera(r, root["camera"], scene.camera);
+  const Json& mats = r.need(root, "scene", "materials");
+  if (!mats.is_object()) r.fail("materials", "expected an object of named materials");
+  for (auto it = mats.begin(); it != mats.end(); ++it)
+    scene.materials.push_back(parseMaterial(r, it.value(), it.key(), "materials." + it.key()));
+  const Json& shapes = r.need(root, "scene", "shapes");
+  if (!shapes.is_array()) r.fail("shapes", "expected an array");
+  for (size_t i = 0; i < shapes.size(); ++i)
+    scene.shapes.push_back(parseShape(r, shapes[i], "shapes[" + std::to_string(i) + "]", scene));
+  if (root.contains("lights")) {
+    const Json& lights = root["lights"];
+    if (!lights.is_array()) r.fail("lights", "expected an array");
+    for (size_t i = 0; i < lights.size(); ++i)
+      scene.lights.push_back(parseLight(r, lights[i], "lights[" + std::to_string(i) + "]"));
+  }
+  return scene;
+}
+
+}  // namespace fs

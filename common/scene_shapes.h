@@ -1,0 +1,32 @@
+#pragma once
+/// @file scene_shapes.h
+/// Builders that resolve the scene file's shape primitives into world-space polygons.
+#include <array>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "common/scene_desc.h"
+
+namespace fs::shapes {
+
+/// A quad from 4 vertices (counter-clockwise seen from the front). A planar convex quad stays one
+/// face; a non-planar one is split into two triangles along the shorter diagonal. Degenerate input is
+/// kept as is for validateScene to report.
+void makeQuad(ShapeDesc& s, const std::array<Vec3d, 4>& v);
+
+/// An axis-aligned box: 6 quads, normals outward.
+void makeBox(ShapeDesc& s, const Vec3d& lo, const Vec3d& hi);
+
+/// A sphere tessellated from an icosahedron, @p subdivisions times (20·4^k triangles), normals outward.
+void makeSphere(ShapeDesc& s, const Vec3d& center, double radius, int subdivisions);
+
+/// Applies an affine transform; a mirroring transform reverses the winding so normals stay outward.
+void transform(ShapeDesc& s, const Mat4d& m);
+
+/// Reverses the winding (and so the normals) of every face.
+void flip(ShapeDesc& s);
+
+/// Area of one face, in double.
+double faceArea(const ShapeDesc& s, const Face& f);
+
+}  // namespace fs::shapes

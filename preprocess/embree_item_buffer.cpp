@@ -1,0 +1,185 @@
+#include "preprocess/embree_item_buffer.h"
+
+#include <embree3/rtcore.h>
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace fs {
+
+namespace {
+
+[[noreturn]] void embreeFail(RTCDevice device, const char* what) {
+  const RTCError e = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
+  throw std::runtime_error(std::string("Embree item buffer: ") + what + " failed (RTCError " + std::to_string(e) + ")");
+}
+
+/// Sets FTZ and DAZ on the calling thread and restores the previous MXCSR when done.
+class FlushDenormals {
+ public:
+  FlushDenormals() : saved_(_mm_getcsr()) {
+    _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+    _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+  }
+  ~FlushDenormals() { _mm_setcsr(saved_); }
+  FlushDenormals(const FlushDenormals&) = delete;
+  FlushDenormals& operator=(const FlushDenormals&) = delete;
+
+ private:
+  unsigned int saved_;
+};
+
+/// Per-pixel ray setup shared by every mode.
+struct RaySetup {
+  const View& view;
+  float tnear, tfar;
+  void operator()(int i, int j, float* org, float* dir) const {
+    const Vec3d o = view.pixelOrigin(i, j), d = view.pixelDirection(i, j);
+    org[0] = float(o.x), org[1] = float(o.y), org[2] = float(o.z);
+    dir[0] = float(d.x), dir[1] = float(d.y), dir[2] = float(d.z);
+  }
+};
+
+/// Traces W×H tiles with packets of N = W·H rays (RTCRayHit8 or RTCRayHit16).
+template <int N, int TW, typename Packet, typename Fn>
+void tracePackets(RTCScene scene, const RaySetup& setup, const std::vector<uint32_t>& triPatch,
+                  std::vector<uint32_t>& ids, Fn intersect) {
+  constexpr int TH = N / TW;
+  const View& v = setup.view;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) Packet p;
+  alignas(64) int valid[N];
+  for (int ty = 0; ty < v.height; ty += TH)
+    for (int tx = 0; tx < v.width; tx += TW) {
+      for (int k = 0; k < N; ++k) {
+        const int i = tx + k % TW, j = ty + k / TW;
+        valid[k] = (i < v.width && j < v.height) ? -1 : 0;
+        float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1};
+        if (valid[k]) setup(i, j, org, dir);
+        p.ray.org_x[k] = org[0], p.ray.org_y[k] = org[1], p.ray.org_z[k] = org[2];
+        p.ray.dir_x[k] = dir[0], p.ray.dir_y[k] = dir[1], p.ray.dir_z[k] = dir[2];
+        p.ray.tnear[k] = setup.tnear;
+        p.ray.tfar[k] = setup.tfar;
+        p.ray.time[k] = 0;
+        p.ray.mask[k] = 0xFFFFFFFFu;
+        p.ray.id[k] = 0;
+        p.ray.flags[k] = 0;
+        p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        p.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+      }
+      intersect(valid, scene, &ctx, &p);
+      for (int k = 0; k < N; ++k) {
+        if (!valid[k] || p.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID) continue;
+        const int i = tx + k % TW, j = ty + k / TW;
+        ids[static_cast<size_t>(j) * v.width + i] = triPatch[p.hit.primID[k]];
+      }
+    }
+}
+
+void initRay(RTCRayHit& rh, const RaySetup& setup, int i, int j) {
+  float org[3], dir[3];
+  setup(i, j, org, dir);
+  rh.ray.org_x = org[0], rh.ray.org_y = org[1], rh.ray.org_z = org[2];
+  rh.ray.dir_x = dir[0], rh.ray.dir_y = dir[1], rh.ray.dir_z = dir[2];
+  rh.ray.tnear = setup.tnear;
+  rh.ray.tfar = setup.tfar;
+  rh.ray.time = 0;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+}  // namespace
+
+EmbreeItemBuffer::EmbreeItemBuffer(const PatchMesh& mesh, const Bounds3d& sceneBounds, double nearRelative,
+                                   EmbreeRayMode mode)
+    : EmbreeItemBuffer(ItemGeometry::fromPatches(mesh), sceneBounds, nearRelative, mode) {}
+
+EmbreeItemBuffer::EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBounds, double nearRelative,
+                                   EmbreeRayMode mode)
+    : triPatch_(geometry.patchIds), bounds_(sceneBounds), near_(itemBufferNear(sceneBounds, nearRelative)),
+      mode_(mode) {
+  if (geometry.positions.size() != 3 * geometry.patchIds.size())
+    throw std::invalid_argument("Embree item buffer: positions must be 3 per triangle");
+  FlushDenormals ftz;
+  device_ = rtcNewDevice(nullptr);
+  if (!device_) embreeFail(nullptr, "rtcNewDevice");
+  scene_ = rtcNewScene(device_);
+  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  const size_t nTri = geometry.triangleCount();
+  if (nTri > 0) {
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * nTri));
+    auto* ib = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), nTri));
+    if (!vb || !ib) embreeFail(device_, "rtcSetNewGeometryBuffer");
+    for (size_t k = 0; k < 3 * nTri; ++k) {
+      vb[3 * k + 0] = geometry.positions[k].x;
+      vb[3 * k + 1] = geometry.positions[k].y;
+      vb[3 * k + 2] = geometry.positions[k].z;
+      ib[k] = static_cast<uint32_t>(k);
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_, geom);
+    rtcReleaseGeometry(geom);
+  }
+  rtcCommitScene(scene_);
+  if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) embreeFail(device_, "building the scene");
+}
+
+EmbreeItemBuffer::~EmbreeItemBuffer() {
+  if (scene_) rtcReleaseScene(scene_);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void EmbreeItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
+  ids.assign(view.pixelCount(), kNoPatch);
+  const double far = farDepth(view, bounds_);
+  if (view.pixelCount() == 0 || !(far > near_) || triPatch_.empty()) return;
+  FlushDenormals ftz;
+  const RaySetup setup{view, float(near_), float(far)};
+  switch (mode_) {
+    case EmbreeRayMode::Packet16:
+      tracePackets<16, 4, RTCRayHit16>(scene_, setup, triPatch_, ids,
+                                       [](const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit16* p) {
+                                         rtcIntersect16(valid, s, c, p);
+                                       });
+      break;
+    case EmbreeRayMode::Packet8:
+      tracePackets<8, 4, RTCRayHit8>(scene_, setup, triPatch_, ids,
+                                     [](const int* valid, RTCScene s, RTCIntersectContext* c, RTCRayHit8* p) {
+                                       rtcIntersect8(valid, s, c, p);
+                                     });
+      break;
+    case EmbreeRayMode::Single:
+    case EmbreeRayMode::Stream: {
+      RTCIntersectContext ctx;
+      rtcInitIntersectContext(&ctx);
+      ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+      std::vector<RTCRayHit> row(static_cast<size_t>(view.width));
+      for (int j = 0; j < view.height; ++j) {
+        for (int i = 0; i < view.width; ++i) initRay(row[i], setup, i, j);
+        if (mode_ == EmbreeRayMode::Stream) {
+          rtcIntersect1M(scene_, &ctx, row.data(), static_cast<unsigned>(row.size()), sizeof(RTCRayHit));
+        } else {
+          for (RTCRayHit& rh : row) rtcIntersect1(scene_, &ctx, &rh);
+        }
+        for (int i = 0; i < view.width; ++i)
+          if (row[i].hit.geomID != RTC_INVALID_GEOMETRY_ID)
+            ids[static_cast<size_t>(j) * view.width + i] = triPatch_[row[i].hit.primID];
+      }
+      break;
+    }
+  }
+}
+
+}  // namespace fs

@@ -1,0 +1,48 @@
+#pragma once
+/// @file embree_item_buffer.h
+/// The Embree 3 item-buffer back end: one ray per pixel centre, origin View::pixelOrigin, direction
+/// View::pixelDirection (forward component 1, so the ray parameter is the depth and tnear/tfar are the
+/// GL back end's near/far planes). Triangles are two-sided (no culling); the scene is built with
+/// RTC_SCENE_FLAG_ROBUST so that rays through shared edges never slip between two triangles.
+/// Ray origins are rounded to float (Embree's ray format), i.e. by ≤ half an ulp of the eye coordinates.
+#include <cstdint>
+#include <vector>
+
+#include "preprocess/item_buffer.h"
+
+struct RTCDeviceTy;
+struct RTCSceneTy;
+
+namespace fs {
+
+/// How rays are traced (for benchmarking; all give identical results).
+enum class EmbreeRayMode { Single, Packet8, Packet16, Stream };
+
+class EmbreeItemBuffer final : public ItemBufferRenderer {
+ public:
+  /// Builds the BVH once. @throws std::runtime_error on Embree errors.
+  EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBounds, double nearRelative = 1e-6,
+                   EmbreeRayMode mode = EmbreeRayMode::Packet16);
+  EmbreeItemBuffer(const PatchMesh& mesh, const Bounds3d& sceneBounds, double nearRelative = 1e-6,
+                   EmbreeRayMode mode = EmbreeRayMode::Packet16);
+  ~EmbreeItemBuffer() override;
+  EmbreeItemBuffer(const EmbreeItemBuffer&) = delete;
+  EmbreeItemBuffer& operator=(const EmbreeItemBuffer&) = delete;
+
+  /// Traces on the calling thread with FTZ/DAZ on (the thread's MXCSR is restored afterwards).
+  /// Only reads the scene, so it may also be called from several threads at once.
+  void render(const View& view, std::vector<uint32_t>& ids) override;
+  const char* name() const override { return "embree"; }
+  double nearPlane() const override { return near_; }
+  void setRayMode(EmbreeRayMode mode) { mode_ = mode; }
+
+ private:
+  RTCDeviceTy* device_ = nullptr;
+  RTCSceneTy* scene_ = nullptr;
+  std::vector<uint32_t> triPatch_;  ///< primID -> patch ID
+  Bounds3d bounds_;
+  double near_ = 0;
+  EmbreeRayMode mode_ = EmbreeRayMode::Packet16;
+};
+
+}  // namespace fs

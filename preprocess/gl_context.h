@@ -1,0 +1,45 @@
+#pragma once
+/// @file gl_context.h
+/// An offscreen OpenGL 4.5 core context, created with OSMesa (default) or EGL (surfaceless platform,
+/// falling back to the EGL device platform). Rendering goes to framebuffer objects; the context has no
+/// window surface of its own. GL functions are loaded with glad (<glad/gl.h>) when the first context of
+/// the process is created.
+///
+/// Threads: create one context per worker thread. Contexts may be created, made current and destroyed
+/// concurrently on different threads; a context must not be current on two threads at once.
+/// Before the first context is created, LP_NUM_THREADS=0 is set unless already in the environment:
+/// llvmpipe then rasterises in the calling thread, which was measured fastest with one worker per core.
+#include <memory>
+#include <string>
+
+namespace fs {
+
+enum class GLBackend { OSMesa, EGL };
+
+/// "osmesa" | "egl" → GLBackend; @throws std::invalid_argument otherwise.
+GLBackend parseGLBackend(const std::string& name);
+const char* toString(GLBackend backend);
+
+class GLContext {
+ public:
+  /// Creates the context and makes it current on the calling thread.
+  /// @throws std::runtime_error naming the back end when it is unavailable or lacks OpenGL 4.5 core.
+  explicit GLContext(GLBackend backend = GLBackend::OSMesa);
+  ~GLContext();
+  GLContext(const GLContext&) = delete;
+  GLContext& operator=(const GLContext&) = delete;
+
+  /// Makes the context current on the calling thread (cheap if it already is).
+  void makeCurrent();
+  /// Releases it from the calling thread if current there.
+  void release();
+  GLBackend backend() const;
+  /// GL_RENDERER and GL_VERSION, e.g. "llvmpipe (LLVM 15.0.6, 256 bits), 4.5 (Core Profile) Mesa 22.3.6".
+  std::string description() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace fs

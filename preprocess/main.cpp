@@ -1,0 +1,107 @@
+// firstshot-preprocess: scene -> patches -> first-shot table (.fsd).
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include "common/cli.h"
+#include "common/firstshot.h"
+#include "common/patches.h"
+#include "common/scene_desc.h"
+#include "preprocess/preprocessor.h"
+
+namespace {
+
+void printStats(const fs::SceneDesc& scene, const std::string& path, double ps) {
+  const fs::PatchMesh mesh = fs::buildPatches(scene, ps);
+  size_t quads = 0;
+  double minA = 1e300, maxA = 0;
+  for (const auto& p : mesh.patches) {
+    quads += p.count == 4;
+    minA = std::min(minA, p.area), maxA = std::max(maxA, p.area);
+  }
+  fmt::print("scene        {}\n", path);
+  fmt::print("shapes       {}\nmaterials    {}\nlights       {}\n", scene.shapes.size(), scene.materials.size(), scene.lights.size());
+  fmt::print("patch size   {} m\npatches      {} ({} quads, {} triangles)\n", ps, mesh.size(), quads, mesh.size() - quads);
+  fmt::print("area         {:.6f} m² (patch min {:.3e}, max {:.3e})\n", mesh.totalArea(), mesh.size() ? minA : 0.0, maxA);
+  fmt::print("patch hash   {:016x}\nscene hash   {:016x}\n", fs::hashPatches(mesh), fs::hashScene(scene));
+}
+
+void dumpCsv(const std::string& path) {
+  const fs::FirstShotTable t = fs::readFirstShot(path);
+  fmt::print("patch,v0x,v0y,v0z,v1x,v1y,v1z,v2x,v2y,v2z,v3x,v3y,v3z,area,nx,ny,nz,sample,sx,sy,sz,r\n");
+  for (uint32_t j = 0; j < t.mesh.size(); ++j) {
+    const fs::Patch& p = t.mesh.patches[j];
+    std::string verts;
+    for (uint32_t k = 0; k < 4; ++k)
+      verts += k < p.count ? fmt::format("{:.9g},{:.9g},{:.9g},", p.v[k].x, p.v[k].y, p.v[k].z) : std::string(",,,");
+    for (uint64_t k = t.rowStart[j]; k < t.rowStart[j + 1]; ++k) {
+      const fs::LightSample& s = t.samples[t.sampleIndex[k]];
+      fmt::print("{},{}{:.9g},{:.9g},{:.9g},{:.9g},{},{:.9g},{:.9g},{:.9g},{:.9g}\n", j, verts, p.area, p.normal.x,
+                 p.normal.y, p.normal.z, t.sampleIndex[k], s.position.x, s.position.y, s.position.z, t.factor[k]);
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  return fs::runTool("firstshot-preprocess", [&] {
+    CLI::App app{"firstshot-preprocess: computes the first-shot factors of a scene's small lights (.fsd)"};
+    std::string scenePath, out, dump, window, backend = "gl", gl = "osmesa", estimator = "analytic";
+    double patchSize = 0, lightPatchSize = 0, timeLimit = 0;
+    int resolution = 0, threads = 0;
+    uint64_t seed = 0;
+    bool stats = false, quiet = false;
+    app.add_option("scene", scenePath, "scene file (.json, .obj, .gltf, .glb, .ply)");
+    app.add_option("-o,--output", out, "the first-shot file to write (.fsd)");
+    app.add_option("--resolution", resolution, "R: pixels across a full cube face (default: settings.item_buffer_resolution)")
+        ->check(CLI::Range(2, 8192));
+    app.add_option("--window", window, "area-light window: hemicube | tetra (default: settings.window)")
+        ->check(CLI::IsMember({"hemicube", "tetra"}));
+    app.add_option("--backend", backend, "item buffers: gl (rasterised) | embree (ray cast)")->check(CLI::IsMember({"gl", "embree"}));
+    app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
+    app.add_option("--patch-size", patchSize, "longest patch edge in metres (default: settings.patch_size)")->check(CLI::PositiveNumber);
+    app.add_option("--light-patch-size", lightPatchSize, "area-light tessellation in metres (default: settings.light_patch_size)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--threads", threads, "workers, one GL context each (default: one per core)")->check(CLI::NonNegativeNumber);
+    app.add_option("--seed", seed, "0: windows aligned with each light's frame; else rotate each sample's window randomly about its axis");
+    app.add_option("--time", timeLimit, "give up (writing nothing) after this many seconds")->check(CLI::NonNegativeNumber);
+    app.add_option("--estimator", estimator, "analytic: closed form times the visible fraction (default) | pixels: plain pixel sums")
+        ->check(CLI::IsMember({"analytic", "pixels"}));
+    app.add_option("--dump-csv", dump, "print one CSV row per non-zero factor of an .fsd file and exit");
+    app.add_flag("--stats", stats, "load the scene, build the patches, print their statistics and exit");
+    app.add_flag("-q,--quiet", quiet, "no progress bar");
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      return app.exit(e) == 0 ? 0 : fs::kExitBadInput;
+    }
+    if (!dump.empty()) {
+      dumpCsv(dump);
+      return 0;
+    }
+    if (scenePath.empty()) throw fs::InputError("", "command line", "no scene file given (see --help)");
+    const fs::SceneDesc scene = fs::loadScene(scenePath);
+    fs::PreprocessOptions o = fs::defaultOptions(scene);
+    if (patchSize > 0) o.settings.patchSize = patchSize;
+    if (lightPatchSize > 0) o.settings.lightPatchSize = lightPatchSize;
+    if (resolution > 0) o.settings.resolution = static_cast<uint32_t>(resolution);
+    if (!window.empty()) o.settings.window = window;
+    if (o.settings.resolution % 2) throw fs::InputError("", "--resolution", "must be even (the hemicube's side faces are R/2 high)");
+    o.settings.backend = backend;
+    o.settings.rotationSeed = seed;
+    o.settings.estimator = estimator;
+    o.gl = gl, o.threads = threads, o.quiet = quiet, o.timeLimit = timeLimit;
+    if (stats) {
+      printStats(scene, scenePath, o.settings.patchSize);
+      return 0;
+    }
+    if (out.empty()) throw fs::InputError("", "command line", "no output file given (-o OUT.fsd)");
+    fs::PreprocessStats st;
+    const fs::FirstShotTable table = fs::preprocessScene(scene, o, &st);
+    fs::writeFirstShot(out, table);
+    fmt::print("{}: {} light samples ({} small lights, {} large), {} patches, {} non-zero factors, {:.2f} s, {:.1f} samples/s [{}; R = {}]\n",
+               out, st.lightSamples, st.smallLights, st.largeLights, st.patches, st.nonZeros, st.seconds,
+               st.seconds > 0 ? st.lightSamples / st.seconds : 0.0, st.renderer, o.settings.resolution);
+    return 0;
+  });
+}

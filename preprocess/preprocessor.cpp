@@ -1,0 +1,255 @@
+// Driving the item buffers over all light samples and gathering the factors into a CSR table.
+#include "preprocess/preprocessor.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "common/lights.h"
+#include "common/patches.h"
+#include "common/progress.h"
+#include "common/rng.h"
+#include "preprocess/coverage.h"
+#include "preprocess/embree_item_buffer.h"
+#include "preprocess/gl_item_buffer.h"
+#include "preprocess/light_samples.h"
+#include "preprocess/window.h"
+
+namespace fs {
+
+PreprocessOptions defaultOptions(const SceneDesc& scene) {
+  PreprocessOptions o;
+  o.settings.resolution = static_cast<uint32_t>(scene.settings.itemBufferResolution);
+  o.settings.window = scene.settings.window;
+  o.settings.patchSize = scene.settings.patchSize;
+  o.settings.lightPatchSize = scene.settings.lightPatchSize;
+  o.settings.smallLightMaxSolidAngle = scene.settings.smallLightMaxSolidAngle;
+  return o;
+}
+
+namespace {
+
+/// How one light sample is rendered: which window, where, and the scale from Σ weights to r_ij·A_j.
+struct SampleSetup {
+  const Window* window = nullptr;
+  const std::vector<std::vector<double>>* weights = nullptr;  ///< the window's, or a spot's profiled copy
+  Vec3d position{0.0};
+  Vec3d axis{0, 0, 1};
+  double rotation = 0;  ///< radians about the axis (settings.rotationSeed)
+  double eyeOffset = 0;
+  double scale = 1;
+  LightSampleKind kind = LightSampleKind::Point;
+  bool analytic = true;  ///< closed form × visible fraction (preprocess/coverage.h)
+};
+
+/// Fewer expected pixels than this and the visible fraction is too coarse: keep the pixel sum.
+constexpr size_t kMinPixelsForAnalytic = 4;
+
+/// Σ w over a patch's visible pixels → the same integral taken in closed form times the visible fraction.
+double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, double near, const Patch& p, double visible) {
+  Vec3d poly[4];
+  for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
+  double expected = 0;
+  size_t pixels = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    size_t px = 0;
+    expected += coveredWeight(views[v], (*s.weights)[v], poly, int(p.count), near, px);
+    pixels += px;
+  }
+  if (pixels < kMinPixelsForAnalytic || !(expected > 0)) return visible;
+  const double fraction = std::min(1.0, visible / expected);
+  switch (s.kind) {
+    case LightSampleKind::Point: return fraction * unoccludedSolidAngle(views[0].eye, poly, int(p.count));
+    case LightSampleKind::AreaVertex:
+      return fraction * unoccludedCosineSolidAngle(views[0].eye, s.axis, poly, int(p.count));
+    case LightSampleKind::Directional: return fraction * unoccludedProjectedArea(s.axis, poly, int(p.count));
+    case LightSampleKind::Spot: break;  // no closed form for the profile: keep the pixel sum
+  }
+  return visible;
+}
+
+/// One factor before it is sorted into the CSR table.
+struct Entry {
+  uint32_t patch;
+  float factor;
+};
+
+/// Renders one sample's views and returns its non-zero factors, sorted by patch.
+std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup& s, const PatchMesh& mesh,
+                                std::vector<double>& acc, std::vector<uint32_t>& touched, std::vector<uint32_t>& ids) {
+  Framed frame(s.axis);
+  if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
+    const double c = std::cos(s.rotation), sn = std::sin(s.rotation);
+    const Vec3d a = frame.s, b = frame.t;
+    frame.s = c * a + sn * b, frame.t = -sn * a + c * b;
+  }
+  const std::vector<View> views = placeWindow(*s.window, s.position, frame, s.eyeOffset);
+  for (size_t v = 0; v < views.size(); ++v) {
+    renderer.render(views[v], ids);
+    const std::vector<double>& w = (*s.weights)[v];
+    for (size_t p = 0; p < ids.size(); ++p) {
+      const uint32_t id = ids[p];
+      if (id == kNoPatch || w[p] == 0.0) continue;
+      if (acc[id] == 0.0) touched.push_back(id);
+      acc[id] += w[p];
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  std::vector<Entry> out;
+  out.reserve(touched.size());
+  for (uint32_t id : touched) {
+    const double integral = s.analytic ? analyticIntegral(s, views, renderer.nearPlane(), mesh.patches[id], acc[id]) : acc[id];
+    out.push_back({id, static_cast<float>(s.scale * integral / mesh.patches[id].area)});
+    acc[id] = 0.0;
+  }
+  touched.clear();
+  return out;
+}
+
+std::unique_ptr<ItemBufferRenderer> makeRenderer(const PreprocessOptions& o, const ItemGeometry& geo, const Bounds3d& b) {
+  if (o.settings.backend == "embree") return std::make_unique<EmbreeItemBuffer>(geo, b);
+  if (o.settings.backend == "gl") return std::make_unique<GLItemBuffer>(geo, b, parseGLBackend(o.gl));
+  throw std::invalid_argument("unknown item-buffer back end \"" + o.settings.backend + "\" (gl, embree)");
+}
+
+}  // namespace
+
+FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& options, PreprocessStats* stats) {
+  Progress timer("", 0, true);
+  FirstShotTable t;
+  t.sceneHash = hashScene(scene);
+  t.settings = options.settings;
+  t.mesh = buildPatches(scene, options.settings.patchSize);
+  t.replacedLights = smallLights(scene, options.settings.smallLightMaxSolidAngle);
+  t.samples = makeLightSamples(scene, t.replacedLights, options.settings.lightPatchSize);
+  const int R = static_cast<int>(options.settings.resolution);
+
+  // The scene's bounds: patches, emitters and positional lights (near/far planes, eye offsets).
+  Bounds3d bounds;
+  Vec3d lo, hi;
+  scene.bounds(lo, hi);
+  bounds.extend(lo), bounds.extend(hi);
+
+  // Windows and weight tables, built once.
+  const Window cube = makeCubeWindow(R);
+  const Window area = parseWindowKind(options.settings.window) == WindowKind::Tetrahedron ? makeTetraWindow(R)
+                                                                                           : makeHemicubeWindow(R);
+  std::vector<std::unique_ptr<Window>> perLight(scene.lights.size());  // directional windows, spot profiles
+  std::vector<SampleSetup> setups(t.samples.size());
+  for (size_t i = 0; i < t.samples.size(); ++i) {
+    const LightSample& ls = t.samples[i];
+    const LightDesc& light = scene.lights[ls.light];
+    SampleSetup& s = setups[i];
+    s.position = Vec3d(ls.position);
+    s.kind = ls.kind;
+    s.analytic = options.settings.estimator == "analytic" && ls.kind != LightSampleKind::Spot;
+    switch (ls.kind) {
+      case LightSampleKind::Point:
+        s.window = &cube, s.weights = &cube.weights, s.scale = 1.0 / (4.0 * kPi);
+        break;
+      case LightSampleKind::Spot: {
+        if (!perLight[ls.light]) {  // cube weights times the spot profile, in the spot's frame (z = axis)
+          auto w = std::make_unique<Window>(cube);
+          for (size_t v = 0; v < w->views.size(); ++v)
+            for (int y = 0; y < w->views[v].height; ++y)
+              for (int x = 0; x < w->views[v].width; ++x) {
+                const View& view = w->views[v];
+                const Vec3d d = glm::normalize(view.pixelDirection(x, y));
+                w->weights[v][size_t(y) * view.width + x] *= spotProfile(light, static_cast<float>(d.z));
+              }
+          perLight[ls.light] = std::move(w);
+        }
+        s.window = perLight[ls.light].get(), s.weights = &perLight[ls.light]->weights;
+        s.axis = light.direction, s.scale = 1.0 / spotProfileIntegral(light);
+        break;
+      }
+      case LightSampleKind::Directional:
+        if (!perLight[ls.light]) perLight[ls.light] = std::make_unique<Window>(makeOrthoWindow(R, bounds, light.direction));
+        s.window = perLight[ls.light].get(), s.weights = &perLight[ls.light]->weights;
+        s.position = bounds.centre(), s.axis = light.direction, s.scale = 1.0;
+        break;
+      case LightSampleKind::AreaVertex:
+        s.window = &area, s.weights = &area.weights, s.axis = Vec3d(ls.normal);
+        s.eyeOffset = areaLightEyeOffset(bounds), s.scale = ls.weight;
+        break;
+    }
+    if (options.settings.rotationSeed != 0 && ls.kind != LightSampleKind::Directional)
+      s.rotation = 2.0 * kPi * bitsToUnitDouble(hashKeys(options.settings.rotationSeed, i));
+  }
+
+  // Workers: each with its own renderer (GL context); samples taken in any order, results stored
+  // by sample index, so the table does not depend on the thread count.
+  const ItemGeometry geometry = ItemGeometry::fromPatches(t.mesh);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(
+                                                               options.timeLimit > 0 ? options.timeLimit : 1e9);
+  int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  threads = std::max(1, std::min<int>(threads, static_cast<int>(std::max<size_t>(1, t.samples.size()))));
+  std::vector<std::vector<Entry>> results(t.samples.size());
+  std::atomic<size_t> next{0};
+  std::mutex errorMutex;
+  std::exception_ptr error;
+  std::string rendererName;
+  Progress progress("first-shot", t.samples.size(), options.quiet);
+  auto work = [&](int worker) {
+    try {
+      std::unique_ptr<ItemBufferRenderer> renderer;
+      std::vector<double> acc;
+      std::vector<uint32_t> touched, ids;
+      for (size_t i; (i = next++) < t.samples.size();) {
+        if (!renderer) {
+          renderer = makeRenderer(options, geometry, bounds);
+          acc.assign(t.mesh.size(), 0.0);
+          if (worker == 0) rendererName = renderer->name();
+        }
+        if (std::chrono::steady_clock::now() > deadline)
+          throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached after " +
+                                   std::to_string(i) + " of " + std::to_string(t.samples.size()) +
+                                   " light samples; nothing written");
+        results[i] = renderSample(*renderer, setups[i], t.mesh, acc, touched, ids);
+        progress.advance();
+      }
+    } catch (...) {
+      std::lock_guard lock(errorMutex);
+      if (!error) error = std::current_exception();
+      next = t.samples.size();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (auto& th : pool) th.join();
+  progress.finish();
+  if (error) std::rethrow_exception(error);
+
+  // CSR by patch; within a row, samples ascend.
+  const uint32_t n = t.mesh.size();
+  t.rowStart.assign(size_t(n) + 1, 0);
+  for (const auto& r : results)
+    for (const Entry& e : r) ++t.rowStart[e.patch + 1];
+  for (uint32_t j = 0; j < n; ++j) t.rowStart[j + 1] += t.rowStart[j];
+  t.sampleIndex.resize(t.rowStart[n]);
+  t.factor.resize(t.rowStart[n]);
+  std::vector<uint64_t> cursor(t.rowStart.begin(), t.rowStart.end() - 1);
+  for (size_t i = 0; i < results.size(); ++i)
+    for (const Entry& e : results[i]) {
+      const uint64_t k = cursor[e.patch]++;
+      t.sampleIndex[k] = static_cast<uint32_t>(i);
+      t.factor[k] = e.factor;
+    }
+  if (stats) {
+    stats->lightSamples = t.samples.size();
+    stats->patches = n;
+    stats->nonZeros = t.factor.size();
+    stats->smallLights = t.replacedLights.size();
+    stats->largeLights = scene.lights.size() - t.replacedLights.size();
+    stats->seconds = timer.elapsed();
+    stats->renderer = rendererName.empty() ? options.settings.backend : rendererName;
+  }
+  return t;
+}
+
+}  // namespace fs

@@ -1,0 +1,36 @@
+#pragma once
+/// @file preprocessor.h
+/// The preprocessing stage as a library: scene → patches → light samples → item buffers →
+/// first-shot table (common/firstshot.h).
+#include <cstdint>
+#include <string>
+
+#include "common/firstshot.h"
+#include "common/scene_desc.h"
+
+namespace fs {
+
+struct PreprocessOptions {
+  FirstShotSettings settings;     ///< resolution, window, backend, patch sizes, small-light rule
+  std::string gl = "osmesa";      ///< OpenGL back end for backend "gl": osmesa | egl
+  int threads = 0;                ///< workers (0 = one per core); each has its own GL context
+  bool quiet = false;             ///< no progress bar
+  double timeLimit = 0;           ///< seconds; 0 = none. Past it the run fails (nothing is written).
+};
+
+struct PreprocessStats {
+  size_t lightSamples = 0, patches = 0, nonZeros = 0;
+  size_t smallLights = 0, largeLights = 0;
+  double seconds = 0;
+  std::string renderer;           ///< e.g. "gl/osmesa (llvmpipe ...)" or "embree"
+};
+
+/// Options from the scene's settings (command-line values are applied on top by the caller).
+PreprocessOptions defaultOptions(const SceneDesc& scene);
+
+/// Computes the first-shot table of the scene's small lights. The result does not depend on the
+/// number of threads. A scene without small lights gives a valid table with no samples.
+/// @throws std::runtime_error if the item-buffer back end cannot start.
+FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& options, PreprocessStats* stats = nullptr);
+
+}  // namespace fs

@@ -1,0 +1,186 @@
+// Embree 3 behind EmbreeScene: build, closest hit, occlusion.
+#include "render/embree_scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#if defined(__SSE__) || defined(__x86_64__)
+#include <pmmintrin.h>
+#include <xmmintrin.h>
+#define FS_HAVE_SSE 1
+#endif
+
+namespace fs {
+
+void enableFlushToZero() {
+#ifdef FS_HAVE_SSE
+  _MM_SET_FLUSH_ZERO_MODE(_MM_FLUSH_ZERO_ON);
+  _MM_SET_DENORMALS_ZERO_MODE(_MM_DENORMALS_ZERO_ON);
+#endif
+}
+
+namespace {
+
+constexpr unsigned kPatchGeometry = 0;  ///< emitter k is geometry 1 + k
+
+void onEmbreeError(void* userPtr, RTCError code, const char* message) {
+  if (code == RTC_ERROR_NONE) return;
+  auto* last = static_cast<std::string*>(userPtr);
+  *last = "Embree error " + std::to_string(int(code)) + ": " + (message ? message : "");
+}
+
+RTCRay toRTC(const Ray& r) {
+  RTCRay ray;
+  ray.org_x = r.o.x, ray.org_y = r.o.y, ray.org_z = r.o.z;
+  ray.dir_x = r.d.x, ray.dir_y = r.d.y, ray.dir_z = r.d.z;
+  ray.tnear = r.tmin;
+  ray.tfar = r.tmax;
+  ray.time = 0.0f;
+  ray.mask = 0xffffffffu;
+  ray.id = 0;
+  ray.flags = 0;
+  return ray;
+}
+
+RTCRayHit toRTCHit(const Ray& r) {
+  RTCRayHit rh;
+  rh.ray = toRTC(r);
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  return rh;
+}
+
+float maxAbs(const Vec3& v) { return std::max(std::abs(v.x), std::max(std::abs(v.y), std::abs(v.z))); }
+
+}  // namespace
+
+struct EmbreeScene::Impl {
+  RTCDevice device = nullptr;
+  RTCScene scene = nullptr;
+  std::string lastError;
+  std::vector<Vec3> patchNormals;                ///< by patch ID
+  std::vector<std::vector<Vec3>> emitterNormals; ///< by emitter, by triangle
+
+  ~Impl() {
+    if (scene) rtcReleaseScene(scene);
+    if (device) rtcReleaseDevice(device);
+  }
+  void check(const char* what) const {
+    if (!lastError.empty()) throw std::runtime_error(std::string(what) + ": " + lastError);
+  }
+};
+
+EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.device = rtcNewDevice("verbose=0");
+  if (!m.device) throw std::runtime_error("cannot create the Embree device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+  rtcSetDeviceErrorFunction(m.device, onEmbreeError, &m.lastError);
+  m.scene = rtcNewScene(m.device);
+  // Robust: watertight edges between patches that share (bit-identical) vertices.
+  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+  rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
+
+  // Patches: one quad primitive per patch (a triangle repeats its last vertex), so primID = patch ID.
+  const size_t n = patches.size();
+  m.patchNormals.resize(n);
+  if (n > 0) {
+    RTCGeometry g = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_QUAD);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4 * n));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), n));
+    m.check("creating the patch geometry");
+    for (size_t j = 0; j < n; ++j) {
+      const Patch& p = patches.patches[j];
+      for (int k = 0; k < 4; ++k) {
+        const Vec3& v = p.v[k < int(p.count) ? k : int(p.count) - 1];
+        vb[12 * j + 3 * k + 0] = v.x, vb[12 * j + 3 * k + 1] = v.y, vb[12 * j + 3 * k + 2] = v.z;
+      }
+      const unsigned b = static_cast<unsigned>(4 * j);
+      ib[4 * j + 0] = b, ib[4 * j + 1] = b + 1, ib[4 * j + 2] = b + 2, ib[4 * j + 3] = p.count == 4 ? b + 3 : b + 2;
+      m.patchNormals[j] = p.normal;
+    }
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(m.scene, g, kPatchGeometry);
+    rtcReleaseGeometry(g);
+  }
+
+  // Emitters: triangle meshes, geometry 1 + k.
+  m.emitterNormals.resize(emitters.size());
+  for (size_t k = 0; k < emitters.size(); ++k) {
+    const EmitterMesh& e = emitters[k];
+    const uint32_t tris = e.triangleCount();
+    auto& normals = m.emitterNormals[k];
+    normals.resize(tris);
+    for (uint32_t t = 0; t < tris; ++t) {
+      const Vec3 a = e.vertices[e.indices[3 * t]], b = e.vertices[e.indices[3 * t + 1]], c = e.vertices[e.indices[3 * t + 2]];
+      const Vec3 cr = glm::cross(b - a, c - a);
+      const float len = glm::length(cr);
+      normals[t] = len > 0.0f ? cr / len : Vec3(0, 0, 1);
+    }
+    if (tris == 0) continue;
+    RTCGeometry g = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), e.vertices.size()));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris));
+    m.check("creating an emitter geometry");
+    for (size_t i = 0; i < e.vertices.size(); ++i)
+      vb[3 * i] = e.vertices[i].x, vb[3 * i + 1] = e.vertices[i].y, vb[3 * i + 2] = e.vertices[i].z;
+    std::copy(e.indices.begin(), e.indices.begin() + 3 * tris, ib);
+    rtcCommitGeometry(g);
+    rtcAttachGeometryByID(m.scene, g, static_cast<unsigned>(1 + k));
+    rtcReleaseGeometry(g);
+  }
+  rtcCommitScene(m.scene);
+  m.check("building the Embree scene");
+}
+
+EmbreeScene::~EmbreeScene() = default;
+
+bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh = toRTCHit(ray);
+  rtcIntersect1(impl_->scene, &context, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+  hit.t = rh.ray.tfar;
+  hit.p = ray.at(hit.t);
+  if (rh.hit.geomID == kPatchGeometry) {
+    hit.patch = rh.hit.primID;
+    hit.emitter = hit.triangle = kNoId;
+    hit.ng = impl_->patchNormals[hit.patch];
+  } else {
+    hit.patch = kNoId;
+    hit.emitter = rh.hit.geomID - 1;
+    hit.triangle = rh.hit.primID;
+    hit.ng = impl_->emitterNormals[hit.emitter][hit.triangle];
+  }
+  // The hit point's rounding error grows with its coordinates and with the distance travelled.
+  hit.eps = 1e-5f * (1.0f + maxAbs(hit.p)) + 2e-6f * hit.t * glm::length(ray.d);
+  return true;
+}
+
+bool EmbreeScene::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r = toRTC(ray);
+  rtcOccluded1(impl_->scene, &context, &r);
+  return r.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+}
+
+size_t EmbreeScene::intersectRaw(const Ray* rays, size_t count) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  size_t hits = 0;
+  for (size_t i = 0; i < count; ++i) {
+    RTCRayHit rh = toRTCHit(rays[i]);
+    rtcIntersect1(impl_->scene, &context, &rh);
+    hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+  }
+  return hits;
+}
+
+}  // namespace fs

@@ -1,0 +1,51 @@
+#pragma once
+/// @file embree_scene.h
+/// The renderer's ray tracing: Embree 3 over the patch mesh (geometry 0, primitive = patch ID) and
+/// the area-light triangles (one geometry per emitter). This is the only place that knows Embree.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "common/math.h"
+#include "common/patches.h"
+#include "render/ray.h"
+
+namespace fs {
+
+/// One area light's triangles in world space, counter-clockwise seen from the emitting side.
+struct EmitterMesh {
+  std::vector<Vec3> vertices;
+  std::vector<uint32_t> indices;  ///< three per triangle
+  uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
+};
+
+/// An immutable Embree scene. Queries are const and thread-safe.
+class EmbreeScene {
+ public:
+  /// Builds the BVH over @p patches (triangles and planar quads) and @p emitters.
+  /// @throws std::runtime_error if Embree fails.
+  EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  /// Closest hit in [ray.tmin, ray.tmax]; fills @p hit and returns true, or returns false.
+  bool intersect(const Ray& ray, Hit& hit) const;
+  /// True if anything lies on the ray within [ray.tmin, ray.tmax].
+  bool occluded(const Ray& ray) const;
+
+  /// Benchmark hook: plain incoherent rtcIntersect1 calls over @p rays, nothing else.
+  /// @return the number of rays that hit something.
+  size_t intersectRaw(const Ray* rays, size_t count) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Sets flush-to-zero and denormals-are-zero for the calling thread (Embree's recommendation;
+/// call it at the start of every worker task). No-op on CPUs without SSE.
+void enableFlushToZero();
+
+}  // namespace fs

@@ -1,0 +1,138 @@
+// Film accumulation and image output through OpenImageIO.
+#include "render/film.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+
+namespace fs {
+
+Film::Film(int width, int height)
+    : width_(width), height_(height) {
+  const size_t n = size_t(width) * size_t(height);
+  sum_.assign(n, Vec3d(0.0));
+  sumSq_.assign(n, Vec3d(0.0));
+  albedo_.assign(n, Vec3d(0.0));
+  normal_.assign(n, Vec3d(0.0));
+  count_.assign(n, 0);
+}
+
+Vec3d Film::mean(int x, int y) const {
+  const size_t i = index(x, y);
+  return count_[i] ? sum_[i] / double(count_[i]) : Vec3d(0.0);
+}
+
+Vec3d Film::variance(int x, int y) const {
+  const size_t i = index(x, y);
+  const double n = count_[i];
+  if (n < 2) return Vec3d(0.0);
+  const Vec3d m = sum_[i] / n;
+  return glm::max(Vec3d(0.0), (sumSq_[i] - n * m * m) / (n - 1));
+}
+
+Vec3d Film::albedo(int x, int y) const {
+  const size_t i = index(x, y);
+  return count_[i] ? albedo_[i] / double(count_[i]) : Vec3d(0.0);
+}
+
+Vec3d Film::normal(int x, int y) const {
+  const Vec3d n = normal_[index(x, y)];
+  const double len = glm::length(n);
+  return len > 0 ? n / len : Vec3d(0.0);
+}
+
+float linearToSrgb(float v) {
+  v = std::clamp(v, 0.0f, 1.0f);
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+/// Writes @p pixels (interleaved, spec's format) to @p path through a temporary file; the image
+/// format is chosen from @p path's extension.
+void writeImage(const std::string& path, const OIIO::ImageSpec& spec, const void* pixels) {
+  writeAtomically(path, [&](const std::string& tmp) {
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) throw std::runtime_error(path + ": cannot create an image writer (" + OIIO::geterror() + ")");
+    if (!out->open(tmp, spec)) throw std::runtime_error(path + ": cannot open for writing (" + out->geterror() + ")");
+    if (!out->write_image(spec.format, pixels) || !out->close())
+      throw std::runtime_error(path + ": write failed (" + out->geterror() + ")");
+  });
+}
+
+}  // namespace
+
+void Film::write(const std::string& path, bool aov, float exposure) const {
+  const std::string ext = lowerExtension(path);
+  if (ext == ".exr")
+    writeExr(path, aov);
+  else if (ext == ".png")
+    writePng(path, exposure);
+  else
+    throw InputError(path, "", "unsupported image type \"" + ext + "\" (expected .exr or .png)");
+}
+
+void Film::writeExr(const std::string& path, bool aov) const {
+  const int channels = aov ? 9 : 3;
+  std::vector<float> data(size_t(width_) * height_ * channels);
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      float* p = &data[(size_t(y) * width_ + x) * channels];
+      const Vec3d m = mean(x, y);
+      p[0] = float(m.x), p[1] = float(m.y), p[2] = float(m.z);
+      if (aov) {
+        const Vec3d a = albedo(x, y), n = normal(x, y);
+        p[3] = float(a.x), p[4] = float(a.y), p[5] = float(a.z);
+        p[6] = float(n.x), p[7] = float(n.y), p[8] = float(n.z);
+      }
+    }
+  OIIO::ImageSpec spec(width_, height_, channels, OIIO::TypeDesc::FLOAT);
+  spec.channelnames = {"R", "G", "B"};
+  if (aov) spec.channelnames.insert(spec.channelnames.end(), {"albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z"});
+  spec.attribute("compression", "zip");
+  spec.attribute("Software", "firstshot-render");
+  writeImage(path, spec, data.data());
+}
+
+void Film::writePng(const std::string& path, float exposure) const {
+  const float scale = std::exp2(exposure);
+  std::vector<unsigned char> data(size_t(width_) * height_ * 3);
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const Vec3d m = mean(x, y);
+      for (int c = 0; c < 3; ++c) {
+        const float v = std::isfinite(m[c]) ? float(m[c]) * scale : 0.0f;
+        data[(size_t(y) * width_ + x) * 3 + c] = static_cast<unsigned char>(std::lround(255.0f * linearToSrgb(v)));
+      }
+    }
+  OIIO::ImageSpec spec(width_, height_, 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("Software", "firstshot-render");
+  writeImage(path, spec, data.data());
+}
+
+std::vector<float> Film::read(const std::string& path, int& width, int& height, std::vector<std::string>& channelNames) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw InputError(path, "", "cannot read image (" + OIIO::geterror() + ")");
+  const OIIO::ImageSpec& spec = in->spec();
+  width = spec.width, height = spec.height;
+  channelNames = spec.channelnames;
+  std::vector<float> data(size_t(width) * height * spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
+    throw InputError(path, "", "cannot read image (" + in->geterror() + ")");
+  in->close();
+  return data;
+}
+
+}  // namespace fs

@@ -1,0 +1,65 @@
+#pragma once
+/// @file film.h
+/// Per-pixel accumulation of radiance samples (with the sums of squares, for error estimates) and
+/// of the AOVs, and image output through OpenImageIO: EXR (linear float RGB, optional albedo and
+/// normal layers for external denoisers) and PNG (exposure, clamp, sRGB transfer curve, 8 bits).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/math.h"
+
+namespace fs {
+
+class Film {
+ public:
+  Film(int width, int height);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+  /// Adds one sample to pixel (x, y). Not synchronised: each pixel must be written by one thread
+  /// at a time, and in a fixed order for reproducible sums.
+  void add(int x, int y, const Color& L, const Color& albedo, const Vec3& normal) {
+    const size_t i = index(x, y);
+    const Vec3d l(L);
+    sum_[i] += l;
+    sumSq_[i] += l * l;
+    albedo_[i] += Vec3d(albedo);
+    normal_[i] += Vec3d(normal);
+    ++count_[i];
+  }
+
+  /// Mean radiance of pixel (x, y) (0 with no sample).
+  Vec3d mean(int x, int y) const;
+  /// Unbiased sample variance of pixel (x, y)'s samples, per channel (0 with fewer than 2).
+  Vec3d variance(int x, int y) const;
+  uint32_t samples(int x, int y) const { return count_[index(x, y)]; }
+  /// Mean first-hit albedo and (renormalised) normal of pixel (x, y).
+  Vec3d albedo(int x, int y) const;
+  Vec3d normal(int x, int y) const;
+
+  /// Writes the image; the format follows the extension of @p path: .exr (float; with @p aov also
+  /// the layers albedo.{R,G,B} and normal.{X,Y,Z}) or .png (8-bit sRGB after scaling by
+  /// 2^@p exposure). Written atomically (temporary file, then rename).
+  /// @throws InputError for an unsupported extension, std::runtime_error for I/O failures.
+  void write(const std::string& path, bool aov, float exposure = 0.0f) const;
+
+  /// Reads an image written by write() (or any RGB image OpenImageIO knows) into linear floats,
+  /// width·height·channels values; @p channelNames receives the channel names. For tests and tools.
+  static std::vector<float> read(const std::string& path, int& width, int& height, std::vector<std::string>& channelNames);
+
+ private:
+  size_t index(int x, int y) const { return size_t(y) * size_t(width_) + size_t(x); }
+  void writeExr(const std::string& path, bool aov) const;
+  void writePng(const std::string& path, float exposure) const;
+
+  int width_, height_;
+  std::vector<Vec3d> sum_, sumSq_, albedo_, normal_;
+  std::vector<uint32_t> count_;
+};
+
+/// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
+float linearToSrgb(float v);
+
+}  // namespace fs

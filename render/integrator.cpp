@@ -1,0 +1,18 @@
+// The integrator factory.
+#include "render/integrator.h"
+
+#include "common/error.h"
+#include "render/irradiance_cache_integrator.h"
+#include "render/path_integrator.h"
+
+namespace fs {
+
+std::vector<std::string> integratorNames() { return {"path", "irradiance-cache"}; }
+
+std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options) {
+  if (name == "path") return std::make_unique<PathIntegrator>(options);
+  if (name == "irradiance-cache") return std::make_unique<IrradianceCacheIntegrator>(options);
+  throw InputError("", "--integrator", "unknown integrator \"" + name + "\" (available: path, irradiance-cache)");
+}
+
+}  // namespace fs

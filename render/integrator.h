@@ -1,0 +1,66 @@
+#pragma once
+/// @file integrator.h
+/// The integrator interface (Nori / pbrt style): preprocess() once per scene, then a const,
+/// thread-safe radiance estimate per camera sample.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/math.h"
+#include "common/rng.h"
+#include "render/ray.h"
+#include "render/render_scene.h"
+
+namespace fs {
+
+/// Extras an integrator reports for one camera sample.
+struct SampleInfo {
+  Color albedo{0.0f};   ///< AOV: reflectance at the first hit (0 when the ray escapes)
+  Vec3 normal{0.0f};    ///< AOV: world-space geometric normal at the first hit, facing the camera
+  uint64_t rays = 0;    ///< rays traced for this sample (closest-hit and shadow)
+};
+
+/// How the camera-visible vertex (the first non-specular vertex) treats small lights when a
+/// first-shot table is present.
+enum class PrimaryMode : uint8_t {
+  Exact,  ///< shadow rays to the small lights: sharp shadows; first-shot from the next vertex on
+  Patch,  ///< first-shot there too: shadows blurred at patch scale, no shadow rays to small lights
+};
+
+/// Settings shared by the integrators.
+struct IntegratorOptions {
+  int maxDepth = 16;  ///< longest path in bounces: 0 = emitters seen directly only, 1 = direct lighting
+  int rrDepth = 3;    ///< Russian roulette from this many bounces on
+  PrimaryMode primary = PrimaryMode::Exact;
+};
+
+/// A point an integrator has stored (an irradiance-cache record), for the preview's overlay.
+struct IntegratorRecord {
+  Vec3 position{0.0f};
+  Vec3 normal{0.0f, 0.0f, 1.0f};  ///< unit surface normal
+  float radius = 0.0f;            ///< radius of validity, m
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  /// Called once before rendering; @p scene must outlive the integrator's use.
+  virtual void preprocess(const RenderScene& scene) = 0;
+  /// Radiance arriving at the camera along @p ray (d unit length), estimated with @p sampler.
+  /// Thread-safe. @p info, if given, receives the AOVs and the ray count.
+  virtual Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const = 0;
+  virtual std::string name() const = 0;
+  /// True for integrators that store records (irradiance caching); false by default.
+  virtual bool hasRecords() const { return false; }
+  /// The records stored so far, for display. The preview calls it between render passes only.
+  virtual std::vector<IntegratorRecord> records() const { return {}; }
+};
+
+/// The names makeIntegrator accepts, in the order the preview offers them (keys 1, 2, ...).
+std::vector<std::string> integratorNames();
+
+/// An integrator by name ("path"). @throws InputError for an unknown name.
+std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);
+
+}  // namespace fs

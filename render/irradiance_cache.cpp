@@ -1,0 +1,207 @@
+// Irradiance records, Ward's weights and the per-level octrees.
+#include "render/irradiance_cache.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fs {
+
+namespace {
+
+constexpr int kMaxDepth = 24;  ///< octree depth limit (cube side / 2^24): records with tinier domains stay there
+
+/// Octant of @p p in the cube at @p o with half side @p h: bit 0 = x, 1 = y, 2 = z upper half.
+int octant(const Vec3& p, const Vec3& o, float h) {
+  return (p.x >= o.x + h ? 1 : 0) | (p.y >= o.y + h ? 2 : 0) | (p.z >= o.z + h ? 4 : 0);
+}
+
+Vec3 octantOrigin(const Vec3& o, float h, int c) {
+  return o + h * Vec3(float(c & 1), float((c >> 1) & 1), float((c >> 2) & 1));
+}
+
+}  // namespace
+
+float irradianceWeight(const Vec3& pi, const Vec3& ni, float Ri, const Vec3& p, const Vec3& n) {
+  const float den = glm::length(p - pi) / Ri + std::sqrt(std::max(0.0f, 1.0f - glm::dot(n, ni)));
+  return den > 0.0f ? 1.0f / den : std::numeric_limits<float>::infinity();
+}
+
+float inFrontDistance(const Vec3& pi, const Vec3& ni, const Vec3& p, const Vec3& n) {
+  return glm::dot(p - pi, 0.5f * (n + ni));
+}
+
+Color extrapolateIrradiance(const IrradianceRecord& r, const Vec3& p, const Vec3& n) {
+  const Vec3 dn = glm::cross(r.n, n), dp = p - r.p;
+  Color e;
+  for (int c = 0; c < 3; ++c) e[c] = std::max(0.0f, r.E[c] + glm::dot(dn, r.gradR[c]) + glm::dot(dp, r.gradT[c]));
+  return e;
+}
+
+/// A published record. What a lookup reads of a rejected record (next, R, P_i, N_i, Rmin, Rmax)
+/// lies in the first cache line.
+struct alignas(64) IrradianceCache::Stored {
+  Stored(const IrradianceRecord& r, int d) : R(r.R), depth(d), rec(r) {}
+  const Stored* next = nullptr;  ///< next record of the same node (set before publication)
+  mutable std::atomic<float> R;  ///< R_i; neighbour clamping only lowers it
+  int depth = 0;
+  IrradianceRecord rec;          ///< rec.R is the radius at insertion; the current one is R
+};
+
+struct IrradianceCache::Node {
+  std::atomic<Node*> child[8] = {};
+  std::atomic<const Stored*> head{nullptr};  ///< newest record of this node
+};
+
+struct IrradianceCache::Level {
+  Node root;
+  std::deque<Node> nodes;      ///< every other node (a deque keeps addresses stable)
+  std::deque<Stored> records;  ///< in insertion order
+  mutable std::mutex mutex;    ///< serialises inserts and whole-level reads
+};
+
+IrradianceCache::IrradianceCache(const Vec3& lo, const Vec3& hi, std::vector<float> accuracy)
+    : accuracy_(std::move(accuracy)) {
+  const Vec3 ext = hi - lo;
+  const float side = std::max({ext.x, ext.y, ext.z, 1e-3f});
+  size_ = side * 1.02f;  // a margin so that every surface point lies well inside
+  origin_ = 0.5f * (lo + hi) - Vec3(0.5f * size_);
+  frontTolerance_ = 1e-5f * size_;
+  for (size_t i = 0; i < accuracy_.size(); ++i) levels_.push_back(std::make_unique<Level>());
+}
+
+IrradianceCache::~IrradianceCache() = default;
+
+template <typename F>
+void IrradianceCache::visit(const Level& level, const Vec3& p, float radius, float nodeReach, F&& f) const {
+  struct Item {
+    const Node* node;
+    Vec3 o;
+    float s;
+  };
+  Item stack[8 * (kMaxDepth + 2)];
+  int top = 0;
+  stack[top++] = {&level.root, origin_, size_};
+  while (top > 0) {
+    const Item it = stack[--top];
+    for (const Stored* r = it.node->head.load(std::memory_order_acquire); r; r = r->next) f(*r);
+    const float h = 0.5f * it.s;
+    // §3.3: search a child if P is within half the child's size of its cube (nodeReach = 1/2).
+    const float reach = std::max(radius, nodeReach * h);
+    for (int c = 0; c < 8; ++c) {
+      const Node* child = it.node->child[c].load(std::memory_order_acquire);
+      if (!child) continue;
+      const Vec3 o = octantOrigin(it.o, h, c);
+      if (p.x < o.x - reach || p.x > o.x + h + reach || p.y < o.y - reach || p.y > o.y + h + reach ||
+          p.z < o.z - reach || p.z > o.z + h + reach)
+        continue;
+      stack[top++] = {child, o, h};
+    }
+  }
+}
+
+void IrradianceCache::lookup(int level, const Vec3& p, const Vec3& n, bool gradients, IrradianceEstimate& est,
+                             float relax) const {
+  relax = std::clamp(relax, 1.0f, 2.0f);  // a node of side s holds domains a·R_i < s/2
+  const float a = relax * accuracy_[size_t(level)], invA = 1.0f / a;
+  visit(*levels_[size_t(level)], p, 0.0f, 0.5f * relax, [&](const Stored& s) {
+    const IrradianceRecord& r = s.rec;
+    const float R = std::min(std::max(s.R.load(std::memory_order_relaxed), r.Rmin), r.Rmax);
+    const Vec3 dp = p - r.p;
+    const float d2 = glm::dot(dp, dp), cosN = glm::dot(n, r.n);
+    if (!(d2 < (a * R) * (a * R)) || !(cosN > 0.0f)) return;  // w > 1/a needs |P − P_i| < a·R_i
+    const float den = std::sqrt(d2) / R + std::sqrt(std::max(0.0f, 1.0f - cosN));
+    const float w = 1.0f / std::max(den, 1e-6f);  // finite at P = P_i
+    if (!(w > invA)) return;
+    if (inFrontDistance(r.p, r.n, p, n) < -frontTolerance_) return;
+    est.sum += w * (gradients ? extrapolateIrradiance(r, p, n) : r.E);
+    est.weight += w;
+    ++est.count;
+  });
+}
+
+bool IrradianceCache::covers(int level, const Vec3& p, const Vec3& n) const {
+  IrradianceEstimate est;
+  lookup(level, p, n, false, est);
+  return est.count > 0;
+}
+
+template <typename F>
+void IrradianceCache::visitNeighbours(int level, const Vec3& p, float R, F&& f) const {
+  // Records at a node of side s have 2·a·R_j < s, so nodes within their own side hold them all.
+  const float twoA = 2.0f * accuracy_[size_t(level)];
+  visit(*levels_[size_t(level)], p, std::isfinite(R) ? R : 0.0f, 1.0f, [&](const Stored& s) {
+    const float d = glm::length(p - s.rec.p), Rj = s.R.load(std::memory_order_relaxed);
+    if (d < R || d < twoA * Rj) f(s, d, Rj);
+  });
+}
+
+void IrradianceCache::clampToNeighbours(int level, IrradianceRecord& r) const {
+  visitNeighbours(level, r.p, r.R, [&](const Stored&, float d, float Rj) { r.R = std::min(r.R, Rj + d); });
+}
+
+void IrradianceCache::insert(int level, IrradianceRecord r, bool neighbourClamp) {
+  Level& L = *levels_[size_t(level)];
+  std::lock_guard<std::mutex> lock(L.mutex);
+  if (neighbourClamp) {
+    clampToNeighbours(level, r);
+    visitNeighbours(level, r.p, r.R, [&](const Stored& s, float d, float Rj) {
+      if (Rj > r.R + d) s.R.store(r.R + d, std::memory_order_relaxed);  // the mutex is held
+    });
+  }
+  // Descend while the child would still be larger than twice the valid domain a·R_i.
+  const float domain = accuracy_[size_t(level)] * r.radius();
+  Node* node = &L.root;
+  Vec3 o = origin_;
+  float s = size_;
+  int depth = 0;
+  while (depth < kMaxDepth && 0.5f * s > 2.0f * domain) {
+    const float h = 0.5f * s;
+    const int c = octant(r.p, o, h);
+    Node* child = node->child[c].load(std::memory_order_relaxed);
+    if (!child) {
+      child = &L.nodes.emplace_back();
+      node->child[c].store(child, std::memory_order_release);
+    }
+    node = child;
+    o = octantOrigin(o, h, c);
+    s = h;
+    ++depth;
+  }
+  Stored& st = L.records.emplace_back(r, depth);
+  st.next = node->head.load(std::memory_order_relaxed);
+  node->head.store(&st, std::memory_order_release);
+}
+
+size_t IrradianceCache::size(int level) const {
+  const Level& L = *levels_[size_t(level)];
+  std::lock_guard<std::mutex> lock(L.mutex);
+  return L.records.size();
+}
+
+size_t IrradianceCache::size() const {
+  size_t n = 0;
+  for (int l = 0; l < levels(); ++l) n += size(l);
+  return n;
+}
+
+std::vector<IrradianceRecord> IrradianceCache::records(int level) const {
+  const Level& L = *levels_[size_t(level)];
+  std::lock_guard<std::mutex> lock(L.mutex);
+  std::vector<IrradianceRecord> out;
+  out.reserve(L.records.size());
+  for (const Stored& s : L.records) {
+    out.push_back(s.rec);
+    out.back().R = s.R.load(std::memory_order_relaxed);
+  }
+  return out;
+}
+
+std::vector<int> IrradianceCache::nodeDepths(int level) const {
+  const Level& L = *levels_[size_t(level)];
+  std::lock_guard<std::mutex> lock(L.mutex);
+  std::vector<int> out;
+  for (const Stored& s : L.records) out.push_back(s.depth);
+  return out;
+}
+
+}  // namespace fs

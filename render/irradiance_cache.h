@@ -1,0 +1,118 @@
+#pragma once
+/// @file irradiance_cache.h
+/// The store of an irradiance cache (Ward, Rubinstein & Clear 1988, "secondary method"): records
+/// of indirect irradiance, the weight of eq. 5 with the acceptance w > 1/a, the "in front" test of
+/// eq. 6, Ward & Heckbert's (1992) gradients, and one octree per diffuse bounce level (§3.3, §3.4).
+///
+/// Concurrency: lookups never lock. Inserts into one level are serialised by that level's mutex
+/// and publish nodes and records with release stores that lookups read with acquire loads;
+/// records are immutable once published except their radius, an atomic that neighbour clamping
+/// only lowers. So one cache can be shared by all render threads.
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "common/math.h"
+
+namespace fs {
+
+/// One irradiance value E_i computed at P_i by the primary method.
+struct IrradianceRecord {
+  Vec3 p{0.0f};                 ///< position P_i
+  Vec3 n{0.0f, 0.0f, 1.0f};     ///< unit normal N_i, on the side the irradiance was gathered
+  Color E{0.0f};                ///< irradiance E_i, W/m²
+  /// R_i: harmonic mean distance to the surfaces seen from P_i (m), lowered by neighbour clamping.
+  float R = std::numeric_limits<float>::infinity();
+  float Rmin = 0.0f;            ///< the radius used is clamp(R, Rmin, Rmax) (pixel-footprint clamping)
+  float Rmax = std::numeric_limits<float>::infinity();
+  Vec3 gradT[3]{Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};  ///< translational gradient ∂E_c/∂P per colour channel c, W/m³
+  Vec3 gradR[3]{Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};  ///< rotational gradient per channel: E_c(N) ≈ E_c + gradR[c]·(N_i × N)
+
+  /// The radius R_i the weights use.
+  float radius() const { return std::min(std::max(R, Rmin), Rmax); }
+};
+
+/// Ward's weight (eq. 5) of a record at P_i, N_i, R_i for the point P with normal N:
+/// 1 / (|P − P_i|/R_i + √(1 − N·N_i)). Infinite at P = P_i, N = N_i.
+float irradianceWeight(const Vec3& pi, const Vec3& ni, float Ri, const Vec3& p, const Vec3& n);
+
+/// Eq. 6: d_i(P) = (P − P_i)·(N(P) + N(P_i))/2. Negative: P_i lies in front of P (the record may
+/// sit on an object that shadows P) and must not be used.
+float inFrontDistance(const Vec3& pi, const Vec3& ni, const Vec3& p, const Vec3& n);
+
+/// E_i carried to (P, N) by the gradients: E_i + (N_i × N)·∇r E_i + (P − P_i)·∇t E_i, each channel ≥ 0.
+Color extrapolateIrradiance(const IrradianceRecord& r, const Vec3& p, const Vec3& n);
+
+/// Running weighted sum of eq. 5 over accepted records.
+struct IrradianceEstimate {
+  Color sum{0.0f};   ///< Σ w_i E_i(P)
+  double weight = 0; ///< Σ w_i
+  int count = 0;     ///< |S|
+  Color value() const { return weight > 0 ? sum / float(weight) : Color(0.0f); }
+};
+
+/// Records of one or more diffuse bounce levels, each level in its own octree over a global cube.
+class IrradianceCache {
+ public:
+  /// @param lo, hi       bounds of every surface (the global cube is grown from them)
+  /// @param accuracy     a per level (level ℓ uses accuracy[ℓ]); the number of levels is its size
+  IrradianceCache(const Vec3& lo, const Vec3& hi, std::vector<float> accuracy);
+  ~IrradianceCache();
+  IrradianceCache(const IrradianceCache&) = delete;
+  IrradianceCache& operator=(const IrradianceCache&) = delete;
+
+  int levels() const { return int(levels_.size()); }
+  float accuracy(int level) const { return accuracy_[size_t(level)]; }
+  /// Side of the global cube, m.
+  float extent() const { return size_; }
+
+  /// The secondary method at level @p level: adds w_i·E_i(P) over every record with
+  /// w_i(P) > 1/a, N·N_i > 0 and d_i(P) ≥ −tolerance (eq. 6) to @p est, found by the octree
+  /// search of §3.3. With @p gradients the values are extrapolated (extrapolateIrradiance).
+  /// @p relax ∈ [1, 2] widens the acceptance to w_i > 1/(relax·a) (domains relax·a·R_i).
+  void lookup(int level, const Vec3& p, const Vec3& n, bool gradients, IrradianceEstimate& est, float relax = 1.0f) const;
+  /// True if a record of @p level would be accepted at (p, n).
+  bool covers(int level, const Vec3& p, const Vec3& n) const;
+
+  /// Stores @p r at @p level in the node that contains P_i and whose side s satisfies
+  /// 2·a·R_i < s ≤ 4·a·R_i (or the root when the domain exceeds the cube). With
+  /// @p neighbourClamp, first R_i ≤ R_j + |P_i − P_j| and then R_j ≤ R_i + |P_i − P_j| over the
+  /// neighbours j: the records within R_i of P_i or whose doubled valid domain 2·a·R_j contains
+  /// P_i (Křivánek et al. 2006). Thread-safe.
+  void insert(int level, IrradianceRecord r, bool neighbourClamp);
+  /// Neighbour clamping of @p r against this cache without changing it (R_i ≤ R_j + |P_i − P_j|).
+  void clampToNeighbours(int level, IrradianceRecord& r) const;
+
+  size_t size(int level) const;
+  size_t size() const;
+  /// The records of @p level in insertion order, with their current radii.
+  std::vector<IrradianceRecord> records(int level) const;
+  /// Depth of the octree node holding each record of @p level (root = 0), in insertion order. For tests.
+  std::vector<int> nodeDepths(int level) const;
+  /// Side of the cube at depth @p depth.
+  float nodeSize(int depth) const { return std::ldexp(size_, -depth); }
+
+ private:
+  struct Stored;
+  struct Node;
+  struct Level;
+  /// Calls f on the records of every node whose cube, grown by max(radius, nodeReach · its side), contains p.
+  template <typename F>
+  void visit(const Level& level, const Vec3& p, float radius, float nodeReach, F&& f) const;
+  /// Calls f(record, distance, R_j) for the neighbours of a record at p with radius R: the records
+  /// within R of p, or whose doubled valid domain 2·a·R_j contains p.
+  template <typename F>
+  void visitNeighbours(int level, const Vec3& p, float R, F&& f) const;
+
+  std::vector<float> accuracy_;
+  Vec3 origin_{0.0f};  ///< minimum corner of the global cube
+  float size_ = 1.0f;  ///< its side
+  float frontTolerance_ = 0.0f;
+  std::vector<std::unique_ptr<Level>> levels_;
+};
+
+}  // namespace fs

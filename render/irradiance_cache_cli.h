@@ -1,0 +1,142 @@
+#pragma once
+/// @file irradiance_cache_cli.h
+/// The command-line options of the irradiance cache integrator for firstshot-render (header-only,
+/// included by render/main.cpp, which links CLI11): declaring them, handing them to the
+/// integrator before preprocess(), and the outputs after the render.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/error.h"
+#include "render/film.h"
+#include "render/irradiance_cache_integrator.h"
+
+namespace fs {
+
+struct IrradianceCacheCli {
+  IrradianceCacheSettings settings;
+  std::string ambient = "0", gradients = "on", clampFootprint = "off", neighbourClamp = "on", showRecords;
+  std::vector<CLI::Option*> options;
+
+  void add(CLI::App& app) {
+    auto onOff = CLI::IsMember({"on", "off"});
+    options = {
+        app.add_option("--accuracy", settings.accuracy, "irradiance cache: a, the accuracy of eq. 5 (smaller: more records)")
+            ->check(CLI::Range(1e-4, 10.0))->capture_default_str(),
+        app.add_option("--ic-samples", settings.samples, "irradiance cache: hemisphere samples per level-0 record "
+                                                         "(halved per bounce)")
+            ->check(CLI::Range(8, 1 << 20))->capture_default_str(),
+        app.add_option("--bounces", settings.bounces, "irradiance cache: diffuse bounces served by the cache (level ℓ "
+                                                      "uses a·1.4^ℓ); beyond them --ambient")
+            ->check(CLI::Range(0, 16))->capture_default_str(),
+        app.add_option("--ambient", ambient, "irradiance cache: radiance assumed past the last bounce, V or R,G,B")
+            ->capture_default_str(),
+        app.add_option("--gradients", gradients, "irradiance cache: rotational and translational gradients (Ward & "
+                                                 "Heckbert 1992)")
+            ->check(onOff)->capture_default_str(),
+        app.add_option("--clamp-footprint", clampFootprint, "irradiance cache: MIN,MAX clamp R_i of camera-visible "
+                                                            "records to [MIN, MAX] pixel footprints, or off")
+            ->capture_default_str(),
+        app.add_option("--neighbour-clamp", neighbourClamp, "irradiance cache: R_i <= R_j + |P_i - P_j| between "
+                                                            "neighbouring records")
+            ->check(onOff)->capture_default_str(),
+        app.add_flag("--two-pass", settings.twoPass, "irradiance cache: fill the cache through every pixel first, then "
+                                                     "render read-only (image independent of --threads)"),
+        app.add_option("--cache-file", settings.cacheFile, "irradiance cache: records read from F if it exists, written "
+                                                           "to F after the render"),
+        app.add_option("--show-records", showRecords, "irradiance cache: also write the image with the camera-visible "
+                                                      "record positions in blue (.png or .exr)"),
+    };
+  }
+
+  /// Hands the settings to @p integrator if it is the irradiance cache. @throws InputError for
+  /// a bad value, or for any of these options given with another integrator.
+  void configure(Integrator& integrator, uint64_t seed, int threads) {
+    auto* ic = dynamic_cast<IrradianceCacheIntegrator*>(&integrator);
+    if (!ic) {
+      for (const CLI::Option* o : options)
+        if (o->count() > 0)
+          throw InputError("", o->get_name(), "only with --integrator irradiance-cache");
+      return;
+    }
+    settings.ambient = parseColor(ambient, "--ambient");
+    settings.gradients = gradients == "on";
+    settings.neighbourClamp = neighbourClamp == "on";
+    if (clampFootprint == "off") {
+      settings.footprintMin = 0.0f;
+      settings.footprintMax = std::numeric_limits<float>::infinity();
+    } else {
+      const Color v = parseColor(clampFootprint, "--clamp-footprint", 2);
+      if (!(v.x >= 0.0f) || !(v.y >= v.x) || !(v.y > 0.0f))
+        throw InputError("", "--clamp-footprint", "expected MIN,MAX with 0 <= MIN <= MAX, MAX > 0 (pixels), or off");
+      settings.footprintMin = v.x;
+      settings.footprintMax = v.y;
+    }
+    if (!showRecords.empty()) {
+      const std::string ext = std::filesystem::path(showRecords).extension().string();
+      if (ext != ".png" && ext != ".PNG" && ext != ".exr" && ext != ".EXR")
+        throw InputError(showRecords, "--show-records", "unsupported image type (expected .png or .exr)");
+    }
+    if (!settings.cacheFile.empty()) {
+      const auto dir = std::filesystem::path(settings.cacheFile).parent_path();
+      if (!dir.empty() && !std::filesystem::is_directory(dir))
+        throw InputError(settings.cacheFile, "--cache-file", "the folder does not exist");
+    }
+    settings.seed = seed;
+    settings.threads = threads;
+    ic->setSettings(settings);
+  }
+
+  /// After the render: writes the cache file and the record image, and prints a summary.
+  void finish(const Integrator& integrator, const Film& film, float exposure, double renderSeconds, bool quiet) const {
+    const auto* ic = dynamic_cast<const IrradianceCacheIntegrator*>(&integrator);
+    if (!ic) return;
+    if (!settings.cacheFile.empty()) ic->saveCache(settings.cacheFile);
+    if (!showRecords.empty()) ic->writeRecordImage(film, showRecords, exposure);
+    if (quiet) return;
+    const IrradianceCacheStats s = ic->stats();
+    std::string levels;
+    for (size_t l = 0; l < s.perLevel.size(); ++l) levels += fmt::format("{}{}", l ? " + " : "", s.perLevel[l]);
+    const size_t made = s.records - s.loaded;
+    const double seconds = renderSeconds + s.fillSeconds;
+    fmt::print(stderr, "irradiance cache: {} records ({} by level), {} loaded, {} new ({:.0f} records/s)", s.records,
+               levels.empty() ? "0" : levels, s.loaded, made, seconds > 0 ? double(made) / seconds : 0.0);
+    if (settings.twoPass)
+      fmt::print(stderr, "; fill {:.2f} s in {} sweep(s), {} private records in the render", s.fillSeconds, s.fillRounds,
+                 s.privateRecords);
+    fmt::print(stderr, "\n");
+  }
+
+ private:
+  /// "v" or "a,b[,c]" → up to @p n values (a single value fills every component).
+  static Color parseColor(const std::string& text, const char* what, int n = 3) {
+    std::vector<float> v;
+    size_t pos = 0;
+    try {
+      while (pos <= text.size()) {
+        const size_t comma = text.find(',', pos);
+        const std::string part = text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+        size_t used = 0;
+        v.push_back(std::stof(part, &used));
+        if (used != part.size()) throw std::invalid_argument(part);
+        if (comma == std::string::npos) break;
+        pos = comma + 1;
+      }
+    } catch (const std::exception&) {
+      throw InputError("", what, "not a number list: \"" + text + "\"");
+    }
+    if (v.size() == 1) v.assign(size_t(n), v[0]);
+    if (int(v.size()) != n) throw InputError("", what, fmt::format("expected 1 or {} values, got \"{}\"", n, text));
+    Color c(0.0f);
+    for (int i = 0; i < n; ++i) {
+      if (!std::isfinite(v[size_t(i)]) || v[size_t(i)] < 0.0f) throw InputError("", what, "values must be finite and >= 0");
+      c[i] = v[size_t(i)];
+    }
+    return c;
+  }
+};
+
+}  // namespace fs

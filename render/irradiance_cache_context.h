@@ -1,0 +1,29 @@
+#pragma once
+/// @file irradiance_cache_context.h
+/// Private to the irradiance cache integrator's sources: the state of one camera sample or fill
+/// task, and how a ray was chosen (which decides whether the emission it meets counts).
+#include <cstdint>
+#include <memory>
+
+#include "render/irradiance_cache_integrator.h"
+
+namespace fs {
+
+struct IrradianceCacheIntegrator::Context {
+  /// Shared: new records go into the shared cache. Private: into @c overlay, seen only by this
+  /// context (two-pass: fill tasks, whose records are merged later, and read-only rendering).
+  enum class Mode : uint8_t { Shared, Private };
+  explicit Context(Mode m) : mode(m) {}
+  Mode mode;
+  std::unique_ptr<IrradianceCache> overlay;  ///< private records (created on the first one)
+  uint64_t rays = 0;
+};
+
+enum class IrradianceCacheIntegrator::RayKind : uint8_t {
+  Camera,  ///< from the camera: emission counts
+  Delta,   ///< after a mirror or glass bounce: emission counts (no light sampling could find it)
+  Gather,  ///< a hemisphere sample of the primary method: only gathered (large) lights count
+  Glossy,  ///< a BSDF sample of the non-diffuse part: gathered lights with MIS, small lights not
+};
+
+}  // namespace fs

@@ -1,0 +1,249 @@
+// Irradiance caching: the shading of camera and gather paths, and the primary method.
+#include "render/irradiance_cache_integrator.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/sampling.h"
+#include "render/hemisphere_samples.h"
+#include "render/irradiance_cache_context.h"
+
+namespace fs {
+
+namespace {
+
+/// A 64-bit identity of a first-shot table (its factors decide the gathered radiance).
+uint64_t tableHash(const FirstShotTable& t) {
+  Hasher h;
+  h.add(t.sceneHash).add(t.settings.hash()).add(hashPatches(t.mesh));
+  for (const LightSample& s : t.samples) h.add(s.kind).add(s.light).add(s.position).add(s.normal).add(s.emission).add(s.weight);
+  h.bytes(t.rowStart.data(), t.rowStart.size() * sizeof(uint64_t));
+  h.bytes(t.sampleIndex.data(), t.sampleIndex.size() * sizeof(uint32_t));
+  h.bytes(t.factor.data(), t.factor.size() * sizeof(float));
+  return h.value();
+}
+
+}  // namespace
+
+IrradianceCacheIntegrator::IrradianceCacheIntegrator(const IntegratorOptions& options, const IrradianceCacheSettings& settings)
+    : options_(options), settings_(settings) {}
+
+IrradianceCacheIntegrator::~IrradianceCacheIntegrator() = default;
+
+float IrradianceCacheIntegrator::accuracy(int level) const {
+  return settings_.accuracy * std::pow(1.4f, float(level));
+}
+
+int IrradianceCacheIntegrator::strata(int level) const {
+  const double n = std::max(8.0, std::ldexp(double(std::max(1, settings_.samples)), -level));
+  return std::max(2, int(std::lround(std::sqrt(n / 2.0))));
+}
+
+std::unique_ptr<IrradianceCache> IrradianceCacheIntegrator::makeCache() const {
+  std::vector<float> a;
+  for (int l = 0; l < settings_.bounces; ++l) a.push_back(accuracy(l));
+  return std::make_unique<IrradianceCache>(boundsLo_, boundsHi_, std::move(a));
+}
+
+std::string IrradianceCacheIntegrator::settingsText() const {
+  std::string gathered;
+  for (size_t l = 0; l < gathered_.size(); ++l)
+    if (gathered_[l]) {
+      if (!gathered.empty()) gathered += ',';
+      gathered += std::to_string(l);
+    }
+  const FirstShotTable* t = scene_ ? scene_->firstShot() : nullptr;
+  return fmt::format(
+      "accuracy={} samples={} bounces={} ambient={},{},{} gradients={} clamp-footprint={},{} neighbour-clamp={} "
+      "max-depth={} gathered-lights=[{}] firstshot={}",
+      settings_.accuracy, settings_.samples, settings_.bounces, settings_.ambient.x, settings_.ambient.y,
+      settings_.ambient.z, settings_.gradients ? "on" : "off", settings_.footprintMin, settings_.footprintMax,
+      settings_.neighbourClamp ? "on" : "off", options_.maxDepth, gathered, t ? fmt::format("{:016x}", tableHash(*t)) : "none");
+}
+
+std::vector<IntegratorRecord> IrradianceCacheIntegrator::records() const {
+  std::vector<IntegratorRecord> out;
+  if (!cache_ || cache_->levels() == 0) return out;
+  for (const IrradianceRecord& r : cache_->records(0)) out.push_back({r.p, r.n, accuracy(0) * r.radius()});
+  return out;
+}
+
+IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
+  IrradianceCacheStats s;
+  s.loaded = loaded_;
+  if (cache_)
+    for (int l = 0; l < cache_->levels(); ++l) s.perLevel.push_back(cache_->size(l)), s.records += s.perLevel.back();
+  s.privateRecords = privateRecords_.load();
+  s.fillSeconds = fillSeconds_;
+  s.fillRounds = fillRounds_;
+  return s;
+}
+
+Color IrradianceCacheIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* info) const {
+  Context ctx(frozen_ ? Context::Mode::Private : Context::Mode::Shared);
+  const Color L = radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, info);
+  if (ctx.overlay) privateRecords_ += ctx.overlay->size();
+  if (info) info->rays = ctx.rays;
+  return L;
+}
+
+Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, float pathLength, Sampler& sampler,
+                                          Context& ctx, float* firstDistance, SampleInfo* info) const {
+  const RenderScene& scene = *scene_;
+  const LightSet& lights = scene.lights();
+  Color L(0.0f), beta(1.0f);
+  bool cameraChain = kind == RayKind::Camera;  // only mirrors and glass since the camera
+  float prevPdf = 0.0f;
+  Vec3 prevP(0.0f);
+  if (firstDistance) *firstDistance = std::numeric_limits<float>::infinity();
+
+  for (int depth = 0;; ++depth) {
+    Hit hit;
+    ++ctx.rays;
+    if (!scene.intersect(ray, hit)) break;
+    if (depth == 0 && firstDistance) *firstDistance = hit.t;
+    pathLength += hit.t;
+    const Vec3 wo = -glm::normalize(ray.d);
+
+    if (!hit.onPatch()) {  // an area light
+      const Color Le = lights.emitted(hit.emitter, hit.ng, wo);
+      if (maxComponent(Le) > 0.0f) {
+        const bool gathered = gatheredEmitter_[hit.emitter];
+        if (kind == RayKind::Camera || kind == RayKind::Delta || (gathered && kind == RayKind::Gather))
+          L += beta * Le;  // nothing else counts it
+        else if (gathered && kind == RayKind::Glossy)
+          L += beta * Le * powerHeuristic(prevPdf, lights.pdf(lights.emitterLight(hit.emitter), prevP, hit.p, hit.ng));
+        // else: a small light met by a cache or BSDF ray is direct light, counted at the vertex
+      }
+    }
+
+    const BSDF& bsdf = scene.bsdf(scene.material(hit));
+    if (info && depth == 0) {
+      info->albedo = bsdf.albedo();
+      info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
+    }
+    if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
+    const Frame frame(hit.ng);
+    const Vec3 woLocal = frame.toLocal(wo);
+
+    if (bsdf.hasDelta()) {  // mirror or glass: follow the sampled lobe
+      BSDFQuery q(woLocal);
+      const Color w = bsdf.sample(q, sampler.next2D());
+      if (!(q.pdf > 0.0f) || !(maxComponent(w) > 0.0f)) break;
+      beta *= w;
+      kind = RayKind::Delta;
+      const Vec3 wi = frame.toWorld(q.wi);
+      ray = Ray(hit.spawnOrigin(wi), wi);
+      continue;
+    }
+
+    L += beta * shade(hit, frame, woLocal, bsdf, level, cameraChain, pathLength, sampler, ctx);
+    if (bsdf.isDiffuse()) break;
+
+    // The non-diffuse part f − ρd/π: NEE + MIS for the gathered lights, then one BSDF sample.
+    DirectLightOptions o;
+    o.include = &gathered_;
+    o.nonDiffuseOnly = true;
+    L += beta * estimateDirect(scene, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
+    BSDFQuery q(woLocal);
+    bsdf.sample(q, sampler.next2D());
+    if (!(q.pdf > 0.0f)) break;
+    Color f = bsdf.eval(q);
+    if (q.wi.z * q.wo.z > 0.0f) f = glm::max(f - bsdf.diffuseAlbedo() * kInvPiF, Color(0.0f));
+    const Color w = f * (std::abs(q.wi.z) / q.pdf);
+    if (!(maxComponent(w) > 0.0f)) break;
+    beta *= w;
+    kind = RayKind::Glossy;
+    cameraChain = false;
+    prevPdf = q.pdf;
+    prevP = hit.p;
+    const Vec3 wi = frame.toWorld(q.wi);
+    ray = Ray(hit.spawnOrigin(wi), wi);
+  }
+  return L;
+}
+
+Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
+                                       int level, bool cameraVertex, float pathLength, Sampler& sampler,
+                                       Context& ctx) const {
+  const bool useTable =
+      scene_->firstShot() && hit.onPatch() && !(options_.primary == PrimaryMode::Exact && cameraVertex);
+  Color L(0.0f);
+  if (useTable) L += firstShot_.eval(hit, frame, woLocal, bsdf);
+  DirectLightOptions o;
+  o.skipReplaced = useTable;
+  o.include = &direct_;
+  o.mis = false;  // cache and BSDF rays never count the direct lights
+  L += estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
+  const Color rho = bsdf.diffuseAlbedo();
+  if (maxComponent(rho) > 0.0f) {
+    const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the viewer's side
+    L += rho * kInvPiF * irradiance(hit, n, level, pathLength, sampler, ctx);
+  }
+  return L;
+}
+
+Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int level, float pathLength,
+                                            Sampler& sampler, Context& ctx) const {
+  if (level >= settings_.bounces) return kPiF * settings_.ambient;
+  // Drawn whether or not a record is made, so that the path does not depend on the cache.
+  const uint64_t key = sampler.nextBits();
+  IrradianceEstimate est;
+  cache_->lookup(level, hit.p, n, settings_.gradients, est);
+  if (ctx.overlay) ctx.overlay->lookup(level, hit.p, n, settings_.gradients, est);
+  if (est.count > 0) return est.value();
+  if (frozen_) {  // two-pass render: a point the fill did not reach; first try the doubled domains
+    cache_->lookup(level, hit.p, n, settings_.gradients, est, 2.0f);
+    if (est.count > 0) return est.value();
+  }
+
+  Sampler rs = Sampler::fromKey(key);
+  IrradianceRecord r = gather(hit, n, level, pathLength, rs, ctx);
+  if (ctx.mode == Context::Mode::Shared) {
+    cache_->insert(level, r, settings_.neighbourClamp);
+  } else {
+    if (!ctx.overlay) ctx.overlay = makeCache();
+    if (settings_.neighbourClamp) cache_->clampToNeighbours(level, r);  // the shared cache is read-only here
+    ctx.overlay->insert(level, r, settings_.neighbourClamp);
+  }
+  return r.E;
+}
+
+IrradianceRecord IrradianceCacheIntegrator::computeRecord(const Hit& hit, const Vec3& n, int level, Sampler& sampler,
+                                                          float pathLength) const {
+  Context ctx(Context::Mode::Private);
+  return gather(hit, n, level, pathLength, sampler, ctx);
+}
+
+IrradianceRecord IrradianceCacheIntegrator::gather(const Hit& hit, const Vec3& n, int level, float pathLength,
+                                                   Sampler& sampler, Context& ctx) const {
+  const int M = strata(level), N = 2 * M;
+  const Frame frame(n);
+  HemisphereSamples hs(M, N);
+  const uint64_t key = sampler.nextBits();
+  for (int j = 0; j < M; ++j)
+    for (int k = 0; k < N; ++k) {
+      const Vec3 w = frame.toWorld(squareToCosineHemisphereStratum(j, k, M, N, sampler.next2D()));
+      Sampler ps = Sampler::fromKey(hashKeys(key, uint64_t(j * N + k)));
+      float d;
+      hs.L(j, k) = radiance(Ray(hit.spawnOrigin(w), w), level + 1, RayKind::Gather, pathLength, ps, ctx, &d, nullptr);
+      hs.r(j, k) = d;
+    }
+
+  IrradianceRecord rec;
+  rec.p = hit.p;
+  rec.n = n;
+  hs.estimate(frame, settings_.gradients, rec);
+  rec.R = std::min(rec.R, cache_ ? cache_->extent() : rec.R);
+  if (pathLength > 0.0f && pixelAngle_ > 0.0f) {
+    // The valid domain a·R_i in [min, max] pixel footprints.
+    const float footprint = pixelAngle_ * pathLength / accuracy(level);
+    rec.Rmin = settings_.footprintMin * footprint;
+    rec.Rmax = std::max(rec.Rmin, settings_.footprintMax * footprint);
+  }
+  return rec;
+}
+
+}  // namespace fs

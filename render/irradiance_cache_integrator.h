@@ -1,0 +1,147 @@
+#pragma once
+/// @file irradiance_cache_integrator.h
+/// Irradiance caching (Ward, Rubinstein & Clear 1988) on top of the first-shot renderer.
+///
+/// At every non-specular vertex the outgoing radiance is split as
+///   L = [first-shot or NEE for the direct lights] + ρd/π · E_ℓ(x) + [non-diffuse part of f]
+/// - Direct lights are the small ones (the first-shot table's, or by the scene's small-light rule
+///   without a table) and every point, spot and directional light. With a table they come from
+///   the first-shot term Σ_i emission_i r_ij f_r (NEE at the camera-visible vertex under
+///   PrimaryMode::Exact); without one from NEE at the vertex. Rays of the cache and of BSDF
+///   sampling that meet a small light count nothing, so nothing is counted twice.
+/// - E_ℓ is the indirect irradiance at diffuse-bounce level ℓ (0 at camera-visible surfaces),
+///   interpolated from the records of level ℓ (eq. 5) or, if none is valid, computed by the
+///   primary method: stratified cosine-weighted hemisphere sampling (eq. 2, M × 2M cells) whose
+///   rays gather the radiance of the surfaces they hit at level ℓ+1 (first-shot or NEE direct
+///   light plus their own cached indirect light) and the emission of large area lights (§5).
+///   Level ℓ uses a·1.4^ℓ and half the samples of level ℓ−1 (§3.4); past the last level the
+///   irradiance is π·ambient.
+/// - Mirrors and glass are followed by ray tracing; the glossy part f − ρd/π of a stretched-Phong
+///   BSDF by one BSDF-sampled ray per vertex, with NEE + MIS for the large lights.
+///
+/// Modes: one pass (records are made while rendering, shared by all threads; the image depends
+/// on the thread schedule), or two passes: preprocess() fills the cache by tracing the render's
+/// first camera sample(s) of every pixel in a fixed coarse-to-fine pixel order, in parallel
+/// batches whose new records are merged in a fixed order, and sweeps again until every one of
+/// those samples finds its records; the render then only reads the cache. A render lookup that
+/// finds no record accepts the records of doubled domain (w > 1/(2a)), and failing that makes
+/// a record private to that camera sample. The image is then bit-identical for any number of
+/// threads, and the render's first samples are exactly as a one-pass render would make them.
+#include <atomic>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/direct_light.h"
+#include "render/film.h"
+#include "render/integrator.h"
+#include "render/irradiance_cache.h"
+
+namespace fs {
+
+/// Settings of the irradiance cache integrator (command-line names in brackets).
+struct IrradianceCacheSettings {
+  float accuracy = 0.15f;       ///< a of eq. 5 at level 0 [--accuracy]
+  int samples = 512;            ///< hemisphere samples N of a level-0 record [--ic-samples]
+  int bounces = 3;              ///< B: diffuse bounce levels served by the cache [--bounces]
+  Color ambient{0.0f};          ///< radiance assumed past the last level [--ambient]
+  bool gradients = true;        ///< Ward & Heckbert rotational and translational gradients [--gradients]
+  /// R_i clamped to [min, max] pixel footprints at the record (Tabellion & Lamorlette 2004): the
+  /// width of a pixel's cone at the record's distance from the camera along the path (through
+  /// mirrors and, for deeper levels, the gather rays too); 0 and ∞ disable it [--clamp-footprint MIN,MAX].
+  float footprintMin = 0.0f;
+  float footprintMax = std::numeric_limits<float>::infinity();
+  bool neighbourClamp = true;   ///< R_i ≤ R_j + |P_i − P_j| (Křivánek et al. 2006) [--neighbour-clamp]
+  bool twoPass = false;         ///< fill the cache in preprocess(), then render read-only [--two-pass]
+  int fillSamples = 1;          ///< two-pass: camera samples per pixel of the fill (the render's first ones)
+  std::string cacheFile;        ///< records read in preprocess() if the file exists [--cache-file]
+  uint64_t seed = 1;            ///< the render's seed (the fill traces the render's own camera samples)
+  int threads = 0;              ///< workers of the fill pass (0 = one per core)
+};
+
+/// Counters of one run.
+struct IrradianceCacheStats {
+  size_t loaded = 0;            ///< records read from the cache file
+  size_t records = 0;           ///< records in the cache now (all levels)
+  std::vector<size_t> perLevel; ///< records per level
+  uint64_t privateRecords = 0;  ///< two-pass render: records made for one camera sample only
+  double fillSeconds = 0;       ///< two-pass fill
+  int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
+};
+
+class IrradianceCacheIntegrator : public Integrator {
+ public:
+  explicit IrradianceCacheIntegrator(const IntegratorOptions& options, const IrradianceCacheSettings& settings = {});
+  ~IrradianceCacheIntegrator() override;
+
+  /// Replaces the settings; call before preprocess().
+  void setSettings(const IrradianceCacheSettings& settings) { settings_ = settings; }
+  const IrradianceCacheSettings& settings() const { return settings_; }
+
+  /// Classifies the lights, creates the empty cache, reads the cache file if it exists (refusing
+  /// it with InputError if it does not match), and in two-pass mode fills the cache for the
+  /// scene's camera.
+  void preprocess(const RenderScene& scene) override;
+  Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
+  std::string name() const override { return "irradiance-cache"; }
+  bool hasRecords() const override { return true; }
+  /// Level-0 records (radius = a·R_i, the valid domain).
+  std::vector<IntegratorRecord> records() const override;
+
+  /// Writes every record with the scene hash and settings (see cache_file.h).
+  void saveCache(const std::string& path) const;
+  /// Writes @p film with the pixels of the visible level-0 record positions in blue (Figure 5b).
+  void writeRecordImage(const Film& film, const std::string& path, float exposure = 0.0f) const;
+  IrradianceCacheStats stats() const;
+
+  // Building blocks, public for tests.
+  /// a at level @p level: a·1.4^level.
+  float accuracy(int level) const;
+  /// Polar strata M at @p level; a record takes M × 2M samples (about N/2^level, at least 8).
+  int strata(int level) const;
+  /// The primary method at @p hit for the side with unit normal @p n, at @p level. @p pathLength
+  /// is the distance from the camera along the path (for the footprint clamp; 0 = none).
+  IrradianceRecord computeRecord(const Hit& hit, const Vec3& n, int level, Sampler& sampler, float pathLength = 0.0f) const;
+  /// The shared cache (after preprocess()).
+  IrradianceCache& cache() { return *cache_; }
+  const IrradianceCache& cache() const { return *cache_; }
+  /// The settings and the scene's lighting setup that decide the records' values, as text
+  /// (what the cache file must match).
+  std::string settingsText() const;
+  /// True for the lights whose emission the cache gathers (large area lights), by LightSet index.
+  const std::vector<uint8_t>& gatheredLights() const { return gathered_; }
+
+ private:
+  struct Context;
+  enum class RayKind : uint8_t;
+  /// Radiance along @p ray at diffuse level @p level; @p pathLength is the distance from the
+  /// camera to the ray's origin along the path (for the footprint clamp).
+  Color radiance(Ray ray, int level, RayKind kind, float pathLength, Sampler& sampler, Context& ctx,
+                 float* firstDistance, SampleInfo* info) const;
+  Color shade(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, int level, bool cameraVertex,
+              float pathLength, Sampler& sampler, Context& ctx) const;
+  Color irradiance(const Hit& hit, const Vec3& n, int level, float pathLength, Sampler& sampler, Context& ctx) const;
+  IrradianceRecord gather(const Hit& hit, const Vec3& n, int level, float pathLength, Sampler& sampler, Context& ctx) const;
+  std::unique_ptr<IrradianceCache> makeCache() const;
+  void fill();
+
+  IntegratorOptions options_;
+  IrradianceCacheSettings settings_;
+  const RenderScene* scene_ = nullptr;
+  FirstShotLighting firstShot_;
+  std::vector<uint8_t> gathered_;         ///< per light: emission gathered by the cache (large area lights)
+  std::vector<uint8_t> direct_;           ///< per light: NEE / first-shot (the others)
+  std::vector<uint8_t> gatheredEmitter_;  ///< per emitter mesh: its light is gathered
+  Vec3 boundsLo_{0.0f}, boundsHi_{1.0f};
+  float pixelAngle_ = 0.0f;               ///< footprint of one pixel per metre of distance
+  std::unique_ptr<IrradianceCache> cache_;
+  bool frozen_ = false;                   ///< two-pass render: the shared cache is read-only
+  size_t loaded_ = 0;
+  double fillSeconds_ = 0;
+  int fillRounds_ = 0;
+  mutable std::atomic<uint64_t> privateRecords_{0};
+};
+
+}  // namespace fs

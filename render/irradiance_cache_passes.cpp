@@ -1,0 +1,203 @@
+// Irradiance caching around the render: light classification, the cache file, the two-pass
+// fill, and the record image.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <filesystem>
+#include <stdexcept>
+
+#include "common/analytic.h"
+#include "common/error.h"
+#include "render/cache_file.h"
+#include "render/camera.h"
+#include "render/embree_scene.h"
+#include "render/irradiance_cache_context.h"
+#include "render/irradiance_cache_integrator.h"
+
+namespace fs {
+
+namespace {
+
+constexpr size_t kMaxBatch = 256;           ///< fill tasks merged at once (batches grow 1, 2, 4, ... to this)
+constexpr int kMaxRounds = 8;               ///< fill sweeps at most
+
+/// Pixel indices coarse to fine: every 16th pixel of every 16th row, then the new pixels of the
+/// grids of spacing 8, 4, 2 and 1, each in row order.
+std::vector<uint32_t> fillOrder(int width, int height) {
+  std::vector<uint32_t> order;
+  order.reserve(size_t(width) * size_t(height));
+  for (int s = 16; s >= 1; s /= 2)
+    for (int y = 0; y < height; y += s)
+      for (int x = 0; x < width; x += s)
+        if (s == 16 || x % (2 * s) != 0 || y % (2 * s) != 0) order.push_back(uint32_t(y) * uint32_t(width) + uint32_t(x));
+  return order;
+}
+
+/// The scene's small-light rule (docs/scene-format.md) for a light when there is no first-shot
+/// table: delta lights are small; an area light is small when it subtends at most
+/// settings.smallLightMaxSolidAngle from the centre of the scene's bounds, unless overridden.
+bool isSmallLight(const SceneDesc& scene, const LightDesc& light) {
+  if (light.type != LightType::Area) return true;
+  if (light.small != SmallOverride::Auto) return light.small == SmallOverride::Small;
+  Vec3d lo, hi;
+  scene.bounds(lo, hi);
+  const Vec3d centre = 0.5 * (lo + hi);
+  const ShapeDesc& s = scene.shapes[size_t(light.shape)];
+  double omega = 0;
+  for (const Face& f : s.faces) {
+    std::vector<Vec3d> poly;
+    for (int i = 0; i < f.count; ++i) poly.push_back(s.vertices[f.v[i]]);
+    omega += analytic::solidAnglePolygon(centre, poly);
+  }
+  return omega <= scene.settings.smallLightMaxSolidAngle;
+}
+
+}  // namespace
+
+void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
+  if (!(settings_.accuracy > 0.0f) || settings_.samples < 1 || settings_.bounces < 0 || !(settings_.footprintMin >= 0.0f) ||
+      !(settings_.footprintMax >= settings_.footprintMin))
+    throw std::invalid_argument("irradiance cache: invalid settings");
+  scene_ = &scene;
+  frozen_ = false;
+  loaded_ = 0;
+  fillSeconds_ = 0;
+  fillRounds_ = 0;
+  privateRecords_ = 0;
+  firstShot_.build(scene);
+
+  // Large area lights are gathered by the cache (§5); every other light is direct light.
+  const LightSet& lights = scene.lights();
+  const size_t n = lights.lights().size();
+  gathered_.assign(n, 0);
+  direct_.assign(n, 1);
+  gatheredEmitter_.assign(lights.emitterMeshes().size(), 0);
+  for (size_t l = 0; l < n; ++l) {
+    const RenderLight& light = lights.lights()[l];
+    if (light.type != LightType::Area) continue;
+    const bool small = scene.firstShot() ? light.replaced : isSmallLight(scene.desc(), light.desc);
+    if (small) continue;
+    gathered_[l] = 1;
+    direct_[l] = 0;
+    gatheredEmitter_[light.emitter] = 1;
+  }
+
+  Vec3d lo, hi;
+  scene.desc().bounds(lo, hi);
+  boundsLo_ = Vec3(lo);
+  boundsHi_ = Vec3(hi);
+  const CameraDesc& cam = scene.desc().camera;
+  pixelAngle_ = float(2.0 * std::tan(glm::radians(cam.fovYDeg) * 0.5) / std::max(1, cam.height));
+  cache_ = makeCache();
+
+  const std::string& file = settings_.cacheFile;
+  if (!file.empty() && std::filesystem::exists(file)) {
+    const CacheFileData d = readCacheFile(file, hashScene(scene.desc()), settingsText());
+    if (int(d.levels.size()) != cache_->levels()) throw InputError(file, "records", "wrong number of levels (corrupt file)");
+    for (int l = 0; l < cache_->levels(); ++l)
+      for (const IrradianceRecord& r : d.levels[size_t(l)]) cache_->insert(l, r, false);
+    loaded_ = cache_->size();
+  }
+  if (settings_.twoPass) {
+    fill();
+    frozen_ = true;
+  }
+}
+
+void IrradianceCacheIntegrator::fill() {
+  const auto start = std::chrono::steady_clock::now();
+  const Camera camera(scene_->desc().camera);
+  const int width = camera.width();
+  const std::vector<uint32_t> order = fillOrder(width, camera.height());
+  tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+
+  for (fillRounds_ = 1;; ++fillRounds_) {
+    size_t added = 0;
+    size_t batch = 1;
+    for (size_t pos = 0; pos < order.size(); pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
+      const size_t count = std::min(batch, order.size() - pos);
+      // Each task traces the ray through its pixel centre against the cache as it was at the
+      // start of the batch, keeping the records it has to make to itself...
+      std::vector<std::unique_ptr<IrradianceCache>> made(count);
+      arena.execute([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& r) {
+          enableFlushToZero();
+          for (size_t i = r.begin(); i < r.end(); ++i) {
+            // The render's own camera samples 0 .. fillSamples−1 of the pixel (renderer.cpp), so
+            // that the render finds every record those samples need.
+            const uint32_t pixel = order[pos + i];
+            Context ctx(Context::Mode::Private);
+            for (int k = 0; k < std::max(1, settings_.fillSamples); ++k) {
+              Sampler sampler(settings_.seed, pixel, uint64_t(k));
+              const Vec2 jitter = sampler.next2D();
+              const Ray ray = camera.generateRay(float(pixel % uint32_t(width)) + jitter.x, float(pixel / uint32_t(width)) + jitter.y);
+              radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, nullptr);
+            }
+            made[i] = std::move(ctx.overlay);
+          }
+        });
+      });
+      // ...then the records are merged in task order, each unless an earlier one covers it.
+      for (const auto& m : made) {
+        if (!m) continue;
+        for (int l = 0; l < m->levels(); ++l)
+          for (const IrradianceRecord& r : m->records(l))
+            if (!cache_->covers(l, r.p, r.n)) {
+              cache_->insert(l, r, settings_.neighbourClamp);
+              ++added;
+            }
+      }
+    }
+    // Neighbour clamping may have shrunk a record that covered an earlier pixel: sweep again
+    // until every pixel is covered, so that a later run from the saved file adds nothing.
+    if (added == 0 || fillRounds_ >= kMaxRounds) break;
+  }
+  // Rebuild the octrees from the final records in order, exactly as reading the file does.
+  auto rebuilt = makeCache();
+  for (int l = 0; l < cache_->levels(); ++l)
+    for (const IrradianceRecord& r : cache_->records(l)) rebuilt->insert(l, r, false);
+  cache_ = std::move(rebuilt);
+  fillSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void IrradianceCacheIntegrator::saveCache(const std::string& path) const {
+  if (!scene_ || !cache_) throw std::logic_error("saveCache before preprocess");
+  CacheFileData d;
+  d.sceneHash = hashScene(scene_->desc());
+  d.settings = settingsText();
+  for (int l = 0; l < cache_->levels(); ++l) d.levels.push_back(cache_->records(l));
+  writeCacheFile(path, d);
+}
+
+void IrradianceCacheIntegrator::writeRecordImage(const Film& film, const std::string& path, float exposure) const {
+  const CameraDesc& c = scene_->desc().camera;
+  const int w = film.width(), h = film.height();
+  std::vector<uint8_t> mark(size_t(w) * size_t(h), 0);
+  // The camera's projection (the inverse of Camera::generateRay).
+  const Vec3d fwd = glm::normalize(c.lookAt - c.position), right = glm::normalize(glm::cross(fwd, c.up));
+  const Vec3d up = glm::cross(right, fwd);
+  const double tanHalf = std::tan(glm::radians(c.fovYDeg) * 0.5), aspect = double(w) / double(h);
+  for (const IrradianceRecord& r : cache_->records(0)) {
+    const Vec3d v = Vec3d(r.p) - c.position;
+    const double z = glm::dot(v, fwd);
+    if (!(z > 0)) continue;
+    const double sx = glm::dot(v, right) / (z * tanHalf * aspect), sy = glm::dot(v, up) / (z * tanHalf);
+    const int px = int(std::floor((sx + 1.0) * 0.5 * w)), py = int(std::floor((1.0 - sy) * 0.5 * h));
+    if (px < 0 || py < 0 || px >= w || py >= h) continue;
+    // Marked only where the camera sees the record's point itself (not through a mirror).
+    const double dist = glm::length(v);
+    Hit hit;
+    if (!scene_->intersect(Ray(Vec3(c.position), Vec3(v / dist)), hit) || hit.t < float(dist) * 0.999f - 1e-4f) continue;
+    mark[size_t(py) * size_t(w) + size_t(px)] = 1;
+  }
+  Film out(w, h);
+  const Color blue(0.0f, 0.0f, std::max(1.0f, std::exp2(-exposure)));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      out.add(x, y, mark[size_t(y) * size_t(w) + size_t(x)] ? blue : Color(film.mean(x, y)), Color(0.0f), Vec3(0.0f));
+  out.write(path, false, exposure);
+}
+
+}  // namespace fs

@@ -1,0 +1,151 @@
+// firstshot-render: scene [+ first-shot table] -> image, with the Embree path tracer.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <filesystem>
+#include <optional>
+
+#include "common/cli.h"
+#include "common/firstshot.h"
+#include "common/scene_desc.h"
+#include "render/camera.h"
+#include "render/film.h"
+#include "render/integrator.h"
+#include "render/irradiance_cache_cli.h"
+#include "render/preview/preview_app.h"
+#include "render/render_scene.h"
+#include "render/renderer.h"
+
+int main(int argc, char** argv) {
+  return fs::runTool("firstshot-render", [&] {
+    CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
+                 "by their first-shot factors"};
+    std::string scenePath, fsdPath, integratorName = "path", primary = "exact";
+    std::vector<std::string> outputs;
+    int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;
+    double timeLimit = 0, patchSize = 0;
+    float exposure = 0;
+    uint64_t seed = 0;
+    bool quiet = false, aov = false;
+    bool preview = false;      // --preview: the interactive window (render/preview/)
+    int frames = -1;
+    std::string screenshot, windowGrab;
+    app.add_option("scene", scenePath, "scene file (.json, .obj, .gltf, .glb, .ply)")->required();
+    app.add_option("--firstshot", fsdPath, "first-shot table from firstshot-preprocess (.fsd)");
+    app.add_option("--integrator", integratorName, "integrator: path | irradiance-cache")->capture_default_str();
+    app.add_option("--primary", primary, "with --firstshot, camera-visible surfaces: exact (shadow rays to small lights) "
+                                         "or patch (first-shot there too)")
+        ->check(CLI::IsMember({"exact", "patch"}))->capture_default_str();
+    auto* sppOpt = app.add_option("--spp", spp, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
+    app.add_option("--time", timeLimit, "render passes of 1 spp until this many seconds have passed (the image then "
+                                        "depends on how many passes fit)")
+        ->check(CLI::Range(1e-3, 1e9))->excludes(sppOpt);
+    auto* outOpt = app.add_option("-o,--output", outputs, "output image, .exr (linear float) or .png (sRGB); may be repeated "
+                                                          "(required without --preview)");
+    app.add_option("--threads", threads, "worker threads (default: one per core); the image does not depend on it")
+        ->check(CLI::Range(0, 4096));
+    app.add_option("--seed", seed, "random seed (default: the scene's settings.seed)");
+    app.add_option("--max-depth", maxDepth, "longest path in bounces (default: the scene's settings.max_depth)")
+        ->check(CLI::Range(0, 1 << 30));
+    app.add_option("--exposure", exposure, "PNG exposure in stops (scale by 2^exposure)");
+    app.add_flag("--aov", aov, "EXR: add albedo and normal layers for external denoisers");
+    app.add_option("--width", width, "image width (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
+    app.add_option("--height", height, "image height (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
+    app.add_option("--patch-size", patchSize, "without --firstshot: longest patch edge in metres (default: the scene's)")
+        ->check(CLI::Range(1e-6, 1e6));
+    app.add_flag("-q,--quiet", quiet, "no progress bar or summary");
+    auto* previewOpt = app.add_flag("--preview", preview, "open the interactive preview window (needs a display; keys: H)")
+                           ->excludes(outOpt);
+    app.add_option("--frames", frames, "with --preview: scripted run: refine for this many frames (1 spp each; the image "
+                                       "then equals an offline render with --spp frames), save --screenshot, exit")
+        ->check(CLI::Range(0, 1 << 30))->needs(previewOpt);
+    app.add_option("--screenshot", screenshot, "with --preview: screenshot file OUT.png (OUT.exr is written beside it); "
+                                               "key P saves OUT-NNN.png")
+        ->needs(previewOpt);
+    app.add_option("--window-grab", windowGrab, "with --preview --frames: save the window's pixels as shown (.png), for tests")
+        ->needs(previewOpt);
+    fs::IrradianceCacheCli irradianceCache;  // --accuracy, --bounces, --cache-file, ... (render/irradiance_cache_cli.h)
+    irradianceCache.add(app);
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      return app.exit(e) == 0 ? 0 : fs::kExitBadInput;
+    }
+
+    if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
+    if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
+    for (const std::string* png : {&screenshot, &windowGrab}) {
+      if (png->empty()) continue;
+      const std::string ext = std::filesystem::path(*png).extension().string();
+      if (ext != ".png" && ext != ".PNG") throw fs::InputError(*png, "", "the screenshot must be a .png file");
+      const auto dir = std::filesystem::path(*png).parent_path();
+      if (!dir.empty() && !std::filesystem::is_directory(dir)) throw fs::InputError(*png, "", "the output folder does not exist");
+    }
+
+    fs::SceneDesc scene = fs::loadScene(scenePath);
+    if (width > 0) scene.camera.width = width;
+    if (height > 0) scene.camera.height = height;
+    fs::IntegratorOptions io;
+    io.maxDepth = maxDepth >= 0 ? maxDepth : scene.settings.maxDepth;
+    io.primary = primary == "patch" ? fs::PrimaryMode::Patch : fs::PrimaryMode::Exact;
+    auto integrator = fs::makeIntegrator(integratorName, io);
+    irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);
+    for (const auto& out : outputs) {  // reject a bad output name before the render, not after
+      const auto dot = out.rfind('.');
+      const std::string ext = dot == std::string::npos ? "" : out.substr(dot);
+      if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
+        throw fs::InputError(out, "", "unsupported image type (expected .exr or .png)");
+      const auto dir = std::filesystem::path(out).parent_path();
+      if (!dir.empty() && !std::filesystem::is_directory(dir)) throw fs::InputError(out, "", "the output folder does not exist");
+    }
+
+    std::optional<fs::RenderScene> rs;
+    if (!fsdPath.empty())
+      rs.emplace(scene, fs::readFirstShot(fsdPath, fs::hashScene(scene)), fsdPath);
+    else
+      rs.emplace(scene, patchSize);
+    if (preview) {
+      fs::PreviewOptions po;
+      po.integrator = integratorName;
+      po.integratorOptions = io;
+      po.seed = app.count("--seed") ? seed : scene.settings.seed;
+      // Keys 1..n switch integrators: each is configured like the offline render's.
+      po.factory = [io, ic = irradianceCache, seed = po.seed, threads](const std::string& name) mutable {
+        auto made = fs::makeIntegrator(name, io);
+        if (dynamic_cast<fs::IrradianceCacheIntegrator*>(made.get())) ic.configure(*made, seed, threads);
+        return made;
+      };
+      po.threads = threads;
+      po.spp = spp > 0 ? spp : scene.settings.spp;
+      po.frames = frames;
+      po.screenshot = screenshot;
+      po.windowGrab = windowGrab;
+      po.exposure = exposure;
+      po.quiet = quiet;
+      return fs::runPreview(*rs, po);
+    }
+    integrator->preprocess(*rs);
+
+    fs::RenderOptions ro;
+    ro.spp = spp > 0 ? spp : scene.settings.spp;
+    ro.timeLimit = timeLimit;
+    ro.seed = app.count("--seed") ? seed : scene.settings.seed;
+    ro.threads = threads;
+    ro.quiet = quiet;
+    const fs::Camera camera(scene.camera);
+    fs::Film film(camera.width(), camera.height());
+    const fs::RenderStats st = fs::render(*integrator, camera, film, ro);
+    for (const auto& out : outputs) film.write(out, aov, exposure);
+    irradianceCache.finish(*integrator, film, exposure, st.seconds, quiet);
+
+    if (st.nonFinite > 0)
+      fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
+    if (!quiet) {
+      const auto* t = rs->firstShot();
+      fmt::print(stderr, "{}x{} at {} spp in {:.2f} s: {:.2f} Mrays/s; {} patches, {} lights ({} replaced by first-shot)\n",
+                 camera.width(), camera.height(), st.spp, st.seconds, st.seconds > 0 ? st.rays / st.seconds * 1e-6 : 0.0,
+                 rs->mesh().size(), scene.lights.size(), t ? t->replacedLights.size() : 0);
+    }
+    return 0;
+  });
+}

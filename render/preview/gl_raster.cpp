@@ -1,0 +1,378 @@
+// The preview's OpenGL drawing: instant raster, tone-mapped display, line overlays.
+#include "render/preview/gl_raster.h"
+
+#include <glad/gl.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+
+namespace fs {
+
+namespace {
+
+// The instant picture: flat radiance per patch side, or albedo under a headlight.
+const char* kRasterVS = R"(#version 330 core
+layout(location = 0) in vec3 aPos;
+layout(location = 1) in vec3 aNormal;
+layout(location = 2) in vec3 aFront;
+layout(location = 3) in vec3 aBack;
+layout(location = 4) in float aHeadlight;
+uniform mat4 uViewProj;
+out vec3 vPos;
+flat out vec3 vNormal, vFront, vBack;
+flat out float vHeadlight;
+void main() {
+  vPos = aPos; vNormal = aNormal; vFront = aFront; vBack = aBack; vHeadlight = aHeadlight;
+  gl_Position = uViewProj * vec4(aPos, 1.0);
+})";
+
+const char* kRasterFS = R"(#version 330 core
+uniform vec3 uEye;
+in vec3 vPos;
+flat in vec3 vNormal, vFront, vBack;
+flat in float vHeadlight;
+layout(location = 0) out vec4 fragColor;
+void main() {
+  vec3 toEye = uEye - vPos;
+  float c = dot(vNormal, toEye);
+  vec3 L = c > 0.0 ? vFront : vBack;
+  if (vHeadlight > 0.5) L *= abs(c) / max(length(toEye), 1e-20);
+  fragColor = vec4(L, 1.0);
+})";
+
+// A full-window triangle; uv (0,0) at the bottom left.
+const char* kDisplayVS = R"(#version 330 core
+out vec2 vUV;
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  vUV = p;
+  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
+})";
+
+// Exposure, clamp to [0, 1], sRGB transfer curve: the same steps as Film::write's PNG.
+const char* kDisplayFS = R"(#version 330 core
+uniform sampler2D uImage;
+uniform float uScale;
+uniform bool uFlipY;
+in vec2 vUV;
+layout(location = 0) out vec4 fragColor;
+float srgb(float v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055; }
+void main() {
+  vec2 uv = uFlipY ? vec2(vUV.x, 1.0 - vUV.y) : vUV;
+  vec3 v = clamp(texture(uImage, uv).rgb * uScale, 0.0, 1.0);
+  fragColor = vec4(srgb(v.r), srgb(v.g), srgb(v.b), 1.0);
+})";
+
+// Overlay lines, hidden behind the instant picture's surfaces. Window depth is linear in screen
+// space over a plane, so a line lying on a surface is no deeper than the farthest of the 3×3 pixel
+// centres around it; anything deeper is behind something. (No polygon offset on the surfaces: it
+// would move grazing faces behind their neighbours and change the instant picture.)
+const char* kLineVS = R"(#version 330 core
+layout(location = 0) in vec3 aPos;
+uniform mat4 uViewProj;
+void main() { gl_Position = uViewProj * vec4(aPos, 1.0); })";
+
+const char* kLineFS = R"(#version 330 core
+uniform sampler2D uDepth;
+uniform vec4 uRect;  // the image's viewport: x, y, width, height
+uniform vec3 uColor;
+layout(location = 0) out vec4 fragColor;
+void main() {
+  ivec2 size = textureSize(uDepth, 0);
+  ivec2 p = ivec2((gl_FragCoord.xy - uRect.xy) / uRect.zw * vec2(size));
+  float d = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) d = max(d, texelFetch(uDepth, clamp(p + ivec2(dx, dy), ivec2(0), size - 1), 0).r);
+  if (gl_FragCoord.z > d + 1e-7) discard;
+  fragColor = vec4(uColor, 1.0);
+})";
+
+GLuint compile(GLenum type, const char* src) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    glDeleteShader(s);
+    throw std::runtime_error(std::string("preview: shader compilation failed: ") + log);
+  }
+  return s;
+}
+
+GLuint link(const char* vs, const char* fs) {
+  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, v);
+  glAttachShader(p, f);
+  glLinkProgram(p);
+  glDeleteShader(v);
+  glDeleteShader(f);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {};
+    glGetProgramInfoLog(p, sizeof log, nullptr, log);
+    glDeleteProgram(p);
+    throw std::runtime_error(std::string("preview: shader linking failed: ") + log);
+  }
+  return p;
+}
+
+void setTextureFilter(GLuint tex, GLint filter) {
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+
+/// A vertex array with one buffer of points (lines).
+struct LineBuffer {
+  GLuint vao = 0, vbo = 0;
+  GLsizei count = 0;
+  void upload(const std::vector<Vec3>& points) {
+    if (!vao) {
+      glGenVertexArrays(1, &vao);
+      glGenBuffers(1, &vbo);
+      glBindVertexArray(vao);
+      glBindBuffer(GL_ARRAY_BUFFER, vbo);
+      glEnableVertexAttribArray(0);
+      glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(Vec3), nullptr);
+    }
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(points.size() * sizeof(Vec3)), points.data(), GL_STATIC_DRAW);
+    count = GLsizei(points.size());
+  }
+  void release() {
+    if (vbo) glDeleteBuffers(1, &vbo);
+    if (vao) glDeleteVertexArrays(1, &vao);
+  }
+};
+
+}  // namespace
+
+struct GLRaster::Impl {
+  GLuint rasterProgram = 0, displayProgram = 0, lineProgram = 0;
+  GLuint meshVao = 0, meshVbo = 0, emptyVao = 0;
+  GLsizei meshCount = 0;
+  LineBuffer edges, records;
+  Vec3 lo{0.0f}, hi{0.0f};  // mesh bounds, for the depth range
+
+  // The instant picture's target.
+  GLuint fbo = 0, colorTex = 0, depthTex = 0;
+  int width = 0, height = 0;
+  glm::mat4 viewProj{1.0f};
+
+  GLuint filmTex = 0;
+  int filmWidth = 0, filmHeight = 0;
+
+  int rect[4] = {0, 0, 0, 0};  // the image's viewport in the window, set by display()
+
+  void ensureTarget(int w, int h) {
+    if (fbo && w == width && h == height) return;
+    if (!fbo) {
+      glGenFramebuffers(1, &fbo);
+      glGenTextures(1, &colorTex);
+      glGenTextures(1, &depthTex);
+    }
+    width = w, height = h;
+    setTextureFilter(colorTex, GL_NEAREST);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, nullptr);
+    setTextureFilter(depthTex, GL_NEAREST);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, w, h, 0, GL_DEPTH_COMPONENT, GL_FLOAT, nullptr);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colorTex, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depthTex, 0);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("preview: the offscreen framebuffer is incomplete");
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
+
+  void drawLines(const LineBuffer& lines, const Vec3& color) {
+    if (lines.count == 0 || !fbo) return;
+    glUseProgram(lineProgram);
+    glUniformMatrix4fv(glGetUniformLocation(lineProgram, "uViewProj"), 1, GL_FALSE, glm::value_ptr(viewProj));
+    glUniform4f(glGetUniformLocation(lineProgram, "uRect"), float(rect[0]), float(rect[1]), float(rect[2]), float(rect[3]));
+    glUniform3f(glGetUniformLocation(lineProgram, "uColor"), color.x, color.y, color.z);
+    glUniform1i(glGetUniformLocation(lineProgram, "uDepth"), 0);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, depthTex);
+    glBindVertexArray(lines.vao);
+    glDrawArrays(GL_LINES, 0, lines.count);
+  }
+};
+
+GLRaster::GLRaster() : impl_(std::make_unique<Impl>()) {
+  impl_->rasterProgram = link(kRasterVS, kRasterFS);
+  impl_->displayProgram = link(kDisplayVS, kDisplayFS);
+  impl_->lineProgram = link(kLineVS, kLineFS);
+  glGenVertexArrays(1, &impl_->emptyVao);
+}
+
+GLRaster::~GLRaster() {
+  Impl& m = *impl_;
+  glDeleteProgram(m.rasterProgram);
+  glDeleteProgram(m.displayProgram);
+  glDeleteProgram(m.lineProgram);
+  if (m.meshVbo) glDeleteBuffers(1, &m.meshVbo);
+  if (m.meshVao) glDeleteVertexArrays(1, &m.meshVao);
+  glDeleteVertexArrays(1, &m.emptyVao);
+  m.edges.release();
+  m.records.release();
+  if (m.fbo) {
+    glDeleteFramebuffers(1, &m.fbo);
+    glDeleteTextures(1, &m.colorTex);
+    glDeleteTextures(1, &m.depthTex);
+  }
+  if (m.filmTex) glDeleteTextures(1, &m.filmTex);
+}
+
+void GLRaster::setMesh(const RasterMesh& mesh) {
+  Impl& m = *impl_;
+  if (!m.meshVao) {
+    glGenVertexArrays(1, &m.meshVao);
+    glGenBuffers(1, &m.meshVbo);
+    glBindVertexArray(m.meshVao);
+    glBindBuffer(GL_ARRAY_BUFFER, m.meshVbo);
+    const auto stride = GLsizei(sizeof(RasterVertex));
+    auto attrib = [&](GLuint index, GLint size, size_t offset) {
+      glEnableVertexAttribArray(index);
+      glVertexAttribPointer(index, size, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(offset));
+    };
+    attrib(0, 3, offsetof(RasterVertex, position));
+    attrib(1, 3, offsetof(RasterVertex, normal));
+    attrib(2, 3, offsetof(RasterVertex, front));
+    attrib(3, 3, offsetof(RasterVertex, back));
+    attrib(4, 1, offsetof(RasterVertex, headlight));
+  }
+  glBindVertexArray(m.meshVao);
+  glBindBuffer(GL_ARRAY_BUFFER, m.meshVbo);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * sizeof(RasterVertex)), mesh.triangles.data(),
+               GL_STATIC_DRAW);
+  m.meshCount = GLsizei(mesh.triangles.size());
+  m.edges.upload(mesh.edges);
+  m.lo = mesh.lo, m.hi = mesh.hi;
+}
+
+void GLRaster::setRecords(const std::vector<Vec3>& lines) { impl_->records.upload(lines); }
+
+void GLRaster::renderInstant(const CameraDesc& camera) {
+  Impl& m = *impl_;
+  m.ensureTarget(camera.width, camera.height);
+  // Depth range from the distance to the farthest corner of the scene's bounds.
+  double far = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3d corner((k & 1) ? m.hi.x : m.lo.x, (k & 2) ? m.hi.y : m.lo.y, (k & 4) ? m.hi.z : m.lo.z);
+    far = std::max(far, glm::length(corner - camera.position));
+  }
+  far = std::max(far * 1.01, 1e-3);
+  const double near = far * 5e-4;
+  // The renderer's pinhole: vertical field of view, image aspect, top row at +y.
+  const glm::dmat4 proj = glm::perspective(glm::radians(camera.fovYDeg), double(camera.width) / camera.height, near, far);
+  const glm::dmat4 view = glm::lookAt(camera.position, camera.lookAt, camera.up);
+  m.viewProj = glm::mat4(proj * view);
+
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo);
+  glViewport(0, 0, m.width, m.height);
+  glClearColor(0, 0, 0, 0);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  if (m.meshCount > 0) {
+    glUseProgram(m.rasterProgram);
+    glUniformMatrix4fv(glGetUniformLocation(m.rasterProgram, "uViewProj"), 1, GL_FALSE, glm::value_ptr(m.viewProj));
+    const Vec3 eye(camera.position);
+    glUniform3f(glGetUniformLocation(m.rasterProgram, "uEye"), eye.x, eye.y, eye.z);
+    glBindVertexArray(m.meshVao);
+    glDrawArrays(GL_TRIANGLES, 0, m.meshCount);
+  }
+  glDisable(GL_DEPTH_TEST);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void GLRaster::uploadFilm(const std::vector<float>& rgb, int width, int height) {
+  Impl& m = *impl_;
+  if (!m.filmTex) glGenTextures(1, &m.filmTex);
+  glBindTexture(GL_TEXTURE_2D, m.filmTex);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (width != m.filmWidth || height != m.filmHeight) {
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, width, height, 0, GL_RGB, GL_FLOAT, rgb.data());
+    m.filmWidth = width, m.filmHeight = height;
+  } else {
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGB, GL_FLOAT, rgb.data());
+  }
+}
+
+void GLRaster::display(int fbWidth, int fbHeight, const DisplaySettings& settings) {
+  Impl& m = *impl_;
+  const bool film = settings.showFilm && m.filmTex;
+  const int w = film ? m.filmWidth : m.width, h = film ? m.filmHeight : m.height;
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, fbWidth, fbHeight);
+  glClearColor(0.12f, 0.12f, 0.12f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  if (w <= 0 || h <= 0) return;
+  // Letterbox: the largest rectangle of the image's aspect ratio, centred; 1:1 when it fits exactly.
+  const double s = std::min(double(fbWidth) / w, double(fbHeight) / h);
+  const int rw = std::max(1, int(std::lround(w * s))), rh = std::max(1, int(std::lround(h * s)));
+  m.rect[0] = (fbWidth - rw) / 2, m.rect[1] = (fbHeight - rh) / 2, m.rect[2] = rw, m.rect[3] = rh;
+  glViewport(m.rect[0], m.rect[1], rw, rh);
+
+  const GLuint tex = film ? m.filmTex : m.colorTex;
+  setTextureFilter(tex, rw == w && rh == h ? GL_NEAREST : GL_LINEAR);
+  glUseProgram(m.displayProgram);
+  glUniform1i(glGetUniformLocation(m.displayProgram, "uImage"), 0);
+  glUniform1f(glGetUniformLocation(m.displayProgram, "uScale"), std::exp2(settings.exposure));
+  glUniform1i(glGetUniformLocation(m.displayProgram, "uFlipY"), film ? 1 : 0);  // the film's top row comes first
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glBindVertexArray(m.emptyVao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+
+  if (settings.edges) m.drawLines(m.edges, Vec3(1.0f, 0.85f, 0.2f));
+  if (settings.records) m.drawLines(m.records, Vec3(0.2f, 0.9f, 1.0f));
+}
+
+std::vector<float> GLRaster::readInstant(int& width, int& height) const {
+  const Impl& m = *impl_;
+  width = m.width, height = m.height;
+  std::vector<float> rgb(size_t(width) * size_t(height) * 3);
+  if (!m.fbo) return rgb;
+  std::vector<float> rows(rgb.size());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, m.fbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_FLOAT, rows.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  const size_t row = size_t(width) * 3;
+  for (int y = 0; y < height; ++y)  // GL's first row is the bottom one
+    std::copy_n(&rows[size_t(height - 1 - y) * row], row, &rgb[size_t(y) * row]);
+  return rgb;
+}
+
+std::vector<uint8_t> GLRaster::readDisplay(int& width, int& height) const {
+  const Impl& m = *impl_;
+  width = m.rect[2], height = m.rect[3];
+  std::vector<uint8_t> rows(size_t(width) * size_t(height) * 3), rgb(rows.size());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(m.rect[0], m.rect[1], width, height, GL_RGB, GL_UNSIGNED_BYTE, rows.data());
+  const size_t row = size_t(width) * 3;
+  for (int y = 0; y < height; ++y) std::copy_n(&rows[size_t(height - 1 - y) * row], row, &rgb[size_t(y) * row]);
+  return rgb;
+}
+
+}  // namespace fs

@@ -1,0 +1,115 @@
+// The instant picture's triangles: patches coloured by first-shot radiance, emitters by emission.
+#include "render/preview/raster_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace fs {
+
+std::vector<Color> sideIrradiance(const RenderScene& scene) {
+  const FirstShotTable* t = scene.firstShot();
+  if (!t) return {};
+  const PatchMesh& mesh = scene.mesh();
+  std::vector<Color> e(2 * size_t(mesh.size()), Color(0.0f));
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& p = mesh.patches[j];
+    for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k) {
+      const LightSample& s = t->samples[t->sampleIndex[k]];
+      // Planar patch: a sample is on the same side for every point of it.
+      const float side = s.kind == LightSampleKind::Directional ? -glm::dot(s.normal, p.normal)
+                                                                 : glm::dot(s.position - p.centroid, p.normal);
+      if (side != 0.0f) e[2 * size_t(j) + (side > 0.0f ? 0 : 1)] += s.emission * t->factor[k];
+    }
+  }
+  return e;
+}
+
+namespace {
+
+/// Appends polygon @p v (3 or 4 vertices, planar) as a triangle fan with the given colours.
+void addPolygon(RasterMesh& m, const Vec3* v, uint32_t count, const Vec3& normal, const Color& front,
+                const Color& back, float headlight) {
+  for (uint32_t k = 1; k + 1 < count; ++k)
+    for (uint32_t idx : {0u, k, k + 1}) m.triangles.push_back({v[idx], normal, front, back, headlight});
+}
+
+}  // namespace
+
+RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
+  RasterMesh m;
+  const SceneDesc& desc = scene.desc();
+  const PatchMesh& mesh = scene.mesh();
+  const std::vector<Color> e = useFirstShot ? sideIrradiance(scene) : std::vector<Color>();
+  m.firstShot = !e.empty();
+
+  // Patches that first-shot cannot colour (mirror, glass) get a headlight at the picture's
+  // average radiance level, so that they are neither black nor glaring.
+  float level = 1.0f;
+  if (m.firstShot) {
+    double sum = 0, area = 0;
+    for (uint32_t j = 0; j < mesh.size(); ++j)
+      if (scene.bsdf(mesh.patches[j].material).isDiffuse()) {
+        sum += mesh.patches[j].area * luminance(glm::max(e[2 * j], e[2 * j + 1])) * kInvPi;
+        area += mesh.patches[j].area;
+      }
+    level = area > 0 && sum > 0 ? float(sum / area) : 1.0f;
+  }
+
+  m.triangles.reserve(size_t(mesh.size()) * 6);
+  m.edges.reserve(size_t(mesh.size()) * 8);
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& p = mesh.patches[j];
+    const MaterialDesc& mat = desc.materials[p.material];
+    const bool diffusePart = mat.type == MaterialType::Diffuse || mat.type == MaterialType::Glossy;
+    if (m.firstShot && diffusePart) {
+      const Color f = mat.albedo * kInvPiF;
+      addPolygon(m, p.v, p.count, p.normal, f * e[2 * size_t(j)], f * e[2 * size_t(j) + 1], 0.0f);
+    } else {
+      const Color base = scene.bsdf(p.material).albedo() * (m.firstShot ? level : 1.0f);
+      addPolygon(m, p.v, p.count, p.normal, base, base, 1.0f);
+    }
+    for (uint32_t k = 0; k < p.count; ++k) {
+      m.edges.push_back(p.v[k]);
+      m.edges.push_back(p.v[(k + 1) % p.count]);
+    }
+  }
+
+  // Emitters are not patches: take their polygons from the scene description.
+  for (const ShapeDesc& s : desc.shapes) {
+    const MaterialDesc& mat = desc.materials[size_t(s.material)];
+    if (!mat.isEmissive()) continue;
+    for (const Face& f : s.faces) {
+      Vec3 v[4];
+      for (uint32_t k = 0; k < f.count; ++k) v[k] = Vec3(s.vertices[f.v[k]]);
+      const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
+      const float len = glm::length(n);
+      if (!(len > 0.0f)) continue;
+      addPolygon(m, v, f.count, n / len, mat.emission, Color(0.0f), 0.0f);
+    }
+  }
+
+  if (!m.triangles.empty()) {
+    m.lo = m.hi = m.triangles.front().position;
+    for (const RasterVertex& v : m.triangles) m.lo = glm::min(m.lo, v.position), m.hi = glm::max(m.hi, v.position);
+  }
+  return m;
+}
+
+std::vector<Vec3> recordCircles(const std::vector<IntegratorRecord>& records, int segments) {
+  std::vector<Vec3> lines;
+  lines.reserve(records.size() * size_t(segments) * 2);
+  for (const IntegratorRecord& r : records) {
+    const Frame frame(r.normal);
+    auto at = [&](int k) {
+      const float a = 2.0f * kPiF * float(k) / float(segments);
+      return r.position + r.radius * (std::cos(a) * frame.s + std::sin(a) * frame.t);
+    };
+    for (int k = 0; k < segments; ++k) {
+      lines.push_back(at(k));
+      lines.push_back(at(k + 1));
+    }
+  }
+  return lines;
+}
+
+}  // namespace fs

@@ -1,0 +1,118 @@
+// Tiled, deterministic parallel rendering.
+#include "render/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <stdexcept>
+
+#include "common/progress.h"
+#include "common/rng.h"
+#include "render/embree_scene.h"
+
+namespace fs {
+
+namespace {
+
+struct Tile {
+  int x0, y0, x1, y1;
+};
+
+std::vector<Tile> makeTiles(int width, int height, int size) {
+  std::vector<Tile> tiles;
+  for (int y = 0; y < height; y += size)
+    for (int x = 0; x < width; x += size) tiles.push_back({x, y, std::min(x + size, width), std::min(y + size, height)});
+  return tiles;
+}
+
+/// Samples [s0, s1) of every pixel of a tile, in sample order per pixel.
+void renderTile(const Integrator& integrator, const Camera& camera, Film& film, const Tile& tile, int s0, int s1,
+                uint64_t seed, uint64_t& rays, uint64_t& nonFinite) {
+  for (int y = tile.y0; y < tile.y1; ++y)
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      const uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
+      for (int s = s0; s < s1; ++s) {
+        Sampler sampler(seed, pixel, uint64_t(s));
+        const Vec2 jitter = sampler.next2D();
+        const Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
+        SampleInfo info;
+        Color L = integrator.Li(ray, sampler, &info);
+        rays += info.rays;
+        if (!isFinite(L)) {
+          ++nonFinite;
+          L = Color(0.0f);
+        }
+        film.add(x, y, L, info.albedo, info.normal);
+      }
+    }
+}
+
+}  // namespace
+
+RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options) {
+  if (film.width() != camera.width() || film.height() != camera.height())
+    throw std::invalid_argument("render: film and camera sizes differ");
+  const std::vector<Tile> tiles = makeTiles(camera.width(), camera.height(), std::max(1, options.tileSize));
+  const uint64_t pixels = uint64_t(camera.width()) * uint64_t(camera.height());
+  std::atomic<uint64_t> rays{0}, nonFinite{0};
+  std::atomic<bool> cancelled{false};
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+
+  // One pass over all tiles for samples [s0, s1).
+  auto pass = [&](int s0, int s1, Progress& progress) {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+        enableFlushToZero();
+        for (size_t t = r.begin(); t < r.end(); ++t) {
+          if (options.cancel && options.cancel->load(std::memory_order_relaxed)) {
+            cancelled = true;
+            continue;
+          }
+          uint64_t tileRays = 0, tileBad = 0;
+          renderTile(integrator, camera, film, tiles[t], s0, s1, options.seed, tileRays, tileBad);
+          rays += tileRays;
+          nonFinite += tileBad;
+          const Tile& tl = tiles[t];
+          if (options.timeLimit <= 0) progress.advance(uint64_t(tl.x1 - tl.x0) * uint64_t(tl.y1 - tl.y0) * uint64_t(s1 - s0));
+        }
+      });
+    });
+  };
+
+  RenderStats stats;
+  if (options.timeLimit > 0) {
+    const uint64_t budgetMs = uint64_t(options.timeLimit * 1000.0);
+    Progress progress("render", budgetMs, options.quiet);
+    int s = options.firstSample;
+    uint64_t shownMs = 0;  // the bar shows elapsed time against the budget
+    do {
+      pass(s, s + 1, progress);
+      ++s;
+      const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
+      progress.advance(nowMs - shownMs);
+      shownMs = nowMs;
+    } while (seconds() < options.timeLimit && !cancelled);
+    progress.finish();
+    stats.spp = s - options.firstSample;
+  } else {
+    const int spp = std::max(1, options.spp);
+    Progress progress("render", pixels * uint64_t(spp), options.quiet);
+    pass(options.firstSample, options.firstSample + spp, progress);
+    progress.finish();
+    stats.spp = spp;
+  }
+  stats.seconds = seconds();
+  stats.rays = rays;
+  stats.nonFinite = nonFinite;
+  stats.cancelled = cancelled;
+  stats.cameraSamples = pixels * uint64_t(stats.spp);
+  return stats;
+}
+
+}  // namespace fs

@@ -1,0 +1,44 @@
+#pragma once
+/// @file renderer.h
+/// The render loop: image tiles in parallel (TBB), every pixel sample seeded by
+/// (seed, pixel index, sample index), each pixel's samples accumulated in sample order — so the
+/// image is bit-identical for any number of threads.
+#include <atomic>
+#include <cstdint>
+
+#include "render/camera.h"
+#include "render/film.h"
+#include "render/integrator.h"
+
+namespace fs {
+
+struct RenderOptions {
+  int spp = 16;            ///< samples per pixel (ignored when timeLimit > 0)
+  double timeLimit = 0;    ///< seconds; > 0: whole passes of 1 spp until the time is up (at least one)
+  uint64_t seed = 1;
+  int threads = 0;         ///< worker threads; 0 = one per core
+  int tileSize = 16;       ///< pixels along a tile's side
+  bool quiet = true;       ///< no progress bar
+  /// Index of the first sample taken per pixel: render() takes samples [firstSample, firstSample + spp).
+  /// Progressive rendering (the preview) renders pass k as {firstSample = k, spp = 1}; the passes
+  /// 0..n-1 then give the same film, bit for bit, as one render with spp = n.
+  int firstSample = 0;
+  /// If set, checked before each tile: once true, the remaining tiles are skipped, the film holds a
+  /// partial pass and RenderStats::cancelled is set.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+struct RenderStats {
+  int spp = 0;                 ///< samples per pixel actually taken
+  double seconds = 0;          ///< wall-clock time of the render loop
+  uint64_t rays = 0;           ///< rays traced (closest-hit and shadow)
+  uint64_t cameraSamples = 0;  ///< camera samples taken
+  uint64_t nonFinite = 0;      ///< samples whose estimate was NaN or Inf (recorded as 0)
+  bool cancelled = false;      ///< RenderOptions::cancel stopped the render
+};
+
+/// Renders into @p film (which must be camera.width() × camera.height()). The integrator must
+/// have been preprocessed. With a time limit the image depends on how many passes fit.
+RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options);
+
+}  // namespace fs

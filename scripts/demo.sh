@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# The main job: a shipped scene through the whole pipeline, results under out/.
+# Usage: scripts/demo.sh BUILD_DIR SCENE
+set -euo pipefail
+build=${1:-build/release}
+scene=${2:-scenes/cornell.json}
+name=$(basename "$scene" .json)
+mkdir -p out
+echo "== $scene: scene and patch statistics"
+"$build/preprocess/firstshot-preprocess" "$scene" --stats | tee "out/$name-stats.txt"
+echo "== first-shot factors of the small lights"
+"$build/preprocess/firstshot-preprocess" "$scene" -o "out/$name.fsd"
+if [ -x "$build/render/firstshot-render" ]; then
+  echo "== render with first-shot (EXR with albedo/normal layers, PNG)"
+  "$build/render/firstshot-render" "$scene" --firstshot "out/$name.fsd" --aov -o "out/$name.exr" -o "out/$name.png"
+  echo "== reference: the same view with next-event estimation only"
+  "$build/render/firstshot-render" "$scene" -o "out/$name-nee.exr" -o "out/$name-nee.png"
+  ls -l out/"$name".* out/"$name"-nee.*
+fi

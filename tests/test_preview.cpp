@@ -1,0 +1,304 @@
+// The preview window (render/preview/): the orbit camera's geometry, the camera JSON, the clear
+// error without a display, and scripted runs under Xvfb compared with offline renders:
+//  - after N frames the film is the offline render with --spp N, bit for bit (same seeds, same
+//    per-pixel sample order), and the window shows exactly the offline PNG (±1 level of 8 bits);
+//  - the instant picture equals the offline direct first-shot render (--primary patch
+//    --max-depth 1) wherever a pixel lies inside one patch.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+
+#include "render/camera.h"
+#include "render/film.h"
+#include "render/path_integrator.h"
+#include "render/preview/orbit_camera.h"
+#include "render/preview/preview_app.h"
+#include "tests/render_util.h"
+#include "tests/test_util.h"
+
+using ::testing::HasSubstr;
+using namespace fs;
+
+namespace {
+
+const std::string kRender = FIRSTSHOT_RENDER_EXE;
+const std::string kPreprocess = FIRSTSHOT_PREPROCESS_EXE;
+
+std::string cornell() { return test::source("scenes/cornell.json"); }
+
+bool haveXvfb() { return test::run("command -v xvfb-run").exitCode == 0; }
+
+/// The preview under a virtual X server (-a: a free display number, so tests may run in parallel).
+std::string underXvfb(const std::string& args) {
+  return "xvfb-run -a -s \"-screen 0 1024x768x24\" " + kRender + " " + args;
+}
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> v;  ///< 3 channels
+};
+
+Image load(const std::string& path) {
+  Image im;
+  std::vector<std::string> channels;
+  im.v = Film::read(path, im.width, im.height, channels);
+  EXPECT_EQ(channels.size(), 3u) << path;
+  return im;
+}
+
+/// Where a pixel of @p camera looks: the screen position of world point @p p, in pixels (x right, y down).
+Vec2d project(const CameraDesc& c, const Vec3d& p) {
+  const Vec3d f = glm::normalize(c.lookAt - c.position), r = glm::normalize(glm::cross(f, c.up)), u = glm::cross(r, f);
+  const Vec3d d = p - c.position;
+  const double t = std::tan(glm::radians(c.fovYDeg) * 0.5), aspect = double(c.width) / c.height;
+  const double sx = glm::dot(d, r) / glm::dot(d, f) / (t * aspect), sy = glm::dot(d, u) / glm::dot(d, f) / t;
+  return {(sx + 1) * 0.5 * c.width, (1 - sy) * 0.5 * c.height};
+}
+
+}  // namespace
+
+TEST(PreviewCamera, UnmovedCameraIsTheScenesExactly) {
+  CameraDesc c;
+  c.position = {0.278, 0.273, -0.8};
+  c.lookAt = {0.278, 0.273, 0.0};
+  c.fovYDeg = 39.3077;
+  const OrbitCamera cam(c);
+  EXPECT_EQ(cam.desc().position, c.position);
+  EXPECT_EQ(cam.desc().lookAt, c.lookAt);
+  EXPECT_EQ(cam.desc().up, c.up);
+  EXPECT_EQ(cam.desc().fovYDeg, c.fovYDeg);
+}
+
+TEST(PreviewCamera, OrbitPanDollyFly) {
+  CameraDesc c;
+  c.position = {1, 2, 5};
+  c.lookAt = {0, 1, 0};
+  c.width = 200, c.height = 100;
+  OrbitCamera cam(c);
+  const double d0 = cam.distance();
+
+  // Orbiting keeps the distance and the look-at point; a full turn of yaw comes back.
+  cam.orbit(0.7, 0.3);
+  EXPECT_NEAR(cam.distance(), d0, 1e-12);
+  EXPECT_EQ(cam.desc().lookAt, c.lookAt);
+  EXPECT_GT(glm::length(cam.desc().position - c.position), 0.1);
+  cam.orbit(0.0, -0.3);
+  cam.orbit(2 * kPi - 0.7, 0.0);
+  EXPECT_NEAR(glm::length(cam.desc().position - c.position), 0.0, 1e-12);
+  // Pitch stops short of the up vector.
+  cam.orbit(0.0, 10.0);
+  cam.orbit(0.0, 1.5);
+  EXPECT_LT(std::abs(glm::dot(cam.forward(), glm::normalize(c.up))), std::cos(glm::radians(0.99)));
+
+  // Panning moves the look-at plane with the cursor: a point of that plane that was at pixel q
+  // is afterwards at q + (dx, dy).
+  OrbitCamera p(c);
+  const Vec3d anchor = c.lookAt + 0.3 * p.right();
+  const Vec2d before = project(p.desc(), anchor);
+  p.pan(12.0, -7.0, c.height);
+  const Vec2d after = project(p.desc(), anchor);
+  EXPECT_NEAR(after.x - before.x, 12.0, 1e-9);
+  EXPECT_NEAR(after.y - before.y, -7.0, 1e-9);
+
+  // Dolly: distance × 0.9^steps, never below the minimum.
+  OrbitCamera d(c);
+  d.dolly(3.0, 0.01);
+  EXPECT_NEAR(d.distance(), d0 * std::pow(0.9, 3.0), 1e-12);
+  d.dolly(1000.0, 0.01);
+  EXPECT_NEAR(d.distance(), 0.01, 1e-12);
+
+  // Flying translates camera and target together.
+  OrbitCamera f(c);
+  f.fly(0.5, 0.0, 0.0);
+  EXPECT_NEAR(glm::length(f.desc().position - c.position), 0.5, 1e-12);
+  EXPECT_NEAR(f.distance(), d0, 1e-12);
+}
+
+TEST(PreviewCamera, JsonRoundTripsThroughTheSceneParser) {
+  CameraDesc c;
+  c.position = {0.1234567890123, -2.5, 1e-7};
+  c.lookAt = {0.3, 0.2, 0.1};
+  c.up = {0, 0, 1};
+  c.fovYDeg = 39.3077;
+  c.width = 321, c.height = 123;
+  const std::string text = "{" + cameraJson(c) +
+                           R"(, "materials": {"w": {"type": "diffuse", "albedo": 0.5}},
+      "shapes": [{"type": "quad", "material": "w", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}],
+      "lights": [{"type": "point", "position": [0.5, 0.5, 1], "power": 1}]})";
+  const SceneDesc s = test::sceneFromJson(text);
+  EXPECT_EQ(s.camera.position, c.position);  // shortest round-trip decimals: exact
+  EXPECT_EQ(s.camera.lookAt, c.lookAt);
+  EXPECT_EQ(s.camera.up, c.up);
+  EXPECT_EQ(s.camera.fovYDeg, c.fovYDeg);
+  EXPECT_EQ(s.camera.width, 321);
+  EXPECT_EQ(s.camera.height, 123);
+}
+
+TEST(PreviewCli, WithoutDisplayFailsWithAClearMessage) {
+  const auto r = test::run("env -u DISPLAY -u WAYLAND_DISPLAY " + kRender + " " + cornell() + " --preview --width 16 --height 16");
+  EXPECT_EQ(r.exitCode, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("firstshot-render: error: --preview needs a display ("));
+  EXPECT_THAT(r.output, HasSubstr("use xvfb-run or render offline with -o"));
+  EXPECT_THAT(r.output, ::testing::Not(HasSubstr("Sanitizer")));
+}
+
+TEST(PreviewCli, BadScreenshotNameIsBadInput) {
+  const std::string dir = test::tempDir();
+  const auto r = test::run(kRender + " " + cornell() + " --preview --frames 1 --screenshot " + dir + "/shot.jpg");
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_EQ(test::run(kRender + " " + cornell() + " --frames 1").exitCode, 2) << "--frames needs --preview";
+}
+
+TEST(PreviewCli, ScriptedRunEqualsTheOfflineRender) {
+  if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string dir = test::tempDir();
+  const std::string fsd = dir + "/c.fsd";
+  const auto pre = test::run(kPreprocess + " " + cornell() + " -o " + fsd + " --backend embree --resolution 32 --patch-size 0.1 -q");
+  ASSERT_EQ(pre.exitCode, 0) << pre.output;
+  const int n = 6;
+  const std::string common = cornell() + " --firstshot " + fsd + " --width 48 --height 40 --exposure 0.5";
+  const auto offline = test::run(kRender + " " + common + " --spp " + std::to_string(n) + " -q -o " + dir + "/off.exr -o " + dir + "/off.png");
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  const auto preview = test::run(underXvfb(common + " --preview --frames " + std::to_string(n) + " --screenshot " + dir +
+                                           "/shot.png --window-grab " + dir + "/grab.png"));
+  ASSERT_EQ(preview.exitCode, 0) << preview.output;
+  EXPECT_THAT(preview.output, HasSubstr(std::to_string(n) + " spp"));
+
+  // The film: the same samples in the same order, so the same numbers.
+  const Image off = load(dir + "/off.exr"), shot = load(dir + "/shot.exr");
+  ASSERT_EQ(shot.width, 48);
+  ASSERT_EQ(shot.height, 40);
+  ASSERT_EQ(shot.v.size(), off.v.size());
+  double maxDiff = 0;
+  for (size_t i = 0; i < off.v.size(); ++i) maxDiff = std::max(maxDiff, double(std::abs(off.v[i] - shot.v[i])));
+  fmt::print("preview EXR vs offline EXR ({} spp): max |difference| {}\n", n, maxDiff);
+  EXPECT_EQ(maxDiff, 0.0);
+  const Image offPng = load(dir + "/off.png"), shotPng = load(dir + "/shot.png");
+  EXPECT_EQ(shotPng.v, offPng.v);
+
+  // Not blank: the screenshot has structure (red and green walls, light, shadows).
+  const double mean = std::accumulate(shotPng.v.begin(), shotPng.v.end(), 0.0) / double(shotPng.v.size());
+  double var = 0;
+  for (float x : shotPng.v) var += (x - mean) * (x - mean);
+  var /= double(shotPng.v.size());
+  fmt::print("screenshot: mean {:.3f}, standard deviation {:.3f} (8-bit levels / 255)\n", mean, std::sqrt(var));
+  EXPECT_GT(mean, 0.05);
+  EXPECT_GT(std::sqrt(var), 0.05);
+
+  // The window: the display shader does what Film::write's PNG does (exposure, clamp, sRGB, 8 bits);
+  // the GPU's pow and float-to-unorm rounding may move a value across a rounding boundary: ±1 level.
+  const Image grab = load(dir + "/grab.png");
+  ASSERT_EQ(grab.width, 48);
+  ASSERT_EQ(grab.height, 40);
+  double maxLevels = 0, sumLevels = 0;
+  for (size_t i = 0; i < offPng.v.size(); ++i) {
+    const double d = std::abs(double(grab.v[i]) - double(offPng.v[i])) * 255.0;
+    maxLevels = std::max(maxLevels, d);
+    sumLevels += d;
+  }
+  fmt::print("window vs offline PNG: max {} levels, mean {:.4f} levels\n", maxLevels, sumLevels / double(offPng.v.size()));
+  EXPECT_LE(maxLevels, 1.0 + 1e-6);
+  EXPECT_LT(sumLevels / double(offPng.v.size()), 0.05);
+}
+
+TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
+  if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string dir = test::tempDir();
+  const std::string fsd = dir + "/c.fsd";
+  const auto pre = test::run(kPreprocess + " " + cornell() + " -o " + fsd + " --backend embree --resolution 32 --patch-size 0.1 -q");
+  ASSERT_EQ(pre.exitCode, 0) << pre.output;
+  const std::string common = cornell() + " --firstshot " + fsd + " --width 64 --height 64";
+  // Direct light only, first-shot at the camera-visible patch: flat radiance per patch side, and
+  // with every light of the Cornell box replaced by first-shot there is no noise: the offline image
+  // is the pixel average of the same piecewise-constant picture the raster samples at pixel centres.
+  const auto offline = test::run(kRender + " " + common + " --primary patch --max-depth 1 --spp 16 -q -o " + dir + "/direct.exr");
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  const auto preview = test::run(underXvfb(common + " --preview --frames 0 --screenshot " + dir + "/instant.png"));
+  ASSERT_EQ(preview.exitCode, 0) << preview.output;
+  EXPECT_THAT(preview.output, HasSubstr("instant picture"));
+
+  const Image direct = load(dir + "/direct.exr"), instant = load(dir + "/instant.exr");
+  ASSERT_EQ(direct.v.size(), instant.v.size());
+  const int w = direct.width, h = direct.height;
+  auto at = [&](const Image& im, int x, int y, int c) { return double(im.v[(size_t(y) * w + x) * 3 + c]); };
+  auto equal = [](double a, double b) { return std::abs(a - b) <= 1e-5 * std::max(1.0, std::abs(a)); };
+  // A pixel inside one patch (or the light, or the background) sees one constant value: there the
+  // offline average equals the raster's centre sample to float precision. A pixel may differ only
+  // if its footprint holds an edge, and then the instant picture changes within its 3×3
+  // neighbourhood (an edge through a footprint separates its centre from a neighbour's centre,
+  // unless a feature is thinner than a pixel).
+  size_t same = 0, offEdge = 0;
+  double sumInstant = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      bool ok = true, flat = true;
+      for (int c = 0; c < 3; ++c) {
+        ok = ok && equal(at(direct, x, y, c), at(instant, x, y, c));
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = std::clamp(x + dx, 0, w - 1), ny = std::clamp(y + dy, 0, h - 1);
+            flat = flat && equal(at(instant, nx, ny, c), at(instant, x, y, c));
+          }
+        sumInstant += at(instant, x, y, c);
+      }
+      same += ok;
+      offEdge += !ok && flat;
+    }
+  const double pixels = double(w) * h;
+  fmt::print("instant vs direct first-shot: {:.1f}% of pixels equal, {} differing pixels away from edges\n",
+             100 * same / pixels, offEdge);
+  EXPECT_GT(same / pixels, 0.5);           // with 0.1 m patches most pixels lie inside one
+  EXPECT_LE(double(offEdge), 0.01 * pixels);  // sub-pixel features only
+  EXPECT_GT(sumInstant, 0.0);
+
+  // The exact definition of the instant picture: the path integrator's first-shot term (or the
+  // emitted radiance) where the ray through each pixel's centre lands. Raster and ray casting may
+  // disagree only for a centre within float rounding of an edge (none at this size; allow 1 %).
+  SceneDesc desc = loadScene(cornell());
+  desc.camera.width = w, desc.camera.height = h;
+  const RenderScene scene(desc, readFirstShot(fsd), fsd);
+  PathIntegrator path(IntegratorOptions{});
+  path.preprocess(scene);
+  const Camera camera(desc.camera);
+  size_t exact = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Ray ray = camera.generateRay(float(x) + 0.5f, float(y) + 0.5f);
+      Hit hit;
+      Color expected(0.0f);
+      if (scene.intersect(ray, hit)) {
+        const Vec3 wo = -ray.d;
+        const Frame frame(hit.ng);
+        expected = hit.onPatch() ? path.firstShot(hit, frame, frame.toLocal(wo), scene.bsdf(scene.material(hit)))
+                                 : scene.lights().emitted(hit.emitter, hit.ng, wo);
+      }
+      bool ok = true;
+      for (int c = 0; c < 3; ++c) ok = ok && equal(expected[c], at(instant, x, y, c));
+      exact += ok;
+    }
+  fmt::print("instant vs ray cast at pixel centres: {:.2f}% of pixels equal\n", 100 * exact / pixels);
+  EXPECT_GE(exact / pixels, 0.99);
+}
+
+TEST(PreviewCli, WithoutTableShowsAHeadlightPicture) {
+  if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string dir = test::tempDir();
+  const auto r = test::run(underXvfb(cornell() + " --preview --width 32 --height 32 --frames 0 --screenshot " + dir + "/h.png"));
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  const Image im = load(dir + "/h.exr");
+  // Headlight shading: albedo × |cos| ≤ the largest albedo (0.725) except on the light (17, 12, 4).
+  size_t lit = 0, light = 0;
+  for (size_t p = 0; p < im.v.size() / 3; ++p) {
+    const float m = std::max({im.v[3 * p], im.v[3 * p + 1], im.v[3 * p + 2]});
+    lit += m > 0.05f && m <= 0.7251f;
+    light += m >= 3.99f;
+  }
+  EXPECT_GT(lit, im.v.size() / 3 / 2) << "most pixels see a lit surface";
+  EXPECT_GT(light, 0u) << "the light is visible";
+}

@@ -1,0 +1,214 @@
+// Scene loading: the shipped scenes parse, and every kind of bad input gets one clear message
+// naming the file and element, with exit code 2.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "common/error.h"
+#include "common/patches.h"
+#include "common/scene_desc.h"
+#include "tests/test_util.h"
+
+using ::testing::HasSubstr;
+using namespace fs;
+
+namespace {
+
+const char* kValid = R"({
+  "camera": {"position": [0, 1, 3], "look_at": [0, 1, 0], "fov_y": 45, "resolution": [64, 48]},
+  "materials": {"white": {"type": "diffuse", "albedo": 0.5},
+                "lamp": {"type": "diffuse", "emission": [10, 10, 10]}},
+  "shapes": [{"type": "quad", "material": "white", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]},
+             {"type": "quad", "material": "lamp", "vertices": [[-0.1,2,-0.1],[0.1,2,-0.1],[0.1,2,0.1],[-0.1,2,0.1]]}],
+  "lights": [{"type": "point", "position": [0, 1, 0], "power": 10}]
+})";
+
+/// Runs the preprocessor on a scene text and returns the result.
+test::CommandResult runOn(const std::string& text, const std::string& name = "scene.json") {
+  const std::string dir = test::tempDir();
+  const std::string path = dir + "/" + name;
+  test::writeText(path, text);
+  return test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " --stats " + path);
+}
+
+/// Replaces the first occurrence of @p from in the valid scene.
+std::string variant(const std::string& from, const std::string& to) {
+  std::string s = kValid;
+  const auto pos = s.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return s.replace(pos, from.size(), to);
+}
+
+void expectBadInput(const test::CommandResult& r, std::initializer_list<const char*> parts) {
+  EXPECT_EQ(r.exitCode, kExitBadInput) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("scene.json")) << "the message names the file";
+  for (const char* p : parts) EXPECT_THAT(r.output, HasSubstr(p));
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << "one line: " << r.output;
+}
+
+}  // namespace
+
+TEST(SceneParse, ShippedScenesLoad) {
+  for (const char* name : {"cornell", "many-lights", "point-over-plane", "sierpinski-glossy", "ward-sphere"}) {
+    SCOPED_TRACE(name);
+    const SceneDesc s = loadScene(test::source(std::string("scenes/") + name + ".json"));
+    EXPECT_FALSE(s.shapes.empty());
+    EXPECT_FALSE(s.lights.empty());
+    EXPECT_TRUE(s.camera.given);
+  }
+}
+
+TEST(SceneParse, CornellHasOfficialDataInMetres) {
+  const SceneDesc s = loadScene(test::source("scenes/cornell.json"));
+  ASSERT_EQ(s.lights.size(), 1u);
+  const LightDesc& light = s.lights[0];
+  EXPECT_EQ(light.type, LightType::Area);
+  const ShapeDesc& shape = s.shapes[light.shape];
+  // 130 mm x 105 mm, facing down, 0.5 mm under the ceiling at 548.8 mm.
+  EXPECT_NEAR(shapeArea(shape), 0.130 * 0.105, 1e-12);
+  for (const auto& v : shape.vertices) EXPECT_NEAR(v.y, 0.5483, 1e-12);
+  const MaterialDesc& m = s.materials[shape.material];
+  EXPECT_EQ(m.emission, Color(17, 12, 4));
+  EXPECT_NEAR(s.camera.fovYDeg, 39.3077, 1e-9);
+  EXPECT_NEAR(s.camera.position.z, -0.8, 1e-12);
+}
+
+TEST(SceneParse, ManyLightsHas64PointLights) {
+  const SceneDesc s = loadScene(test::source("scenes/many-lights.json"));
+  EXPECT_EQ(std::count_if(s.lights.begin(), s.lights.end(), [](const LightDesc& l) { return l.type == LightType::Point; }), 64);
+}
+
+TEST(SceneParse, ValidSceneFromText) {
+  SceneDesc s = parseSceneJson(kValid, "mem.json");
+  validateScene(s);
+  EXPECT_EQ(s.materials.size(), 2u);
+  ASSERT_EQ(s.lights.size(), 2u);  // the point light and the emissive quad
+  EXPECT_EQ(s.lights[1].type, LightType::Area);
+  EXPECT_EQ(s.camera.width, 64);
+  EXPECT_EQ(s.camera.height, 48);
+}
+
+TEST(SceneParse, TransformsAndShapes) {
+  const std::string text = R"({
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "box", "material": "m", "min": [0,0,0], "max": [1,2,3], "transform": {"translate": [1,0,0], "scale": 2}},
+               {"type": "sphere", "material": "m", "center": [0,0,0], "radius": 1, "subdivisions": 4}]})";
+  SceneDesc s = parseSceneJson(text, "mem.json");
+  validateScene(s);
+  EXPECT_NEAR(shapeArea(s.shapes[0]), 4.0 * 2 * (2 + 6 + 3), 1e-9);
+  const double a = shapeArea(s.shapes[1]);
+  EXPECT_LT(a, 4 * kPi);
+  EXPECT_GT(a, 0.99 * 4 * kPi);  // 5120 triangles inscribed in the unit sphere
+  EXPECT_FALSE(s.camera.given);  // framed automatically
+  Vec3d lo, hi;
+  s.bounds(lo, hi);
+  EXPECT_EQ(lo, Vec3d(-1, -1, -1));
+  EXPECT_EQ(hi, Vec3d(3, 4, 6));
+}
+
+TEST(SceneParse, HashIgnoresCameraButNotGeometry) {
+  SceneDesc a = parseSceneJson(kValid, "a.json");
+  validateScene(a);
+  SceneDesc b = parseSceneJson(variant("\"position\": [0, 1, 3]", "\"position\": [0, 2, 3]"), "b.json");
+  validateScene(b);
+  SceneDesc c = parseSceneJson(variant("[1,0,1],[1,0,-1]", "[1,0,1.5],[1,0,-1]"), "c.json");
+  validateScene(c);
+  EXPECT_EQ(hashScene(a), hashScene(b));
+  EXPECT_NE(hashScene(a), hashScene(c));
+}
+
+TEST(SceneBadInput, ValidSceneExitsZero) {
+  const auto r = runOn(kValid);
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+}
+
+TEST(SceneBadInput, MissingSceneFile) {
+  const auto r = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " --stats /nonexistent/scene.json");
+  expectBadInput(r, {"/nonexistent/scene.json", "no such file"});
+}
+
+TEST(SceneBadInput, MalformedJsonGivesLineAndColumn) {
+  const auto r = runOn("{\n  \"materials\": {\n    \"white\": {\"type\": \"diffuse\" \"albedo\": 0.5}\n  }\n}\n");
+  expectBadInput(r, {"line 3, column", "malformed JSON"});
+}
+
+TEST(SceneBadInput, UnknownKey) {
+  const auto r = runOn(variant("\"fov_y\": 45", "\"fov_y\": 45, \"fovy\": 45"));
+  expectBadInput(r, {"camera", "unknown key \"fovy\""});
+}
+
+TEST(SceneBadInput, UnknownKeyInShape) {
+  const auto r = runOn(variant("\"type\": \"quad\", \"material\": \"white\"", "\"type\": \"quad\", \"colour\": 1, \"material\": \"white\""));
+  expectBadInput(r, {"shapes[0]", "unknown key \"colour\""});
+}
+
+TEST(SceneBadInput, MissingMeshFile) {
+  const auto r = runOn(variant("{\"type\": \"quad\", \"material\": \"white\", \"vertices\": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}",
+                               "{\"type\": \"mesh\", \"material\": \"white\", \"file\": \"missing-bunny.obj\"}"));
+  expectBadInput(r, {"shapes[0].file", "missing-bunny.obj"});
+}
+
+TEST(SceneBadInput, InfiniteNumber) {
+  const auto r = runOn(variant("\"power\": 10", "\"power\": 1e999"));
+  expectBadInput(r, {"1e999", "must be finite"});
+}
+
+TEST(SceneBadInput, NaNInMeshFile) {
+  const std::string dir = test::tempDir();
+  test::writeText(dir + "/nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 1\nf 1 2 3\n");
+  test::writeText(dir + "/scene.json", variant("{\"type\": \"quad\", \"material\": \"white\", \"vertices\": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}",
+                                               "{\"type\": \"mesh\", \"material\": \"white\", \"file\": \"nan.obj\"}"));
+  const auto r = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " --stats " + dir + "/scene.json");
+  expectBadInput(r, {"shapes[0]", "not finite"});
+}
+
+TEST(SceneBadInput, NegativeAlbedo) {
+  const auto r = runOn(variant("\"albedo\": 0.5", "\"albedo\": [0.5, -0.1, 0.5]"));
+  expectBadInput(r, {"materials.white.albedo[1]", "negative"});
+}
+
+TEST(SceneBadInput, NegativeRadius) {
+  const auto r = runOn(variant("{\"type\": \"quad\", \"material\": \"white\", \"vertices\": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}",
+                               "{\"type\": \"sphere\", \"material\": \"white\", \"center\": [0,0,0], \"radius\": -1}"));
+  expectBadInput(r, {"shapes[0].radius", "must be positive"});
+}
+
+TEST(SceneBadInput, DegenerateQuad) {
+  const auto r = runOn(variant("[[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]", "[[0,0,0],[1,0,0],[2,0,0],[3,0,0]]"));
+  expectBadInput(r, {"shapes[0]", "degenerate"});
+}
+
+TEST(SceneBadInput, DegenerateTriangleInMesh) {
+  const std::string dir = test::tempDir();
+  test::writeText(dir + "/flat.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
+  test::writeText(dir + "/scene.json", variant("{\"type\": \"quad\", \"material\": \"white\", \"vertices\": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}",
+                                               "{\"type\": \"mesh\", \"material\": \"white\", \"file\": \"flat.obj\"}"));
+  const auto r = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " --stats " + dir + "/scene.json");
+  expectBadInput(r, {"shapes[0]", "triangle 1", "flat.obj", "degenerate"});
+}
+
+TEST(SceneBadInput, UnknownMaterial) {
+  const auto r = runOn(variant("\"material\": \"white\"", "\"material\": \"marble\""));
+  expectBadInput(r, {"shapes[0].material", "unknown material \"marble\""});
+}
+
+TEST(SceneBadInput, EmitterWithZeroArea) {
+  const auto r = runOn(variant("[[-0.1,2,-0.1],[0.1,2,-0.1],[0.1,2,0.1],[-0.1,2,0.1]]", "[[0,2,0],[0,2,0],[0,2,0],[0,2,0]]"));
+  expectBadInput(r, {"shapes[1]", "emitter has zero area"});
+}
+
+TEST(SceneBadInput, UnknownShapeType) {
+  const auto r = runOn(variant("\"type\": \"quad\"", "\"type\": \"torus\""));
+  expectBadInput(r, {"shapes[0].type", "unknown shape type \"torus\""});
+}
+
+TEST(SceneBadInput, InputErrorCarriesFileAndElement) {
+  try {
+    parseSceneJson(variant("\"material\": \"white\"", "\"material\": \"marble\""), "x.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "x.json");
+    EXPECT_EQ(e.element(), "shapes[0].material");
+  }
+}
