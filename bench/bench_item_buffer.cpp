@@ -1,5 +1,5 @@
 // Item buffers: milliseconds per light sample (all views of a window, rendered and read back) for the
-// GL (OSMesa, EGL) and Embree back ends on a Cornell-like box of ~23k patches.
+// GL (OSMesa, EGL) and Embree back ends on the shipped Cornell box split into ~24k patches.
 //   bench_item_buffer [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
 
@@ -8,6 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "common/patches.h"
+#include "common/scene_desc.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/window.h"
@@ -15,43 +17,9 @@
 namespace fs {
 namespace {
 
-/// The Cornell box (REFERENCE.md, metres): five walls and two blocks, subdivided into patches of at
-/// most @p size. (To be replaced by the shipped scene once it exists.)
+/// The shipped Cornell box (scenes/cornell.json) split into patches of at most @p size.
 PatchMesh cornellPatches(double size) {
-  const double mm = 1e-3;
-  std::vector<std::vector<Vec3d>> quads = {
-      {{552.8, 0, 0}, {0, 0, 0}, {0, 0, 559.2}, {549.6, 0, 559.2}},                  // floor
-      {{556, 548.8, 0}, {556, 548.8, 559.2}, {0, 548.8, 559.2}, {0, 548.8, 0}},      // ceiling
-      {{549.6, 0, 559.2}, {0, 0, 559.2}, {0, 548.8, 559.2}, {556, 548.8, 559.2}},    // back
-      {{0, 0, 559.2}, {0, 0, 0}, {0, 548.8, 0}, {0, 548.8, 559.2}},                  // right
-      {{552.8, 0, 0}, {549.6, 0, 559.2}, {556, 548.8, 559.2}, {556, 548.8, 0}},      // left
-  };
-  auto block = [&](const Vec3d (&top)[4]) {  // top face and four sides down to y = 0
-    quads.push_back({top[0], top[1], top[2], top[3]});
-    for (int i = 0; i < 4; ++i) {
-      const Vec3d a = top[i], b = top[(i + 1) % 4];
-      quads.push_back({{a.x, 0, a.z}, {b.x, 0, b.z}, b, a});
-    }
-  };
-  const Vec3d shortTop[4] = {{130, 165, 65}, {82, 165, 225}, {240, 165, 272}, {290, 165, 114}};
-  const Vec3d tallTop[4] = {{423, 330, 247}, {265, 330, 296}, {314, 330, 456}, {472, 330, 406}};
-  block(shortTop);
-  block(tallTop);
-  PatchMesh mesh;
-  std::vector<std::vector<Vec3d>> polys;
-  for (auto& q : quads) {
-    for (Vec3d& v : q) v *= mm;
-    subdividePolygon(q.data(), 4, size, polys);
-  }
-  for (const auto& poly : polys) {
-    Patch p;
-    p.count = static_cast<uint32_t>(poly.size());
-    for (uint32_t i = 0; i < p.count; ++i) p.v[i] = Vec3(poly[i]);
-    computePatchGeometry(p);
-    mesh.patches.push_back(p);
-  }
-  mesh.patchSize = size;
-  return mesh;
+  return buildPatches(loadScene(std::string(FIRSTSHOT_SOURCE_DIR) + "/scenes/cornell.json"), size);
 }
 
 struct Fixture {

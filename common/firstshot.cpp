@@ -121,6 +121,20 @@ Color FirstShotTable::irradiance(uint32_t j) const {
   return e;
 }
 
+std::vector<Color> FirstShotTable::sideIrradiance() const {
+  std::vector<Color> e(2 * size_t(mesh.size()), Color(0.0f));
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& p = mesh.patches[j];
+    for (uint64_t k = rowStart[j]; k < rowStart[j + 1]; ++k) {
+      const LightSample& s = samples[sampleIndex[k]];
+      const float side = s.kind == LightSampleKind::Directional ? -glm::dot(s.normal, p.normal)
+                                                                 : glm::dot(s.position - p.centroid, p.normal);
+      if (side != 0.0f) e[2 * size_t(j) + (side > 0.0f ? 0 : 1)] += s.emission * factor[k];
+    }
+  }
+  return e;
+}
+
 void writeFirstShot(const std::string& path, const FirstShotTable& t) {
   static_assert(std::endian::native == std::endian::little, "the .fsd format is little-endian");
   if (t.rowStart.size() != size_t(t.mesh.size()) + 1 || t.sampleIndex.size() != t.factor.size())

@@ -61,6 +61,10 @@ struct FirstShotTable {
   bool replaces(uint32_t l) const;
   /// Patch-averaged irradiance on patch j (Σ_i emission_i r_ij), W/m².
   Color irradiance(uint32_t j) const;
+  /// The same per side of each patch's plane: element 2j from samples in front of patch j (the normal
+  /// side), 2j+1 from samples behind it. A patch is planar, so every point of it sees a sample on the
+  /// same side; diffuse reflection then needs one lookup per hit.
+  std::vector<Color> sideIrradiance() const;
 };
 
 /// Writes the table atomically (temp file, then rename). @throws std::runtime_error on I/O failure.

@@ -5,6 +5,9 @@
 /// window surface of its own. GL functions are loaded with glad (<glad/gl.h>) when the first context of
 /// the process is created.
 ///
+/// The EGL display (surfaceless or device platform) is initialised by the first EGL context and kept
+/// until exit: terminating it would unload Mesa's driver while contexts of other threads may live.
+///
 /// Threads: create one context per worker thread. Contexts may be created, made current and destroyed
 /// concurrently on different threads; a context must not be current on two threads at once.
 /// Before the first context is created, LP_NUM_THREADS=0 is set unless already in the environment:

@@ -13,21 +13,8 @@ Ray shadowRay(const Hit& hit, const Vec3& wi, float distance) {
 
 void FirstShotLighting::build(const RenderScene& scene) {
   scene_ = &scene;
-  sideIrradiance_.clear();
   const FirstShotTable* t = scene.firstShot();
-  if (!t) return;
-  const PatchMesh& mesh = scene.mesh();
-  sideIrradiance_.assign(2 * size_t(mesh.size()), Color(0.0f));
-  for (uint32_t j = 0; j < mesh.size(); ++j) {
-    const Patch& p = mesh.patches[j];
-    for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k) {
-      const LightSample& s = t->samples[t->sampleIndex[k]];
-      // The patch is planar, so the side of a sample is the same for every point of it.
-      const float side = s.kind == LightSampleKind::Directional ? -glm::dot(s.normal, p.normal)
-                                                                 : glm::dot(s.position - p.centroid, p.normal);
-      if (side != 0.0f) sideIrradiance_[2 * size_t(j) + (side > 0.0f ? 0 : 1)] += s.emission * t->factor[k];
-    }
-  }
+  sideIrradiance_ = t ? t->sideIrradiance() : std::vector<Color>();
 }
 
 Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf) const {

@@ -25,13 +25,15 @@ void HemisphereSamples::estimate(const Frame& frame, bool gradients, IrradianceR
   for (int j = 0; j < M; ++j) {
     const double sin2Minus = double(j) / M;
     const double sinMinus = std::sqrt(sin2Minus), sinPlus = std::sqrt(double(j + 1) / M);
-    const double sin2Centre = (j + 0.5) / M;
-    const double tanCentre = std::sqrt(sin2Centre / (1.0 - sin2Centre));
+    // Mean of tanθ over the cell (uniform in u = sin²θ): ∫ √(u/(1−u)) du = asin √u − √(u(1−u)).
+    auto F = [](double u) { return std::asin(std::sqrt(u)) - std::sqrt(u * (1.0 - u)); };
+    const double tanMean = M * (F(double(j + 1) / M) - F(sin2Minus));
     for (int k = 0; k < N; ++k) {
-      const double phiCentre = 2.0 * kPi * (k + 0.5) / N, phiMinus = 2.0 * kPi * k / N;
+      const double phiCentre = 2.0 * kPi * (k + 0.5) / N, phiMinus = 2.0 * kPi * k / N, phiPlus = 2.0 * kPi * (k + 1) / N;
       const Vec3d L(Lc(j, k));
-      // Rotation: tanθ (−sin φ, cos φ, 0) per cell.
-      const Vec3d v = tanCentre * Vec3d(-std::sin(phiCentre), std::cos(phiCentre), 0.0);
+      // Rotation: the cell's mean of tanθ (−sin φ, cos φ, 0) (finite, unlike tanθ at the horizon).
+      const Vec3d v = tanMean * N / (2.0 * kPi) *
+                      Vec3d(std::cos(phiPlus) - std::cos(phiMinus), std::sin(phiPlus) - std::sin(phiMinus), 0.0);
       for (int c = 0; c < 3; ++c) gr[c] += v * L[c];
       // Translation across the polar boundary with cell (j−1, k).
       if (j > 0) {

@@ -6,8 +6,9 @@
 /// - E = π/(MN) Σ L_jk (Ward et al. 1988, eq. 2 in cosine-weighted form);
 /// - R = MN / Σ 1/r_jk, the harmonic mean of the hit distances (rays that escape add 0);
 /// - Ward & Heckbert (1992) gradients, in the record's frame (z = normal):
-///   rotational  ∇r E = π/(MN) Σ_jk L_jk tanθ_j (−sin φ_k, cos φ_k, 0), at the cell centres, so
-///               that E(N') ≈ E + ∇r E·(N × N');
+///   rotational  ∇r E = π/(MN) Σ_jk L_jk ⟨tanθ (−sin φ, cos φ, 0)⟩_jk, the bracket the mean over
+///               cell (j, k) (exact for L constant in each cell, and finite at the horizon where
+///               tanθ is not), so that E(N') ≈ E + ∇r E·(N × N');
 ///   translational ∇t E = Σ_k [ u_k (2π/N) Σ_{j≥1} sinθ_j− cos²θ_j− / min(r_jk, r_j−1,k) (L_jk − L_j−1,k)
 ///                             + v_k− Σ_j (sinθ_j+ − sinθ_j−) / min(r_jk, r_j,k−1) (L_jk − L_j,k−1) ],
 ///               with sin²θ_j− = j/M, sin²θ_j+ = (j+1)/M, u_k the horizontal direction of the cell

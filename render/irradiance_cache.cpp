@@ -139,14 +139,24 @@ void IrradianceCache::clampToNeighbours(int level, IrradianceRecord& r) const {
   visitNeighbours(level, r.p, r.R, [&](const Stored&, float d, float Rj) { r.R = std::min(r.R, Rj + d); });
 }
 
-void IrradianceCache::insert(int level, IrradianceRecord r, bool neighbourClamp) {
+void IrradianceCache::insert(int level, IrradianceRecord r, bool neighbourClamp, bool shrinkNeighbours) {
   Level& L = *levels_[size_t(level)];
   std::lock_guard<std::mutex> lock(L.mutex);
   if (neighbourClamp) {
     clampToNeighbours(level, r);
-    visitNeighbours(level, r.p, r.R, [&](const Stored& s, float d, float Rj) {
-      if (Rj > r.R + d) s.R.store(r.R + d, std::memory_order_relaxed);  // the mutex is held
-    });
+    // Shrink the neighbours, and theirs in turn while radii drop (a distance transform over the
+    // neighbour graph). The mutex is held: no other writer.
+    std::vector<std::pair<Vec3, float>> work;
+    if (shrinkNeighbours) work.emplace_back(r.p, r.R);
+    for (size_t w = 0; w < work.size() && w < 4096; ++w) {
+      const auto [p, R] = work[w];
+      visitNeighbours(level, p, R, [&](const Stored& s, float d, float Rj) {
+        if (Rj > R + d * 1.0001f) {
+          s.R.store(R + d, std::memory_order_relaxed);
+          work.emplace_back(s.rec.p, R + d);
+        }
+      });
+    }
   }
   // Descend while the child would still be larger than twice the valid domain a·R_i.
   const float domain = accuracy_[size_t(level)] * r.radius();

@@ -82,8 +82,9 @@ class IrradianceCache {
   /// 2·a·R_i < s ≤ 4·a·R_i (or the root when the domain exceeds the cube). With
   /// @p neighbourClamp, first R_i ≤ R_j + |P_i − P_j| and then R_j ≤ R_i + |P_i − P_j| over the
   /// neighbours j: the records within R_i of P_i or whose doubled valid domain 2·a·R_j contains
-  /// P_i (Křivánek et al. 2006). Thread-safe.
-  void insert(int level, IrradianceRecord r, bool neighbourClamp);
+  /// P_i (Křivánek et al. 2006), carried on to the neighbours of every record that shrinks; the
+  /// second step only with @p shrinkNeighbours. Thread-safe.
+  void insert(int level, IrradianceRecord r, bool neighbourClamp, bool shrinkNeighbours = true);
   /// Neighbour clamping of @p r against this cache without changing it (R_i ≤ R_j + |P_i − P_j|).
   void clampToNeighbours(int level, IrradianceRecord& r) const;
 

@@ -18,7 +18,7 @@ namespace fs {
 
 struct IrradianceCacheCli {
   IrradianceCacheSettings settings;
-  std::string ambient = "0", gradients = "on", clampFootprint = "off", neighbourClamp = "on", showRecords;
+  std::string ambient = "0", gradients = "on", clampFootprint = "1.5,100", neighbourClamp = "on", showRecords;
   std::vector<CLI::Option*> options;
 
   void add(CLI::App& app) {
@@ -37,8 +37,8 @@ struct IrradianceCacheCli {
         app.add_option("--gradients", gradients, "irradiance cache: rotational and translational gradients (Ward & "
                                                  "Heckbert 1992)")
             ->check(onOff)->capture_default_str(),
-        app.add_option("--clamp-footprint", clampFootprint, "irradiance cache: MIN,MAX clamp R_i of camera-visible "
-                                                            "records to [MIN, MAX] pixel footprints, or off")
+        app.add_option("--clamp-footprint", clampFootprint, "irradiance cache: MIN,MAX keep each record's valid "
+                                                            "domain a*R_i within [MIN, MAX] pixel footprints, or off")
             ->capture_default_str(),
         app.add_option("--neighbour-clamp", neighbourClamp, "irradiance cache: R_i <= R_j + |P_i - P_j| between "
                                                             "neighbouring records")

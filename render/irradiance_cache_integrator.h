@@ -48,11 +48,12 @@ struct IrradianceCacheSettings {
   int bounces = 3;              ///< B: diffuse bounce levels served by the cache [--bounces]
   Color ambient{0.0f};          ///< radiance assumed past the last level [--ambient]
   bool gradients = true;        ///< Ward & Heckbert rotational and translational gradients [--gradients]
-  /// R_i clamped to [min, max] pixel footprints at the record (Tabellion & Lamorlette 2004): the
-  /// width of a pixel's cone at the record's distance from the camera along the path (through
-  /// mirrors and, for deeper levels, the gather rays too); 0 and ∞ disable it [--clamp-footprint MIN,MAX].
-  float footprintMin = 0.0f;
-  float footprintMax = std::numeric_limits<float>::infinity();
+  /// Footprint clamping (Tabellion & Lamorlette 2004): R_i is clamped so that the valid domain
+  /// a_ℓ·R_i spans [min, max] pixel footprints at the record, a footprint being the width of a
+  /// pixel's cone at the record's distance from the camera along the path (through mirrors and,
+  /// for deeper levels, along the hemisphere rays too). 0 and ∞ disable it [--clamp-footprint MIN,MAX].
+  float footprintMin = 1.5f;
+  float footprintMax = 100.0f;
   bool neighbourClamp = true;   ///< R_i ≤ R_j + |P_i − P_j| (Křivánek et al. 2006) [--neighbour-clamp]
   bool twoPass = false;         ///< fill the cache in preprocess(), then render read-only [--two-pass]
   int fillSamples = 1;          ///< two-pass: camera samples per pixel of the fill (the render's first ones)

@@ -21,7 +21,6 @@ namespace fs {
 namespace {
 
 constexpr size_t kMaxBatch = 256;           ///< fill tasks merged at once (batches grow 1, 2, 4, ... to this)
-constexpr int kMaxRounds = 8;               ///< fill sweeps at most
 
 /// Pixel indices coarse to fine: every 16th pixel of every 16th row, then the new pixels of the
 /// grids of spacing 8, 4, 2 and 1, each in row order.
@@ -113,13 +112,14 @@ void IrradianceCacheIntegrator::fill() {
   const std::vector<uint32_t> order = fillOrder(width, camera.height());
   tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
 
-  for (fillRounds_ = 1;; ++fillRounds_) {
+  // One sweep over the pixels; returns the number of records added.
+  auto sweep = [&](bool shrinkNeighbours) {
     size_t added = 0;
     size_t batch = 1;
     for (size_t pos = 0; pos < order.size(); pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
       const size_t count = std::min(batch, order.size() - pos);
-      // Each task traces the ray through its pixel centre against the cache as it was at the
-      // start of the batch, keeping the records it has to make to itself...
+      // Each task traces its pixel against the cache as it was at the start of the batch,
+      // keeping the records it has to make to itself...
       std::vector<std::unique_ptr<IrradianceCache>> made(count);
       arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& r) {
@@ -145,14 +145,20 @@ void IrradianceCacheIntegrator::fill() {
         for (int l = 0; l < m->levels(); ++l)
           for (const IrradianceRecord& r : m->records(l))
             if (!cache_->covers(l, r.p, r.n)) {
-              cache_->insert(l, r, settings_.neighbourClamp);
+              cache_->insert(l, r, settings_.neighbourClamp, shrinkNeighbours);
               ++added;
             }
       }
     }
-    // Neighbour clamping may have shrunk a record that covered an earlier pixel: sweep again
-    // until every pixel is covered, so that a later run from the saved file adds nothing.
-    if (added == 0 || fillRounds_ >= kMaxRounds) break;
+    return added;
+  };
+  // Neighbour clamping may shrink a record that covered an earlier pixel; a second sweep fills
+  // such gaps with records that shrink nothing, so afterwards every pixel is covered and a later
+  // run from the saved file adds nothing (its first sweep finds nothing to do).
+  fillRounds_ = 1;
+  if (sweep(true) > 0 && settings_.neighbourClamp) {
+    fillRounds_ = 2;
+    sweep(false);
   }
   // Rebuild the octrees from the final records in order, exactly as reading the file does.
   auto rebuilt = makeCache();

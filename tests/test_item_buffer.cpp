@@ -277,6 +277,33 @@ TEST_P(ItemBuffer, PatchVeryCloseToTheEye) {
   EXPECT_NEAR(a.weight[0] / omega, 1.0, 5e-3);
 }
 
+TEST_P(ItemBuffer, NearPlaneIsADepthAlongForward) {
+  // Both back ends clip at depth near (= 1e-6 × diagonal) measured along the view direction.
+  PatchMesh mesh;
+  mesh.patches.push_back(makePatch({{-5, -5, 5}, {5, -5, 5}, {5, 5, 5}, {-5, 5, 5}}));  // far wall, id 0
+  const ItemGeometry g0 = ItemGeometry::fromPatches(mesh);
+  const double near = itemBufferNear(g0.bounds);
+  auto square = [&](double z, double half) {
+    return makePatch({{-half, -half, z}, {half, -half, z}, {half, half, z}, {-half, half, z}});
+  };
+  mesh.patches.push_back(square(0.5 * near, 4 * near));  // id 1: before the near plane, covers the view
+  mesh.patches.push_back(square(0.5 * near, 4 * near));  // (twice, to be sure it is not a fluke)
+  mesh.patches.push_back(square(2.0 * near, 0.5 * near)); // id 3: behind it, covers |u|, |v| < 0.25
+  const ItemGeometry g = ItemGeometry::fromPatches(mesh);
+  MAKE_RENDERER_OR_SKIP(r, GetParam(), g, g.bounds);
+  EXPECT_DOUBLE_EQ(r->nearPlane(), itemBufferNear(g.bounds));
+  View v;
+  v.width = v.height = 16;
+  std::vector<uint32_t> ids;
+  r->render(v, ids);
+  for (int j = 0; j < 16; ++j)
+    for (int i = 0; i < 16; ++i) {
+      const Vec2d c = v.pixelCentre(i, j);
+      const bool centre = std::abs(c.x) < 0.25 && std::abs(c.y) < 0.25;
+      EXPECT_EQ(ids[j * 16 + i], centre ? 3u : 0u) << i << "," << j;
+    }
+}
+
 TEST_P(ItemBuffer, EdgeOnPatchNeitherShowsNorLeaks) {
   // A patch in the plane x = 0 through the eye, in front of a square: it must not cover any pixel,
   // nor open a crack in the square behind it. Its projection, u = 0, lies on pixel boundaries.

@@ -34,9 +34,16 @@ std::string cornell() { return test::source("scenes/cornell.json"); }
 
 bool haveXvfb() { return test::run("command -v xvfb-run").exitCode == 0; }
 
-/// The preview under a virtual X server (-a: a free display number, so tests may run in parallel).
-std::string underXvfb(const std::string& args) {
-  return "xvfb-run -a -s \"-screen 0 1024x768x24\" " + kRender + " " + args;
+/// Runs the preview under a virtual X server. -a picks a free display number; two servers
+/// started at the same moment (tests in parallel) may still pick the same one, and then one fails
+/// to start: try again.
+test::CommandResult runUnderXvfb(const std::string& args) {
+  test::CommandResult r;
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    r = test::run("xvfb-run -a -s \"-screen 0 1024x768x24\" " + kRender + " " + args);
+    if (r.output.find("Xvfb failed to start") == std::string::npos) break;
+  }
+  return r;
 }
 
 struct Image {
@@ -127,10 +134,11 @@ TEST(PreviewCamera, JsonRoundTripsThroughTheSceneParser) {
   c.up = {0, 0, 1};
   c.fovYDeg = 39.3077;
   c.width = 321, c.height = 123;
-  const std::string text = "{" + cameraJson(c) +
-                           R"(, "materials": {"w": {"type": "diffuse", "albedo": 0.5}},
-      "shapes": [{"type": "quad", "material": "w", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}],
-      "lights": [{"type": "point", "position": [0.5, 0.5, 1], "power": 1}]})";
+  std::string text = "{";  // (appended, not "{" + ...: GCC 12 warns falsely about that)
+  text += cameraJson(c);
+  text += R"(, "materials": {"w": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "quad", "material": "w", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}],
+    "lights": [{"type": "point", "position": [0.5, 0.5, 1], "power": 1}]})";
   const SceneDesc s = test::sceneFromJson(text);
   EXPECT_EQ(s.camera.position, c.position);  // shortest round-trip decimals: exact
   EXPECT_EQ(s.camera.lookAt, c.lookAt);
@@ -165,8 +173,8 @@ TEST(PreviewCli, ScriptedRunEqualsTheOfflineRender) {
   const std::string common = cornell() + " --firstshot " + fsd + " --width 48 --height 40 --exposure 0.5";
   const auto offline = test::run(kRender + " " + common + " --spp " + std::to_string(n) + " -q -o " + dir + "/off.exr -o " + dir + "/off.png");
   ASSERT_EQ(offline.exitCode, 0) << offline.output;
-  const auto preview = test::run(underXvfb(common + " --preview --frames " + std::to_string(n) + " --screenshot " + dir +
-                                           "/shot.png --window-grab " + dir + "/grab.png"));
+  const auto preview = runUnderXvfb(common + " --preview --frames " + std::to_string(n) + " --screenshot " + dir +
+                                    "/shot.png --window-grab " + dir + "/grab.png");
   ASSERT_EQ(preview.exitCode, 0) << preview.output;
   EXPECT_THAT(preview.output, HasSubstr(std::to_string(n) + " spp"));
 
@@ -219,7 +227,7 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   // is the pixel average of the same piecewise-constant picture the raster samples at pixel centres.
   const auto offline = test::run(kRender + " " + common + " --primary patch --max-depth 1 --spp 16 -q -o " + dir + "/direct.exr");
   ASSERT_EQ(offline.exitCode, 0) << offline.output;
-  const auto preview = test::run(underXvfb(common + " --preview --frames 0 --screenshot " + dir + "/instant.png"));
+  const auto preview = runUnderXvfb(common + " --preview --frames 0 --screenshot " + dir + "/instant.png");
   ASSERT_EQ(preview.exitCode, 0) << preview.output;
   EXPECT_THAT(preview.output, HasSubstr("instant picture"));
 
@@ -289,7 +297,7 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
 TEST(PreviewCli, WithoutTableShowsAHeadlightPicture) {
   if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
   const std::string dir = test::tempDir();
-  const auto r = test::run(underXvfb(cornell() + " --preview --width 32 --height 32 --frames 0 --screenshot " + dir + "/h.png"));
+  const auto r = runUnderXvfb(cornell() + " --preview --width 32 --height 32 --frames 0 --screenshot " + dir + "/h.png");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const Image im = load(dir + "/h.exr");
   // Headlight shading: albedo × |cos| ≤ the largest albedo (0.725) except on the light (17, 12, 4).

@@ -213,6 +213,7 @@ class PreviewApp {
           break;
       }
     }
+    std::fflush(stdout);  // key messages show at once even when stdout is a file
     return moved;
   }
 
@@ -241,7 +242,6 @@ class PreviewApp {
       const size_t i = size_t(key - '1');
       if (i >= names.size()) {
         fmt::print("integrator {}: none (keys 1..{})\n", i + 1, names.size());
-        std::fflush(stdout);
         return false;
       }
       if (names[i] == integrator_) return false;
@@ -279,7 +279,6 @@ class PreviewApp {
       case InputEvent::kKeyEscape: window_->requestClose(); break;
       default: return false;
     }
-    std::fflush(stdout);
     dirty_ = true;
     return false;
   }

@@ -122,6 +122,7 @@ void ProgressiveRenderer::run() {
     ro.seed = seed_;
     ro.threads = threads_;
     ro.quiet = true;
+    ro.tileSize = 8;  // cancellation is checked per tile: small tiles follow the camera sooner (same image)
     ro.cancel = &cancel_;
     RenderStats st;
     {

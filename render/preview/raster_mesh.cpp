@@ -8,20 +8,7 @@ namespace fs {
 
 std::vector<Color> sideIrradiance(const RenderScene& scene) {
   const FirstShotTable* t = scene.firstShot();
-  if (!t) return {};
-  const PatchMesh& mesh = scene.mesh();
-  std::vector<Color> e(2 * size_t(mesh.size()), Color(0.0f));
-  for (uint32_t j = 0; j < mesh.size(); ++j) {
-    const Patch& p = mesh.patches[j];
-    for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k) {
-      const LightSample& s = t->samples[t->sampleIndex[k]];
-      // Planar patch: a sample is on the same side for every point of it.
-      const float side = s.kind == LightSampleKind::Directional ? -glm::dot(s.normal, p.normal)
-                                                                 : glm::dot(s.position - p.centroid, p.normal);
-      if (side != 0.0f) e[2 * size_t(j) + (side > 0.0f ? 0 : 1)] += s.emission * t->factor[k];
-    }
-  }
-  return e;
+  return t ? t->sideIrradiance() : std::vector<Color>();
 }
 
 namespace {

@@ -1,0 +1,223 @@
+// The irradiance cache integrator against path tracing. In the Cornell box with a point light
+// (direct light exact, so the error left is the cache's), on the very same camera rays:
+// - the error of Ward's 1988 method grows about linearly with a (the fit is printed) while the
+//   record count falls;
+// - Ward & Heckbert's gradients lower the error at the same a;
+// - several bounces (B = 2) match a path tracer limited to the same path length;
+// - past the last bounce the ambient value adds exactly ρ·ambient.
+// In the Cornell box with its area light: first-shot + cache and NEE + cache agree, and the
+// first-shot run traces no shadow rays at the cache's hemisphere samples.
+#include <gtest/gtest.h>
+
+#include <fmt/core.h>
+
+#include "preprocess/preprocessor.h"
+#include "render/irradiance_cache_integrator.h"
+#include "render/path_integrator.h"
+#include "tests/irradiance_cache_util.h"
+
+using namespace fs;
+
+namespace {
+
+constexpr int kSize = 32;      // image side, pixels
+constexpr int kSpp = 4;        // camera samples per pixel
+constexpr int kPathPerRay = 48;
+constexpr uint64_t kSeed = 5;
+
+IrradianceCacheSettings ward1988(float a, int bounces) {
+  IrradianceCacheSettings s;
+  s.accuracy = a;
+  s.samples = 512;
+  s.bounces = bounces;
+  s.gradients = false;
+  s.neighbourClamp = false;
+  s.footprintMin = 0.0f;
+  s.footprintMax = std::numeric_limits<float>::infinity();
+  s.twoPass = true;
+  s.seed = kSeed;
+  return s;
+}
+
+/// One reference per bounce count, shared by the tests of this file.
+class IrradianceCacheVsPath : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    desc_ = new SceneDesc(test::cornellWithPointLight(kSize));
+    scene_ = new RenderScene(*desc_);
+    camera_ = new Camera(desc_->camera);
+  }
+  static void TearDownTestSuite() {
+    delete camera_;
+    delete scene_;
+    delete desc_;
+    delete ref1_;
+    delete ref2_;
+  }
+  /// The path-traced reference for B cache bounces: paths of B + 1 bounces.
+  static const test::PairedReference& reference(int bounces) {
+    test::PairedReference*& r = bounces == 1 ? ref1_ : ref2_;
+    if (!r) {
+      IntegratorOptions io;
+      io.maxDepth = bounces + 1;
+      PathIntegrator path(io);
+      path.preprocess(*scene_);
+      r = new test::PairedReference(test::pairedReference(path, *camera_, kSpp, kPathPerRay, kSeed));
+    }
+    return *r;
+  }
+  struct Run {
+    double error;
+    size_t records;
+  };
+  static Run run(const IrradianceCacheSettings& s) {
+    IntegratorOptions io;
+    io.maxDepth = s.bounces + 1;
+    IrradianceCacheIntegrator ic(io, s);
+    ic.preprocess(*scene_);
+    return {test::pairedRelativeRmse(ic, *camera_, reference(s.bounces)), ic.cache().size()};
+  }
+
+  static SceneDesc* desc_;
+  static RenderScene* scene_;
+  static Camera* camera_;
+  static test::PairedReference *ref1_, *ref2_;
+};
+SceneDesc* IrradianceCacheVsPath::desc_ = nullptr;
+RenderScene* IrradianceCacheVsPath::scene_ = nullptr;
+Camera* IrradianceCacheVsPath::camera_ = nullptr;
+test::PairedReference* IrradianceCacheVsPath::ref1_ = nullptr;
+test::PairedReference* IrradianceCacheVsPath::ref2_ = nullptr;
+
+}  // namespace
+
+TEST_F(IrradianceCacheVsPath, ErrorGrowsLinearlyWithAccuracyAndRecordsFall) {
+  const std::vector<double> as = {0.05, 0.1, 0.2, 0.3, 0.4};
+  std::vector<double> errors;
+  std::vector<size_t> records;
+  fmt::print("     a   rel. RMSE   records\n");
+  for (double a : as) {
+    const Run r = run(ward1988(float(a), 1));
+    errors.push_back(r.error);
+    records.push_back(r.records);
+    fmt::print("  {:.2f}   {:.5f}   {:7}\n", a, r.error, r.records);
+  }
+  const test::LineFit fit = test::fitLine(as, errors);
+  fmt::print("linear fit: rel. RMSE = {:.5f} + {:.5f}·a, r² = {:.3f}\n", fit.intercept, fit.slope, fit.r2);
+  for (size_t i = 1; i < as.size(); ++i) EXPECT_LT(records[i], records[i - 1]) << "a = " << as[i];
+  EXPECT_GT(fit.slope, 0.0);
+  EXPECT_GT(fit.r2, 0.9);
+  EXPECT_GT(errors.back(), 2.0 * errors.front());
+  EXPECT_LT(errors.front(), 0.02);  // a = 0.05: within 2 % of the path-traced image
+}
+
+TEST_F(IrradianceCacheVsPath, GradientsLowerTheError) {
+  double sumPlain = 0, sumGradients = 0;
+  for (float a : {0.2f, 0.3f, 0.4f}) {
+    IrradianceCacheSettings s = ward1988(a, 1);
+    const Run plain = run(s);
+    s.gradients = true;
+    const Run withGradients = run(s);
+    fmt::print("a = {}: rel. RMSE {:.5f} without gradients, {:.5f} with\n", a, plain.error, withGradients.error);
+    EXPECT_LT(withGradients.error, plain.error) << "a = " << a;
+    sumPlain += plain.error;
+    sumGradients += withGradients.error;
+  }
+  EXPECT_LT(sumGradients, 0.85 * sumPlain);
+}
+
+TEST_F(IrradianceCacheVsPath, TwoBouncesMatchPathsOfThreeBounces) {
+  // Gradients, footprint and neighbour clamping with B = 2 (the footprint clamp scaled to this
+  // tiny image: the valid domains span at least half a pixel).
+  IrradianceCacheSettings s;
+  s.footprintMin = 0.5f;
+  s.accuracy = 0.15f;
+  s.samples = 256;
+  s.bounces = 2;
+  s.twoPass = true;
+  s.seed = kSeed;
+  const Run r = run(s);
+  fmt::print("B = 2, a = 0.15, N = 256, clamps on: rel. RMSE {:.5f} against paths of 3 bounces, {} records\n", r.error, r.records);
+  EXPECT_LT(r.error, 0.03);
+}
+
+TEST_F(IrradianceCacheVsPath, AmbientPastTheLastBounce) {
+  // B = 0: no cache, every diffuse surface reflects ρ·ambient on top of its direct light.
+  const Color ambient(0.2f, 0.1f, 0.05f);
+  IntegratorOptions io;
+  auto render = [&](const Color& amb) {
+    IrradianceCacheSettings s = ward1988(0.2f, 0);
+    s.ambient = amb;
+    IrradianceCacheIntegrator ic(io, s);
+    ic.preprocess(*scene_);
+    Film film(kSize, kSize);
+    RenderOptions ro;
+    ro.spp = 2;
+    fs::render(ic, *camera_, film, ro);
+    EXPECT_EQ(ic.cache().size(), 0u);
+    return film;
+  };
+  const Film with = render(ambient), without = render(Color(0.0f));
+  double worst = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      const Vec3d expected = with.albedo(x, y) * Vec3d(ambient);  // mean albedo of the pixel's samples × ambient
+      worst = std::max(worst, glm::length(with.mean(x, y) - without.mean(x, y) - expected));
+    }
+  fmt::print("ambient: largest |difference − ρ·ambient| = {:.2e}\n", worst);
+  EXPECT_LT(worst, 1e-5);
+}
+
+TEST(IrradianceCacheFirstShot, AgreesWithNeeAndGathersFirstShotLight) {
+  // The Cornell box with its (small) area light: NEE + cache against first-shot + cache, same
+  // settings and seeds. At the camera-visible vertex both take the light by NEE (exact mode) with
+  // the same random numbers; the cache's hemisphere samples see NEE-lit surfaces in one run and
+  // first-shot-lit ones (patch-averaged, no shadow rays) in the other.
+  SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
+  desc.camera.width = desc.camera.height = kSize;
+  PreprocessOptions po = defaultOptions(desc);
+  po.settings.backend = "embree";
+  po.settings.resolution = 128;
+  po.settings.patchSize = 0.025;
+  po.settings.lightPatchSize = 0.05;
+  po.quiet = true;
+  FirstShotTable table = preprocessScene(desc, po);
+  ASSERT_EQ(table.replacedLights.size(), 1u);
+  const RenderScene nee(desc), firstShot(desc, std::move(table));
+  IrradianceCacheSettings s = ward1988(0.15f, 1);
+  s.gradients = true;
+  const Camera camera(desc.camera);
+  RenderOptions ro;
+  ro.spp = 8;
+  ro.seed = kSeed;
+  struct Result {
+    Film film{kSize, kSize};
+    RenderStats stats;
+    size_t records;
+  };
+  auto render = [&](const RenderScene& scene) {
+    IrradianceCacheIntegrator ic(IntegratorOptions{}, s);
+    ic.preprocess(scene);
+    Result r;
+    r.stats = fs::render(ic, camera, r.film, ro);
+    r.records = ic.cache().size();
+    return r;
+  };
+  const Result a = render(nee), b = render(firstShot);
+  double sumA = 0, sumB = 0, sumD2 = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double va = a.film.mean(x, y)[c], vb = b.film.mean(x, y)[c];
+        sumA += va, sumB += vb, sumD2 += (va - vb) * (va - vb);
+      }
+  const double n = 3.0 * kSize * kSize, rel = (sumB - sumA) / sumA, rms = std::sqrt(sumD2 / n) / (sumA / n);
+  fmt::print("NEE + cache: mean {:.5f}, {} records, {} rays; first-shot + cache: mean {:.5f}, {} records, {} rays\n",
+             sumA / n, a.records, a.stats.rays, sumB / n, b.records, b.stats.rays);
+  fmt::print("relative difference of the means {:+.4f}, RMS pixel difference {:.4f} of the mean\n", rel, rms);
+  EXPECT_LT(std::abs(rel), 0.01);
+  EXPECT_LT(rms, 0.05);
+  EXPECT_EQ(a.records, b.records);  // records depend on geometry only
+  // No shadow rays at the hemisphere samples' hits: well under the NEE run's rays.
+  EXPECT_LT(double(b.stats.rays), 0.7 * double(a.stats.rays));
+}
