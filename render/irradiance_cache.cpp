@@ -31,7 +31,10 @@ float inFrontDistance(const Vec3& pi, const Vec3& ni, const Vec3& p, const Vec3&
 }
 
 Color extrapolateIrradiance(const IrradianceRecord& r, const Vec3& p, const Vec3& n) {
-  const Vec3 dn = glm::cross(r.n, n), dp = p - r.p;
+  // A domain widened by the footprint clamp (radius > R) would carry the gradient further than
+  // the geometry warrants: scale it by R / radius (Křivánek et al.'s gradient limit).
+  const float R = r.radius();
+  const Vec3 dn = glm::cross(r.n, n), dp = (R > r.R ? r.R / R : 1.0f) * (p - r.p);
   Color e;
   for (int c = 0; c < 3; ++c) e[c] = std::max(0.0f, r.E[c] + glm::dot(dn, r.gradR[c]) + glm::dot(dp, r.gradT[c]));
   return e;

@@ -44,7 +44,9 @@ float irradianceWeight(const Vec3& pi, const Vec3& ni, float Ri, const Vec3& p, 
 /// sit on an object that shadows P) and must not be used.
 float inFrontDistance(const Vec3& pi, const Vec3& ni, const Vec3& p, const Vec3& n);
 
-/// E_i carried to (P, N) by the gradients: E_i + (N_i × N)·∇r E_i + (P − P_i)·∇t E_i, each channel ≥ 0.
+/// E_i carried to (P, N) by the gradients: E_i + (N_i × N)·∇r E_i + s·(P − P_i)·∇t E_i, each
+/// channel ≥ 0, with s = min(1, R_i / radius()) so that a domain widened by footprint clamping
+/// does not carry the translational gradient further than R_i.
 Color extrapolateIrradiance(const IrradianceRecord& r, const Vec3& p, const Vec3& n);
 
 /// Running weighted sum of eq. 5 over accepted records.

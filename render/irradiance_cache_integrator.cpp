@@ -237,6 +237,11 @@ IrradianceRecord IrradianceCacheIntegrator::gather(const Hit& hit, const Vec3& n
   rec.n = n;
   hs.estimate(frame, settings_.gradients, rec);
   rec.R = std::min(rec.R, cache_ ? cache_->extent() : rec.R);
+  if (settings_.gradients)  // R_i ≤ E_i/|∇t E_i| (Křivánek et al.): the linear change stays below E_i
+    for (int c = 0; c < 3; ++c) {
+      const float g = glm::length(rec.gradT[c]);
+      if (g > 0.0f && rec.E[c] > 0.0f) rec.R = std::min(rec.R, rec.E[c] / g);
+    }
   if (pathLength > 0.0f && pixelAngle_ > 0.0f) {
     // The valid domain a·R_i in [min, max] pixel footprints.
     const float footprint = pixelAngle_ * pathLength / accuracy(level);

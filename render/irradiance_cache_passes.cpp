@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "common/analytic.h"
 #include "common/error.h"
+#include "common/small_lights.h"
 #include "render/cache_file.h"
 #include "render/camera.h"
 #include "render/embree_scene.h"
@@ -32,25 +32,6 @@ std::vector<uint32_t> fillOrder(int width, int height) {
       for (int x = 0; x < width; x += s)
         if (s == 16 || x % (2 * s) != 0 || y % (2 * s) != 0) order.push_back(uint32_t(y) * uint32_t(width) + uint32_t(x));
   return order;
-}
-
-/// The scene's small-light rule (docs/scene-format.md) for a light when there is no first-shot
-/// table: delta lights are small; an area light is small when it subtends at most
-/// settings.smallLightMaxSolidAngle from the centre of the scene's bounds, unless overridden.
-bool isSmallLight(const SceneDesc& scene, const LightDesc& light) {
-  if (light.type != LightType::Area) return true;
-  if (light.small != SmallOverride::Auto) return light.small == SmallOverride::Small;
-  Vec3d lo, hi;
-  scene.bounds(lo, hi);
-  const Vec3d centre = 0.5 * (lo + hi);
-  const ShapeDesc& s = scene.shapes[size_t(light.shape)];
-  double omega = 0;
-  for (const Face& f : s.faces) {
-    std::vector<Vec3d> poly;
-    for (int i = 0; i < f.count; ++i) poly.push_back(s.vertices[f.v[i]]);
-    omega += analytic::solidAnglePolygon(centre, poly);
-  }
-  return omega <= scene.settings.smallLightMaxSolidAngle;
 }
 
 }  // namespace
@@ -76,7 +57,7 @@ void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
   for (size_t l = 0; l < n; ++l) {
     const RenderLight& light = lights.lights()[l];
     if (light.type != LightType::Area) continue;
-    const bool small = scene.firstShot() ? light.replaced : isSmallLight(scene.desc(), light.desc);
+    const bool small = scene.firstShot() ? light.replaced : isSmallLight(scene.desc(), light.desc, scene.desc().settings.smallLightMaxSolidAngle);
     if (small) continue;
     gathered_[l] = 1;
     direct_[l] = 0;

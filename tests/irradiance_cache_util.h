@@ -72,29 +72,58 @@ inline PairedReference pairedReference(const Integrator& path, const Camera& cam
   return r;
 }
 
-/// Relative RMSE of @p integrator against @p ref (see the file comment).
-inline double pairedRelativeRmse(const Integrator& integrator, const Camera& camera, const PairedReference& ref) {
+/// Error of an integrator against a paired reference.
+struct PairedError {
+  double relRmse = 0;    ///< √(mean of the per-pixel squared-bias estimates) / mean of the reference
+  double meanDiff = 0;   ///< (mean of the estimates − mean of the reference) / mean of the reference
+  double meanDiffSe = 0; ///< its standard error
+};
+
+/// The error of @p integrator against @p ref (see the file comment). Along each ray the estimate is
+/// the mean of @p perRay evaluations: the renderer's own (same random numbers) and perRay − 1
+/// with others, which lowers the integrator's own noise (e.g. of glossy reflections).
+inline PairedError pairedError(const Integrator& integrator, const Camera& camera, const PairedReference& ref, int perRay = 1) {
   const size_t pixels = size_t(ref.width) * size_t(ref.height);
-  std::vector<double> bias2(pixels, 0.0);
+  std::vector<double> bias2(pixels, 0.0), pixelMean(pixels, 0.0), pixelVar(pixels, 0.0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t p = range.begin(); p < range.end(); ++p) {
       Vec3d sum(0.0), sum2(0.0);
+      double sumC = 0, sumC2 = 0;  // of the channel mean of d
       for (int k = 0; k < ref.spp; ++k) {
         Sampler s(ref.seed, p, uint64_t(k));
         const Vec2 j = s.next2D();
         const Ray ray = camera.generateRay(float(p % size_t(ref.width)) + j.x, float(p / size_t(ref.width)) + j.y);
-        const Vec3d d = Vec3d(integrator.Li(ray, s)) - ref.L[p * size_t(ref.spp) + size_t(k)];
+        Vec3d L(integrator.Li(ray, s));
+        for (int q = 1; q < perRay; ++q) {
+          Sampler t(ref.seed ^ 0x1c, p, uint64_t(k) * uint64_t(perRay) + uint64_t(q));
+          t.next2D();
+          L += Vec3d(integrator.Li(ray, t));
+        }
+        const Vec3d d = L / double(perRay) - ref.L[p * size_t(ref.spp) + size_t(k)];
         sum += d;
         sum2 += d * d;
+        const double c = (d.x + d.y + d.z) / 3.0;
+        sumC += c;
+        sumC2 += c * c;
       }
       const double n = ref.spp;
       const Vec3d m = sum / n, var = (sum2 - n * m * m) / (n - 1);
       bias2[p] = (m.x * m.x + m.y * m.y + m.z * m.z) - (var.x + var.y + var.z) / n;
+      pixelMean[p] = sumC / n;
+      pixelVar[p] = (sumC2 - n * pixelMean[p] * pixelMean[p]) / (n - 1) / n;  // of pixelMean[p]
     }
   });
-  double total = 0;
-  for (double b : bias2) total += b;
-  return std::sqrt(std::max(0.0, total / (3.0 * double(pixels)))) / ref.mean;
+  double total = 0, m = 0, v = 0;
+  for (size_t p = 0; p < pixels; ++p) total += bias2[p], m += pixelMean[p], v += pixelVar[p];
+  PairedError e;
+  e.relRmse = std::sqrt(std::max(0.0, total / (3.0 * double(pixels)))) / ref.mean;
+  e.meanDiff = m / double(pixels) / ref.mean;
+  e.meanDiffSe = std::sqrt(v) / double(pixels) / ref.mean;
+  return e;
+}
+
+inline double pairedRelativeRmse(const Integrator& integrator, const Camera& camera, const PairedReference& ref) {
+  return pairedError(integrator, camera, ref).relRmse;
 }
 
 /// Least-squares line y = c0 + c1·x and its r².
