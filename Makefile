@@ -35,12 +35,15 @@ test-asan: build-asan
 bench: build
 	bash bench/run.sh $(BUILD)
 
-## Speed against error of each method on cornell and many-lights, and the preprocessing accuracy report:
-## CSV, plots and tables under out/bench/, the plots also in docs/figures/ (bench/firstshot_bench.py).
+## Speed against error: each method's time to 5% and 2% rel. RMSE and MARE against a converged reference, the
+## best first-shot method against the best baseline, and the preprocessing accuracy report: CSV, plots, tables and
+## out/bench/summary.md under out/bench/, the plots also in docs/figures/ (bench/firstshot_bench.py). Hours: about
+## 80 min per scene plus each reference once (cached); e.g. BENCH_ARGS='--max-budget 32 --reps 1' for a shorter run.
+BENCH_SCENES ?= cornell many-lights sierpinski-glossy fixture-room office-floor
 bench-report: build
-	/usr/bin/python3 bench/firstshot_bench.py --build $(BUILD) --figures docs/figures $(BENCH_ARGS) cornell many-lights
+	/usr/bin/python3 bench/firstshot_bench.py --build $(BUILD) --figures docs/figures $(BENCH_ARGS) $(BENCH_SCENES)
 
-## A one-to-two-minute smoke check of the same harness (results under out/bench/quick/).
+## A two-minute smoke check of the same harness's plumbing (results under out/bench/quick/; the numbers mean nothing).
 bench-quick: build
 	/usr/bin/python3 bench/firstshot_bench.py --build $(BUILD) --quick $(BENCH_ARGS) cornell many-lights
 

@@ -9,6 +9,7 @@
 
 #include "common/math.h"
 #include "common/rng.h"
+#include "render/light_sampler.h"
 #include "render/ray.h"
 #include "render/render_scene.h"
 
@@ -33,6 +34,10 @@ struct IntegratorOptions {
   int maxDepth = 16;  ///< longest path in bounces: 0 = emitters seen directly only, 1 = direct lighting
   int rrDepth = 3;    ///< Russian roulette from this many bounces on
   PrimaryMode primary = PrimaryMode::Exact;
+  /// How NEE chooses lights: one sample of every light, or one light chosen by a light tree.
+  LightStrategy lightSampler = LightStrategy::Tree;
+  /// With a first-shot table: sample the lit patches as area emitters (render/light_sampler.h).
+  bool patchNee = true;
 };
 
 /// A point an integrator has stored (an irradiance-cache record), for the preview's overlay.

@@ -20,6 +20,7 @@ struct IrradianceCacheCli {
   IrradianceCacheSettings settings;
   std::string ambient = "0", gradients = "on", clampFootprint = "1.5,100", neighbourClamp = "on", showRecords;
   std::vector<CLI::Option*> options;
+  CLI::Option* ambientOption = nullptr;
 
   void add(CLI::App& app) {
     auto onOff = CLI::IsMember({"on", "off"});
@@ -30,10 +31,10 @@ struct IrradianceCacheCli {
                                                          "(halved per bounce)")
             ->check(CLI::Range(8, 1 << 20))->capture_default_str(),
         app.add_option("--bounces", settings.bounces, "irradiance cache: diffuse bounces served by the cache (level ℓ "
-                                                      "uses a·1.4^ℓ); beyond them --ambient")
+                                                      "uses a·1.4^ℓ); beyond them path tracing, or --ambient")
             ->check(CLI::Range(0, 16))->capture_default_str(),
-        app.add_option("--ambient", ambient, "irradiance cache: radiance assumed past the last bounce, V or R,G,B")
-            ->capture_default_str(),
+        ambientOption = app.add_option("--ambient", ambient, "irradiance cache: radiance assumed past the last bounce, V or "
+                                                 "R,G,B (biased; default: the light there is path traced)"),
         app.add_option("--gradients", gradients, "irradiance cache: rotational and translational gradients (Ward & "
                                                  "Heckbert 1992)")
             ->check(onOff)->capture_default_str(),
@@ -63,6 +64,7 @@ struct IrradianceCacheCli {
       return;
     }
     settings.ambient = parseColor(ambient, "--ambient");
+    settings.pathContinuation = ambientOption->count() == 0;  // --ambient given: Ward's ambient term instead
     settings.gradients = gradients == "on";
     settings.neighbourClamp = neighbourClamp == "on";
     if (clampFootprint == "off") {

@@ -56,9 +56,9 @@ std::string IrradianceCacheIntegrator::settingsText() const {
     }
   const FirstShotTable* t = scene_ ? scene_->firstShot() : nullptr;
   return fmt::format(
-      "accuracy={} samples={} bounces={} ambient={},{},{} gradients={} clamp-footprint={},{} neighbour-clamp={} "
+      "accuracy={} samples={} bounces={} past-last={} ambient={},{},{} gradients={} clamp-footprint={},{} neighbour-clamp={} "
       "max-depth={} gathered-lights=[{}] firstshot={}",
-      settings_.accuracy, settings_.samples, settings_.bounces, settings_.ambient.x, settings_.ambient.y,
+      settings_.accuracy, settings_.samples, settings_.bounces, settings_.pathContinuation ? "path" : "ambient", settings_.ambient.x, settings_.ambient.y,
       settings_.ambient.z, settings_.gradients ? "on" : "off", settings_.footprintMin, settings_.footprintMax,
       settings_.neighbourClamp ? "on" : "off", options_.maxDepth, gathered, t ? fmt::format("{:016x}", tableHash(*t)) : "none");
 }
@@ -187,7 +187,19 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
 
 Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int level, float pathLength,
                                             Sampler& sampler, Context& ctx) const {
-  if (level >= settings_.bounces) return kPiF * settings_.ambient;
+  if (level >= settings_.bounces) {
+    if (!settings_.pathContinuation) return kPiF * settings_.ambient;
+    // E = π·L(ω) for ω distributed as cosθ/π: one path, with every light this vertex counted
+    // (direct_) weighted 0 where the path meets it, everything else counted from the next hit on.
+    const Vec3 w = Frame(n).toWorld(squareToCosineHemisphere(sampler.next2D()));
+    PathVertex prev;
+    prev.delta = false;
+    prev.p = hit.p;
+    prev.n = n;
+    prev.pdf = squareToCosineHemispherePdf(Vec3(0.0f, 0.0f, glm::dot(w, n)));
+    prev.counted = &direct_;
+    return kPiF * continuation_->trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, sampler, ctx.rays);
+  }
   // Drawn whether or not a record is made, so that the path does not depend on the cache.
   const uint64_t key = sampler.nextBits();
   IrradianceEstimate est;

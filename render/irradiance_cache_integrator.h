@@ -14,8 +14,11 @@
 ///   primary method: stratified cosine-weighted hemisphere sampling (eq. 2, M × 2M cells) whose
 ///   rays gather the radiance of the surfaces they hit at level ℓ+1 (first-shot or NEE direct
 ///   light plus their own cached indirect light) and the emission of large area lights (§5).
-///   Level ℓ uses a·1.4^ℓ and half the samples of level ℓ−1 (§3.4); past the last level the
-///   irradiance is π·ambient.
+///   Level ℓ uses a·1.4^ℓ and half the samples of level ℓ−1 (§3.4). Past the last level the
+///   irradiance is estimated without bias by one path per evaluation, π·L(ω) for a cosine-
+///   distributed ω, L traced by the path integrator (its NEE, first-shot patches as emitters,
+///   Russian roulette), so the cache converges to what path tracing does; or, on request, it is
+///   π·ambient (Ward's ambient term, biased).
 /// - Mirrors and glass are followed by ray tracing; the glossy part f − ρd/π of a stretched-Phong
 ///   BSDF by one BSDF-sampled ray per vertex, with NEE + MIS for the large lights.
 ///
@@ -38,6 +41,7 @@
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/irradiance_cache.h"
+#include "render/path_integrator.h"
 
 namespace fs {
 
@@ -46,7 +50,9 @@ struct IrradianceCacheSettings {
   float accuracy = 0.15f;       ///< a of eq. 5 at level 0 [--accuracy]
   int samples = 512;            ///< hemisphere samples N of a level-0 record [--ic-samples]
   int bounces = 3;              ///< B: diffuse bounce levels served by the cache [--bounces]
-  Color ambient{0.0f};          ///< radiance assumed past the last level [--ambient]
+  /// Past the last level: continue by path tracing (unbiased; default), or assume ambient.
+  bool pathContinuation = true;
+  Color ambient{0.0f};          ///< radiance assumed past the last level when !pathContinuation [--ambient]
   bool gradients = true;        ///< Ward & Heckbert rotational and translational gradients [--gradients]
   /// Footprint clamping (Tabellion & Lamorlette 2004): R_i is clamped so that the valid domain
   /// a_ℓ·R_i spans [min, max] pixel footprints at the record, a footprint being the width of a
@@ -132,6 +138,7 @@ class IrradianceCacheIntegrator : public Integrator {
   IrradianceCacheSettings settings_;
   const RenderScene* scene_ = nullptr;
   FirstShotLighting firstShot_;
+  std::unique_ptr<PathIntegrator> continuation_;  ///< traces the light past the last level
   std::vector<uint8_t> gathered_;         ///< per light: emission gathered by the cache (large area lights)
   std::vector<uint8_t> direct_;           ///< per light: NEE / first-shot (the others)
   std::vector<uint8_t> gatheredEmitter_;  ///< per emitter mesh: its light is gathered

@@ -47,6 +47,8 @@ void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
   fillRounds_ = 0;
   privateRecords_ = 0;
   firstShot_.build(scene);
+  continuation_ = std::make_unique<PathIntegrator>(options_);
+  continuation_->preprocess(scene);
 
   // Large area lights are gathered by the cache (§5); every other light is direct light.
   const LightSet& lights = scene.lights();

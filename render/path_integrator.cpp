@@ -1,4 +1,5 @@
-// Path tracing with NEE + MIS + Russian roulette, and the first-shot term for small lights.
+// Path tracing with NEE + MIS + Russian roulette, the first-shot term for small lights and the
+// lit patches as sampled emitters.
 #include "render/path_integrator.h"
 
 #include <algorithm>
@@ -9,33 +10,35 @@ namespace fs {
 void PathIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   firstShot_.build(scene);
+  lights_.build(scene, firstShot_, options_.lightSampler, options_.patchNee);
 }
 
-Color PathIntegrator::firstShot(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf) const {
-  return firstShot_.eval(hit, frame, woLocal, bsdf);
-}
-
-Color PathIntegrator::directLight(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                                  bool skipReplaced, Sampler& sampler, uint64_t& rays) const {
-  DirectLightOptions o;
-  o.skipReplaced = skipReplaced;
-  return estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, rays);
+float PathIntegrator::emissionWeight(const PathVertex& prev, const Hit& hit) const {
+  if (prev.delta) return 1.0f;  // no light sampling could have found it
+  if (!hit.onPatch()) {
+    const LightSet& lights = scene_->lights();
+    const RenderLight& light = lights.emitterLight(hit.emitter);
+    if (light.replaced && prev.usedTable) return 0.0f;  // the first-shot term of prev holds it
+    if (prev.counted && (*prev.counted)[size_t(&light - lights.lights().data())]) return 0.0f;
+  }
+  const float pdf = lights_.pdf(prev.p, prev.n, prev.nee, hit);
+  return pdf > 0.0f ? powerHeuristic(prev.pdf, pdf) : 1.0f;
 }
 
 Color PathIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* info) const {
-  const RenderScene& scene = *scene_;
-  const LightSet& lights = scene.lights();
-  const bool haveTable = scene.firstShot() != nullptr;
   uint64_t rays = 0;
-  Color L(0.0f), beta(1.0f);
-  Ray ray = cameraRay;
-  bool specularChain = true;  // every vertex so far was a delta bounce (the camera counts as one)
-  bool prevDelta = true;      // the last direction came from a delta lobe or the camera
-  bool prevFirstShot = false; // the previous vertex took the small lights from the table
-  float prevPdf = 0.0f;
-  Vec3 prevP(0.0f);
+  const Color L = trace(cameraRay, Color(1.0f), 0, PathVertex(), true, sampler, rays, info);
+  if (info) info->rays = rays;
+  return L;
+}
 
-  for (int depth = 0;; ++depth) {
+Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, bool specularChain, Sampler& sampler,
+                            uint64_t& rays, SampleInfo* info) const {
+  const RenderScene& scene = *scene_;
+  const bool haveTable = scene.firstShot() != nullptr;
+  Color L(0.0f);
+
+  for (;; ++depth) {
     Hit hit;
     ++rays;
     if (!scene.intersect(ray, hit)) break;
@@ -43,15 +46,8 @@ Color PathIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* inf
 
     // Emission of area lights met by the path.
     if (!hit.onPatch()) {
-      const Color Le = lights.emitted(hit.emitter, hit.ng, wo);
-      if (maxComponent(Le) > 0.0f) {
-        const RenderLight& light = lights.emitterLight(hit.emitter);
-        if (prevDelta)
-          L += beta * Le;  // no light sampling could have found it
-        else if (!(light.replaced && prevFirstShot))
-          L += beta * Le * powerHeuristic(prevPdf, lights.pdf(light, prevP, hit.p, hit.ng));
-        // else: the first-shot term of the previous vertex already holds it
-      }
+      const Color Le = scene.lights().emitted(hit.emitter, hit.ng, wo);
+      if (maxComponent(Le) > 0.0f) L += beta * Le * emissionWeight(prev, hit);
     }
 
     const BSDF& bsdf = scene.bsdf(scene.material(hit));
@@ -64,9 +60,14 @@ Color PathIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* inf
     const Frame frame(hit.ng);  // no flip: the BSDFs are two-sided and the dielectric needs the outward normal
     const Vec3 woLocal = frame.toLocal(wo);
     const bool useTable = haveTable && !(options_.primary == PrimaryMode::Exact && specularChain);
+    NeeRequest nee;
     if (!bsdf.hasDelta()) {
-      if (useTable && hit.onPatch()) L += beta * firstShot(hit, frame, woLocal, bsdf);
-      L += beta * directLight(hit, frame, woLocal, bsdf, useTable, sampler, rays);
+      // The first-shot term here is the emission of a lit patch, met from prev.
+      if (useTable && hit.onPatch()) L += beta * firstShot(hit, frame, woLocal, bsdf) * emissionWeight(prev, hit);
+      nee.kept = true;
+      nee.replaced = !useTable;
+      nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth;  // a lit patch is one bounce more
+      L += beta * lights_.sample(hit, frame, woLocal, bsdf, nee, sampler, rays);
     }
 
     // Continue the path by sampling the BSDF.
@@ -75,10 +76,13 @@ Color PathIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* inf
     if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) break;
     const Vec3 wi = frame.toWorld(q.wi);
     beta *= weight;
-    prevDelta = q.specular;
-    prevPdf = q.pdf;
-    prevP = hit.p;
-    prevFirstShot = useTable;
+    prev.delta = q.specular;
+    prev.usedTable = useTable;
+    prev.pdf = q.pdf;
+    prev.p = hit.p;
+    prev.n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;
+    prev.nee = nee;
+    prev.counted = nullptr;
     specularChain = specularChain && q.specular;
     ray = Ray(hit.spawnOrigin(wi), wi);
 
@@ -89,7 +93,6 @@ Color PathIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* inf
       beta /= survive;
     }
   }
-  if (info) info->rays = rays;
   return L;
 }
 

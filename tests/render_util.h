@@ -36,19 +36,25 @@ struct RenderRun {
   RenderStats stats;
 };
 
-/// Renders @p scene with the path integrator.
-inline RenderRun renderPath(const RenderScene& scene, const IntegratorOptions& io, int spp, uint64_t seed = 1,
+/// Renders @p scene with @p integrator, already preprocessed for it.
+inline RenderRun renderWith(const Integrator& integrator, const RenderScene& scene, int spp, uint64_t seed = 1,
                             int threads = 0) {
-  auto integrator = makeIntegrator("path", io);
-  integrator->preprocess(scene);
   const Camera camera(scene.desc().camera);
   RenderRun run{Film(camera.width(), camera.height()), {}};
   RenderOptions ro;
   ro.spp = spp;
   ro.seed = seed;
   ro.threads = threads;
-  run.stats = render(*integrator, camera, run.film, ro);
+  run.stats = render(integrator, camera, run.film, ro);
   return run;
+}
+
+/// Renders @p scene with the path integrator.
+inline RenderRun renderPath(const RenderScene& scene, const IntegratorOptions& io, int spp, uint64_t seed = 1,
+                            int threads = 0) {
+  auto integrator = makeIntegrator("path", io);
+  integrator->preprocess(scene);
+  return renderWith(*integrator, scene, spp, seed, threads);
 }
 
 /// A first-shot table for point light @p light of @p scene over @p mesh, with the exact factors

@@ -66,7 +66,11 @@ TEST(CornellFirstShot, ImageMeanAgreesWithNee) {
 TEST(CornellFirstShot, PerPixelDifferenceShrinksWithPatches) {
   const SceneDesc desc = cornell();
   const RenderScene neeScene(desc);
+  // Pairing needs both integrators to draw the same random numbers: one sample of every light
+  // (NEE) and no patch emitters.
   IntegratorOptions exact, patch;
+  exact.lightSampler = patch.lightSampler = LightStrategy::All;
+  exact.patchNee = patch.patchNee = false;
   patch.primary = PrimaryMode::Patch;
   auto nee = makeIntegrator("path", exact);
   nee->preprocess(neeScene);

@@ -1,0 +1,111 @@
+// Importance bound and union of light bounds.
+#include "render/light_bounds.h"
+
+#include <algorithm>
+
+namespace fs {
+
+namespace {
+
+inline float safeSqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
+
+/// Cone (axis, half-angle θ) that contains both cones.
+void uniteCones(Vec3 wa, float ta, Vec3 wb, float tb, Vec3& w, float& theta) {
+  if (tb > ta) std::swap(wa, wb), std::swap(ta, tb);
+  if (ta >= kPiF) {
+    w = wa, theta = kPiF;
+    return;
+  }
+  const float td = std::acos(std::clamp(glm::dot(wa, wb), -1.0f, 1.0f));
+  if (std::min(td + tb, kPiF) <= ta) {
+    w = wa, theta = ta;
+    return;
+  }
+  const float to = 0.5f * (ta + td + tb);
+  if (to >= kPiF) {
+    w = wa, theta = kPiF;
+    return;
+  }
+  // Rotate wa towards wb by to − ta.
+  const Vec3 axis = glm::cross(wa, wb);
+  const float len = glm::length(axis);
+  if (!(len > 1e-7f)) {  // (anti)parallel axes that do not nest: no narrower cone is safe
+    w = wa, theta = kPiF;
+    return;
+  }
+  const Vec3 k = axis / len;
+  const float r = to - ta, c = std::cos(r), s = std::sin(r);
+  w = glm::normalize(wa * c + glm::cross(k, wa) * s + k * glm::dot(k, wa) * (1.0f - c));
+  theta = to;
+}
+
+}  // namespace
+
+float LightBounds::importance(const Vec3& p, const Vec3& n) const {
+  if (!(phi > 0.0f)) return 0.0f;
+  const Vec3 pc = centre();
+  const Vec3 diag = hi - lo;
+  const float r2 = 0.25f * glm::dot(diag, diag);  // bounding sphere of the box
+  const Vec3 d = p - pc;
+  const float dist2 = glm::dot(d, d);
+  const float d2 = std::max({dist2, r2, 1e-12f});
+  const Vec3 wi = dist2 > 0.0f ? d / std::sqrt(dist2) : w;  // from the cluster to p
+
+  // Angle θb that the bounding sphere subtends at p (π when p is inside it).
+  float cosB = -1.0f, sinB = 0.0f;
+  if (dist2 > r2) {
+    const float sin2B = r2 / dist2;
+    cosB = safeSqrt(1.0f - sin2B);
+    sinB = std::sqrt(sin2B);
+  }
+
+  // cos(max(0, θw − θo − θb)), θw the angle between the axis and the direction to p.
+  float cosW = glm::dot(w, wi);
+  if (twoSided) cosW = std::abs(cosW);
+  const float sinW = safeSqrt(1.0f - cosW * cosW);
+  const float sinO = safeSqrt(1.0f - cosO * cosO);
+  float cosWO = 1.0f, sinWO = 0.0f;  // cos, sin of max(0, θw − θo)
+  if (cosW < cosO) {
+    cosWO = cosW * cosO + sinW * sinO;
+    sinWO = sinW * cosO - cosW * sinO;
+  }
+  const float cosP = cosWO < cosB ? cosWO * cosB + sinWO * sinB : 1.0f;
+  if (cosP <= cosE) return 0.0f;
+  float value = phi * cosP / d2;
+
+  // Receiver: cos(max(0, θi − θb)) for the angle θi between n and the direction to the cluster.
+  if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
+    const float cosI = -glm::dot(wi, n);
+    const float sinI = safeSqrt(1.0f - cosI * cosI);
+    const float cosPI = cosI < cosB ? cosI * cosB + sinI * sinB : 1.0f;
+    if (cosPI <= 0.0f) return 0.0f;
+    value *= cosPI;
+  }
+  return value;
+}
+
+LightBounds unite(const LightBounds& a, const LightBounds& b) {
+  if (!(a.phi > 0.0f)) return b;
+  if (!(b.phi > 0.0f)) return a;
+  LightBounds u;
+  u.lo = glm::min(a.lo, b.lo);
+  u.hi = glm::max(a.hi, b.hi);
+  float theta;
+  uniteCones(a.w, std::acos(std::clamp(a.cosO, -1.0f, 1.0f)), b.w, std::acos(std::clamp(b.cosO, -1.0f, 1.0f)), u.w, theta);
+  u.cosO = std::cos(theta);
+  if (theta >= kPiF) u.cosO = -1.0f;
+  u.cosE = std::min(a.cosE, b.cosE);
+  u.phi = a.phi + b.phi;
+  u.twoSided = a.twoSided || b.twoSided;
+  return u;
+}
+
+float orientationMeasure(const LightBounds& b) {
+  const float to = std::acos(std::clamp(b.cosO, -1.0f, 1.0f));
+  const float te = std::acos(std::clamp(b.cosE, -1.0f, 1.0f));
+  const float tw = std::min(to + te, kPiF);
+  const float sinO = std::sin(to);
+  return 2.0f * kPiF * (1.0f - b.cosO) + 0.5f * kPiF * (b.cosO - std::cos(2.0f * tw - to)) + kPiF * (tw - to) * sinO;
+}
+
+}  // namespace fs

@@ -1,0 +1,292 @@
+// Next-event estimation over lights and first-shot patches (light_sampler.h).
+#include "render/light_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/sampling.h"
+
+namespace fs {
+
+namespace {
+
+inline float meanOf(const Color& c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
+
+LightBounds surfaceBounds(const Vec3* v, int count, const Vec3& normal, float phi) {
+  LightBounds b;
+  b.lo = b.hi = v[0];
+  for (int i = 1; i < count; ++i) b.lo = glm::min(b.lo, v[i]), b.hi = glm::max(b.hi, v[i]);
+  b.w = normal;
+  b.cosO = 1.0f;  // one normal
+  b.cosE = 0.0f;  // a hemisphere around it
+  b.phi = phi;
+  return b;
+}
+
+/// Uniform point on a planar triangle or convex quad (split along v0–v2 by area).
+Vec3 samplePolygon(const Patch& p, Vec2 u) {
+  const Vec3 *a = &p.v[0], *b = &p.v[1], *c = &p.v[2];
+  if (p.count == 4) {
+    const float a0 = glm::length(glm::cross(p.v[1] - p.v[0], p.v[2] - p.v[0]));
+    const float a1 = glm::length(glm::cross(p.v[2] - p.v[0], p.v[3] - p.v[0]));
+    const float f = a0 / (a0 + a1);
+    if (u.x < f) {
+      u.x = std::min(u.x / f, 0x1.fffffep-1f);
+    } else {
+      u.x = std::min((u.x - f) / (1.0f - f), 0x1.fffffep-1f);
+      b = &p.v[2], c = &p.v[3];
+    }
+  }
+  const Vec3 bary = squareToUniformTriangle(u);
+  return bary.x * *a + bary.y * *b + bary.z * *c;
+}
+
+}  // namespace
+
+float LightSampler::Group::pDirectional() const {
+  if (directional.empty()) return 0.0f;
+  return float(directional.size()) / float(directional.size() + (tree.empty() ? 0 : 1));
+}
+
+void LightSampler::addLight(Group& g, GroupId id, uint32_t l, std::vector<LightBounds>& bounds) {
+  const LightSet& lights = scene_->lights();
+  const RenderLight& light = lights.lights()[l];
+  lightGroup_[l] = id;
+  lightFirst_[l] = static_cast<uint32_t>(g.emitters.size());
+  LightBounds b;
+  switch (light.type) {
+    case LightType::Directional:
+      g.directional.push_back(l);
+      return;
+    case LightType::Point:
+    case LightType::Spot:
+      b.lo = b.hi = light.position;
+      b.phi = meanOf(light.intensity) * 4.0f * kPiF;
+      if (light.type == LightType::Spot) {
+        const float inner = float(glm::radians(light.desc.innerAngleDeg));
+        const float outer = float(glm::radians(light.desc.outerAngleDeg));
+        b.w = light.direction;
+        b.cosO = std::cos(inner);
+        b.cosE = std::cos(std::max(outer - inner, 1e-3f));
+      }
+      g.emitters.push_back({Emitter::Kind::Light, l, 0, 0.0f});
+      bounds.push_back(b);
+      return;
+    case LightType::Area: {
+      const EmitterMesh& m = lights.emitterMeshes()[light.emitter];
+      for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+        const Vec3 v[3] = {m.vertices[m.indices[3 * t]], m.vertices[m.indices[3 * t + 1]], m.vertices[m.indices[3 * t + 2]]};
+        const Vec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
+        const float len = glm::length(c);
+        const float area = 0.5f * len;
+        const Vec3 normal = len > 0.0f ? c / len : Vec3(0, 0, 1);
+        g.emitters.push_back({Emitter::Kind::Triangle, l, t, area});
+        bounds.push_back(surfaceBounds(v, 3, normal, len > 0.0f ? meanOf(light.radiance) * kPiF * area : 0.0f));
+      }
+      return;
+    }
+  }
+}
+
+void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bounds) {
+  const FirstShotTable& table = *scene_->firstShot();
+  const std::vector<Color> side = table.sideIrradiance();
+  const PatchMesh& mesh = scene_->mesh();
+  patchGroup_ = id;
+  patchSide_.assign(2 * size_t(mesh.size()), kNoId);
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& p = mesh.patches[j];
+    const BSDF& bsdf = scene_->bsdf(p.material);
+    if (bsdf.hasDelta()) continue;  // mirrors and glass reflect no first-shot term
+    for (uint32_t s = 0; s < 2; ++s) {
+      const float phi = meanOf(bsdf.albedo() * side[2 * size_t(j) + s]) * float(p.area);
+      if (!(phi > 0.0f)) continue;
+      patchSide_[2 * size_t(j) + s] = static_cast<uint32_t>(g.emitters.size());
+      g.emitters.push_back({Emitter::Kind::Patch, j, s, float(p.area)});
+      bounds.push_back(surfaceBounds(p.v, int(p.count), s == 0 ? p.normal : -p.normal, phi));
+      ++patchCount_;
+    }
+  }
+}
+
+void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
+                         bool patchEmitters) {
+  scene_ = &scene;
+  firstShot_ = &firstShot;
+  strategy_ = strategy;
+  patchCount_ = 0;
+  patchGroup_ = kNone;
+  for (Group& g : groups_) g = Group();
+  const size_t n = scene.lights().lights().size();
+  lightGroup_.assign(n, kNone);
+  lightFirst_.assign(n, 0);
+  std::vector<LightBounds> bounds[3];
+  if (strategy == LightStrategy::Tree)
+    for (uint32_t l = 0; l < n; ++l) {
+      const GroupId id = scene.lights().lights()[l].replaced ? kReplaced : kKept;
+      addLight(groups_[id], id, l, bounds[id]);
+    }
+  if (patchEmitters && scene.firstShot()) {
+    const GroupId id = strategy == LightStrategy::Tree ? kKept : kPatches;
+    addPatches(groups_[id], id, bounds[id]);
+  }
+  for (int g = 0; g < 3; ++g) groups_[g].tree = LightTree(bounds[g]);
+}
+
+uint32_t LightSampler::patchEmitter(const Hit& y, const Vec3& x) const {
+  if (patchGroup_ == kNone || !y.onPatch()) return kNoId;
+  const Patch& p = scene_->mesh().patches[y.patch];
+  const uint32_t side = glm::dot(x - y.p, p.normal) >= 0.0f ? 0 : 1;
+  return patchSide_[2 * size_t(y.patch) + side];
+}
+
+float LightSampler::selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const {
+  return (1.0f - g.pDirectional()) * g.tree.pmf(x, n, emitter);
+}
+
+float LightSampler::pdf(const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y) const {
+  const Vec3 d = y.p - x;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return 0.0f;
+  const float cosY = std::abs(glm::dot(y.ng, d)) / std::sqrt(dist2);
+  if (!(cosY > 0.0f)) return 0.0f;
+  if (y.onPatch()) {
+    if (!request.patches) return 0.0f;
+    const uint32_t e = patchEmitter(y, x);
+    if (e == kNoId) return 0.0f;
+    const Group& g = groups_[patchGroup_];
+    return selectProbability(g, x, n, e) * dist2 / (cosY * g.emitters[e].area);
+  }
+  const LightSet& lights = scene_->lights();
+  const RenderLight& light = lights.emitterLight(y.emitter);
+  if (!(light.replaced ? request.replaced : request.kept)) return 0.0f;
+  if (glm::dot(y.ng, d) >= 0.0f) return 0.0f;  // one-sided: x is behind the emitter
+  if (strategy_ == LightStrategy::All) return lights.pdf(light, x, y.p, y.ng);
+  const uint32_t l = static_cast<uint32_t>(&light - lights.lights().data());
+  const Group& g = groups_[lightGroup_[l]];
+  const uint32_t e = lightFirst_[l] + y.triangle;
+  return selectProbability(g, x, n, e) * dist2 / (cosY * g.emitters[e].area);
+}
+
+Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
+                           const NeeRequest& request, Sampler& sampler, uint64_t& rays) const {
+  const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the side that reflects towards the viewer
+  Color sum(0.0f);
+  if (strategy_ == LightStrategy::All) {
+    if (request.kept || request.replaced) {
+      const std::vector<RenderLight>& lights = scene_->lights().lights();
+      for (uint32_t l = 0; l < lights.size(); ++l) {
+        const Vec2 u = sampler.next2D();  // drawn for every light, so later dimensions do not shift
+        if (!(lights[l].replaced ? request.replaced : request.kept)) continue;
+        sum += contribution({Emitter::Kind::Light, l, 0, 0.0f}, 1.0f, hit, frame, woLocal, bsdf, u, rays);
+      }
+    }
+    if (request.patches && patchGroup_ == kPatches) {
+      const Vec2 a = sampler.next2D();
+      const float b = sampler.next1D();
+      sum += sampleGroup(groups_[kPatches], hit, frame, woLocal, bsdf, n, true, Vec3(a, b), rays);
+    }
+    return sum;
+  }
+  if (request.kept || request.patches) {
+    const Vec2 a = sampler.next2D();
+    const float b = sampler.next1D();
+    const Group& g = groups_[kKept];
+    // The kept lights are always requested with the patches; a vertex at the last bounce asks for
+    // the lights only and drops a patch the tree chooses (its pmf is unchanged).
+    sum += sampleGroup(g, hit, frame, woLocal, bsdf, n, request.patches, Vec3(a, b), rays);
+  }
+  if (request.replaced) {
+    const Vec2 a = sampler.next2D();
+    const float b = sampler.next1D();
+    sum += sampleGroup(groups_[kReplaced], hit, frame, woLocal, bsdf, n, false, Vec3(a, b), rays);
+  }
+  return sum;
+}
+
+Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal,
+                                const BSDF& bsdf, const Vec3& n, bool takePatches, const Vec3& u, uint64_t& rays) const {
+  float uSelect = u.x;
+  const float pDir = g.pDirectional();
+  if (pDir > 0.0f) {
+    if (uSelect < pDir) {
+      const uint32_t count = static_cast<uint32_t>(g.directional.size());
+      const uint32_t k = std::min(count - 1, static_cast<uint32_t>(uSelect / pDir * float(count)));
+      return contribution({Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count), hit, frame, woLocal,
+                          bsdf, Vec2(u.y, u.z), rays);
+    }
+    uSelect = std::min((uSelect - pDir) / (1.0f - pDir), 0x1.fffffep-1f);
+  }
+  uint32_t e;
+  float pmf;
+  if (!g.tree.sample(hit.p, n, uSelect, e, pmf)) return Color(0.0f);
+  const Emitter& em = g.emitters[e];
+  if (em.kind == Emitter::Kind::Patch && !takePatches) return Color(0.0f);
+  return contribution(em, pmf * (1.0f - pDir), hit, frame, woLocal, bsdf, Vec2(u.y, u.z), rays);
+}
+
+Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame,
+                                 const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, uint64_t& rays) const {
+  const LightSet& lights = scene_->lights();
+  LightRecord rec;
+  bool delta = false;
+  switch (e.kind) {
+    case Emitter::Kind::Light: {
+      const RenderLight& light = lights.lights()[e.index];
+      if (!lights.sample(light, hit.p, u, rec)) return Color(0.0f);
+      rec.value /= pSelect;
+      rec.pdf *= pSelect;
+      delta = light.isDelta();
+      break;
+    }
+    case Emitter::Kind::Triangle: {
+      const RenderLight& light = lights.lights()[e.index];
+      const EmitterMesh& m = lights.emitterMeshes()[light.emitter];
+      const Vec3 a = m.vertices[m.indices[3 * e.sub]], b = m.vertices[m.indices[3 * e.sub + 1]],
+                 c = m.vertices[m.indices[3 * e.sub + 2]];
+      const Vec3 bary = squareToUniformTriangle(u);
+      const Vec3 d = bary.x * a + bary.y * b + bary.z * c - hit.p;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0f)) return Color(0.0f);
+      rec.distance = std::sqrt(dist2);
+      rec.wi = d / rec.distance;
+      const float cosL = -glm::dot(glm::normalize(glm::cross(b - a, c - a)), rec.wi);
+      if (!(cosL > 0.0f)) return Color(0.0f);
+      rec.pdf = pSelect * dist2 / (cosL * e.area);
+      rec.value = light.radiance / rec.pdf;
+      break;
+    }
+    case Emitter::Kind::Patch: {
+      const Patch& p = scene_->mesh().patches[e.index];
+      Hit y;
+      y.p = samplePolygon(p, u);
+      y.ng = p.normal;
+      y.patch = e.index;
+      const Vec3 d = y.p - hit.p;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0f)) return Color(0.0f);
+      rec.distance = std::sqrt(dist2);
+      rec.wi = d / rec.distance;
+      const float cosY = -glm::dot(e.sub == 0 ? p.normal : -p.normal, rec.wi);
+      if (!(cosY > 0.0f)) return Color(0.0f);  // x is on the other side: that side is another emitter
+      const BSDF& bsdfY = scene_->bsdf(p.material);
+      const Frame frameY(p.normal);
+      const Color Le = firstShot_->eval(y, frameY, frameY.toLocal(-rec.wi), bsdfY);
+      if (!(maxComponent(Le) > 0.0f)) return Color(0.0f);
+      rec.pdf = pSelect * dist2 / (cosY * e.area);
+      rec.value = Le / rec.pdf;
+      break;
+    }
+  }
+  if (!std::isfinite(rec.pdf) || !(maxComponent(rec.value) > 0.0f) || !std::isfinite(maxComponent(rec.value)))
+    return Color(0.0f);
+  const BSDFQuery q(frame.toLocal(rec.wi), woLocal);
+  const Color f = bsdf.eval(q);
+  if (!(maxComponent(f) > 0.0f)) return Color(0.0f);
+  ++rays;
+  if (scene_->occluded(shadowRay(hit, rec.wi, rec.distance))) return Color(0.0f);
+  const float weight = delta ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
+  return f * (std::abs(q.wi.z) * weight) * rec.value;
+}
+
+}  // namespace fs

@@ -1,0 +1,163 @@
+// Light tree: construction by the surface-area-orientation heuristic, sampling and pmf.
+#include "render/light_tree.h"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+
+namespace fs {
+
+namespace {
+
+constexpr int kBuckets = 12;
+constexpr int kBalancedFrom = 30;  ///< depth from which nodes split at the median: trails stay within 64 bits
+
+float sizeMeasure(const LightBounds& b) {
+  const Vec3 d = b.hi - b.lo;
+  const float area = 2.0f * (d.x * d.y + d.y * d.z + d.z * d.x);
+  return area > 0.0f ? area : glm::dot(d, d);  // points and segments: their spread
+}
+
+float cost(const LightBounds& b) { return b.phi * orientationMeasure(b) * sizeMeasure(b); }
+
+}  // namespace
+
+LightTree::LightTree(const std::vector<LightBounds>& emitters) {
+  trail_.assign(emitters.size(), 0);
+  trailDepth_.assign(emitters.size(), 255);
+  std::vector<Item> items;
+  items.reserve(emitters.size());
+  for (uint32_t k = 0; k < emitters.size(); ++k)
+    if (emitters[k].phi > 0.0f) items.push_back({emitters[k], emitters[k].centre(), k});
+  if (items.empty()) return;
+  nodes_.reserve(2 * items.size());
+  build(items, 0, items.size(), 0, 0);
+}
+
+uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, uint64_t trail, int depth) {
+  const uint32_t self = static_cast<uint32_t>(nodes_.size());
+  nodes_.emplace_back();
+  if (end - begin == 1) {
+    nodes_[self].bounds = items[begin].bounds;
+    nodes_[self].child = items[begin].index;
+    nodes_[self].leaf = true;
+    trail_[items[begin].index] = trail;
+    trailDepth_[items[begin].index] = static_cast<uint8_t>(depth);
+    depth_ = std::max(depth_, depth);
+    return self;
+  }
+  LightBounds all = items[begin].bounds;
+  Vec3 clo = items[begin].centroid, chi = clo;
+  for (size_t i = begin + 1; i < end; ++i) {
+    all = unite(all, items[i].bounds);
+    clo = glm::min(clo, items[i].centroid);
+    chi = glm::max(chi, items[i].centroid);
+  }
+
+  // The split: the cheapest bucket boundary over the three axes (regularised towards cubic
+  // nodes as pbrt does), or the median of the longest axis when costs say nothing.
+  const Vec3 extent = chi - clo;
+  const float maxExtent = std::max({extent.x, extent.y, extent.z});
+  int bestAxis = -1, bestBucket = -1;
+  float bestCost = std::numeric_limits<float>::infinity();
+  if (depth < kBalancedFrom && maxExtent > 0.0f) {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(extent[axis] > 0.0f)) continue;
+      std::array<LightBounds, kBuckets> bucket{};
+      std::array<bool, kBuckets> used{};
+      for (size_t i = begin; i < end; ++i) {
+        const int b = std::min(kBuckets - 1, int(kBuckets * (items[i].centroid[axis] - clo[axis]) / extent[axis]));
+        bucket[b] = used[b] ? unite(bucket[b], items[i].bounds) : items[i].bounds;
+        used[b] = true;
+      }
+      const float regular = maxExtent / extent[axis];
+      for (int s = 0; s < kBuckets - 1; ++s) {
+        LightBounds below{}, above{};
+        bool hasBelow = false, hasAbove = false;
+        for (int b = 0; b <= s; ++b)
+          if (used[b]) below = hasBelow ? unite(below, bucket[b]) : bucket[b], hasBelow = true;
+        for (int b = s + 1; b < kBuckets; ++b)
+          if (used[b]) above = hasAbove ? unite(above, bucket[b]) : bucket[b], hasAbove = true;
+        if (!hasBelow || !hasAbove) continue;
+        const float c = regular * (cost(below) + cost(above));
+        if (c < bestCost) bestCost = c, bestAxis = axis, bestBucket = s;
+      }
+    }
+  }
+  size_t mid;
+  if (bestAxis >= 0) {
+    const float lo = clo[bestAxis], ext = extent[bestAxis];
+    auto it = std::partition(items.begin() + long(begin), items.begin() + long(end), [&](const Item& item) {
+      return std::min(kBuckets - 1, int(kBuckets * (item.centroid[bestAxis] - lo) / ext)) <= bestBucket;
+    });
+    mid = size_t(it - items.begin());
+  } else {
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    mid = begin + (end - begin) / 2;
+    std::nth_element(items.begin() + long(begin), items.begin() + long(mid), items.begin() + long(end),
+                     [axis](const Item& a, const Item& b) {
+                       return a.centroid[axis] < b.centroid[axis] || (a.centroid[axis] == b.centroid[axis] && a.index < b.index);
+                     });
+  }
+  if (mid == begin || mid == end) mid = begin + (end - begin) / 2;
+
+  build(items, begin, mid, trail, depth + 1);
+  const uint32_t second = build(items, mid, end, trail | (uint64_t(1) << depth), depth + 1);
+  nodes_[self].bounds = all;
+  nodes_[self].child = second;
+  nodes_[self].leaf = false;
+  return self;
+}
+
+bool LightTree::firstChildProbability(const Node& node, const Vec3& p, const Vec3& n, float& p0) const {
+  const uint32_t self = static_cast<uint32_t>(&node - nodes_.data());
+  const float i0 = nodes_[self + 1].bounds.importance(p, n);
+  const float i1 = nodes_[node.child].bounds.importance(p, n);
+  if (!(i0 + i1 > 0.0f)) return false;
+  p0 = i0 / (i0 + i1);
+  return true;
+}
+
+bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf) const {
+  if (nodes_.empty()) return false;
+  pmf = 1.0f;
+  uint32_t node = 0;
+  while (!nodes_[node].leaf) {
+    float p0;
+    if (!firstChildProbability(nodes_[node], p, n, p0)) return false;
+    if (u < p0) {
+      u = std::min(u / p0, 0x1.fffffep-1f);
+      pmf *= p0;
+      node = node + 1;
+    } else {
+      u = std::min((u - p0) / (1.0f - p0), 0x1.fffffep-1f);
+      pmf *= 1.0f - p0;
+      node = nodes_[node].child;
+    }
+  }
+  if (node == 0 && !(nodes_[0].bounds.importance(p, n) > 0.0f)) return false;
+  index = nodes_[node].child;
+  return pmf > 0.0f;
+}
+
+float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t index) const {
+  if (index >= trailDepth_.size() || trailDepth_[index] == 255) return 0.0f;
+  if (nodes_[0].leaf) return nodes_[0].bounds.importance(p, n) > 0.0f ? 1.0f : 0.0f;
+  const uint64_t trail = trail_[index];
+  float pmf = 1.0f;
+  uint32_t node = 0;
+  for (int d = 0; !nodes_[node].leaf; ++d) {
+    float p0;
+    if (!firstChildProbability(nodes_[node], p, n, p0)) return 0.0f;
+    if ((trail >> d) & 1u) {
+      pmf *= 1.0f - p0;
+      node = nodes_[node].child;
+    } else {
+      pmf *= p0;
+      node = node + 1;
+    }
+  }
+  return pmf;
+}
+
+}  // namespace fs

@@ -1,0 +1,61 @@
+#pragma once
+/// @file light_tree.h
+/// A binary tree over emitters for choosing one of many lights in proportion to an estimate of
+/// its contribution at a shading point (a light BVH: Conty Estevez & Kulla 2018, pbrt-v4's
+/// BVHLightSampler; our own construction). Built once, then read-only and thread-safe.
+///
+/// Construction splits each node where the cost Σ φ·M_Ω·(box area) of the two halves is least
+/// (12 buckets per axis), so that emitters that are close and face alike share a subtree.
+/// Sampling descends from the root choosing a child with probability proportional to its
+/// LightBounds::importance; pmf() walks the same path (each emitter's bit trail) with the same
+/// arithmetic, so the probability it returns is exactly the one sample() reports.
+#include <cstdint>
+#include <vector>
+
+#include "common/math.h"
+#include "render/light_bounds.h"
+
+namespace fs {
+
+class LightTree {
+ public:
+  LightTree() = default;
+  /// Builds the tree over @p emitters; emitter k keeps index k. Emitters with zero power are
+  /// never chosen.
+  explicit LightTree(const std::vector<LightBounds>& emitters);
+
+  bool empty() const { return nodes_.empty(); }
+  size_t emitterCount() const { return trail_.size(); }
+  /// Depth of the deepest leaf (0 for a single emitter).
+  int depth() const { return depth_; }
+
+  /// Chooses an emitter for the receiver at @p p with unit normal @p n (zero: any direction)
+  /// from @p u ∈ [0,1). @return false when no emitter can light @p p; else @p index and its
+  /// probability @p pmf > 0.
+  bool sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf) const;
+
+  /// The probability with which sample(p, n, ·) chooses emitter @p index (0 if it never does).
+  float pmf(const Vec3& p, const Vec3& n, uint32_t index) const;
+
+ private:
+  struct Node {
+    LightBounds bounds;
+    uint32_t child = 0;  ///< interior: index of the second child (the first is this + 1); leaf: emitter
+    bool leaf = false;
+  };
+  struct Item {
+    LightBounds bounds;
+    Vec3 centroid{0.0f};
+    uint32_t index = 0;
+  };
+  uint32_t build(std::vector<Item>& items, size_t begin, size_t end, uint64_t trail, int depth);
+  /// Probability of the first child of interior node @p node; false if neither child can light p.
+  bool firstChildProbability(const Node& node, const Vec3& p, const Vec3& n, float& p0) const;
+
+  std::vector<Node> nodes_;
+  std::vector<uint64_t> trail_;      ///< per emitter: bit k = 1 where the path goes to the second child at depth k
+  std::vector<uint8_t> trailDepth_;  ///< per emitter: depth of its leaf (255: not in the tree)
+  int depth_ = 0;
+};
+
+}  // namespace fs

@@ -1,0 +1,195 @@
+// Lit first-shot patches sampled as light sources and the light tree in the path tracer
+// (render/light_sampler.h): sampling them changes the noise, never the mean (3σ, σ from the
+// samples); the light tree's NEE agrees with NEE to every light; the irradiance cache's default
+// continuation past its last bounce agrees with path tracing; images do not depend on threads.
+#include <gtest/gtest.h>
+
+#include <fmt/core.h>
+
+#include "preprocess/preprocessor.h"
+#include "render/irradiance_cache_integrator.h"
+#include "tests/render_util.h"
+#include "tests/test_util.h"
+
+using namespace fs;
+
+namespace {
+
+/// A 4 × 3 × 4 m room lit only by a point light inside an open-topped shade under the ceiling:
+/// the camera sees no bulb, and most shadow rays to it are blocked.
+const char* kHiddenLightRoom = R"({
+  "materials": {"wall": {"type": "diffuse", "albedo": 0.7}, "shade": {"type": "diffuse", "albedo": 0.5}},
+  "shapes": [
+    {"type": "box", "min": [0, 0, 0], "max": [4, 3, 4], "material": "wall", "flip_normals": true},
+    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [2.3, 2.2, 1.7], [2.3, 2.2, 2.3], [1.7, 2.2, 2.3]]},
+    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [1.7, 2.7, 1.7], [2.3, 2.7, 1.7], [2.3, 2.2, 1.7]]},
+    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 2.3], [2.3, 2.2, 2.3], [2.3, 2.7, 2.3], [1.7, 2.7, 2.3]]},
+    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [1.7, 2.2, 2.3], [1.7, 2.7, 2.3], [1.7, 2.7, 1.7]]},
+    {"type": "quad", "material": "shade", "vertices": [[2.3, 2.2, 1.7], [2.3, 2.7, 1.7], [2.3, 2.7, 2.3], [2.3, 2.2, 2.3]]}
+  ],
+  "lights": [{"type": "point", "position": [2, 2.45, 2], "power": 60}],
+  "camera": {"position": [3.6, 1.0, 0.4], "look_at": [1.2, 1.6, 3.6], "fov_y": 70, "resolution": [24, 24]},
+  "settings": {"patch_size": 0.25, "max_depth": 6}
+})";
+
+FirstShotTable preprocess(const SceneDesc& desc, double patchSize = 0) {
+  PreprocessOptions po = defaultOptions(desc);
+  po.settings.backend = "embree";
+  po.settings.resolution = 128;
+  if (patchSize > 0) po.settings.patchSize = patchSize;
+  po.settings.lightPatchSize = 0.05;
+  po.quiet = true;
+  return preprocessScene(desc, po);
+}
+
+/// Largest |mean(a) − mean(b)| / σ over the channels, σ combined from both images' pixel variances.
+double meanZ(const Film& a, const Film& b, const std::string& label, double* relDiff = nullptr) {
+  double z = 0;
+  if (relDiff) *relDiff = 0;
+  for (int c = 0; c < 3; ++c) {
+    double ma, sa, mb, sb;
+    test::imageMean(a, c, ma, sa);
+    test::imageMean(b, c, mb, sb);
+    const double se = std::hypot(sa, sb);
+    fmt::print("  {} channel {}: {:.5f} vs {:.5f}, diff {:+.5f} ± {:.5f} ({:+.3f}%)\n", label, c, ma, mb, ma - mb, se,
+               100.0 * (ma - mb) / mb);
+    EXPECT_GT(se, 0.0) << label;
+    z = std::max(z, std::abs(ma - mb) / se);
+    if (relDiff) *relDiff = std::max(*relDiff, std::abs(ma - mb) / mb);
+  }
+  return z;
+}
+
+/// Mean over pixels and channels of the per-sample variance (the noise of one sample per pixel).
+double meanVariance(const Film& f) {
+  double v = 0;
+  for (int y = 0; y < f.height(); ++y)
+    for (int x = 0; x < f.width(); ++x) {
+      const Color c = f.variance(x, y);
+      v += c.x + c.y + c.z;
+    }
+  return v / (3.0 * f.width() * f.height());
+}
+
+}  // namespace
+
+TEST(PatchNee, HiddenLightSameMeanLessNoise) {
+  const SceneDesc desc = test::sceneFromJson(kHiddenLightRoom);
+  const RenderScene scene(desc, preprocess(desc));
+  IntegratorOptions on, off;
+  off.patchNee = false;
+  const int spp = 96;
+  const auto a = test::renderPath(scene, on, spp, 1);
+  const auto b = test::renderPath(scene, off, spp, 2);
+  EXPECT_EQ(a.stats.nonFinite + b.stats.nonFinite, 0u);
+  EXPECT_LT(meanZ(a.film, b.film, "patch NEE on vs off"), 3.0);
+  const double ratio = meanVariance(b.film) / meanVariance(a.film);
+  fmt::print("  per-sample variance, patch NEE off / on: {:.2f}\n", ratio);
+  EXPECT_GT(ratio, 2.0) << "sampling the lit patches should cut the noise where the bulb is hidden";
+}
+
+TEST(PatchNee, CornellSameMeanForBothStrategies) {
+  SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
+  desc.camera.width = desc.camera.height = 24;
+  const RenderScene scene(desc, preprocess(desc));
+  for (LightStrategy strategy : {LightStrategy::Tree, LightStrategy::All})
+    for (PrimaryMode primary : {PrimaryMode::Exact, PrimaryMode::Patch}) {
+      IntegratorOptions on, off;
+      on.lightSampler = off.lightSampler = strategy;
+      on.primary = off.primary = primary;
+      off.patchNee = false;
+      const auto a = test::renderPath(scene, on, 64, 1);
+      const auto b = test::renderPath(scene, off, 64, 2);
+      const std::string label = fmt::format("cornell {} {}", strategy == LightStrategy::Tree ? "tree" : "all",
+                                            primary == PrimaryMode::Exact ? "exact" : "patch");
+      EXPECT_LT(meanZ(a.film, b.film, label), 3.0) << label;
+    }
+}
+
+TEST(LightTreeNee, AgreesWithNeeToEveryLight) {
+  SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));
+  desc.camera.width = 24;
+  desc.camera.height = 18;
+  const RenderScene scene(desc);
+  IntegratorOptions tree, all;
+  all.lightSampler = LightStrategy::All;
+  const auto a = test::renderPath(scene, tree, 128, 1);
+  const auto b = test::renderPath(scene, all, 32, 2);
+  EXPECT_LT(meanZ(a.film, b.film, "many-lights tree vs all"), 3.0);
+}
+
+TEST(PatchNee, ImageDoesNotDependOnThreads) {
+  const SceneDesc desc = test::sceneFromJson(kHiddenLightRoom);
+  const RenderScene scene(desc, preprocess(desc));
+  IntegratorOptions io;
+  const auto one = test::renderPath(scene, io, 4, 5, 1);
+  const auto two = test::renderPath(scene, io, 4, 5, 2);
+  for (int y = 0; y < one.film.height(); ++y)
+    for (int x = 0; x < one.film.width(); ++x) ASSERT_EQ(one.film.mean(x, y), two.film.mean(x, y)) << x << "," << y;
+}
+
+/// The cache at its defaults continues paths past its last bounce: its image mean agrees with
+/// path tracing within 3σ, where a cache that stops there (ambient 0) does not; with no cached
+/// bounce the continuation alone is path tracing.
+/// The Cornell box framed without the light (pixels that show the light are noise at 4 spp);
+/// the cache's σ comes from independent caches (seeds), since its records correlate pixels.
+TEST(IrradianceCacheContinuation, DefaultsMatchPathTracing) {
+  SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
+  desc.camera.lookAt = Vec3d(0.278, 0.17, 0.0);
+  desc.camera.fovYDeg = 28;
+  desc.camera.width = desc.camera.height = 20;
+  const RenderScene scene(desc, preprocess(desc));
+  IntegratorOptions io;
+  const auto path = test::renderPath(scene, io, 1024, 1);
+  auto cacheMeans = [&](const IrradianceCacheSettings& settings, double& mean, double& se) {
+    const int runs = 4;
+    std::vector<double> m;
+    for (int r = 0; r < runs; ++r) {
+      IrradianceCacheIntegrator ic(io, settings);
+      ic.preprocess(scene);
+      const auto run = test::renderWith(ic, scene, 4, 10 + r);
+      EXPECT_EQ(run.stats.nonFinite, 0u);
+      double mc = 0, sc;
+      for (int c = 0; c < 3; ++c) {
+        double v;
+        test::imageMean(run.film, c, v, sc);
+        mc += v / 3.0;
+      }
+      m.push_back(mc);
+    }
+    mean = 0;
+    for (double v : m) mean += v / runs;
+    double var = 0;
+    for (double v : m) var += (v - mean) * (v - mean) / (runs - 1);
+    se = std::sqrt(var / runs);
+  };
+  double pm = 0, pv = 0;
+  for (int c = 0; c < 3; ++c) {
+    double m, s;
+    test::imageMean(path.film, c, m, s);
+    pm += m / 3.0, pv += s * s / 9.0;
+  }
+  double icMean, icSe;
+  cacheMeans(IrradianceCacheSettings(), icMean, icSe);
+  const double se = std::sqrt(icSe * icSe + pv);
+  fmt::print("  irradiance cache {:.5f} ± {:.5f}, path {:.5f} ± {:.5f}: {:+.3f}% (3σ = {:.3f}%)\n", icMean, icSe, pm,
+             std::sqrt(pv), 100.0 * (icMean - pm) / pm, 300.0 * se / pm);
+  EXPECT_LT(std::abs(icMean - pm), 3.0 * se);
+
+  // No cached bounce at all: every vertex's indirect light is the continuation, i.e. path tracing.
+  IrradianceCacheSettings none;
+  none.bounces = 0;
+  double contMean, contSe;
+  cacheMeans(none, contMean, contSe);
+  const double seCont = std::sqrt(contSe * contSe + pv);
+  fmt::print("  continuation only {:.5f} ± {:.5f}: {:+.3f}% (3σ = {:.3f}%)\n", contMean, contSe,
+             100.0 * (contMean - pm) / pm, 300.0 * seCont / pm);
+  EXPECT_LT(std::abs(contMean - pm), 3.0 * seCont);
+
+  IrradianceCacheSettings truncated;
+  truncated.pathContinuation = false;  // ambient 0 past the last bounce
+  double oldMean, oldSe;
+  cacheMeans(truncated, oldMean, oldSe);
+  fmt::print("  irradiance cache with ambient 0: {:.5f} ± {:.5f}: {:+.3f}%\n", oldMean, oldSe, 100.0 * (oldMean - pm) / pm);
+  EXPECT_GT(std::abs(oldMean - pm), 3.0 * std::sqrt(oldSe * oldSe + pv)) << "the light past the last bounce must matter here";
+}
