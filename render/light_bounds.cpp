@@ -7,7 +7,7 @@ namespace fs {
 
 namespace {
 
-inline float safeSqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
+using detail::safeSqrt;
 
 /// Cone (axis, half-angle θ) that contains both cones.
 void uniteCones(Vec3 wa, float ta, Vec3 wb, float tb, Vec3& w, float& theta) {
@@ -42,46 +42,9 @@ void uniteCones(Vec3 wa, float ta, Vec3 wb, float tb, Vec3& w, float& theta) {
 }  // namespace
 
 float LightBounds::importance(const Vec3& p, const Vec3& n) const {
-  if (!(phi > 0.0f)) return 0.0f;
-  const Vec3 pc = centre();
   const Vec3 diag = hi - lo;
-  const float r2 = 0.25f * glm::dot(diag, diag);  // bounding sphere of the box
-  const Vec3 d = p - pc;
-  const float dist2 = glm::dot(d, d);
-  const float d2 = std::max({dist2, r2, 1e-12f});
-  const Vec3 wi = dist2 > 0.0f ? d / std::sqrt(dist2) : w;  // from the cluster to p
-
-  // Angle θb that the bounding sphere subtends at p (π when p is inside it).
-  float cosB = -1.0f, sinB = 0.0f;
-  if (dist2 > r2) {
-    const float sin2B = r2 / dist2;
-    cosB = safeSqrt(1.0f - sin2B);
-    sinB = std::sqrt(sin2B);
-  }
-
-  // cos(max(0, θw − θo − θb)), θw the angle between the axis and the direction to p.
-  float cosW = glm::dot(w, wi);
-  if (twoSided) cosW = std::abs(cosW);
-  const float sinW = safeSqrt(1.0f - cosW * cosW);
-  const float sinO = safeSqrt(1.0f - cosO * cosO);
-  float cosWO = 1.0f, sinWO = 0.0f;  // cos, sin of max(0, θw − θo)
-  if (cosW < cosO) {
-    cosWO = cosW * cosO + sinW * sinO;
-    sinWO = sinW * cosO - cosW * sinO;
-  }
-  const float cosP = cosWO < cosB ? cosWO * cosB + sinWO * sinB : 1.0f;
-  if (cosP <= cosE) return 0.0f;
-  float value = phi * cosP / d2;
-
-  // Receiver: cos(max(0, θi − θb)) for the angle θi between n and the direction to the cluster.
-  if (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f) {
-    const float cosI = -glm::dot(wi, n);
-    const float sinI = safeSqrt(1.0f - cosI * cosI);
-    const float cosPI = cosI < cosB ? cosI * cosB + sinI * sinB : 1.0f;
-    if (cosPI <= 0.0f) return 0.0f;
-    value *= cosPI;
-  }
-  return value;
+  return boundImportance(centre(), 0.25f * glm::dot(diag, diag), w, phi, cosO, safeSqrt(1.0f - cosO * cosO), cosE,
+                         twoSided, p, n);
 }
 
 LightBounds unite(const LightBounds& a, const LightBounds& b) {

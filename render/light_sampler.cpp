@@ -10,6 +10,8 @@ namespace fs {
 
 namespace {
 
+constexpr int kPatchLeaf = 8;  ///< patch emitters per leaf of a light tree at most
+
 inline float meanOf(const Color& c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 
 LightBounds surfaceBounds(const Vec3* v, int count, const Vec3& normal, float phi) {
@@ -130,7 +132,12 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
     const GroupId id = strategy == LightStrategy::Tree ? kKept : kPatches;
     addPatches(groups_[id], id, bounds[id]);
   }
-  for (int g = 0; g < 3; ++g) groups_[g].tree = LightTree(bounds[g]);
+  for (int g = 0; g < 3; ++g) {
+    // Patches are small and many: up to kPatchLeaf of them share a leaf, chosen there by power.
+    std::vector<uint8_t> groupable(groups_[g].emitters.size());
+    for (size_t e = 0; e < groupable.size(); ++e) groupable[e] = groups_[g].emitters[e].kind == Emitter::Kind::Patch;
+    groups_[g].tree = LightTree(bounds[g], &groupable, kPatchLeaf);
+  }
 }
 
 uint32_t LightSampler::patchEmitter(const Hit& y, const Vec3& x) const {

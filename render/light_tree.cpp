@@ -22,34 +22,68 @@ float cost(const LightBounds& b) { return b.phi * orientationMeasure(b) * sizeMe
 
 }  // namespace
 
-LightTree::LightTree(const std::vector<LightBounds>& emitters) {
+LightTree::LightTree(const std::vector<LightBounds>& emitters, const std::vector<uint8_t>* groupable, int maxLeaf) {
   trail_.assign(emitters.size(), 0);
   trailDepth_.assign(emitters.size(), 255);
+  inLeaf_.assign(emitters.size(), 0.0f);
   std::vector<Item> items;
   items.reserve(emitters.size());
   for (uint32_t k = 0; k < emitters.size(); ++k)
     if (emitters[k].phi > 0.0f) items.push_back({emitters[k], emitters[k].centre(), k});
   if (items.empty()) return;
+  groupable_ = groupable;
+  maxLeaf_ = std::clamp(maxLeaf, 1, 64);
   nodes_.reserve(2 * items.size());
   build(items, 0, items.size(), 0, 0);
+  groupable_ = nullptr;
+}
+
+float LightTree::Node::importance(const Vec3& p, const Vec3& n) const {
+  return boundImportance(c, r2, w, phi, cosO, sinO, cosE, twoSided, p, n);
 }
 
 uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, uint64_t trail, int depth) {
   const uint32_t self = static_cast<uint32_t>(nodes_.size());
   nodes_.emplace_back();
-  if (end - begin == 1) {
-    nodes_[self].bounds = items[begin].bounds;
-    nodes_[self].child = items[begin].index;
-    nodes_[self].leaf = true;
-    trail_[items[begin].index] = trail;
-    trailDepth_[items[begin].index] = static_cast<uint8_t>(depth);
+  LightBounds all = items[begin].bounds;
+  for (size_t i = begin + 1; i < end; ++i) all = unite(all, items[i].bounds);
+  {
+    Node& node = nodes_[self];
+    const Vec3 diag = all.hi - all.lo;
+    node.c = all.centre();
+    node.r2 = 0.25f * glm::dot(diag, diag);
+    node.w = all.w;
+    node.phi = all.phi;
+    node.cosO = all.cosO;
+    node.sinO = std::sqrt(std::max(0.0f, 1.0f - all.cosO * all.cosO));
+    node.cosE = all.cosE;
+    node.twoSided = all.twoSided;
+  }
+  bool leaf = end - begin == 1;
+  if (!leaf && groupable_ && end - begin <= size_t(maxLeaf_)) {
+    leaf = true;
+    for (size_t i = begin; i < end && leaf; ++i) leaf = (*groupable_)[items[i].index] != 0;
+  }
+  if (leaf) {
+    Node& node = nodes_[self];
+    node.child = static_cast<uint32_t>(leaf_.size());
+    node.count = static_cast<uint16_t>(end - begin);
+    double sum = 0, total = 0;
+    for (size_t i = begin; i < end; ++i) total += items[i].bounds.phi;
+    for (size_t i = begin; i < end; ++i) {
+      const uint32_t e = items[i].index;
+      sum += items[i].bounds.phi;
+      leaf_.push_back(e);
+      leafCdf_.push_back(i + 1 == end ? 1.0f : float(sum / total));
+      inLeaf_[e] = float(items[i].bounds.phi / total);
+      trail_[e] = trail;
+      trailDepth_[e] = static_cast<uint8_t>(depth);
+    }
     depth_ = std::max(depth_, depth);
     return self;
   }
-  LightBounds all = items[begin].bounds;
   Vec3 clo = items[begin].centroid, chi = clo;
   for (size_t i = begin + 1; i < end; ++i) {
-    all = unite(all, items[i].bounds);
     clo = glm::min(clo, items[i].centroid);
     chi = glm::max(chi, items[i].centroid);
   }
@@ -103,28 +137,27 @@ uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, ui
 
   build(items, begin, mid, trail, depth + 1);
   const uint32_t second = build(items, mid, end, trail | (uint64_t(1) << depth), depth + 1);
-  nodes_[self].bounds = all;
   nodes_[self].child = second;
-  nodes_[self].leaf = false;
   return self;
 }
 
-bool LightTree::firstChildProbability(const Node& node, const Vec3& p, const Vec3& n, float& p0) const {
-  const uint32_t self = static_cast<uint32_t>(&node - nodes_.data());
-  const float i0 = nodes_[self + 1].bounds.importance(p, n);
-  const float i1 = nodes_[node.child].bounds.importance(p, n);
+bool LightTree::firstChildProbability(uint32_t node, const Vec3& p, const Vec3& n, float& p0) const {
+  const float i0 = nodes_[node + 1].importance(p, n);
+  const float i1 = nodes_[nodes_[node].child].importance(p, n);
   if (!(i0 + i1 > 0.0f)) return false;
   p0 = i0 / (i0 + i1);
   return true;
 }
 
-bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf) const {
-  if (nodes_.empty()) return false;
+uint32_t LightTree::descend(const Vec3& p, const Vec3& n, float& u, float& pmf) const {
   pmf = 1.0f;
   uint32_t node = 0;
-  while (!nodes_[node].leaf) {
+  while (nodes_[node].count == 0) {
     float p0;
-    if (!firstChildProbability(nodes_[node], p, n, p0)) return false;
+    if (!firstChildProbability(node, p, n, p0)) {
+      pmf = 0.0f;
+      return node;
+    }
     if (u < p0) {
       u = std::min(u / p0, 0x1.fffffep-1f);
       pmf *= p0;
@@ -135,20 +168,30 @@ bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, f
       node = nodes_[node].child;
     }
   }
-  if (node == 0 && !(nodes_[0].bounds.importance(p, n) > 0.0f)) return false;
-  index = nodes_[node].child;
+  if (node == 0 && !(nodes_[0].importance(p, n) > 0.0f)) pmf = 0.0f;
+  return node;
+}
+
+bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf) const {
+  if (nodes_.empty()) return false;
+  const Node& leaf = nodes_[descend(p, n, u, pmf)];
+  if (!(pmf > 0.0f)) return false;
+  uint32_t k = 0;  // the emitter within the leaf, by power
+  while (k + 1 < leaf.count && leafCdf_[leaf.child + k] <= u) ++k;
+  index = leaf_[leaf.child + k];
+  pmf *= inLeaf_[index];
   return pmf > 0.0f;
 }
 
 float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t index) const {
   if (index >= trailDepth_.size() || trailDepth_[index] == 255) return 0.0f;
-  if (nodes_[0].leaf) return nodes_[0].bounds.importance(p, n) > 0.0f ? 1.0f : 0.0f;
-  const uint64_t trail = trail_[index];
   float pmf = 1.0f;
+  if (nodes_[0].count > 0) return nodes_[0].importance(p, n) > 0.0f ? inLeaf_[index] : 0.0f;
+  const uint64_t trail = trail_[index];
   uint32_t node = 0;
-  for (int d = 0; !nodes_[node].leaf; ++d) {
+  for (int d = 0; nodes_[node].count == 0; ++d) {
     float p0;
-    if (!firstChildProbability(nodes_[node], p, n, p0)) return 0.0f;
+    if (!firstChildProbability(node, p, n, p0)) return 0.0f;
     if ((trail >> d) & 1u) {
       pmf *= 1.0f - p0;
       node = nodes_[node].child;
@@ -157,7 +200,7 @@ float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t index) const {
       node = node + 1;
     }
   }
-  return pmf;
+  return pmf * inLeaf_[index];
 }
 
 }  // namespace fs

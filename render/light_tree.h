@@ -5,7 +5,9 @@
 /// BVHLightSampler; our own construction). Built once, then read-only and thread-safe.
 ///
 /// Construction splits each node where the cost Σ φ·M_Ω·(box area) of the two halves is least
-/// (12 buckets per axis), so that emitters that are close and face alike share a subtree.
+/// (12 buckets per axis), so that emitters that are close and face alike share a subtree. A node
+/// of at most maxLeaf emitters that may be grouped (e.g. small patches) becomes one leaf, inside
+/// which an emitter is chosen in proportion to its power: fewer levels to descend.
 /// Sampling descends from the root choosing a child with probability proportional to its
 /// LightBounds::importance; pmf() walks the same path (each emitter's bit trail) with the same
 /// arithmetic, so the probability it returns is exactly the one sample() reports.
@@ -21,8 +23,9 @@ class LightTree {
  public:
   LightTree() = default;
   /// Builds the tree over @p emitters; emitter k keeps index k. Emitters with zero power are
-  /// never chosen.
-  explicit LightTree(const std::vector<LightBounds>& emitters);
+  /// never chosen. Emitters with (*groupable)[k] != 0 may share leaves of up to @p maxLeaf.
+  explicit LightTree(const std::vector<LightBounds>& emitters, const std::vector<uint8_t>* groupable = nullptr,
+                     int maxLeaf = 8);
 
   bool empty() const { return nodes_.empty(); }
   size_t emitterCount() const { return trail_.size(); }
@@ -38,10 +41,17 @@ class LightTree {
   float pmf(const Vec3& p, const Vec3& n, uint32_t index) const;
 
  private:
+  /// The bounds in the form the descent evaluates (LightBounds with its sphere and sin θo precomputed).
   struct Node {
-    LightBounds bounds;
-    uint32_t child = 0;  ///< interior: index of the second child (the first is this + 1); leaf: emitter
-    bool leaf = false;
+    Vec3 c{0.0f};
+    float r2 = 0.0f;
+    Vec3 w{0.0f, 0.0f, 1.0f};
+    float phi = 0.0f;
+    float cosO = -1.0f, sinO = 0.0f, cosE = 0.0f;
+    uint32_t child = 0;  ///< interior: index of the second child (the first is this + 1); leaf: first slot in leaf_
+    uint16_t count = 0;  ///< leaf: number of emitters; 0 for interior nodes
+    bool twoSided = false;
+    float importance(const Vec3& p, const Vec3& n) const;
   };
   struct Item {
     LightBounds bounds;
@@ -50,11 +60,18 @@ class LightTree {
   };
   uint32_t build(std::vector<Item>& items, size_t begin, size_t end, uint64_t trail, int depth);
   /// Probability of the first child of interior node @p node; false if neither child can light p.
-  bool firstChildProbability(const Node& node, const Vec3& p, const Vec3& n, float& p0) const;
+  bool firstChildProbability(uint32_t node, const Vec3& p, const Vec3& n, float& p0) const;
+  /// The leaf reached from the root by @p u, and the probability of that path (0: none).
+  uint32_t descend(const Vec3& p, const Vec3& n, float& u, float& pmf) const;
 
   std::vector<Node> nodes_;
   std::vector<uint64_t> trail_;      ///< per emitter: bit k = 1 where the path goes to the second child at depth k
   std::vector<uint8_t> trailDepth_;  ///< per emitter: depth of its leaf (255: not in the tree)
+  std::vector<float> inLeaf_;        ///< per emitter: its power over its leaf's
+  std::vector<uint32_t> leaf_;       ///< emitters of the leaves, leaf by leaf
+  std::vector<float> leafCdf_;       ///< beside leaf_: cumulative power share within the leaf (last 1)
+  const std::vector<uint8_t>* groupable_ = nullptr;  ///< during construction only
+  int maxLeaf_ = 1;
   int depth_ = 0;
 };
 

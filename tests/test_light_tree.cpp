@@ -53,10 +53,16 @@ std::vector<LightBounds> randomEmitters(int n, std::mt19937& rng) {
 
 }  // namespace
 
-TEST(LightTree, SampledPmfEqualsQueriedPmfAndSumsToAtMostOne) {
+/// Trees with one emitter per leaf, and with leaves of up to 8 (every third emitter may not be grouped).
+class LightTreeLeaves : public testing::TestWithParam<int> {};
+INSTANTIATE_TEST_SUITE_P(LeafSizes, LightTreeLeaves, testing::Values(1, 8));
+
+TEST_P(LightTreeLeaves, SampledPmfEqualsQueriedPmfAndSumsToAtMostOne) {
   std::mt19937 rng(7);
   const auto emitters = randomEmitters(300, rng);
-  const LightTree tree(emitters);
+  std::vector<uint8_t> groupable(emitters.size());
+  for (size_t e = 0; e < groupable.size(); ++e) groupable[e] = e % 3 != 0;
+  const LightTree tree(emitters, &groupable, GetParam());
   ASSERT_FALSE(tree.empty());
   EXPECT_LE(tree.depth(), 40);
   std::uniform_real_distribution<float> pos(-6.0f, 6.0f), u01(0.0f, 1.0f);
@@ -82,13 +88,17 @@ TEST(LightTree, SampledPmfEqualsQueriedPmfAndSumsToAtMostOne) {
 
 /// Isotropic points and a receiver that takes light from everywhere: every emitter can light
 /// the point, so no probability is lost and the pmfs sum to one.
-TEST(LightTree, PmfsSumToOneWhenEveryEmitterCanLight) {
+TEST_P(LightTreeLeaves, PmfsSumToOneWhenEveryEmitterCanLight) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> pos(-5.0f, 5.0f), power(0.1f, 10.0f);
   std::vector<LightBounds> emitters(257);
   for (LightBounds& b : emitters) b.lo = b.hi = Vec3(pos(rng), pos(rng), pos(rng)), b.phi = power(rng);
   emitters[100].phi = 0.0f;  // never chosen
-  const LightTree tree(emitters);
+  const std::vector<uint8_t> groupable(emitters.size(), 1);
+  const LightTree tree(emitters, &groupable, GetParam());
+  if (GetParam() > 1) {
+    EXPECT_LT(tree.depth(), LightTree(emitters).depth()) << "leaves of several emitters: a shallower tree";
+  }
   for (int k = 0; k < 50; ++k) {
     const Vec3 p(pos(rng), pos(rng), pos(rng));
     double sum = 0;
@@ -100,10 +110,11 @@ TEST(LightTree, PmfsSumToOneWhenEveryEmitterCanLight) {
 
 /// Stratified u over [0,1): the share of samples that pick each emitter is its pmf, up to the
 /// stratification error (a descent of depth D maps u to emitters through at most D cuts per level).
-TEST(LightTree, SampleFrequenciesFollowThePmf) {
+TEST_P(LightTreeLeaves, SampleFrequenciesFollowThePmf) {
   std::mt19937 rng(11);
   const auto emitters = randomEmitters(60, rng);
-  const LightTree tree(emitters);
+  const std::vector<uint8_t> groupable(emitters.size(), 1);
+  const LightTree tree(emitters, &groupable, GetParam());
   const Vec3 p(0.3f, -0.2f, 0.1f), n = glm::normalize(Vec3(0.2f, 1.0f, -0.1f));
   const int N = 200000;
   std::vector<int> count(emitters.size(), 0);
