@@ -38,6 +38,8 @@ struct IntegratorOptions {
   LightStrategy lightSampler = LightStrategy::Tree;
   /// With a first-shot table: sample the lit patches as area emitters (render/light_sampler.h).
   bool patchNee = true;
+  /// Weight the light trees by the visibility of their emitters, estimated per grid cell.
+  bool lightVisibility = true;
 };
 
 /// A point an integrator has stored (an irradiance-cache record), for the preview's overlay.

@@ -112,7 +112,7 @@ void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bo
 }
 
 void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
-                         bool patchEmitters) {
+                         bool patchEmitters, bool visibility) {
   scene_ = &scene;
   firstShot_ = &firstShot;
   strategy_ = strategy;
@@ -138,6 +138,25 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
     for (size_t e = 0; e < groupable.size(); ++e) groupable[e] = groups_[g].emitters[e].kind == Emitter::Kind::Patch;
     groups_[g].tree = LightTree(bounds[g], &groupable, kPatchLeaf);
   }
+  grid_ = VisibilityGrid();
+  if (visibility) buildVisibility();
+}
+
+Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
+  const LightSet& lights = scene_->lights();
+  switch (e.kind) {
+    case Emitter::Kind::Light:
+      return lights.lights()[e.index].position;
+    case Emitter::Kind::Triangle: {
+      const EmitterMesh& m = lights.emitterMeshes()[lights.lights()[e.index].emitter];
+      const Vec3 bary = squareToUniformTriangle(u);
+      return bary.x * m.vertices[m.indices[3 * e.sub]] + bary.y * m.vertices[m.indices[3 * e.sub + 1]] +
+             bary.z * m.vertices[m.indices[3 * e.sub + 2]];
+    }
+    case Emitter::Kind::Patch:
+      return samplePolygon(scene_->mesh().patches[e.index], u);
+  }
+  return Vec3(0.0f);
 }
 
 uint32_t LightSampler::patchEmitter(const Hit& y, const Vec3& x) const {
@@ -251,8 +270,7 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
       const EmitterMesh& m = lights.emitterMeshes()[light.emitter];
       const Vec3 a = m.vertices[m.indices[3 * e.sub]], b = m.vertices[m.indices[3 * e.sub + 1]],
                  c = m.vertices[m.indices[3 * e.sub + 2]];
-      const Vec3 bary = squareToUniformTriangle(u);
-      const Vec3 d = bary.x * a + bary.y * b + bary.z * c - hit.p;
+      const Vec3 d = emitterPoint(e, u) - hit.p;
       const float dist2 = glm::dot(d, d);
       if (!(dist2 > 0.0f)) return Color(0.0f);
       rec.distance = std::sqrt(dist2);
@@ -266,7 +284,7 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
     case Emitter::Kind::Patch: {
       const Patch& p = scene_->mesh().patches[e.index];
       Hit y;
-      y.p = samplePolygon(p, u);
+      y.p = emitterPoint(e, u);
       y.ng = p.normal;
       y.patch = e.index;
       const Vec3 d = y.p - hit.p;

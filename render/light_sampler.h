@@ -45,7 +45,10 @@ class LightSampler {
   LightSampler() = default;
   /// Builds the emitters and trees. @p patchEmitters: make the lit patches emitters (needs a
   /// table and @p firstShot built for the same scene). Both must outlive this object.
-  void build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy, bool patchEmitters);
+  /// @p visibility: weight the trees' top levels by the visibility of their emitters from each
+  /// grid cell (light_tree.h, VisibilityGrid), estimated here with a few shadow rays per cell.
+  void build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy, bool patchEmitters,
+             bool visibility = true);
 
   LightStrategy strategy() const { return strategy_; }
   /// True if patch emitters exist (a table with lit patches and patch emitters asked for).
@@ -90,6 +93,10 @@ class LightSampler {
   Color contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame, const Vec3& woLocal,
                      const BSDF& bsdf, const Vec2& u, uint64_t& rays) const;
   float selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const;
+  /// A point of emitter @p e for @p u ∈ [0,1)² (uniform by area; the position of a point light).
+  Vec3 emitterPoint(const Emitter& e, const Vec2& u) const;
+  /// Builds grid_ and sets every tree's visibility factors (light_sampler_visibility.cpp).
+  void buildVisibility();
 
   const RenderScene* scene_ = nullptr;
   const FirstShotLighting* firstShot_ = nullptr;
@@ -101,6 +108,7 @@ class LightSampler {
   std::vector<uint8_t> lightGroup_;
   std::vector<uint32_t> lightFirst_;
   uint8_t patchGroup_ = kNone;
+  VisibilityGrid grid_;
   std::vector<uint32_t> patchSide_;
 };
 

@@ -26,6 +26,8 @@ LightTree::LightTree(const std::vector<LightBounds>& emitters, const std::vector
   trail_.assign(emitters.size(), 0);
   trailDepth_.assign(emitters.size(), 255);
   inLeaf_.assign(emitters.size(), 0.0f);
+  power_.resize(emitters.size());
+  for (size_t k = 0; k < emitters.size(); ++k) power_[k] = emitters[k].phi;
   std::vector<Item> items;
   items.reserve(emitters.size());
   for (uint32_t k = 0; k < emitters.size(); ++k)
@@ -45,6 +47,8 @@ float LightTree::Node::importance(const Vec3& p, const Vec3& n) const {
 uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, uint64_t trail, int depth) {
   const uint32_t self = static_cast<uint32_t>(nodes_.size());
   nodes_.emplace_back();
+  nodes_[self].depth = static_cast<uint8_t>(depth);
+  nodes_[self].first = static_cast<uint32_t>(leaf_.size());
   LightBounds all = items[begin].bounds;
   for (size_t i = begin + 1; i < end; ++i) all = unite(all, items[i].bounds);
   {
@@ -80,6 +84,7 @@ uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, ui
       trailDepth_[e] = static_cast<uint8_t>(depth);
     }
     depth_ = std::max(depth_, depth);
+    node.end = static_cast<uint32_t>(leaf_.size());
     return self;
   }
   Vec3 clo = items[begin].centroid, chi = clo;
@@ -138,23 +143,71 @@ uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, ui
   build(items, begin, mid, trail, depth + 1);
   const uint32_t second = build(items, mid, end, trail | (uint64_t(1) << depth), depth + 1);
   nodes_[self].child = second;
+  nodes_[self].end = static_cast<uint32_t>(leaf_.size());
   return self;
 }
 
-bool LightTree::firstChildProbability(uint32_t node, const Vec3& p, const Vec3& n, float& p0) const {
-  const float i0 = nodes_[node + 1].importance(p, n);
-  const float i1 = nodes_[nodes_[node].child].importance(p, n);
+bool LightTree::firstChildProbability(uint32_t node, const Vec3& p, const Vec3& n, const float* vis, float& p0) const {
+  const Node& a = nodes_[node + 1];
+  const Node& b = nodes_[nodes_[node].child];
+  float i0 = a.importance(p, n), i1 = b.importance(p, n);
+  if (vis) {
+    if (a.top >= 0) i0 *= vis[a.top];
+    if (b.top >= 0) i1 *= vis[b.top];
+  }
   if (!(i0 + i1 > 0.0f)) return false;
   p0 = i0 / (i0 + i1);
   return true;
 }
 
+const float* LightTree::visibilityRow(const Vec3& p) const {
+  if (!grid_ || topCount_ == 0) return nullptr;
+  const int32_t r = grid_->rowOf(p);
+  return r < 0 ? nullptr : visibility_.data() + size_t(r) * topCount_;
+}
+
+std::vector<uint32_t> LightTree::cut(int D) const {
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < nodes_.size(); ++i)
+    if (nodes_[i].depth == D || (nodes_[i].depth < D && nodes_[i].count > 0)) out.push_back(i);
+  return out;
+}
+
+void LightTree::emittersUnder(uint32_t node, std::vector<uint32_t>& emitters, std::vector<float>& power) const {
+  emitters.assign(leaf_.begin() + nodes_[node].first, leaf_.begin() + nodes_[node].end);
+  power.clear();
+  for (uint32_t e : emitters) power.push_back(power_[e]);
+}
+
+void LightTree::setVisibility(const VisibilityGrid* grid, int D, const std::vector<float>& cutVisibility, float epsilon) {
+  grid_ = grid;
+  const std::vector<uint32_t> cutNodes = cut(D);
+  topCount_ = 0;
+  for (Node& node : nodes_) node.top = node.depth <= D ? int32_t(topCount_++) : -1;
+  const size_t rows = grid ? grid->rows : 0;
+  visibility_.assign(rows * topCount_, 0.0f);
+  std::vector<float> v(nodes_.size());
+  for (size_t r = 0; r < rows; ++r) {
+    for (size_t k = 0; k < cutNodes.size(); ++k) v[cutNodes[k]] = cutVisibility[r * cutNodes.size() + k];
+    // Above the cut: power-weighted means, children before parents (they follow them in the array).
+    for (size_t i = nodes_.size(); i-- > 0;) {
+      const Node& node = nodes_[i];
+      if (node.top < 0 || node.count > 0 || node.depth >= D) continue;
+      const Node &a = nodes_[i + 1], &b = nodes_[node.child];
+      v[i] = (a.phi * v[i + 1] + b.phi * v[node.child]) / std::max(a.phi + b.phi, 1e-30f);
+    }
+    for (size_t i = 0; i < nodes_.size(); ++i)
+      if (nodes_[i].top >= 0) visibility_[r * topCount_ + size_t(nodes_[i].top)] = epsilon + (1.0f - epsilon) * v[i];
+  }
+}
+
 uint32_t LightTree::descend(const Vec3& p, const Vec3& n, float& u, float& pmf) const {
   pmf = 1.0f;
   uint32_t node = 0;
+  const float* vis = visibilityRow(p);
   while (nodes_[node].count == 0) {
     float p0;
-    if (!firstChildProbability(node, p, n, p0)) {
+    if (!firstChildProbability(node, p, n, vis, p0)) {
       pmf = 0.0f;
       return node;
     }
@@ -188,10 +241,11 @@ float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t index) const {
   float pmf = 1.0f;
   if (nodes_[0].count > 0) return nodes_[0].importance(p, n) > 0.0f ? inLeaf_[index] : 0.0f;
   const uint64_t trail = trail_[index];
+  const float* vis = visibilityRow(p);
   uint32_t node = 0;
   for (int d = 0; nodes_[node].count == 0; ++d) {
     float p0;
-    if (!firstChildProbability(node, p, n, p0)) return 0.0f;
+    if (!firstChildProbability(node, p, n, vis, p0)) return 0.0f;
     if ((trail >> d) & 1u) {
       pmf *= 1.0f - p0;
       node = nodes_[node].child;

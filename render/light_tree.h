@@ -19,6 +19,24 @@
 
 namespace fs {
 
+/// A regular grid over the scene whose cells may carry visibility factors for a light tree's top
+/// nodes: the share of rays from surfaces in the cell that reach the emitters under each node.
+struct VisibilityGrid {
+  Vec3 origin{0.0f};
+  float cell = 1.0f;              ///< cell edge, m
+  int nx = 0, ny = 0, nz = 0;
+  std::vector<int32_t> row;       ///< per cell (x fastest): its row of factors, or −1
+  size_t rows = 0;
+
+  /// The grid cell of @p p (clamped to the grid), as an index into row.
+  size_t cellOf(const Vec3& p) const {
+    auto axis = [this](float v, float o, int n) { return std::clamp(int((v - o) / cell), 0, n - 1); };
+    return (size_t(axis(p.z, origin.z, nz)) * size_t(ny) + size_t(axis(p.y, origin.y, ny))) * size_t(nx) +
+           size_t(axis(p.x, origin.x, nx));
+  }
+  int32_t rowOf(const Vec3& p) const { return row.empty() ? -1 : row[cellOf(p)]; }
+};
+
 class LightTree {
  public:
   LightTree() = default;
@@ -40,6 +58,17 @@ class LightTree {
   /// The probability with which sample(p, n, ·) chooses emitter @p index (0 if it never does).
   float pmf(const Vec3& p, const Vec3& n, uint32_t index) const;
 
+  // Visibility: the descent multiplies the importance of a node at depth ≤ D by a factor of the
+  // receiver's grid cell, ε + (1 − ε)·v with v the estimated share of unoccluded rays to it.
+  /// The cut at depth @p D: the nodes at depth D and the leaves above it, in tree order.
+  std::vector<uint32_t> cut(int D) const;
+  /// The emitters under node @p node (a subtree's emitters are contiguous), with their powers.
+  void emittersUnder(uint32_t node, std::vector<uint32_t>& emitters, std::vector<float>& power) const;
+  /// Sets the factors: @p cutVisibility[r·cut.size() + k] = v of cut node k from grid row r;
+  /// the nodes above the cut get the power-weighted mean of those below. @p epsilon > 0 keeps
+  /// every emitter reachable.
+  void setVisibility(const VisibilityGrid* grid, int D, const std::vector<float>& cutVisibility, float epsilon);
+
  private:
   /// The bounds in the form the descent evaluates (LightBounds with its sphere and sin θo precomputed).
   struct Node {
@@ -51,6 +80,9 @@ class LightTree {
     uint32_t child = 0;  ///< interior: index of the second child (the first is this + 1); leaf: first slot in leaf_
     uint16_t count = 0;  ///< leaf: number of emitters; 0 for interior nodes
     bool twoSided = false;
+    uint8_t depth = 0;
+    int32_t top = -1;            ///< index among the nodes with visibility factors, or −1
+    uint32_t first = 0, end = 0; ///< the subtree's emitters: leaf_[first, end)
     float importance(const Vec3& p, const Vec3& n) const;
   };
   struct Item {
@@ -60,18 +92,24 @@ class LightTree {
   };
   uint32_t build(std::vector<Item>& items, size_t begin, size_t end, uint64_t trail, int depth);
   /// Probability of the first child of interior node @p node; false if neither child can light p.
-  bool firstChildProbability(uint32_t node, const Vec3& p, const Vec3& n, float& p0) const;
+  /// @p vis: the receiver's row of visibility factors (nullptr: none).
+  bool firstChildProbability(uint32_t node, const Vec3& p, const Vec3& n, const float* vis, float& p0) const;
   /// The leaf reached from the root by @p u, and the probability of that path (0: none).
   uint32_t descend(const Vec3& p, const Vec3& n, float& u, float& pmf) const;
+  const float* visibilityRow(const Vec3& p) const;
 
   std::vector<Node> nodes_;
   std::vector<uint64_t> trail_;      ///< per emitter: bit k = 1 where the path goes to the second child at depth k
   std::vector<uint8_t> trailDepth_;  ///< per emitter: depth of its leaf (255: not in the tree)
   std::vector<float> inLeaf_;        ///< per emitter: its power over its leaf's
+  std::vector<float> power_;         ///< per emitter: its power, W
   std::vector<uint32_t> leaf_;       ///< emitters of the leaves, leaf by leaf
   std::vector<float> leafCdf_;       ///< beside leaf_: cumulative power share within the leaf (last 1)
   const std::vector<uint8_t>* groupable_ = nullptr;  ///< during construction only
   int maxLeaf_ = 1;
+  const VisibilityGrid* grid_ = nullptr;
+  std::vector<float> visibility_;    ///< per grid row: one factor per top node
+  size_t topCount_ = 0;
   int depth_ = 0;
 };
 

@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   return fs::runTool("firstshot-render", [&] {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
-    std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "on";
+    std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "on",
+                lightVisibility = "on";
     std::vector<std::string> outputs;
     int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;
     double timeLimit = 0, patchSize = 0;
@@ -40,6 +41,9 @@ int main(int argc, char** argv) {
                                                     "tree) or all (one sample of every light per vertex)")
         ->check(CLI::IsMember({"tree", "all"}))->capture_default_str();
     app.add_option("--patch-nee", patchNee, "with --firstshot: sample the lit first-shot patches as light sources")
+        ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
+    app.add_option("--light-visibility", lightVisibility, "light tree: weight its choices by the visibility of the "
+                                                          "lights from each region, estimated with a few rays per region")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
     auto* sppOpt = app.add_option("--spp", spp, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
     app.add_option("--time", timeLimit, "render passes of 1 spp until this many seconds have passed (the image then "
@@ -95,6 +99,7 @@ int main(int argc, char** argv) {
     io.primary = primary == "patch" ? fs::PrimaryMode::Patch : fs::PrimaryMode::Exact;
     io.lightSampler = lightSampler == "all" ? fs::LightStrategy::All : fs::LightStrategy::Tree;
     io.patchNee = patchNee == "on";
+    io.lightVisibility = lightVisibility == "on";
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);
     for (const auto& out : outputs) {  // reject a bad output name before the render, not after

@@ -10,7 +10,7 @@ namespace fs {
 void PathIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   firstShot_.build(scene);
-  lights_.build(scene, firstShot_, options_.lightSampler, options_.patchNee);
+  lights_.build(scene, firstShot_, options_.lightSampler, options_.patchNee, options_.lightVisibility);
 }
 
 float PathIntegrator::emissionWeight(const PathVertex& prev, const Hit& hit) const {

@@ -178,3 +178,41 @@ TEST(LightTree, EmptyAndSingle) {
   EXPECT_EQ(one.pmf(Vec3(0.0f), Vec3(0, 1, 0), 0), 1.0f);
   EXPECT_FALSE(one.sample(Vec3(0.0f), Vec3(0, -1, 0), 0.7f, index, pmf)) << "below the receiver's horizon";
 }
+
+/// Visibility factors per grid cell change the probabilities, never their consistency: the pmf a
+/// sample reports is still the one pmf() gives, and a node with factor ε keeps its emitters reachable.
+TEST(LightTree, VisibilityFactorsKeepSampleAndPmfConsistent) {
+  std::mt19937 rng(5);
+  const auto emitters = randomEmitters(200, rng);
+  const std::vector<uint8_t> groupable(emitters.size(), 1);
+  LightTree tree(emitters, &groupable, 4);
+  VisibilityGrid grid;
+  grid.origin = Vec3(-6.0f);
+  grid.cell = 3.0f;
+  grid.nx = grid.ny = grid.nz = 4;
+  grid.row.assign(64, -1);
+  for (size_t c = 0; c < grid.row.size(); c += 2) grid.row[c] = int32_t(grid.rows++);  // every other cell has factors
+  const int D = std::min(4, tree.depth());
+  const std::vector<uint32_t> cut = tree.cut(D);
+  ASSERT_GT(cut.size(), 4u);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f), pos(-6.0f, 6.0f);
+  std::vector<float> v(grid.rows * cut.size());
+  for (float& x : v) x = u01(rng) < 0.3f ? 0.0f : u01(rng);
+  tree.setVisibility(&grid, D, v, 0.05f);
+  int samples = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Vec3 p(pos(rng), pos(rng), pos(rng)), n = randomUnit(rng);
+    const LightTree plain(emitters, &groupable, 4);
+    for (uint32_t e = 0; e < emitters.size(); ++e) {
+      if (plain.pmf(p, n, e) > 0.0f) EXPECT_GT(tree.pmf(p, n, e), 0.0f) << "emitter " << e << " lost its chance";
+    }
+    for (int s = 0; s < 10; ++s) {
+      uint32_t index;
+      float pmf;
+      if (!tree.sample(p, n, u01(rng), index, pmf)) continue;
+      ++samples;
+      EXPECT_FLOAT_EQ(pmf, tree.pmf(p, n, index));
+    }
+  }
+  EXPECT_GT(samples, 1000);
+}

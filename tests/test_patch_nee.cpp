@@ -118,6 +118,36 @@ TEST(LightTreeNee, AgreesWithNeeToEveryLight) {
   EXPECT_LT(meanZ(a.film, b.film, "many-lights tree vs all"), 3.0);
 }
 
+/// Two rooms side by side, a wall between them: the camera's room has one light, the other 32.
+/// A light tree blind to the wall spends most shadow rays on the other room; weighted by the
+/// visibility estimated per grid cell it does not: same mean (3σ), far less noise.
+TEST(LightTreeNee, VisibilityFactorsSameMeanLessNoise) {
+  std::string lights = R"({"type": "point", "position": [1.5, 2.5, 1.5], "power": 40})";
+  for (int i = 0; i < 32; ++i)
+    lights += fmt::format(R"(, {{"type": "point", "position": [{}, 2.5, {}], "power": 40}})", 3.4 + 0.35 * (i % 8),
+                          0.4 + 0.7 * (i / 8));
+  const SceneDesc desc = test::sceneFromJson(fmt::format(R"({{
+    "materials": {{"wall": {{"type": "diffuse", "albedo": 0.6}}}},
+    "shapes": [
+      {{"type": "box", "min": [0, 0, 0], "max": [6, 3, 3], "material": "wall", "flip_normals": true}},
+      {{"type": "box", "min": [2.95, 0, 0], "max": [3.05, 3, 3], "material": "wall"}}
+    ],
+    "lights": [{}],
+    "camera": {{"position": [0.3, 1.5, 0.3], "look_at": [2.5, 0.8, 2.5], "fov_y": 70, "resolution": [24, 24]}},
+    "settings": {{"patch_size": 0.25, "max_depth": 4}}
+  }})", lights));
+  const RenderScene scene(desc);
+  IntegratorOptions blind, seeing;
+  blind.maxDepth = seeing.maxDepth = 4;
+  blind.lightVisibility = false;
+  const auto a = test::renderPath(scene, seeing, 128, 1);
+  const auto b = test::renderPath(scene, blind, 128, 2);
+  EXPECT_LT(meanZ(a.film, b.film, "visibility-weighted tree vs blind tree"), 3.0);
+  const double ratio = meanVariance(b.film) / meanVariance(a.film);
+  fmt::print("  per-sample variance, blind / visibility-weighted: {:.2f}\n", ratio);
+  EXPECT_GT(ratio, 2.0) << "the other room's lights should rarely be chosen";
+}
+
 TEST(PatchNee, ImageDoesNotDependOnThreads) {
   const SceneDesc desc = test::sceneFromJson(kHiddenLightRoom);
   const RenderScene scene(desc, preprocess(desc));

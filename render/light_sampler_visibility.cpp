@@ -1,0 +1,129 @@
+// Visibility factors for the light trees' top levels (LightSampler::buildVisibility).
+//
+// A light tree chooses by bounds of power, distance and orientation; it cannot know that the
+// bulbs of a cove, the inside of a lamp shade or the lights of the next room are hidden from a
+// point. Here, once per scene, a few shadow rays from surface points in each cell of a coarse
+// grid to the emitters under each node of the tree's cut at depth D estimate the share v that
+// is visible; the descent then weights those nodes by ε + (1 − ε)·v. The factors depend on the
+// cell only, so sample() and pmf() agree exactly; ε > 0 keeps every emitter reachable, so the
+// estimator stays unbiased whatever the estimate.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "common/rng.h"
+#include "render/light_sampler.h"
+
+namespace fs {
+
+namespace {
+
+constexpr int kGridCells = 32;       ///< cells along the scene's longest side
+constexpr int kCutDepth = 7;         ///< the factors weight the nodes down to this depth (≤ 128 per cut)
+constexpr int kPointsPerCell = 3;    ///< receiver points per cell (patch centroids), each used on both sides
+constexpr int kRaysPerNode = 6;      ///< shadow rays from a cell to the emitters under one cut node, at most
+constexpr double kRayBudget = 1.0e6; ///< rays per tree at most (fewer per node in large scenes, at least 2)
+constexpr float kEpsilon = 0.05f;    ///< floor of the factor: a node never loses more than 20× its chance
+constexpr uint64_t kSeed = 0x5eed1e55ull;
+
+struct Receiver {
+  Vec3 p{0.0f}, n{0.0f};
+};
+
+}  // namespace
+
+void LightSampler::buildVisibility() {
+  const PatchMesh& mesh = scene_->mesh();
+  if (mesh.size() == 0) return;
+  Vec3d lo, hi;
+  scene_->desc().bounds(lo, hi);
+  const Vec3 extent = Vec3(hi - lo);
+  const float longest = std::max({extent.x, extent.y, extent.z});
+  if (!(longest > 0.0f)) return;
+  grid_.cell = std::max(longest / float(kGridCells), float(mesh.patchSize));
+  grid_.origin = Vec3(lo);
+  grid_.nx = std::max(1, int(std::ceil(extent.x / grid_.cell)));
+  grid_.ny = std::max(1, int(std::ceil(extent.y / grid_.cell)));
+  grid_.nz = std::max(1, int(std::ceil(extent.z / grid_.cell)));
+  grid_.row.assign(size_t(grid_.nx) * grid_.ny * grid_.nz, -1);
+
+  // Receivers: in every cell that a patch's bounds touch, the centroids of the kPointsPerCell
+  // such patches with the smallest hash of their ID (a deterministic, spread-out choice).
+  std::map<size_t, std::vector<std::pair<uint64_t, uint32_t>>> chosen;
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& patch = mesh.patches[j];
+    Vec3 plo = patch.v[0], phi = plo;
+    for (uint32_t i = 1; i < patch.count; ++i) plo = glm::min(plo, patch.v[i]), phi = glm::max(phi, patch.v[i]);
+    const Vec3 step(grid_.cell);
+    std::vector<size_t> cells;
+    for (float z = plo.z; z < phi.z + step.z; z += step.z)
+      for (float y = plo.y; y < phi.y + step.y; y += step.y)
+        for (float x = plo.x; x < phi.x + step.x; x += step.x)
+          cells.push_back(grid_.cellOf(glm::min(Vec3(x, y, z), phi)));
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+    for (size_t cell : cells) {
+      auto& list = chosen[cell];
+      list.emplace_back(hashKeys(kSeed, j), j);
+      std::sort(list.begin(), list.end());
+      if (list.size() > size_t(kPointsPerCell)) list.pop_back();
+    }
+  }
+  std::vector<std::vector<Receiver>> receivers;
+  for (const auto& [cell, list] : chosen) {
+    grid_.row[cell] = static_cast<int32_t>(receivers.size());
+    std::vector<Receiver> r;
+    for (const auto& [h, j] : list) r.push_back({mesh.patches[j].centroid, mesh.patches[j].normal});
+    receivers.push_back(std::move(r));
+  }
+  grid_.rows = receivers.size();
+  const float offset = 1e-4f * glm::length(extent);
+
+  for (Group& g : groups_) {
+    if (g.emitters.size() < 2 || g.tree.empty()) continue;
+    const int D = std::min(kCutDepth, g.tree.depth());
+    const std::vector<uint32_t> cut = g.tree.cut(D);
+    // The emitters under each cut node, with a power CDF to choose ray targets.
+    std::vector<std::vector<uint32_t>> members(cut.size());
+    std::vector<std::vector<float>> cdf(cut.size());
+    for (size_t k = 0; k < cut.size(); ++k) {
+      std::vector<float> power;
+      g.tree.emittersUnder(cut[k], members[k], power);
+      double sum = 0;
+      for (float w : power) cdf[k].push_back(float(sum += w));
+      for (float& c : cdf[k]) c = sum > 0 ? float(c / sum) : 1.0f;
+    }
+    const int rays = int(std::clamp(kRayBudget / double(grid_.rows * cut.size()), 2.0, double(kRaysPerNode)));
+    std::vector<float> v(grid_.rows * cut.size(), 1.0f);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, grid_.rows), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t r = range.begin(); r < range.end(); ++r)
+        for (size_t k = 0; k < cut.size(); ++k) {
+          if (members[k].empty()) continue;
+          Sampler sampler(kSeed, r, k);
+          int visible = 0;
+          for (int m = 0; m < rays; ++m) {
+            const Receiver& rc = receivers[r][size_t(m) % receivers[r].size()];
+            const Vec3 q = rc.p + ((m / int(receivers[r].size())) % 2 == 0 ? offset : -offset) * rc.n;
+            const float u = sampler.next1D();
+            const size_t i = std::min(size_t(std::upper_bound(cdf[k].begin(), cdf[k].end(), u) - cdf[k].begin()),
+                                      members[k].size() - 1);
+            const Vec3 y = emitterPoint(g.emitters[members[k][i]], sampler.next2D());
+            const Vec3 d = y - q;
+            const float dist = glm::length(d);
+            if (!(dist > 0.0f)) {
+              ++visible;
+              continue;
+            }
+            visible += !scene_->occluded(Ray(q, d / dist, 0.0f, dist * (1.0f - 1e-3f)));
+          }
+          v[r * cut.size() + k] = float(visible) / float(rays);
+        }
+    });
+    g.tree.setVisibility(&grid_, D, v, kEpsilon);
+  }
+}
+
+}  // namespace fs
