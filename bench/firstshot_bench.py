@@ -89,13 +89,17 @@ METHODS = {
                    "path tracing, next-event estimation to every light"),
     "path-tree": Method("path", ["--light-sampler", "tree"], False, True,
                         "path tracing, a light tree picks one light per vertex"),
-    "path+firstshot": Method("path", ["--light-sampler", "tree", "--patch-nee", "on"], True, False,
-                             "path tracing with first-shot; lit patches sampled as lights"),
-    "path+firstshot-nopatchnee": Method("path", ["--light-sampler", "tree", "--patch-nee", "off"], True, False,
-                                        "path tracing with first-shot; lit patches not sampled as lights"),
+    "path+firstshot": Method("path", ["--light-sampler", "all", "--patch-nee", "off"], True, False,
+                             "path tracing with first-shot (defaults: shadow rays to every small light at "
+                             "camera-visible surfaces, lit patches met by BSDF sampling)"),
+    "path+firstshot-tree": Method("path", ["--light-sampler", "tree", "--patch-nee", "off"], True, False,
+                                  "path tracing with first-shot; a light tree picks the small light at "
+                                  "camera-visible surfaces"),
+    "path+firstshot-patchnee": Method("path", ["--light-sampler", "all", "--patch-nee", "every"], True, False,
+                                      "path tracing with first-shot; lit patches sampled as lights at every vertex"),
     "irradiance-cache": Method("irradiance-cache", ["--light-sampler", "tree"] + IC_ARGS, False, False,
                                "irradiance cache, no first-shot (not a baseline: shown for comparison)"),
-    "irradiance-cache+firstshot": Method("irradiance-cache", ["--light-sampler", "tree"] + IC_ARGS, True, False,
+    "irradiance-cache+firstshot": Method("irradiance-cache", ["--light-sampler", "all"] + IC_ARGS, True, False,
                                          "irradiance cache with first-shot"),
 }
 DEFAULT_METHODS = list(METHODS)

@@ -325,7 +325,7 @@ class Methods(unittest.TestCase):
         self.assertEqual((path.integrator, path.args, path.firstshot), ("path", ["--light-sampler", "all"], False))
         self.assertEqual(fb.method_role(path), "baseline")
         self.assertEqual(fb.method_spec("path-tree").args, ["--light-sampler", "tree"])
-        fs = fb.method_spec("path+firstshot-nopatchnee")
+        fs = fb.method_spec("path+firstshot-patchnee")
         self.assertEqual((fs.integrator, fs.firstshot, fb.method_role(fs)), ("path", True, "firstshot"))
         self.assertIn("--patch-nee", fs.args)
         self.assertEqual(fb.method_role(fb.method_spec("irradiance-cache")), "other")

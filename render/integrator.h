@@ -29,15 +29,22 @@ enum class PrimaryMode : uint8_t {
   Patch,  ///< first-shot there too: shadows blurred at patch scale, no shadow rays to small lights
 };
 
+/// Where a path samples the lit first-shot patches as light sources (render/light_sampler.h).
+enum class PatchNee : uint8_t {
+  Off,    ///< nowhere: a lit patch counts only when a BSDF sample meets it
+  First,  ///< at the path's first non-delta vertex (its camera-visible surface), MIS against BSDF sampling
+  Every,  ///< at every non-delta vertex
+};
+
 /// Settings shared by the integrators.
 struct IntegratorOptions {
   int maxDepth = 16;  ///< longest path in bounces: 0 = emitters seen directly only, 1 = direct lighting
   int rrDepth = 3;    ///< Russian roulette from this many bounces on
   PrimaryMode primary = PrimaryMode::Exact;
   /// How NEE chooses lights: one sample of every light, or one light chosen by a light tree.
-  LightStrategy lightSampler = LightStrategy::Tree;
-  /// With a first-shot table: sample the lit patches as area emitters (render/light_sampler.h).
-  bool patchNee = true;
+  LightStrategy lightSampler = LightStrategy::All;
+  /// With a first-shot table: where to sample the lit patches as area emitters.
+  PatchNee patchNee = PatchNee::Off;
   /// Weight the light trees by the visibility of their emitters, estimated per grid cell.
   bool lightVisibility = true;
 };

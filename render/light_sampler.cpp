@@ -129,8 +129,7 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
       addLight(groups_[id], id, l, bounds[id]);
     }
   if (patchEmitters && scene.firstShot()) {
-    const GroupId id = strategy == LightStrategy::Tree ? kKept : kPatches;
-    addPatches(groups_[id], id, bounds[id]);
+    addPatches(groups_[kPatches], kPatches, bounds[kPatches]);
   }
   for (int g = 0; g < 3; ++g) {
     // Patches are small and many: up to kPatchLeaf of them share a leaf, chosen there by power.
@@ -198,6 +197,11 @@ Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLoc
                            const NeeRequest& request, Sampler& sampler, uint64_t& rays) const {
   const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the side that reflects towards the viewer
   Color sum(0.0f);
+  auto fromGroup = [&](GroupId id) {
+    const Vec2 a = sampler.next2D();
+    const float b = sampler.next1D();
+    sum += sampleGroup(groups_[id], hit, frame, woLocal, bsdf, n, Vec3(a, b), rays);
+  };
   if (strategy_ == LightStrategy::All) {
     if (request.kept || request.replaced) {
       const std::vector<RenderLight>& lights = scene_->lights().lights();
@@ -207,31 +211,16 @@ Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLoc
         sum += contribution({Emitter::Kind::Light, l, 0, 0.0f}, 1.0f, hit, frame, woLocal, bsdf, u, rays);
       }
     }
-    if (request.patches && patchGroup_ == kPatches) {
-      const Vec2 a = sampler.next2D();
-      const float b = sampler.next1D();
-      sum += sampleGroup(groups_[kPatches], hit, frame, woLocal, bsdf, n, true, Vec3(a, b), rays);
-    }
-    return sum;
+  } else {
+    if (request.kept) fromGroup(kKept);
+    if (request.replaced) fromGroup(kReplaced);
   }
-  if (request.kept || request.patches) {
-    const Vec2 a = sampler.next2D();
-    const float b = sampler.next1D();
-    const Group& g = groups_[kKept];
-    // The kept lights are always requested with the patches; a vertex at the last bounce asks for
-    // the lights only and drops a patch the tree chooses (its pmf is unchanged).
-    sum += sampleGroup(g, hit, frame, woLocal, bsdf, n, request.patches, Vec3(a, b), rays);
-  }
-  if (request.replaced) {
-    const Vec2 a = sampler.next2D();
-    const float b = sampler.next1D();
-    sum += sampleGroup(groups_[kReplaced], hit, frame, woLocal, bsdf, n, false, Vec3(a, b), rays);
-  }
+  if (request.patches && patchGroup_ == kPatches) fromGroup(kPatches);
   return sum;
 }
 
 Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                                const BSDF& bsdf, const Vec3& n, bool takePatches, const Vec3& u, uint64_t& rays) const {
+                                const BSDF& bsdf, const Vec3& n, const Vec3& u, uint64_t& rays) const {
   float uSelect = u.x;
   const float pDir = g.pDirectional();
   if (pDir > 0.0f) {
@@ -247,7 +236,6 @@ Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& fra
   float pmf;
   if (!g.tree.sample(hit.p, n, uSelect, e, pmf)) return Color(0.0f);
   const Emitter& em = g.emitters[e];
-  if (em.kind == Emitter::Kind::Patch && !takePatches) return Color(0.0f);
   return contribution(em, pmf * (1.0f - pDir), hit, frame, woLocal, bsdf, Vec2(u.y, u.z), rays);
 }
 

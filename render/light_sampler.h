@@ -10,12 +10,12 @@
 /// variance: a path no longer has to hit the lit patches by chance.
 ///
 /// Strategies (LightStrategy):
-/// - All: one sample of every requested light (NEE to every light), plus one patch chosen by a
-///   light tree over the patch emitters.
-/// - Tree: one emitter chosen by a light tree (light_tree.h) over the kept lights and the patch
-///   emitters, and one from a tree over the replaced lights when those are requested; area lights
-///   enter the trees triangle by triangle. Directional lights are chosen uniformly beside the tree
-///   with probability n_dir/(n_dir + 1).
+/// - All: one sample of every requested light (NEE to every light).
+/// - Tree: one light chosen by a light tree (light_tree.h) over the kept lights, and one from a
+///   tree over the replaced lights when those are requested; area lights enter the trees triangle
+///   by triangle. Directional lights are chosen uniformly beside a tree with probability
+///   n_dir/(n_dir + 1).
+/// Either way, when the patches are requested, one patch chosen by a tree over the patch emitters.
 /// Area emitters (area-light triangles, patches) are weighted against BSDF sampling by the power
 /// heuristic: a path that meets one must weight it with pdf() of the vertex it came from.
 #include <cstdint>
@@ -87,9 +87,9 @@ class LightSampler {
 
   void addLight(Group& g, GroupId id, uint32_t l, std::vector<LightBounds>& bounds);
   void addPatches(Group& g, GroupId id, std::vector<LightBounds>& bounds);
-  /// One emitter of group @p g, chosen from u[0], its point from u[1..2]; adds its weighted contribution.
+  /// One emitter of group @p g, chosen from u[0], its point from u[1..2]: its weighted contribution.
   Color sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                    const Vec3& n, bool takePatches, const Vec3& u, uint64_t& rays) const;
+                    const Vec3& n, const Vec3& u, uint64_t& rays) const;
   Color contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame, const Vec3& woLocal,
                      const BSDF& bsdf, const Vec2& u, uint64_t& rays) const;
   float selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const;

@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   return fs::runTool("firstshot-render", [&] {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
-    std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "on",
+    std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "all", patchNee = "off",
                 lightVisibility = "on";
     std::vector<std::string> outputs;
     int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;
@@ -40,8 +40,9 @@ int main(int argc, char** argv) {
     app.add_option("--light-sampler", lightSampler, "next-event estimation: tree (one light per vertex, chosen by a light "
                                                     "tree) or all (one sample of every light per vertex)")
         ->check(CLI::IsMember({"tree", "all"}))->capture_default_str();
-    app.add_option("--patch-nee", patchNee, "with --firstshot: sample the lit first-shot patches as light sources")
-        ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
+    app.add_option("--patch-nee", patchNee, "with --firstshot: sample the lit first-shot patches as light sources at "
+                                            "the first surface of a path (first), at every surface (every) or not (off)")
+        ->check(CLI::IsMember({"first", "every", "off", "on"}))->capture_default_str();
     app.add_option("--light-visibility", lightVisibility, "light tree: weight its choices by the visibility of the "
                                                           "lights from each region, estimated with a few rays per region")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
@@ -98,7 +99,7 @@ int main(int argc, char** argv) {
     io.maxDepth = maxDepth >= 0 ? maxDepth : scene.settings.maxDepth;
     io.primary = primary == "patch" ? fs::PrimaryMode::Patch : fs::PrimaryMode::Exact;
     io.lightSampler = lightSampler == "all" ? fs::LightStrategy::All : fs::LightStrategy::Tree;
-    io.patchNee = patchNee == "on";
+    io.patchNee = patchNee == "off" ? fs::PatchNee::Off : patchNee == "first" ? fs::PatchNee::First : fs::PatchNee::Every;
     io.lightVisibility = lightVisibility == "on";
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);

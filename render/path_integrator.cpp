@@ -10,7 +10,7 @@ namespace fs {
 void PathIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   firstShot_.build(scene);
-  lights_.build(scene, firstShot_, options_.lightSampler, options_.patchNee, options_.lightVisibility);
+  lights_.build(scene, firstShot_, options_.lightSampler, options_.patchNee != PatchNee::Off, options_.lightVisibility);
 }
 
 float PathIntegrator::emissionWeight(const PathVertex& prev, const Hit& hit) const {
@@ -36,6 +36,7 @@ Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, boo
                             uint64_t& rays, SampleInfo* info) const {
   const RenderScene& scene = *scene_;
   const bool haveTable = scene.firstShot() != nullptr;
+  bool sampledPatches = false;  // a vertex of this path sampled the lit patches (PatchNee::First: once)
   Color L(0.0f);
 
   for (;; ++depth) {
@@ -66,7 +67,9 @@ Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, boo
       if (useTable && hit.onPatch()) L += beta * firstShot(hit, frame, woLocal, bsdf) * emissionWeight(prev, hit);
       nee.kept = true;
       nee.replaced = !useTable;
-      nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth;  // a lit patch is one bounce more
+      nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
+                    (options_.patchNee == PatchNee::Every || !sampledPatches);
+      sampledPatches = sampledPatches || nee.patches;
       L += beta * lights_.sample(hit, frame, woLocal, bsdf, nee, sampler, rays);
     }
 

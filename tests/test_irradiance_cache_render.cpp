@@ -197,7 +197,7 @@ TEST(IrradianceCacheFirstShot, AgreesWithNeeAndGathersFirstShotLight) {
     size_t records;
   };
   IntegratorOptions io;
-  io.patchNee = false;  // the lit patches as sampled emitters add shadow rays of their own
+  io.patchNee = PatchNee::Off;  // the lit patches as sampled emitters add shadow rays of their own
   auto render = [&](const RenderScene& scene) {
     IrradianceCacheIntegrator ic(io, s);
     ic.preprocess(scene);

@@ -70,7 +70,7 @@ TEST(CornellFirstShot, PerPixelDifferenceShrinksWithPatches) {
   // (NEE) and no patch emitters.
   IntegratorOptions exact, patch;
   exact.lightSampler = patch.lightSampler = LightStrategy::All;
-  exact.patchNee = patch.patchNee = false;
+  exact.patchNee = patch.patchNee = PatchNee::Off;
   patch.primary = PrimaryMode::Patch;
   auto nee = makeIntegrator("path", exact);
   nee->preprocess(neeScene);
