@@ -9,18 +9,7 @@
 namespace fs {
 namespace {
 
-/// Sutherland–Hodgman: keeps the part of a convex polygon where dot(p − origin, n) ≥ offset.
-int clipToPlane(const Vec3d* in, int n, const Vec3d& origin, const Vec3d& normal, double offset, Vec3d* out) {
-  int m = 0;
-  for (int i = 0; i < n; ++i) {
-    const Vec3d& a = in[i];
-    const Vec3d& b = in[(i + 1) % n];
-    const double da = glm::dot(a - origin, normal) - offset, db = glm::dot(b - origin, normal) - offset;
-    if (da >= 0) out[m++] = a;
-    if ((da >= 0) != (db >= 0)) out[m++] = a + (b - a) * (da / (da - db));
-  }
-  return m;
-}
+using analytic::clipPolygonToPlane;
 
 /// Calls fn(i, j, w) for every pixel centre (i, j) of @p view with weight w > 0 that falls inside the
 /// convex planar polygon @p poly clipped to depth ≥ @p near.
@@ -28,7 +17,7 @@ template <typename Fn>
 void forEachCentre(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near, Fn fn) {
   Vec3d clipped[8];
   const bool persp = view.projection == Projection::Perspective;
-  const int n = clipToPlane(poly, count, view.eye, view.forward, persp ? near : 0.0, clipped);
+  const int n = clipPolygonToPlane(poly, count, view.eye, view.forward, persp ? near : 0.0, clipped);
   if (n < 3) return;
   // Image-plane coordinates of the clipped polygon.
   Vec2d q[8];
@@ -122,16 +111,18 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
 }
 
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
-                            const PatchMesh& mesh, uint32_t patch, double near) {
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureMask* exposure) {
   PatchCoverage r;
   const Patch& p = mesh.patches[patch];
   Vec3d poly[4];
   for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
   const ExactPolygon self(p);
   forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w) {
-    r.expected += w, ++r.pixels;
     const Vec3d o = view.pixelOrigin(i, j), d = view.pixelDirection(i, j);
-    if (!occludedNear(view, ids, mesh, patch, i, j, o, d, self.planeDepth(o, d), near)) r.visible += w;
+    const double t = self.planeDepth(o, d);
+    if (exposure && exposure->buriedAt(o + t * d)) return;
+    r.expected += w, ++r.pixels;
+    if (!occludedNear(view, ids, mesh, patch, i, j, o, d, t, near)) r.visible += w;
   });
   return r;
 }
@@ -158,22 +149,15 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
 }
 
 double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count) {
-  double s = 0;
-  for (int i = 1; i + 1 < count; ++i) s += analytic::solidAngleTriangle(eye, poly[0], poly[i], poly[i + 1]);
-  return s;
+  return analytic::polygonSolidAngle(eye, poly, count);
 }
 
 double unoccludedCosineSolidAngle(const Vec3d& eye, const Vec3d& n, const Vec3d* poly, int count) {
-  Vec3d clipped[8];
-  const int m = clipToPlane(poly, count, eye, n, 0.0, clipped);
-  if (m < 3) return 0.0;
-  return kPi * analytic::pointPolygonFormFactor(eye, n, std::vector<Vec3d>(clipped, clipped + m));
+  return analytic::polygonCosineSolidAngle(eye, n, poly, count);
 }
 
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count) {
-  Vec3d cross(0.0);
-  for (int i = 1; i + 1 < count; ++i) cross += glm::cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
-  return 0.5 * std::abs(glm::dot(cross, glm::normalize(direction)));
+  return analytic::polygonProjectedArea(direction, poly, count);
 }
 
 }  // namespace fs

@@ -12,6 +12,7 @@
 
 #include "common/math.h"
 #include "common/patches.h"
+#include "preprocess/exposure.h"
 #include "preprocess/view.h"
 
 namespace fs {
@@ -38,8 +39,10 @@ struct PatchCoverage {
 /// patches meet (shared edges, corners, contact lines) the rasteriser's rules, subpixel snapping and
 /// depth precision no longer move weight from a patch to its neighbour (a loss, since a fraction is
 /// clamped at 1), and an unoccluded patch gets exactly 1.
+/// With @p exposure, centres whose point on the patch is buried (preprocess/exposure.h) count in
+/// neither sum.
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
-                            const PatchMesh& mesh, uint32_t patch, double near);
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureMask* exposure = nullptr);
 
 /// Visibility of the point @p x of patch @p patch from the common eye of @p views (a window placed
 /// at one light sample, with its weights and item buffers): the first view whose pixel under x has a

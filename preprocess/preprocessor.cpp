@@ -15,6 +15,7 @@
 #include "common/rng.h"
 #include "preprocess/coverage.h"
 #include "preprocess/embree_item_buffer.h"
+#include "preprocess/exposure.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/window.h"
@@ -66,35 +67,58 @@ double unoccludedIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p
 /// centroid and each vertex (for patches covering too few pixel centres). −1 if none is in a view.
 double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s,
                             const std::vector<std::vector<uint32_t>>& ids, double near, const PatchMesh& mesh,
-                            uint32_t patch) {
+                            uint32_t patch, const ExposureMask* exposure) {
   const Patch& p = mesh.patches[patch];
   const Vec3d c(p.centroid);
   int seen = 0, visible = 0;
   for (uint32_t k = 0; k <= p.count; ++k) {
     const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
+    if (exposure && exposure->buriedAt(x)) continue;
     const int v = pointVisibility(views, *s.weights, ids, mesh, patch, x, near);
     if (v >= 0) ++seen, visible += v;
   }
   return seen > 0 ? double(visible) / seen : -1.0;
 }
 
+/// Which side of patch @p p sample @p s lights: 0 the normal's side, 1 the other.
+int litSide(const SampleSetup& s, const Patch& p) {
+  const Vec3d n(p.normal);
+  const double side = s.kind == LightSampleKind::Directional ? -glm::dot(s.axis, n) : glm::dot(s.position - Vec3d(p.centroid), n);
+  return side >= 0 ? 0 : 1;
+}
+
 /// The analytic estimator (preprocess/coverage.h): closed form × visible fraction, the fraction
 /// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when
-/// fewer than kMinPixelsForAnalytic centres fall inside. @p touched: the patch shows in the item
-/// buffer. Patches that show nowhere are only looked at when they are that small.
+/// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
+/// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
 double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
-                        double near, const PatchMesh& mesh, uint32_t patch, bool touched) {
-  double fraction = -1;
-  if (touched) {
+                        double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
+  auto coverage = [&](const ExposureMask* mask) {
     PatchCoverage total;
     for (size_t v = 0; v < views.size(); ++v) {
-      const PatchCoverage c = patchCoverage(views[v], (*s.weights)[v], ids[v], mesh, patch, near);
+      const PatchCoverage c = patchCoverage(views[v], (*s.weights)[v], ids[v], mesh, patch, near, mask);
       total.expected += c.expected, total.visible += c.visible, total.pixels += c.pixels;
+    }
+    return total;
+  };
+  const ExposureMask* mask = nullptr;
+  double fraction = -1;
+  if (touched) {
+    PatchCoverage total = coverage(nullptr);
+    if (exposure && total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
+      mask = &exposure->mask(patch, litSide(s, mesh.patches[patch]));
+      if (mask->partial) total = coverage(mask);
     }
     if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
       fraction = std::min(1.0, total.visible / total.expected);
   }
-  if (fraction < 0) fraction = pointVisibleFraction(views, s, ids, near, mesh, patch);
+  if (fraction < 0) {
+    fraction = pointVisibleFraction(views, s, ids, near, mesh, patch, nullptr);
+    if (exposure && fraction > 0 && fraction < 1) {
+      if (!mask) mask = &exposure->mask(patch, litSide(s, mesh.patches[patch]));
+      if (mask->partial) fraction = pointVisibleFraction(views, s, ids, near, mesh, patch, mask);
+    }
+  }
   return fraction > 0 ? fraction * unoccludedIntegral(s, views[0].eye, mesh.patches[patch]) : 0.0;
 }
 
@@ -107,7 +131,7 @@ struct Entry {
 /// Renders one sample's views and returns its non-zero factors, sorted by patch.
 std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup& s, const PatchMesh& mesh,
                                 std::vector<double>& acc, std::vector<uint32_t>& touched,
-                                std::vector<std::vector<uint32_t>>& idsPerView) {
+                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure) {
   Framed frame(s.axis);
   if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
     const double c = std::cos(s.rotation), sn = std::sin(s.rotation);
@@ -142,7 +166,7 @@ std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup&
     for (uint32_t id = 0; id < mesh.size(); ++id) {
       const bool shown = next < touched.size() && touched[next] == id;
       if (shown) ++next, acc[id] = 0.0;
-      emit(id, analyticIntegral(s, views, idsPerView, renderer.nearPlane(), mesh, id, shown));
+      emit(id, analyticIntegral(s, views, idsPerView, renderer.nearPlane(), mesh, id, shown, exposure));
     }
   }
   touched.clear();
@@ -227,6 +251,13 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
                                                                options.timeLimit > 0 ? options.timeLimit : 1e9);
   int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   threads = std::max(1, std::min<int>(threads, static_cast<int>(std::max<size_t>(1, t.samples.size()))));
+  // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
+  std::unique_ptr<EmbreeItemBuffer> probe;
+  std::unique_ptr<ExposureCache> exposure;
+  if (options.settings.estimator == "analytic") {
+    probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
+    exposure = std::make_unique<ExposureCache>(t.mesh, *probe);
+  }
   std::vector<std::vector<Entry>> results(t.samples.size());
   std::atomic<size_t> next{0};
   std::mutex errorMutex;
@@ -249,7 +280,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
           throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached after " +
                                    std::to_string(i) + " of " + std::to_string(t.samples.size()) +
                                    " light samples; nothing written");
-        results[i] = renderSample(*renderer, setups[i], t.mesh, acc, touched, ids);
+        results[i] = renderSample(*renderer, setups[i], t.mesh, acc, touched, ids, exposure.get());
         progress.advance();
       }
     } catch (...) {
