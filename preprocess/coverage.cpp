@@ -111,7 +111,7 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
 }
 
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
-                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureMask* exposure) {
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure) {
   PatchCoverage r;
   const Patch& p = mesh.patches[patch];
   Vec3d poly[4];
@@ -120,7 +120,7 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
   forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w) {
     const Vec3d o = view.pixelOrigin(i, j), d = view.pixelDirection(i, j);
     const double t = self.planeDepth(o, d);
-    if (exposure && exposure->buriedAt(o + t * d)) return;
+    if (exposure && exposure->buried(o + t * d)) return;
     r.expected += w, ++r.pixels;
     if (!occludedNear(view, ids, mesh, patch, i, j, o, d, t, near)) r.visible += w;
   });

@@ -42,7 +42,7 @@ struct PatchCoverage {
 /// With @p exposure, centres whose point on the patch is buried (preprocess/exposure.h) count in
 /// neither sum.
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
-                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureMask* exposure = nullptr);
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure = nullptr);
 
 /// Visibility of the point @p x of patch @p patch from the common eye of @p views (a window placed
 /// at one light sample, with its weights and item buffers): the first view whose pixel under x has a

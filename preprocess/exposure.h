@@ -26,11 +26,23 @@ namespace fs {
 struct ExposureMask {
   std::vector<Vec3d> points;    ///< world positions on the patch, m
   std::vector<uint8_t> buried;  ///< 1 if the point is buried
+  std::vector<uint8_t> border;  ///< 1 if a probe about one grid step away disagrees
   /// True when some points are buried and some are not (otherwise the mask changes nothing: a
   /// patch buried whole is never shaded, and a wrongly oriented surface must not blank a patch).
   bool partial = false;
-  /// Whether the probe point nearest to @p x is buried (false unless partial).
-  bool buriedAt(const Vec3d& x) const;
+};
+
+class ExposureCache;
+
+/// Whether points of one side of one patch are buried: the nearest probe decides, unless it lies
+/// on the border between buried and exposed probes, where the point itself is probed with rays.
+struct ExposureQuery {
+  const ExposureCache* cache = nullptr;
+  const ExposureMask* mask = nullptr;
+  uint32_t patch = 0;
+  int side = 0;
+  /// False unless the mask is partial.
+  bool buried(const Vec3d& x) const;
 };
 
 /// Lazily computed exposure masks of every patch side; thread-safe.
@@ -41,6 +53,8 @@ class ExposureCache {
   ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid = 6, int directions = 16);
   /// The mask of side @p side (0: the normal's side, 1: the other) of patch @p patch.
   const ExposureMask& mask(uint32_t patch, int side);
+  /// The ray test itself at point @p x of side @p side of patch @p patch.
+  bool probe(uint32_t patch, int side, const Vec3d& x) const;
 
  private:
   void compute(uint32_t patch, int side);

@@ -67,13 +67,13 @@ double unoccludedIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p
 /// centroid and each vertex (for patches covering too few pixel centres). −1 if none is in a view.
 double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s,
                             const std::vector<std::vector<uint32_t>>& ids, double near, const PatchMesh& mesh,
-                            uint32_t patch, const ExposureMask* exposure) {
+                            uint32_t patch, const ExposureQuery* exposure) {
   const Patch& p = mesh.patches[patch];
   const Vec3d c(p.centroid);
   int seen = 0, visible = 0;
   for (uint32_t k = 0; k <= p.count; ++k) {
     const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
-    if (exposure && exposure->buriedAt(x)) continue;
+    if (exposure && exposure->buried(x)) continue;
     const int v = pointVisibility(views, *s.weights, ids, mesh, patch, x, near);
     if (v >= 0) ++seen, visible += v;
   }
@@ -93,7 +93,7 @@ int litSide(const SampleSetup& s, const Patch& p) {
 /// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
 double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
                         double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
-  auto coverage = [&](const ExposureMask* mask) {
+  auto coverage = [&](const ExposureQuery* mask) {
     PatchCoverage total;
     for (size_t v = 0; v < views.size(); ++v) {
       const PatchCoverage c = patchCoverage(views[v], (*s.weights)[v], ids[v], mesh, patch, near, mask);
@@ -101,13 +101,18 @@ double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, co
     }
     return total;
   };
-  const ExposureMask* mask = nullptr;
+  ExposureQuery query;
+  auto getMask = [&] {
+    if (query.mask) return;
+    query.cache = exposure, query.patch = patch, query.side = litSide(s, mesh.patches[patch]);
+    query.mask = &exposure->mask(patch, query.side);
+  };
   double fraction = -1;
   if (touched) {
     PatchCoverage total = coverage(nullptr);
     if (exposure && total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
-      mask = &exposure->mask(patch, litSide(s, mesh.patches[patch]));
-      if (mask->partial) total = coverage(mask);
+      getMask();
+      if (query.mask->partial) total = coverage(&query);
     }
     if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
       fraction = std::min(1.0, total.visible / total.expected);
@@ -115,8 +120,8 @@ double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, co
   if (fraction < 0) {
     fraction = pointVisibleFraction(views, s, ids, near, mesh, patch, nullptr);
     if (exposure && fraction > 0 && fraction < 1) {
-      if (!mask) mask = &exposure->mask(patch, litSide(s, mesh.patches[patch]));
-      if (mask->partial) fraction = pointVisibleFraction(views, s, ids, near, mesh, patch, mask);
+      getMask();
+      if (query.mask->partial) fraction = pointVisibleFraction(views, s, ids, near, mesh, patch, &query);
     }
   }
   return fraction > 0 ? fraction * unoccludedIntegral(s, views[0].eye, mesh.patches[patch]) : 0.0;
