@@ -47,7 +47,7 @@ struct SampleSetup {
   bool analytic = true;  ///< closed form × visible fraction (preprocess/coverage.h)
 };
 
-/// Fewer expected pixels than this and the visible fraction is too coarse: keep the pixel sum.
+/// Fewer pixel centres than this inside a patch and the fraction is taken at points on it instead.
 constexpr size_t kMinPixelsForAnalytic = 4;
 
 /// The closed-form integral of the window weight over the whole patch (no occlusion).
