@@ -215,9 +215,17 @@ TEST(FirstShotBias, DISABLED_Measure) {
     b->preprocess(nee);
     const Camera camera(desc.camera);
     const auto m = test::measurePairedBias(*a, *b, nee, camera, spp, 11);
-    fmt::print("{} ({}): preprocess {:.2f} s, {} patches, {} samples; image {:+.3f}% ± {:.3f}% (NEE mean {:.5f})\n", name,
-               backend, secs, fsScene.mesh().size(), fsScene.firstShot()->samples.size(), 100 * m.relative(),
-               100 * m.relativeSe(), m.reference);
+    fmt::print("{} ({}): preprocess {:.2f} s, {} patches, {} samples, {} factors; image {:+.3f}% ± {:.3f}% (NEE mean {:.5f})\n",
+               name, backend, secs, fsScene.mesh().size(), fsScene.firstShot()->samples.size(),
+               fsScene.firstShot()->nonZeros(), 100 * m.relative(), 100 * m.relativeSe(), m.reference);
+    if (std::getenv("FSBIAS_TIME")) {  // render time, first-shot against NEE, same spp
+      for (int k = 0; k < 2; ++k) {
+        const auto r0 = std::chrono::steady_clock::now();
+        test::renderPath(k ? nee : fsScene, io, spp, 3);
+        fmt::print("  render {} spp {}: {:.3f} s\n", spp, k ? "NEE" : "first-shot",
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count());
+      }
+    }
     // Per patch: table (front side) against Monte Carlo, power-weighted, by border class.
     const FirstShotTable& t = *fsScene.firstShot();
     const std::vector<Color> side = t.sideIrradiance();
