@@ -128,8 +128,7 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
 }
 
 int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
-                    const std::vector<std::vector<uint32_t>>& ids, const PatchMesh& mesh, uint32_t patch, const Vec3d& x,
-                    double near) {
+                    const EmbreeItemBuffer& rays, const Vec3d& x, double near) {
   for (size_t v = 0; v < views.size(); ++v) {
     const View& view = views[v];
     const bool persp = view.projection == Projection::Perspective;
@@ -142,8 +141,8 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
     const int j = std::min(view.height - 1, int((view.planeMax.y - w) / (view.planeMax.y - view.planeMin.y) * view.height));
     if (!(weights[v][size_t(j) * view.width + i] > 0)) continue;
     const Vec3d o = persp ? view.eye : view.eye + u * view.right + w * view.up;
-    const Vec3d d = (x - o) / z;  // forward component 1: the ray parameter is depth
-    return occludedNear(view, ids[v], mesh, patch, i, j, o, d, z, near) ? 0 : 1;
+    double t = 0;
+    return rays.firstHit(o, x - o, 1.0 - 1e-5, t) == kNoPatch ? 1 : 0;
   }
   return -1;
 }

@@ -12,6 +12,7 @@
 
 #include "common/math.h"
 #include "common/patches.h"
+#include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
 #include "preprocess/view.h"
 
@@ -44,14 +45,15 @@ struct PatchCoverage {
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
                             const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure = nullptr);
 
-/// Visibility of the point @p x of patch @p patch from the common eye of @p views (a window placed
-/// at one light sample, with its weights and item buffers): the first view whose pixel under x has a
-/// non-zero weight decides, by the same exact test as patchCoverage (candidate occluders from the
-/// 3×3 pixels around x). For patches too small to cover enough pixel centres.
+/// Visibility of the point @p x from the common eye of @p views (a window placed at one light
+/// sample, with its weights): the first view whose pixel under x has a non-zero weight decides, by a
+/// ray from the eye (orthographic views: from the image plane) to x traced with @p rays: x is
+/// visible unless the ray meets a patch before 1 − 1e-5 of the way. For patches too small to hold
+/// enough pixel centres, whose occluders may be made of patches smaller than a pixel too (so that
+/// the item buffer cannot propose them).
 /// @return 1 visible, 0 occluded, −1 if x is in no view (behind a hemicube's base, outside the window).
 int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
-                    const std::vector<std::vector<uint32_t>>& ids, const PatchMesh& mesh, uint32_t patch, const Vec3d& x,
-                    double near);
+                    const EmbreeItemBuffer& rays, const Vec3d& x, double near);
 
 /// ∫ dω over the polygon seen from @p eye (its solid angle).
 double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count);

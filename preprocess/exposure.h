@@ -53,6 +53,8 @@ class ExposureCache {
   ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid = 6, int directions = 16);
   /// The mask of side @p side (0: the normal's side, 1: the other) of patch @p patch.
   const ExposureMask& mask(uint32_t patch, int side);
+  /// The ray caster the probes use (the preprocessor's exact point-visibility tests use it too).
+  const EmbreeItemBuffer& rays() const { return rays_; }
   /// The ray test itself at point @p x of side @p side of patch @p patch.
   bool probe(uint32_t patch, int side, const Vec3d& x) const;
 

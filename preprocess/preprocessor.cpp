@@ -63,18 +63,18 @@ double unoccludedIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p
   return 0.0;
 }
 
-/// Visible fraction of a patch from points on it: its centroid and the midpoints between the
-/// centroid and each vertex (for patches covering too few pixel centres). −1 if none is in a view.
-double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s,
-                            const std::vector<std::vector<uint32_t>>& ids, double near, const PatchMesh& mesh,
-                            uint32_t patch, const ExposureQuery* exposure) {
+/// Visible fraction of a patch from points on it (for patches covering too few pixel centres): its
+/// centroid and, if @p spread, the midpoints between the centroid and each vertex. −1 if none is in a view.
+double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s, const EmbreeItemBuffer& rays,
+                            double near, const PatchMesh& mesh, uint32_t patch, bool spread,
+                            const ExposureQuery* exposure) {
   const Patch& p = mesh.patches[patch];
   const Vec3d c(p.centroid);
   int seen = 0, visible = 0;
-  for (uint32_t k = 0; k <= p.count; ++k) {
+  for (uint32_t k = spread ? 0 : p.count; k <= p.count; ++k) {
     const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
     if (exposure && exposure->buried(x)) continue;
-    const int v = pointVisibility(views, *s.weights, ids, mesh, patch, x, near);
+    const int v = pointVisibility(views, *s.weights, rays, x, near);
     if (v >= 0) ++seen, visible += v;
   }
   return seen > 0 ? double(visible) / seen : -1.0;
@@ -91,6 +91,7 @@ int litSide(const SampleSetup& s, const Patch& p) {
 /// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when
 /// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
 /// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
+/// @p exposure is required (it also lends its ray caster to the point tests).
 double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
                         double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
   auto coverage = [&](const ExposureQuery* mask) {
@@ -110,7 +111,7 @@ double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, co
   double fraction = -1;
   if (touched) {
     PatchCoverage total = coverage(nullptr);
-    if (exposure && total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
+    if (total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
       getMask();
       if (query.mask->partial) total = coverage(&query);
     }
@@ -118,10 +119,13 @@ double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, co
       fraction = std::min(1.0, total.visible / total.expected);
   }
   if (fraction < 0) {
-    fraction = pointVisibleFraction(views, s, ids, near, mesh, patch, nullptr);
-    if (exposure && fraction > 0 && fraction < 1) {
+    // 5 points; a patch that shows nowhere (occluded, or smaller than a pixel) is decided by its
+    // centroid unless that lies outside the window.
+    fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, nullptr);
+    if (fraction < 0 && !touched) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, true, nullptr);
+    if (fraction > 0 && fraction < 1) {
       getMask();
-      if (query.mask->partial) fraction = pointVisibleFraction(views, s, ids, near, mesh, patch, &query);
+      if (query.mask->partial) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, &query);
     }
   }
   return fraction > 0 ? fraction * unoccludedIntegral(s, views[0].eye, mesh.patches[patch]) : 0.0;
