@@ -200,7 +200,14 @@ TEST(FirstShotBias, PatchesHalfUnderABoxGetTheirExposedPartsLight) {
   EXPECT_LT(std::abs(sumRel / straddling), 0.005);
 }
 
-/// Measurement (prints numbers): FSBIAS_SCENES=cornell,cornell-metre,many-lights FSBIAS_BACKEND=gl.
+/// Measurement harness, not a check (disabled; run with --gtest_also_run_disabled_tests). Per scene:
+/// preprocess time, the paired first-shot − NEE image mean, flux per light sample, and each patch's
+/// table irradiance against brute-force Monte Carlo by border class. Environment:
+///   FSBIAS_SCENES  comma-separated: cornell, cornell-metre, many-lights, ... (default all three)
+///   FSBIAS_BACKEND gl | embree;  FSBIAS_SPP camera samples per pixel (256);  FSBIAS_MC points per patch (64)
+///   FSBIAS_DEPTH   max depth (3);  FSBIAS_PS / FSBIAS_LPS patch / light patch size, m
+///   FSBIAS_TIME    also time first-shot and NEE renders;  FSBIAS_MAP print 8×8 blocks of the difference
+///   FSBIAS_POINT   per-point first-shot − exact irradiance by shape;  FSBIAS_WORST=N per-shape sums and the N worst patches
 TEST(FirstShotBias, DISABLED_Measure) {
   const char* env = std::getenv("FSBIAS_SCENES");
   const std::string list = env ? env : "cornell,cornell-metre,many-lights";
