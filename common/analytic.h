@@ -1,6 +1,7 @@
 #pragma once
 /// @file analytic.h
-/// Closed-form radiometry from ../shared/REFERENCE.md, for the small-light rule and for tests.
+/// Closed-form radiometry from ../shared/REFERENCE.md, for the small-light rule, the first-shot
+/// factors (preprocess/coverage.h) and their per-point evaluation (render/direct_light.h), and tests.
 #include <cmath>
 #include <vector>
 
@@ -38,6 +39,43 @@ inline double pointPolygonFormFactor(const Vec3d& x, const Vec3d& n, const std::
     sum += gamma * glm::dot(n, c / len);
   }
   return std::abs(sum) / (2.0 * kPi);
+}
+
+/// Sutherland–Hodgman: writes to @p out (room for n+1 vertices) the part of the convex polygon
+/// @p in (n vertices) where dot(p − origin, normal) ≥ offset; returns its vertex count.
+inline int clipPolygonToPlane(const Vec3d* in, int n, const Vec3d& origin, const Vec3d& normal, double offset, Vec3d* out) {
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const Vec3d& a = in[i];
+    const Vec3d& b = in[(i + 1) % n];
+    const double da = glm::dot(a - origin, normal) - offset, db = glm::dot(b - origin, normal) - offset;
+    if (da >= 0) out[m++] = a;
+    if ((da >= 0) != (db >= 0)) out[m++] = a + (b - a) * (da / (da - db));
+  }
+  return m;
+}
+
+/// Solid angle (sr) of a convex planar polygon of @p count ≤ 8 vertices seen from @p eye.
+inline double polygonSolidAngle(const Vec3d& eye, const Vec3d* poly, int count) {
+  double s = 0;
+  for (int i = 1; i + 1 < count; ++i) s += solidAngleTriangle(eye, poly[0], poly[i], poly[i + 1]);
+  return s;
+}
+
+/// ∫ cosθ dω (sr) over the part of a convex planar polygon (≤ 8 vertices) above the plane through
+/// @p eye with unit normal @p n: π × the point-to-polygon form factor, the polygon clipped first.
+inline double polygonCosineSolidAngle(const Vec3d& eye, const Vec3d& n, const Vec3d* poly, int count) {
+  Vec3d clipped[9];
+  const int m = clipPolygonToPlane(poly, count, eye, n, 0.0, clipped);
+  if (m < 3) return 0.0;
+  return kPi * pointPolygonFormFactor(eye, n, std::vector<Vec3d>(clipped, clipped + m));
+}
+
+/// Area (m²) of a planar polygon projected along @p direction (any length).
+inline double polygonProjectedArea(const Vec3d& direction, const Vec3d* poly, int count) {
+  Vec3d cross(0.0);
+  for (int i = 1; i + 1 < count; ++i) cross += glm::cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
+  return 0.5 * std::abs(glm::dot(cross, glm::normalize(direction)));
 }
 
 /// Form factor between parallel, directly opposed rectangles a×b at distance c.

@@ -15,7 +15,9 @@ namespace {
 
 constexpr char kMagic[8] = {'F', 'S', 'H', 'O', 'T', 'F', 'S', 'D'};
 constexpr char kEnd[8] = {'F', 'S', 'H', 'O', 'T', 'E', 'N', 'D'};
-constexpr uint32_t kVersion = 1;
+/// 2: the analytic estimator's factors are exact per patch (visible fraction from exact occlusion
+/// tests, over the exposed part of a patch); version-1 tables carried the biases fixed then.
+constexpr uint32_t kVersion = 2;
 
 /// Appends plain values to a byte buffer (little-endian host assumed, checked at compile time).
 class Out {

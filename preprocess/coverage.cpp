@@ -2,34 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/analytic.h"
 
 namespace fs {
 namespace {
 
-/// Sutherland–Hodgman: keeps the part of a convex polygon where dot(p − origin, n) ≥ offset.
-int clipToPlane(const Vec3d* in, int n, const Vec3d& origin, const Vec3d& normal, double offset, Vec3d* out) {
-  int m = 0;
-  for (int i = 0; i < n; ++i) {
-    const Vec3d& a = in[i];
-    const Vec3d& b = in[(i + 1) % n];
-    const double da = glm::dot(a - origin, normal) - offset, db = glm::dot(b - origin, normal) - offset;
-    if (da >= 0) out[m++] = a;
-    if ((da >= 0) != (db >= 0)) out[m++] = a + (b - a) * (da / (da - db));
-  }
-  return m;
-}
+using analytic::clipPolygonToPlane;
 
-}  // namespace
-
-double coveredWeight(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near,
-                     size_t& pixels) {
-  pixels = 0;
+/// Calls fn(i, j, w) for every pixel centre (i, j) of @p view with weight w > 0 that falls inside the
+/// convex planar polygon @p poly clipped to depth ≥ @p near.
+template <typename Fn>
+void forEachCentre(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near, Fn fn) {
   Vec3d clipped[8];
   const bool persp = view.projection == Projection::Perspective;
-  const int n = clipToPlane(poly, count, view.eye, view.forward, persp ? near : 0.0, clipped);
-  if (n < 3) return 0.0;
+  const int n = clipPolygonToPlane(poly, count, view.eye, view.forward, persp ? near : 0.0, clipped);
+  if (n < 3) return;
   // Image-plane coordinates of the clipped polygon.
   Vec2d q[8];
   Vec2d lo(1e300), hi(-1e300);
@@ -42,7 +31,7 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
   // Orientation, so that "inside" means the same side of every edge.
   double area2 = 0;
   for (int i = 0; i < n; ++i) area2 += q[i].x * q[(i + 1) % n].y - q[(i + 1) % n].x * q[i].y;
-  if (area2 == 0) return 0.0;
+  if (area2 == 0) return;
   const double sign = area2 > 0 ? 1.0 : -1.0;
   // Pixel index range whose centres may fall inside.
   const double du = (view.planeMax.x - view.planeMin.x) / view.width, dv = (view.planeMax.y - view.planeMin.y) / view.height;
@@ -50,7 +39,6 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
   const int i1 = std::min(view.width - 1, int(std::ceil((hi.x - view.planeMin.x) / du - 0.5)));
   const int j0 = std::max(0, int(std::floor((view.planeMax.y - hi.y) / dv - 0.5)));
   const int j1 = std::min(view.height - 1, int(std::ceil((view.planeMax.y - lo.y) / dv - 0.5)));
-  double sum = 0;
   for (int j = j0; j <= j1; ++j) {
     for (int i = i0; i <= i1; ++i) {
       const Vec2d c = view.pixelCentre(i, j);
@@ -61,29 +49,114 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
       }
       if (!inside) continue;
       const double w = weights[size_t(j) * view.width + i];
-      if (w > 0) sum += w, ++pixels;
+      if (w > 0) fn(i, j, w);
     }
   }
+}
+
+/// A patch's plane and edges in double precision, for exact ray tests.
+struct ExactPolygon {
+  Vec3d v[4];
+  Vec3d n{0.0};  ///< Newell normal (not unit), orientation of the vertex order
+  int count = 0;
+  explicit ExactPolygon(const Patch& p) : count(int(p.count)) {
+    for (int k = 0; k < count; ++k) v[k] = Vec3d(p.v[k]);
+    for (int k = 0; k < count; ++k) n += glm::cross(v[k], v[(k + 1) % count]);
+  }
+  /// Ray parameter where o + t·d meets the plane (+inf if parallel).
+  double planeDepth(const Vec3d& o, const Vec3d& d) const {
+    const double den = glm::dot(d, n);
+    return den != 0 ? glm::dot(v[0] - o, n) / den : std::numeric_limits<double>::infinity();
+  }
+  /// True if the point @p x of the plane lies inside the polygon or on its boundary.
+  bool contains(const Vec3d& x) const {
+    for (int k = 0; k < count; ++k)
+      if (glm::dot(glm::cross(v[(k + 1) % count] - v[k], x - v[k]), n) < 0) return false;
+    return true;
+  }
+};
+
+/// True if a patch seen at pixel (i, j) of @p view or one of its 8 neighbours, other than @p patch,
+/// is hit by the ray o + t·d strictly before depth @p tSelf (and not before @p near).
+bool occludedNear(const View& view, const std::vector<uint32_t>& ids, const PatchMesh& mesh, uint32_t patch, int i, int j,
+                  const Vec3d& o, const Vec3d& d, double tSelf, double near) {
+  // Depth tolerance: planes of neighbours rebuilt from float vertices agree to ~1e-7 relative.
+  constexpr double kRelativeTolerance = 1e-6;
+  const double tMax = tSelf - kRelativeTolerance * std::abs(tSelf);
+  uint32_t cand[9];
+  int nc = 0;
+  for (int y = std::max(0, j - 1); y <= std::min(view.height - 1, j + 1); ++y)
+    for (int x = std::max(0, i - 1); x <= std::min(view.width - 1, i + 1); ++x) {
+      const uint32_t id = ids[size_t(y) * view.width + x];
+      if (id == patch || id >= mesh.size()) continue;
+      bool seen = false;
+      for (int c = 0; c < nc && !seen; ++c) seen = cand[c] == id;
+      if (seen) continue;
+      cand[nc++] = id;
+      const ExactPolygon other(mesh.patches[id]);
+      const double t = other.planeDepth(o, d);
+      if (t >= near && t < tMax && other.contains(o + t * d)) return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+double coveredWeight(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near,
+                     size_t& pixels) {
+  pixels = 0;
+  double sum = 0;
+  forEachCentre(view, weights, poly, count, near, [&](int, int, double w) { sum += w, ++pixels; });
   return sum;
 }
 
+PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure) {
+  PatchCoverage r;
+  const Patch& p = mesh.patches[patch];
+  Vec3d poly[4];
+  for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
+  const ExactPolygon self(p);
+  forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w) {
+    const Vec3d o = view.pixelOrigin(i, j), d = view.pixelDirection(i, j);
+    const double t = self.planeDepth(o, d);
+    if (exposure && exposure->buried(o + t * d)) return;
+    r.expected += w, ++r.pixels;
+    if (!occludedNear(view, ids, mesh, patch, i, j, o, d, t, near)) r.visible += w;
+  });
+  return r;
+}
+
+int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
+                    const EmbreeItemBuffer& rays, const Vec3d& x, double near) {
+  for (size_t v = 0; v < views.size(); ++v) {
+    const View& view = views[v];
+    const bool persp = view.projection == Projection::Perspective;
+    const Vec3d r = x - view.eye;
+    const double z = glm::dot(r, view.forward);
+    if (persp ? !(z >= near) : !(z > 0)) continue;
+    const double u = glm::dot(r, view.right) / (persp ? z : 1.0), w = glm::dot(r, view.up) / (persp ? z : 1.0);
+    if (u < view.planeMin.x || u >= view.planeMax.x || w <= view.planeMin.y || w > view.planeMax.y) continue;
+    const int i = std::min(view.width - 1, int((u - view.planeMin.x) / (view.planeMax.x - view.planeMin.x) * view.width));
+    const int j = std::min(view.height - 1, int((view.planeMax.y - w) / (view.planeMax.y - view.planeMin.y) * view.height));
+    if (!(weights[v][size_t(j) * view.width + i] > 0)) continue;
+    const Vec3d o = persp ? view.eye : view.eye + u * view.right + w * view.up;
+    double t = 0;
+    return rays.firstHit(o, x - o, 1.0 - 1e-5, t) == kNoPatch ? 1 : 0;
+  }
+  return -1;
+}
+
 double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count) {
-  double s = 0;
-  for (int i = 1; i + 1 < count; ++i) s += analytic::solidAngleTriangle(eye, poly[0], poly[i], poly[i + 1]);
-  return s;
+  return analytic::polygonSolidAngle(eye, poly, count);
 }
 
 double unoccludedCosineSolidAngle(const Vec3d& eye, const Vec3d& n, const Vec3d* poly, int count) {
-  Vec3d clipped[8];
-  const int m = clipToPlane(poly, count, eye, n, 0.0, clipped);
-  if (m < 3) return 0.0;
-  return kPi * analytic::pointPolygonFormFactor(eye, n, std::vector<Vec3d>(clipped, clipped + m));
+  return analytic::polygonCosineSolidAngle(eye, n, poly, count);
 }
 
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count) {
-  Vec3d cross(0.0);
-  for (int i = 1; i + 1 < count; ++i) cross += glm::cross(poly[i] - poly[0], poly[i + 1] - poly[0]);
-  return 0.5 * std::abs(glm::dot(cross, glm::normalize(direction)));
+  return analytic::polygonProjectedArea(direction, poly, count);
 }
 
 }  // namespace fs

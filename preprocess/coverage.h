@@ -7,9 +7,13 @@
 /// where U_j is the unoccluded integral of the window weight over the patch (solid angle, cosine-
 /// weighted solid angle or projected area) and the denominator rasterises the patch alone in
 /// software at the same pixel centres. An unoccluded patch gets V_j = 1 and so its exact value.
+#include <cstdint>
 #include <vector>
 
 #include "common/math.h"
+#include "common/patches.h"
+#include "preprocess/embree_item_buffer.h"
+#include "preprocess/exposure.h"
 #include "preprocess/view.h"
 
 namespace fs {
@@ -19,6 +23,37 @@ namespace fs {
 /// Also returns the number of such pixels in @p pixels.
 double coveredWeight(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near,
                      size_t& pixels);
+
+/// One patch's pixel centres in one view: the weight of all of them (occlusion ignored) and of those
+/// from which the patch is the nearest surface.
+struct PatchCoverage {
+  double expected = 0;  ///< Σ w over the pixel centres inside the patch's projection
+  double visible = 0;   ///< Σ w over those of them where the patch is visible
+  size_t pixels = 0;    ///< number of pixel centres inside the projection (w > 0)
+};
+
+/// The visible fraction's two sums for patch @p patch of @p mesh in @p view, whose item buffer is
+/// @p ids. The item buffer only proposes occluders: at a centre inside the patch's projection, the
+/// patch counts as visible unless a patch seen at that pixel or one of its 8 neighbours is hit by
+/// the centre's ray, in double precision, strictly nearer (depth ≥ @p near) than the patch itself.
+/// Numerator and denominator so use the same pixel centres and the same exact geometry: where
+/// patches meet (shared edges, corners, contact lines) the rasteriser's rules, subpixel snapping and
+/// depth precision no longer move weight from a patch to its neighbour (a loss, since a fraction is
+/// clamped at 1), and an unoccluded patch gets exactly 1.
+/// With @p exposure, centres whose point on the patch is buried (preprocess/exposure.h) count in
+/// neither sum.
+PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure = nullptr);
+
+/// Visibility of the point @p x from the common eye of @p views (a window placed at one light
+/// sample, with its weights): the first view whose pixel under x has a non-zero weight decides, by a
+/// ray from the eye (orthographic views: from the image plane) to x traced with @p rays: x is
+/// visible unless the ray meets a patch before 1 − 1e-5 of the way. For patches too small to hold
+/// enough pixel centres, whose occluders may be made of patches smaller than a pixel too (so that
+/// the item buffer cannot propose them).
+/// @return 1 visible, 0 occluded, −1 if x is in no view (behind a hemicube's base, outside the window).
+int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
+                    const EmbreeItemBuffer& rays, const Vec3d& x, double near);
 
 /// ∫ dω over the polygon seen from @p eye (its solid angle).
 double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count);

@@ -141,6 +141,28 @@ EmbreeItemBuffer::~EmbreeItemBuffer() {
   if (device_) rtcReleaseDevice(device_);
 }
 
+uint32_t EmbreeItemBuffer::firstHit(const Vec3d& origin, const Vec3d& direction, double tfar, double& t) const {
+  if (triPatch_.empty()) return kNoPatch;
+  FlushDenormals ftz;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  rh.ray.org_x = float(origin.x), rh.ray.org_y = float(origin.y), rh.ray.org_z = float(origin.z);
+  rh.ray.dir_x = float(direction.x), rh.ray.dir_y = float(direction.y), rh.ray.dir_z = float(direction.z);
+  rh.ray.tnear = 0.0f;
+  rh.ray.tfar = float(tfar);
+  rh.ray.time = 0;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(scene_, &ctx, &rh);
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return kNoPatch;
+  t = rh.ray.tfar;
+  return triPatch_[rh.hit.primID];
+}
+
 void EmbreeItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
   ids.assign(view.pixelCount(), kNoPatch);
   const double far = farDepth(view, bounds_);

@@ -33,6 +33,9 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   /// Only reads the scene, so it may also be called from several threads at once.
   void render(const View& view, std::vector<uint32_t>& ids) override;
   const char* name() const override { return "embree"; }
+  /// The patch first hit by the ray @p origin + t·@p direction, t in [0, @p tfar] (direction not
+  /// necessarily unit), or kNoPatch; @p t receives its t. Thread-safe, like render().
+  uint32_t firstHit(const Vec3d& origin, const Vec3d& direction, double tfar, double& t) const;
   double nearPlane() const override { return near_; }
   void setRayMode(EmbreeRayMode mode) { mode_ = mode; }
 

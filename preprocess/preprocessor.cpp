@@ -15,6 +15,7 @@
 #include "common/rng.h"
 #include "preprocess/coverage.h"
 #include "preprocess/embree_item_buffer.h"
+#include "preprocess/exposure.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/window.h"
@@ -46,30 +47,88 @@ struct SampleSetup {
   bool analytic = true;  ///< closed form × visible fraction (preprocess/coverage.h)
 };
 
-/// Fewer expected pixels than this and the visible fraction is too coarse: keep the pixel sum.
+/// Fewer pixel centres than this inside a patch and the fraction is taken at points on it instead.
 constexpr size_t kMinPixelsForAnalytic = 4;
 
-/// Σ w over a patch's visible pixels → the same integral taken in closed form times the visible fraction.
-double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, double near, const Patch& p, double visible) {
+/// The closed-form integral of the window weight over the whole patch (no occlusion).
+double unoccludedIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p) {
   Vec3d poly[4];
   for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
-  double expected = 0;
-  size_t pixels = 0;
-  for (size_t v = 0; v < views.size(); ++v) {
-    size_t px = 0;
-    expected += coveredWeight(views[v], (*s.weights)[v], poly, int(p.count), near, px);
-    pixels += px;
-  }
-  if (pixels < kMinPixelsForAnalytic || !(expected > 0)) return visible;
-  const double fraction = std::min(1.0, visible / expected);
   switch (s.kind) {
-    case LightSampleKind::Point: return fraction * unoccludedSolidAngle(views[0].eye, poly, int(p.count));
-    case LightSampleKind::AreaVertex:
-      return fraction * unoccludedCosineSolidAngle(views[0].eye, s.axis, poly, int(p.count));
-    case LightSampleKind::Directional: return fraction * unoccludedProjectedArea(s.axis, poly, int(p.count));
-    case LightSampleKind::Spot: break;  // no closed form for the profile: keep the pixel sum
+    case LightSampleKind::Point: return unoccludedSolidAngle(eye, poly, int(p.count));
+    case LightSampleKind::AreaVertex: return unoccludedCosineSolidAngle(eye, s.axis, poly, int(p.count));
+    case LightSampleKind::Directional: return unoccludedProjectedArea(s.axis, poly, int(p.count));
+    case LightSampleKind::Spot: break;  // no closed form for the profile
   }
-  return visible;
+  return 0.0;
+}
+
+/// Visible fraction of a patch from points on it (for patches covering too few pixel centres): its
+/// centroid and, if @p spread, the midpoints between the centroid and each vertex. −1 if none is in a view.
+double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s, const EmbreeItemBuffer& rays,
+                            double near, const PatchMesh& mesh, uint32_t patch, bool spread,
+                            const ExposureQuery* exposure) {
+  const Patch& p = mesh.patches[patch];
+  const Vec3d c(p.centroid);
+  int seen = 0, visible = 0;
+  for (uint32_t k = spread ? 0 : p.count; k <= p.count; ++k) {
+    const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
+    if (exposure && exposure->buried(x)) continue;
+    const int v = pointVisibility(views, *s.weights, rays, x, near);
+    if (v >= 0) ++seen, visible += v;
+  }
+  return seen > 0 ? double(visible) / seen : -1.0;
+}
+
+/// Which side of patch @p p sample @p s lights: 0 the normal's side, 1 the other.
+int litSide(const SampleSetup& s, const Patch& p) {
+  const Vec3d n(p.normal);
+  const double side = s.kind == LightSampleKind::Directional ? -glm::dot(s.axis, n) : glm::dot(s.position - Vec3d(p.centroid), n);
+  return side >= 0 ? 0 : 1;
+}
+
+/// The analytic estimator (preprocess/coverage.h): closed form × visible fraction, the fraction
+/// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when
+/// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
+/// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
+/// @p exposure is required (it also lends its ray caster to the point tests).
+double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
+                        double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
+  auto coverage = [&](const ExposureQuery* mask) {
+    PatchCoverage total;
+    for (size_t v = 0; v < views.size(); ++v) {
+      const PatchCoverage c = patchCoverage(views[v], (*s.weights)[v], ids[v], mesh, patch, near, mask);
+      total.expected += c.expected, total.visible += c.visible, total.pixels += c.pixels;
+    }
+    return total;
+  };
+  ExposureQuery query;
+  auto getMask = [&] {
+    if (query.mask) return;
+    query.cache = exposure, query.patch = patch, query.side = litSide(s, mesh.patches[patch]);
+    query.mask = &exposure->mask(patch, query.side);
+  };
+  double fraction = -1;
+  if (touched) {
+    PatchCoverage total = coverage(nullptr);
+    if (total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
+      getMask();
+      if (query.mask->partial) total = coverage(&query);
+    }
+    if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
+      fraction = std::min(1.0, total.visible / total.expected);
+  }
+  if (fraction < 0) {
+    // 5 points; a patch that shows nowhere (occluded, or smaller than a pixel) is decided by its
+    // centroid unless that lies outside the window.
+    fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, nullptr);
+    if (fraction < 0 && !touched) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, true, nullptr);
+    if (fraction > 0 && fraction < 1) {
+      getMask();
+      if (query.mask->partial) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, &query);
+    }
+  }
+  return fraction > 0 ? fraction * unoccludedIntegral(s, views[0].eye, mesh.patches[patch]) : 0.0;
 }
 
 /// One factor before it is sorted into the CSR table.
@@ -80,7 +139,8 @@ struct Entry {
 
 /// Renders one sample's views and returns its non-zero factors, sorted by patch.
 std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup& s, const PatchMesh& mesh,
-                                std::vector<double>& acc, std::vector<uint32_t>& touched, std::vector<uint32_t>& ids) {
+                                std::vector<double>& acc, std::vector<uint32_t>& touched,
+                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure) {
   Framed frame(s.axis);
   if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
     const double c = std::cos(s.rotation), sn = std::sin(s.rotation);
@@ -88,7 +148,9 @@ std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup&
     frame.s = c * a + sn * b, frame.t = -sn * a + c * b;
   }
   const std::vector<View> views = placeWindow(*s.window, s.position, frame, s.eyeOffset);
+  idsPerView.resize(views.size());
   for (size_t v = 0; v < views.size(); ++v) {
+    std::vector<uint32_t>& ids = idsPerView[v];
     renderer.render(views[v], ids);
     const std::vector<double>& w = (*s.weights)[v];
     for (size_t p = 0; p < ids.size(); ++p) {
@@ -101,10 +163,20 @@ std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup&
   std::sort(touched.begin(), touched.end());
   std::vector<Entry> out;
   out.reserve(touched.size());
-  for (uint32_t id : touched) {
-    const double integral = s.analytic ? analyticIntegral(s, views, renderer.nearPlane(), mesh.patches[id], acc[id]) : acc[id];
-    out.push_back({id, static_cast<float>(s.scale * integral / mesh.patches[id].area)});
-    acc[id] = 0.0;
+  auto emit = [&](uint32_t id, double integral) {
+    if (integral > 0) out.push_back({id, static_cast<float>(s.scale * integral / mesh.patches[id].area)});
+  };
+  if (!s.analytic) {
+    for (uint32_t id : touched) emit(id, acc[id]), acc[id] = 0.0;
+  } else {
+    // Every patch: those that show in the item buffer, and those too small to hold a pixel centre
+    // (missing them would lose their light, since their neighbours get only their own exact share).
+    size_t next = 0;
+    for (uint32_t id = 0; id < mesh.size(); ++id) {
+      const bool shown = next < touched.size() && touched[next] == id;
+      if (shown) ++next, acc[id] = 0.0;
+      emit(id, analyticIntegral(s, views, idsPerView, renderer.nearPlane(), mesh, id, shown, exposure));
+    }
   }
   touched.clear();
   return out;
@@ -188,6 +260,13 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
                                                                options.timeLimit > 0 ? options.timeLimit : 1e9);
   int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   threads = std::max(1, std::min<int>(threads, static_cast<int>(std::max<size_t>(1, t.samples.size()))));
+  // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
+  std::unique_ptr<EmbreeItemBuffer> probe;
+  std::unique_ptr<ExposureCache> exposure;
+  if (options.settings.estimator == "analytic") {
+    probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
+    exposure = std::make_unique<ExposureCache>(t.mesh, *probe);
+  }
   std::vector<std::vector<Entry>> results(t.samples.size());
   std::atomic<size_t> next{0};
   std::mutex errorMutex;
@@ -198,7 +277,8 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     try {
       std::unique_ptr<ItemBufferRenderer> renderer;
       std::vector<double> acc;
-      std::vector<uint32_t> touched, ids;
+      std::vector<uint32_t> touched;
+      std::vector<std::vector<uint32_t>> ids;
       for (size_t i; (i = next++) < t.samples.size();) {
         if (!renderer) {
           renderer = makeRenderer(options, geometry, bounds);
@@ -209,7 +289,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
           throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached after " +
                                    std::to_string(i) + " of " + std::to_string(t.samples.size()) +
                                    " light samples; nothing written");
-        results[i] = renderSample(*renderer, setups[i], t.mesh, acc, touched, ids);
+        results[i] = renderSample(*renderer, setups[i], t.mesh, acc, touched, ids, exposure.get());
         progress.advance();
       }
     } catch (...) {

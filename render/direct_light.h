@@ -28,20 +28,46 @@ inline float powerHeuristic(float a, float b) {
 /// stops short of the light, which may be emitter geometry itself.
 Ray shadowRay(const Hit& hit, const Vec3& wi, float distance);
 
-/// The first-shot term of a scene's table. On a Lambertian patch it is ρ/π times one of two
-/// irradiances (the factors summed per side of the patch's plane), precomputed by build().
+/// The first-shot term of a scene's table, evaluated at the hit point.
+///
+/// A factor r_ij is patch j's average irradiance from sample i per unit emission. For point lights
+/// and area-light vertices it is (scale_i/A_j)·V_ij·U_ij, with U_ij the closed-form integral of the
+/// sample's kernel over the whole patch and V_ij the visible fraction (docs/firstshot-format.md);
+/// build() recovers V_ij from r_ij. The irradiance at x on patch j is then modelled as
+///   E(x) = Σ_i emission_i · V_ij · k_i(x),   k_i(x) = cosθ_x/(4πd²) (point), (S_i/3)·cosθ_x·cosθL/d² (area vertex):
+/// the exact unoccluded irradiance at x times the visible fraction, whose average over the patch is
+/// the table's Σ_i emission_i r_ij. Evaluated that way for samples closer than kNearPatches patch
+/// diameters; the others vary slowly across the patch and are summed, per side of the patch, into
+/// their exact patch average plus its gradient at the centroid (a linear term, zero on average):
+/// one lookup and one dot product per channel. Directional lights (constant over a patch), spots
+/// (no closed form) and degenerate entries contribute their patch average.
 class FirstShotLighting {
  public:
-  /// Sums each patch's factors per side of its plane; no-op without a table. @p scene must outlive this.
+  /// Samples closer to a patch's centroid than this many patch diameters are evaluated per point.
+  static constexpr float kNearPatches = 4.0f;
+
+  /// Recovers V_ij for every factor, sorts the samples of each patch into near and far, and sums
+  /// the far ones per side of each patch's plane; no-op without a table. @p scene must outlive this.
   void build(const RenderScene& scene);
-  /// The first-shot radiance reflected at a hit on patch hit.patch towards the local @p woLocal.
-  /// Requires a table and a hit on a patch.
+  /// The first-shot radiance reflected at a hit on patch hit.patch towards the local @p woLocal
+  /// (W/(m² sr) per unit of the BSDF). Requires a table and a hit on a patch.
   Color eval(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf) const;
+  /// First-shot irradiance (W/m²) at the hit point on the side of hit.patch's plane where
+  /// @p front says (the side hit.ng points to), from the factors of hit.patch.
+  Color irradiance(const Hit& hit, bool front) const;
 
  private:
+  /// Far samples of one side of a patch: E(x) ≈ average + (x − centroid)·gradient per channel.
+  struct SideTerm {
+    Color average{0.0f};  ///< W/m²
+    Vec3 gradient[3] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};  ///< per channel, in the patch's plane, W/m³
+  };
   const RenderScene* scene_ = nullptr;
-  /// Per patch j: first-shot irradiance from samples in front of (2j) and behind (2j+1) its plane.
-  std::vector<Color> sideIrradiance_;
+  std::vector<SideTerm> side_;  ///< 2j: samples in front of patch j's plane, 2j+1: behind it
+  /// Per factor (the table's CSR order): V_ij, or a negative value for a patch-average entry.
+  std::vector<float> visible_;
+  /// CSR over patches of their near factors (indices into the table's factors).
+  std::vector<uint64_t> nearStart_, nearFactor_;
 };
 
 /// Which lights estimateDirect() samples, and how it weights them.

@@ -76,6 +76,10 @@ TEST(FsdFile, WrongVersion) {
   b[8] = 99;
   writeBytes(dir + "/bad.fsd", b);
   EXPECT_THAT(readError(dir + "/bad.fsd"), HasSubstr("format version 99"));
+  b[8] = 1;  // a table from before the exposed-part factors: refused, with what to do
+  writeBytes(dir + "/old.fsd", b);
+  EXPECT_THAT(readError(dir + "/old.fsd"),
+              HasSubstr("format version 1, this build reads version 2: run firstshot-preprocess again"));
 }
 
 TEST(FsdFile, Truncated) {

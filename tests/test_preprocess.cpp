@@ -203,30 +203,41 @@ TEST(Preprocess, PatchSeenEdgeOn) {
   EXPECT_NEAR(rowSum(t, 1), exact, 5e-3 * exact);
 }
 
-// Patches smaller than a pixel: each one's factor is wrong (0, or a whole pixel's worth), but the
-// sum over a region is right up to the aliasing of the region's outline. Documented in
-// docs/firstshot-format.md.
+// Patches smaller than a pixel (docs/firstshot-format.md). The pixel sums give each one 0 or a whole
+// pixel's worth, right only summed over a region (up to the aliasing of its outline); the analytic
+// estimator gives each its exact share (closed form × the visible fraction of points on it).
 TEST(Preprocess, PatchesSmallerThanAPixel) {
   const SceneDesc s = sceneFrom(R"({"materials": {"m": {"type": "diffuse", "albedo": 0.5}},
     "shapes": [{"type": "quad", "material": "m", "vertices": [[-0.5,0,-0.5],[-0.5,0,0.5],[0.5,0,0.5],[0.5,0,-0.5]]}],
     "lights": [{"type": "point", "position": [0, 1, 0], "power": 1}], "settings": {"patch_size": 0.002}})");
-  const FirstShotTable t = run(s, 256);  // a 2 mm patch at 1 m is 0.26 px wide; the plane 128 px
-  double sum = 0, sq = 0;
-  size_t zero = 0;
-  for (uint32_t j = 0; j < t.mesh.size(); ++j) {
-    const Patch& p = t.mesh.patches[j];
-    const std::vector<Vec3d> poly = {Vec3d(p.v[0]), Vec3d(p.v[1]), Vec3d(p.v[2]), Vec3d(p.v[3])};
-    const double exact = analytic::solidAnglePolygon(Vec3d(0, 1, 0), poly) / (4 * kPi);
-    const double got = rowSum(t, j) * p.area;
-    sum += got, sq += (got - exact) * (got - exact) / (exact * exact);
-    zero += got == 0;
+  for (const char* estimator : {"pixels", "analytic"}) {
+    PreprocessOptions o = defaultOptions(s);
+    o.settings.resolution = 256, o.settings.estimator = estimator, o.threads = 2, o.quiet = true;
+    const FirstShotTable t = preprocessScene(s, o);  // a 2 mm patch at 1 m is 0.26 px wide; the plane 128 px
+    double sum = 0, sq = 0;
+    size_t zero = 0;
+    for (uint32_t j = 0; j < t.mesh.size(); ++j) {
+      const Patch& p = t.mesh.patches[j];
+      const std::vector<Vec3d> poly = {Vec3d(p.v[0]), Vec3d(p.v[1]), Vec3d(p.v[2]), Vec3d(p.v[3])};
+      const double exact = analytic::solidAnglePolygon(Vec3d(0, 1, 0), poly) / (4 * kPi);
+      const double got = rowSum(t, j) * p.area;
+      sum += got, sq += (got - exact) * (got - exact) / (exact * exact);
+      zero += got == 0;
+    }
+    const std::vector<Vec3d> plane = {{-0.5, 0, -0.5}, {-0.5, 0, 0.5}, {0.5, 0, 0.5}, {0.5, 0, -0.5}};
+    const double exactSum = analytic::solidAnglePolygon(Vec3d(0, 1, 0), plane) / (4 * kPi);
+    const double rms = std::sqrt(sq / t.mesh.size());
+    std::printf("%s: %u patches of 0.26 px: %zu get nothing, per-patch RMS rel. error %.2e, total rel. error %.2e\n",
+                estimator, t.mesh.size(), zero, rms, std::abs(sum - exactSum) / exactSum);
+    EXPECT_NEAR(sum, exactSum, 0.01 * exactSum) << estimator;  // the total is right
+    if (std::string(estimator) == "pixels") {
+      EXPECT_GT(zero, t.mesh.size() / 2);  // ...but most get nothing
+    } else {
+      EXPECT_EQ(zero, 0u);  // each its own share
+      EXPECT_LT(rms, 1e-5);
+      EXPECT_NEAR(sum, exactSum, 1e-5 * exactSum);
+    }
   }
-  const std::vector<Vec3d> plane = {{-0.5, 0, -0.5}, {-0.5, 0, 0.5}, {0.5, 0, 0.5}, {0.5, 0, -0.5}};
-  const double exactSum = analytic::solidAnglePolygon(Vec3d(0, 1, 0), plane) / (4 * kPi);
-  std::printf("%u patches of 0.26 px: %zu get nothing, per-patch RMS rel. error %.2f, total rel. error %.5f\n",
-              t.mesh.size(), zero, std::sqrt(sq / t.mesh.size()), std::abs(sum - exactSum) / exactSum);
-  EXPECT_GT(zero, t.mesh.size() / 2);          // most get nothing...
-  EXPECT_NEAR(sum, exactSum, 0.01 * exactSum); // ...but the total is right
 }
 
 // A directional light straight down on a floor: r_ij = 1 for every patch (E = E⊥).

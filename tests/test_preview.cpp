@@ -225,9 +225,12 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   const auto pre = test::run(kPreprocess + " " + cornell() + " -o " + fsd + " --backend embree --resolution 32 --patch-size 0.1 -q");
   ASSERT_EQ(pre.exitCode, 0) << pre.output;
   const std::string common = cornell() + " --firstshot " + fsd + " --width 64 --height 64";
-  // Direct light only, first-shot at the camera-visible patch: flat radiance per patch side, and
-  // with every light of the Cornell box replaced by first-shot there is no noise: the offline image
-  // is the pixel average of the same piecewise-constant picture the raster samples at pixel centres.
+  // Direct light only, first-shot at the camera-visible patch. The instant picture is flat per
+  // patch side (the patch-averaged irradiance, FirstShotTable::sideIrradiance); the offline render
+  // evaluates the first-shot term per point (render/direct_light.h), whose average over a patch is
+  // that same value. With every light of the Cornell box replaced there is no noise, and the two
+  // pictures agree on the whole up to how unevenly the pixels sample each patch (0.1 m patches:
+  // the flat picture measured 5.3% darker, the bias that per-point evaluation removes).
   const auto offline = test::run(kRender + " " + common + " --primary patch --max-depth 1 --spp 16 -q -o " + dir + "/direct.exr");
   ASSERT_EQ(offline.exitCode, 0) << offline.output;
   const auto preview = runUnderXvfb(common + " --preview --frames 0 --screenshot " + dir + "/instant.png");
@@ -239,43 +242,23 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   const int w = direct.width, h = direct.height;
   auto at = [&](const Image& im, int x, int y, int c) { return double(im.v[(size_t(y) * w + x) * 3 + c]); };
   auto equal = [](double a, double b) { return std::abs(a - b) <= 1e-5 * std::max(1.0, std::abs(a)); };
-  // A pixel inside one patch (or the light, or the background) sees one constant value: there the
-  // offline average equals the raster's centre sample to float precision. A pixel may differ only
-  // if its footprint holds an edge, and then the instant picture changes within its 3×3
-  // neighbourhood (an edge through a footprint separates its centre from a neighbour's centre,
-  // unless a feature is thinner than a pixel).
-  size_t same = 0, offEdge = 0;
-  double sumInstant = 0;
+  double sumInstant = 0, sumDirect = 0;
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      bool ok = true, flat = true;
-      for (int c = 0; c < 3; ++c) {
-        ok = ok && equal(at(direct, x, y, c), at(instant, x, y, c));
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int nx = std::clamp(x + dx, 0, w - 1), ny = std::clamp(y + dy, 0, h - 1);
-            flat = flat && equal(at(instant, nx, ny, c), at(instant, x, y, c));
-          }
-        sumInstant += at(instant, x, y, c);
-      }
-      same += ok;
-      offEdge += !ok && flat;
-    }
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) sumInstant += at(instant, x, y, c), sumDirect += at(direct, x, y, c);
   const double pixels = double(w) * h;
-  fmt::print("instant vs direct first-shot: {:.1f}% of pixels equal, {} differing pixels away from edges\n",
-             100 * same / pixels, offEdge);
-  EXPECT_GT(same / pixels, 0.5);           // with 0.1 m patches most pixels lie inside one
-  EXPECT_LE(double(offEdge), 0.01 * pixels);  // sub-pixel features only
+  fmt::print("instant vs direct first-shot: image sums {:.4f} vs {:.4f}\n", sumInstant, sumDirect);
   EXPECT_GT(sumInstant, 0.0);
+  EXPECT_NEAR(sumInstant, sumDirect, 0.1 * sumDirect);
 
-  // The exact definition of the instant picture: the path integrator's first-shot term (or the
-  // emitted radiance) where the ray through each pixel's centre lands. Raster and ray casting may
-  // disagree only for a centre within float rounding of an edge (none at this size; allow 1 %).
+  // The exact definition of the instant picture: ρ/π × the patch-averaged first-shot irradiance on
+  // the viewer's side (or the emitted radiance) where the ray through each pixel's centre lands.
+  // Raster and ray casting may disagree only for a centre within float rounding of an edge (none at
+  // this size; allow 1 %).
   SceneDesc desc = loadScene(cornell());
   desc.camera.width = w, desc.camera.height = h;
   const RenderScene scene(desc, readFirstShot(fsd), fsd);
-  PathIntegrator path(IntegratorOptions{});
-  path.preprocess(scene);
+  const std::vector<Color> side = scene.firstShot()->sideIrradiance();
   const Camera camera(desc.camera);
   size_t exact = 0;
   for (int y = 0; y < h; ++y)
@@ -286,7 +269,10 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
       if (scene.intersect(ray, hit)) {
         const Vec3 wo = -ray.d;
         const Frame frame(hit.ng);
-        expected = hit.onPatch() ? path.firstShot(hit, frame, frame.toLocal(wo), scene.bsdf(scene.material(hit)))
+        const Vec3 woLocal = frame.toLocal(wo);
+        const bool front = woLocal.z > 0.0f;
+        expected = hit.onPatch() ? scene.bsdf(scene.material(hit)).eval(BSDFQuery(Vec3(0, 0, front ? 1 : -1), woLocal)) *
+                                       side[2 * size_t(hit.patch) + (front ? 0 : 1)]
                                  : scene.lights().emitted(hit.emitter, hit.ng, wo);
       }
       bool ok = true;

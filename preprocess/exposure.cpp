@@ -1,0 +1,95 @@
+#include "preprocess/exposure.h"
+
+#include <cmath>
+#include <limits>
+
+namespace fs {
+
+bool ExposureQuery::buried(const Vec3d& x) const {
+  if (!mask || !mask->partial) return false;
+  size_t best = 0;
+  double bestD = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < mask->points.size(); ++k) {
+    const Vec3d d = mask->points[k] - x;
+    const double d2 = glm::dot(d, d);
+    if (d2 < bestD) bestD = d2, best = k;
+  }
+  return mask->border[best] ? cache->probe(patch, side, x) : mask->buried[best] != 0;
+}
+
+ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid, int directions)
+    : mesh_(mesh), rays_(rays), grid_(grid), once_(new std::once_flag[2 * size_t(mesh.size())]),
+      masks_(2 * size_t(mesh.size())) {
+  // Stratified cosine-weighted directions: n×n strata, each at its centre.
+  const int n = std::max(1, int(std::lround(std::sqrt(double(directions)))));
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+      const double r = std::sqrt(u), phi = 2.0 * kPi * v;
+      directions_.emplace_back(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1.0 - u)));
+    }
+  Bounds3d b;
+  for (const Patch& p : mesh.patches)
+    for (uint32_t k = 0; k < p.count; ++k) b.extend(Vec3d(p.v[k]));
+  offset_ = 1e-6 * std::max(b.diagonal(), 1e-30);
+}
+
+const ExposureMask& ExposureCache::mask(uint32_t patch, int side) {
+  std::call_once(once_[2 * size_t(patch) + side], [&] { compute(patch, side); });
+  return masks_[2 * size_t(patch) + side];
+}
+
+void ExposureCache::compute(uint32_t patch, int side) {
+  const Patch& p = mesh_.patches[patch];
+  ExposureMask& m = masks_[2 * size_t(patch) + side];
+  // Probe points, evenly spread: cell centres of a grid × grid bilinear split of a quad, centroids of
+  // the grid² sub-triangles of a triangle.
+  const Vec3d v0(p.v[0]), v1(p.v[1]), v2(p.v[2]), v3(p.v[p.count == 4 ? 3 : 2]);
+  for (int j = 0; j < grid_; ++j)
+    for (int i = 0; i < grid_; ++i) {
+      if (p.count == 4) {
+        const double u = (i + 0.5) / grid_, v = (j + 0.5) / grid_;
+        m.points.push_back((1 - u) * (1 - v) * v0 + u * (1 - v) * v1 + u * v * v2 + (1 - u) * v * v3);
+      } else if (i + j < grid_) {  // upward sub-triangle (i, j), and the downward one beside it
+        const auto at = [&](double a, double b) { return v0 + (a / grid_) * (v1 - v0) + (b / grid_) * (v2 - v0); };
+        m.points.push_back(at(i + 1.0 / 3, j + 1.0 / 3));
+        if (i + j + 1 < grid_) m.points.push_back(at(i + 2.0 / 3, j + 2.0 / 3));
+      }
+    }
+  size_t buried = 0;
+  m.buried.assign(m.points.size(), 0);
+  for (size_t k = 0; k < m.points.size(); ++k) {
+    m.buried[k] = probe(patch, side, m.points[k]);
+    buried += m.buried[k];
+  }
+  m.partial = buried > 0 && buried < m.points.size();
+  // Border probes: a disagreeing probe within 1.5 grid steps (a step: the longest side or
+  // diagonal of the patch / grid).
+  double step = 0;
+  for (uint32_t k = 0; k < p.count; ++k)
+    for (uint32_t l = k + 1; l < p.count; ++l) step = std::max(step, glm::length(Vec3d(p.v[l]) - Vec3d(p.v[k])));
+  const double r2 = (1.5 * step / grid_) * (1.5 * step / grid_);
+  m.border.assign(m.points.size(), 0);
+  if (m.partial)
+    for (size_t k = 0; k < m.points.size(); ++k)
+      for (size_t l = 0; l < m.points.size() && !m.border[k]; ++l) {
+        const Vec3d d = m.points[k] - m.points[l];
+        m.border[k] = m.buried[k] != m.buried[l] && glm::dot(d, d) <= r2;
+      }
+}
+
+bool ExposureCache::probe(uint32_t patch, int side, const Vec3d& x) const {
+  const Vec3d n = glm::normalize(Vec3d(mesh_.patches[patch].normal)) * (side == 0 ? 1.0 : -1.0);
+  const Framed frame(n);
+  const Vec3d o = x + offset_ * n;
+  size_t back = 0;
+  for (const Vec3d& l : directions_) {
+    const Vec3d d = l.x * frame.s + l.y * frame.t + l.z * frame.n;
+    double t = 0;
+    const uint32_t hit = rays_.firstHit(o, d, std::numeric_limits<double>::infinity(), t);
+    if (hit != kNoPatch && hit != patch && glm::dot(d, Vec3d(mesh_.patches[hit].normal)) > 0) ++back;
+  }
+  return 2 * back > directions_.size();
+}
+
+}  // namespace fs

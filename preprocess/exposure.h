@@ -1,0 +1,73 @@
+#pragma once
+/// @file exposure.h
+/// Points of a patch buried inside closed objects: the floor under a box standing on it, the wall
+/// behind a partition built against it. No ray from the rest of the scene reaches them, so the
+/// renderer never shades them; a visible fraction that counted them as lit area that happens to be
+/// occluded would darken the exposed rest of the patch (the first-shot term at x is V_ij × the
+/// unoccluded irradiance at x, render/direct_light.h). The analytic estimator therefore takes the
+/// visible fraction over the exposed part of a patch only (preprocess/coverage.h).
+///
+/// Test (the rule of lightmap bakers): a point is buried on one side of its patch when most of the
+/// rays leaving it over that side's hemisphere hit the back face of a patch (the side its normal
+/// points away from); surfaces of closed objects face outwards. Each patch side is probed at a
+/// grid of points, on first use.
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "common/math.h"
+#include "common/patches.h"
+#include "preprocess/embree_item_buffer.h"
+
+namespace fs {
+
+/// Probe points of one side of a patch and which of them are buried.
+struct ExposureMask {
+  std::vector<Vec3d> points;    ///< world positions on the patch, m
+  std::vector<uint8_t> buried;  ///< 1 if the point is buried
+  std::vector<uint8_t> border;  ///< 1 if a probe about one grid step away disagrees
+  /// True when some points are buried and some are not (otherwise the mask changes nothing: a
+  /// patch buried whole is never shaded, and a wrongly oriented surface must not blank a patch).
+  bool partial = false;
+};
+
+class ExposureCache;
+
+/// Whether points of one side of one patch are buried: the nearest probe decides, unless it lies
+/// on the border between buried and exposed probes, where the point itself is probed with rays.
+struct ExposureQuery {
+  const ExposureCache* cache = nullptr;
+  const ExposureMask* mask = nullptr;
+  uint32_t patch = 0;
+  int side = 0;
+  /// False unless the mask is partial.
+  bool buried(const Vec3d& x) const;
+};
+
+/// Lazily computed exposure masks of every patch side; thread-safe.
+class ExposureCache {
+ public:
+  /// @p rays traces the same patches as @p mesh; both must outlive the cache. @p grid probe points
+  /// per patch edge, @p directions rays per point (a stratified cosine-weighted set).
+  ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid = 6, int directions = 16);
+  /// The mask of side @p side (0: the normal's side, 1: the other) of patch @p patch.
+  const ExposureMask& mask(uint32_t patch, int side);
+  /// The ray caster the probes use (the preprocessor's exact point-visibility tests use it too).
+  const EmbreeItemBuffer& rays() const { return rays_; }
+  /// The ray test itself at point @p x of side @p side of patch @p patch.
+  bool probe(uint32_t patch, int side, const Vec3d& x) const;
+
+ private:
+  void compute(uint32_t patch, int side);
+
+  const PatchMesh& mesh_;
+  const EmbreeItemBuffer& rays_;
+  int grid_;
+  std::vector<Vec3d> directions_;  ///< local frame, z up
+  std::unique_ptr<std::once_flag[]> once_;
+  std::vector<ExposureMask> masks_;  ///< 2 per patch
+  double offset_ = 0;                ///< ray origins off the patch, m
+};
+
+}  // namespace fs
