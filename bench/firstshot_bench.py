@@ -90,11 +90,11 @@ METHODS = {
     "path-tree": Method("path", ["--light-sampler", "tree"], False, True,
                         "path tracing, a light tree picks one light per vertex"),
     "path+firstshot": Method("path", ["--light-sampler", "all", "--patch-nee", "off"], True, False,
-                             "path tracing with first-shot (defaults: shadow rays to every small light at "
-                             "camera-visible surfaces, lit patches met by BSDF sampling)"),
+                             "path tracing with first-shot; shadow rays to every small light at camera-visible "
+                             "surfaces, lit patches met by BSDF sampling"),
     "path+firstshot-tree": Method("path", ["--light-sampler", "tree", "--patch-nee", "off"], True, False,
-                                  "path tracing with first-shot; a light tree picks the small light at "
-                                  "camera-visible surfaces"),
+                                  "path tracing with first-shot (the renderer's defaults); a light tree picks the "
+                                  "small light at camera-visible surfaces"),
     "path+firstshot-patchnee": Method("path", ["--light-sampler", "all", "--patch-nee", "every"], True, False,
                                       "path tracing with first-shot; lit patches sampled as lights at every vertex"),
     "irradiance-cache": Method("irradiance-cache", ["--light-sampler", "tree"] + IC_ARGS, False, False,

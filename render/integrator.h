@@ -42,7 +42,7 @@ struct IntegratorOptions {
   int rrDepth = 3;    ///< Russian roulette from this many bounces on
   PrimaryMode primary = PrimaryMode::Exact;
   /// How NEE chooses lights: one sample of every light, or one light chosen by a light tree.
-  LightStrategy lightSampler = LightStrategy::All;
+  LightStrategy lightSampler = LightStrategy::Tree;
   /// With a first-shot table: where to sample the lit patches as area emitters.
   PatchNee patchNee = PatchNee::Off;
   /// Weight the light trees by the visibility of their emitters, estimated per grid cell.

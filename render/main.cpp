@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   return fs::runTool("firstshot-render", [&] {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
-    std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "all", patchNee = "off",
+    std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "off",
                 lightVisibility = "on";
     std::vector<std::string> outputs;
     int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;

@@ -57,6 +57,7 @@ test::BiasMeasure imageBias(const SceneDesc& desc, int spp) {
   const RenderScene nee(desc, desc.settings.patchSize), fs(desc, test::preprocessDefault(desc));
   IntegratorOptions io;
   io.maxDepth = 3;
+  io.lightSampler = LightStrategy::All;  // pairing: both integrators draw the same random numbers
   auto a = makeIntegrator("path", io), b = makeIntegrator("path", io);
   a->preprocess(fs);
   b->preprocess(nee);
@@ -226,6 +227,7 @@ TEST(FirstShotBias, DISABLED_Measure) {
     const RenderScene nee(desc, table.mesh.patchSize), fsScene(desc, std::move(table));
     IntegratorOptions io;
     io.maxDepth = std::getenv("FSBIAS_DEPTH") ? std::atoi(std::getenv("FSBIAS_DEPTH")) : 3;
+    io.lightSampler = LightStrategy::All;  // pairing: both integrators draw the same random numbers
     auto a = makeIntegrator("path", io), b = makeIntegrator("path", io);
     a->preprocess(fsScene);
     b->preprocess(nee);
