@@ -26,8 +26,9 @@ METHODS = [
     ("path (NEE to every light)", False, ["--light-sampler", "all"]),
     ("path, light tree", False, ["--light-sampler", "tree"]),
     ("path, light tree without visibility", False, ["--light-sampler", "tree", "--light-visibility", "off"]),
-    ("first-shot, patch NEE (default)", True, []),
-    ("first-shot, no patch NEE", True, ["--patch-nee", "off"]),
+    ("first-shot (defaults: light tree, no patch NEE)", True, []),
+    ("first-shot, patch NEE at every vertex", True, ["--patch-nee", "every"]),
+    ("first-shot, patch NEE at the first vertex", True, ["--patch-nee", "first"]),
     ("first-shot, all small lights at camera hits", True, ["--light-sampler", "all", "--patch-nee", "off"]),
 ]
 
