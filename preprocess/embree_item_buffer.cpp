@@ -81,19 +81,24 @@ void tracePackets(RTCScene scene, const RaySetup& setup, const std::vector<uint3
     }
 }
 
-void initRay(RTCRayHit& rh, const RaySetup& setup, int i, int j) {
-  float org[3], dir[3];
-  setup(i, j, org, dir);
+/// A single ray with no hit yet.
+void fillRay(RTCRayHit& rh, const float org[3], const float dir[3], float tnear, float tfar) {
   rh.ray.org_x = org[0], rh.ray.org_y = org[1], rh.ray.org_z = org[2];
   rh.ray.dir_x = dir[0], rh.ray.dir_y = dir[1], rh.ray.dir_z = dir[2];
-  rh.ray.tnear = setup.tnear;
-  rh.ray.tfar = setup.tfar;
+  rh.ray.tnear = tnear;
+  rh.ray.tfar = tfar;
   rh.ray.time = 0;
   rh.ray.mask = 0xFFFFFFFFu;
   rh.ray.id = 0;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+void initRay(RTCRayHit& rh, const RaySetup& setup, int i, int j) {
+  float org[3], dir[3];
+  setup(i, j, org, dir);
+  fillRay(rh, org, dir, setup.tnear, setup.tfar);
 }
 
 }  // namespace
@@ -147,16 +152,9 @@ uint32_t EmbreeItemBuffer::firstHit(const Vec3d& origin, const Vec3d& direction,
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh;
-  rh.ray.org_x = float(origin.x), rh.ray.org_y = float(origin.y), rh.ray.org_z = float(origin.z);
-  rh.ray.dir_x = float(direction.x), rh.ray.dir_y = float(direction.y), rh.ray.dir_z = float(direction.z);
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = float(tfar);
-  rh.ray.time = 0;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  const float org[3] = {float(origin.x), float(origin.y), float(origin.z)};
+  const float dir[3] = {float(direction.x), float(direction.y), float(direction.z)};
+  fillRay(rh, org, dir, 0.0f, float(tfar));
   rtcIntersect1(scene_, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return kNoPatch;
   t = rh.ray.tfar;
