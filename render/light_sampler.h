@@ -37,7 +37,6 @@ struct NeeRequest {
   bool kept = false;      ///< the lights the table does not replace (every light without a table)
   bool replaced = false;  ///< the table's small lights (a vertex that does not use the table)
   bool patches = false;   ///< the first-shot patches
-  bool any() const { return kept || replaced || patches; }
 };
 
 class LightSampler {
@@ -53,8 +52,6 @@ class LightSampler {
   LightStrategy strategy() const { return strategy_; }
   /// True if patch emitters exist (a table with lit patches and patch emitters asked for).
   bool hasPatchEmitters() const { return patchCount_ > 0; }
-  /// Number of patch emitters (patch sides that emit).
-  size_t patchEmitterCount() const { return patchCount_; }
 
   /// NEE at a non-delta vertex: Σ f·|cos θ_i|·L/pdf over the chosen emitters that are unoccluded,
   /// area emitters weighted against BSDF sampling. @p rays counts the shadow rays.

@@ -46,7 +46,6 @@ class LightTree {
                      int maxLeaf = 8);
 
   bool empty() const { return nodes_.empty(); }
-  size_t emitterCount() const { return trail_.size(); }
   /// Depth of the deepest leaf (0 for a single emitter).
   int depth() const { return depth_; }
 
