@@ -12,39 +12,12 @@ Vec3 sphericalDirection(float cosTheta, float phi) {
 }
 }  // namespace
 
-Vec2 squareToUniformDiskConcentric(const Vec2& u) {
-  const float a = 2.0f * u.x - 1.0f, b = 2.0f * u.y - 1.0f;
-  if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
-  float r, phi;
-  if (std::abs(a) > std::abs(b)) {
-    r = a;
-    phi = 0.25f * kPiF * (b / a);
-  } else {
-    r = b;
-    phi = 0.5f * kPiF - 0.25f * kPiF * (a / b);
-  }
-  return {r * std::cos(phi), r * std::sin(phi)};
-}
-
 Vec3 squareToUniformSphere(const Vec2& u) {
   const float z = 1.0f - 2.0f * u.x;
   return sphericalDirection(z, 2.0f * kPiF * u.y);
 }
 
 Vec3 squareToUniformHemisphere(const Vec2& u) { return sphericalDirection(u.x, 2.0f * kPiF * u.y); }
-
-Vec3 squareToCosineHemisphere(const Vec2& u) {
-  const Vec2 d = squareToUniformDiskConcentric(u);
-  const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
-  return {d.x, d.y, z};
-}
-
-Vec3 squareToUniformTriangle(const Vec2& u) {
-  const float s = std::sqrt(u.x);
-  const float b0 = 1.0f - s;
-  const float b1 = u.y * s;
-  return {b0, b1, std::max(0.0f, 1.0f - b0 - b1)};
-}
 
 Vec3 squareToPhongLobe(const Vec2& u, float n) {
   // CDF of cos α under (n+1) cos^n α sin α dα is cos^{n+1} α, measured from the rim.

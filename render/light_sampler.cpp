@@ -132,9 +132,14 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
     addPatches(groups_[kPatches], kPatches, bounds[kPatches]);
   }
   for (int g = 0; g < 3; ++g) {
-    // Patches are small and many: up to kPatchLeaf of them share a leaf, chosen there by power.
-    std::vector<uint8_t> groupable(groups_[g].emitters.size());
-    for (size_t e = 0; e < groupable.size(); ++e) groupable[e] = groups_[g].emitters[e].kind == Emitter::Kind::Patch;
+    // Patches are small and many, and the triangles of one area light lie together: up to
+    // kPatchLeaf of either share a leaf, chosen there by power, which spares the descent.
+    std::vector<uint32_t> groupable(groups_[g].emitters.size(), 0);
+    for (size_t e = 0; e < groupable.size(); ++e) {
+      const Emitter& em = groups_[g].emitters[e];
+      if (em.kind == Emitter::Kind::Patch) groupable[e] = 1;  // a group of its own: no lights in it
+      if (em.kind == Emitter::Kind::Triangle) groupable[e] = em.index + 1;
+    }
     groups_[g].tree = LightTree(bounds[g], &groupable, kPatchLeaf);
   }
   grid_ = VisibilityGrid();

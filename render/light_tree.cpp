@@ -22,7 +22,7 @@ float cost(const LightBounds& b) { return b.phi * orientationMeasure(b) * sizeMe
 
 }  // namespace
 
-LightTree::LightTree(const std::vector<LightBounds>& emitters, const std::vector<uint8_t>* groupable, int maxLeaf) {
+LightTree::LightTree(const std::vector<LightBounds>& emitters, const std::vector<uint32_t>* groupable, int maxLeaf) {
   trail_.assign(emitters.size(), 0);
   trailDepth_.assign(emitters.size(), 255);
   inLeaf_.assign(emitters.size(), 0.0f);
@@ -66,7 +66,8 @@ uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, ui
   bool leaf = end - begin == 1;
   if (!leaf && groupable_ && end - begin <= size_t(maxLeaf_)) {
     leaf = true;
-    for (size_t i = begin; i < end && leaf; ++i) leaf = (*groupable_)[items[i].index] != 0;
+    const uint32_t group = (*groupable_)[items[begin].index];
+    for (size_t i = begin; i < end && leaf; ++i) leaf = group != 0 && (*groupable_)[items[i].index] == group;
   }
   if (leaf) {
     Node& node = nodes_[self];
@@ -204,6 +205,7 @@ void LightTree::setVisibility(const VisibilityGrid* grid, int D, const std::vect
 uint32_t LightTree::descend(const Vec3& p, const Vec3& n, float& u, float& pmf) const {
   pmf = 1.0f;
   uint32_t node = 0;
+  if (nodes_[0].count > 0) return 0;  // a single leaf: chosen within it by power alone
   const float* vis = visibilityRow(p);
   while (nodes_[node].count == 0) {
     float p0;
@@ -221,7 +223,6 @@ uint32_t LightTree::descend(const Vec3& p, const Vec3& n, float& u, float& pmf) 
       node = nodes_[node].child;
     }
   }
-  if (node == 0 && !(nodes_[0].importance(p, n) > 0.0f)) pmf = 0.0f;
   return node;
 }
 
@@ -239,7 +240,7 @@ bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, f
 float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t index) const {
   if (index >= trailDepth_.size() || trailDepth_[index] == 255) return 0.0f;
   float pmf = 1.0f;
-  if (nodes_[0].count > 0) return nodes_[0].importance(p, n) > 0.0f ? inLeaf_[index] : 0.0f;
+  if (nodes_[0].count > 0) return inLeaf_[index];  // as descend(): no importance for a single leaf
   const uint64_t trail = trail_[index];
   const float* vis = visibilityRow(p);
   uint32_t node = 0;

@@ -41,8 +41,9 @@ class LightTree {
  public:
   LightTree() = default;
   /// Builds the tree over @p emitters; emitter k keeps index k. Emitters with zero power are
-  /// never chosen. Emitters with (*groupable)[k] != 0 may share leaves of up to @p maxLeaf.
-  explicit LightTree(const std::vector<LightBounds>& emitters, const std::vector<uint8_t>* groupable = nullptr,
+  /// never chosen. Emitters with the same nonzero (*groupable)[k] (e.g. the patches, or the triangles
+  /// of one area light) may share leaves of up to @p maxLeaf; 0 keeps an emitter in a leaf of its own.
+  explicit LightTree(const std::vector<LightBounds>& emitters, const std::vector<uint32_t>* groupable = nullptr,
                      int maxLeaf = 8);
 
   bool empty() const { return nodes_.empty(); }
@@ -104,7 +105,7 @@ class LightTree {
   std::vector<float> power_;         ///< per emitter: its power, W
   std::vector<uint32_t> leaf_;       ///< emitters of the leaves, leaf by leaf
   std::vector<float> leafCdf_;       ///< beside leaf_: cumulative power share within the leaf (last 1)
-  const std::vector<uint8_t>* groupable_ = nullptr;  ///< during construction only
+  const std::vector<uint32_t>* groupable_ = nullptr;  ///< during construction only
   int maxLeaf_ = 1;
   const VisibilityGrid* grid_ = nullptr;
   std::vector<float> visibility_;    ///< per grid row: one factor per top node

@@ -43,16 +43,14 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
   bsdfs_.reserve(desc_.materials.size());
   for (const MaterialDesc& m : desc_.materials) bsdfs_.push_back(makeBSDF(m));
   lights_ = LightSet(desc_, replaced);
+  patchMaterial_.reserve(mesh().size());
+  for (const Patch& p : mesh().patches) patchMaterial_.push_back(p.material);
   for (const RenderLight& l : lights_.lights())
     if (l.type == LightType::Area) {
       if (emitterMaterial_.size() <= l.emitter) emitterMaterial_.resize(l.emitter + 1);
       emitterMaterial_[l.emitter] = static_cast<uint32_t>(desc_.shapes[size_t(l.desc.shape)].material);
     }
   embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes());
-}
-
-uint32_t RenderScene::material(const Hit& hit) const {
-  return hit.onPatch() ? mesh().patches[hit.patch].material : emitterMaterial_[hit.emitter];
 }
 
 }  // namespace fs

@@ -41,7 +41,9 @@ class RenderScene {
   /// The BSDF of material @p m.
   const BSDF& bsdf(uint32_t m) const { return bsdfs_[m]; }
   /// The material of a hit (patch or emitter).
-  uint32_t material(const Hit& hit) const;
+  uint32_t material(const Hit& hit) const {
+    return hit.onPatch() ? patchMaterial_[hit.patch] : emitterMaterial_[hit.emitter];
+  }
 
   bool intersect(const Ray& ray, Hit& hit) const { return embree_->intersect(ray, hit); }
   bool occluded(const Ray& ray) const { return embree_->occluded(ray); }
@@ -54,6 +56,7 @@ class RenderScene {
   std::optional<FirstShotTable> table_;
   PatchMesh mesh_;  ///< used when there is no table
   std::vector<BSDF> bsdfs_;
+  std::vector<uint32_t> patchMaterial_;  ///< by patch: a compact copy of Patch::material for the hot path
   std::vector<uint32_t> emitterMaterial_;
   LightSet lights_;
   std::unique_ptr<EmbreeScene> embree_;

@@ -60,7 +60,7 @@ INSTANTIATE_TEST_SUITE_P(LeafSizes, LightTreeLeaves, testing::Values(1, 8));
 TEST_P(LightTreeLeaves, SampledPmfEqualsQueriedPmfAndSumsToAtMostOne) {
   std::mt19937 rng(7);
   const auto emitters = randomEmitters(300, rng);
-  std::vector<uint8_t> groupable(emitters.size());
+  std::vector<uint32_t> groupable(emitters.size());
   for (size_t e = 0; e < groupable.size(); ++e) groupable[e] = e % 3 != 0;
   const LightTree tree(emitters, &groupable, GetParam());
   ASSERT_FALSE(tree.empty());
@@ -94,7 +94,7 @@ TEST_P(LightTreeLeaves, PmfsSumToOneWhenEveryEmitterCanLight) {
   std::vector<LightBounds> emitters(257);
   for (LightBounds& b : emitters) b.lo = b.hi = Vec3(pos(rng), pos(rng), pos(rng)), b.phi = power(rng);
   emitters[100].phi = 0.0f;  // never chosen
-  const std::vector<uint8_t> groupable(emitters.size(), 1);
+  const std::vector<uint32_t> groupable(emitters.size(), 1);
   const LightTree tree(emitters, &groupable, GetParam());
   if (GetParam() > 1) {
     EXPECT_LT(tree.depth(), LightTree(emitters).depth()) << "leaves of several emitters: a shallower tree";
@@ -113,7 +113,7 @@ TEST_P(LightTreeLeaves, PmfsSumToOneWhenEveryEmitterCanLight) {
 TEST_P(LightTreeLeaves, SampleFrequenciesFollowThePmf) {
   std::mt19937 rng(11);
   const auto emitters = randomEmitters(60, rng);
-  const std::vector<uint8_t> groupable(emitters.size(), 1);
+  const std::vector<uint32_t> groupable(emitters.size(), 1);
   const LightTree tree(emitters, &groupable, GetParam());
   const Vec3 p(0.3f, -0.2f, 0.1f), n = glm::normalize(Vec3(0.2f, 1.0f, -0.1f));
   const int N = 200000;
@@ -176,7 +176,16 @@ TEST(LightTree, EmptyAndSingle) {
   EXPECT_EQ(index, 0u);
   EXPECT_EQ(pmf, 1.0f);
   EXPECT_EQ(one.pmf(Vec3(0.0f), Vec3(0, 1, 0), 0), 1.0f);
-  EXPECT_FALSE(one.sample(Vec3(0.0f), Vec3(0, -1, 0), 0.7f, index, pmf)) << "below the receiver's horizon";
+  // A tree that is a single leaf chooses by power without bounds (the BSDF then gives 0 below the
+  // horizon, before any shadow ray); sample and pmf still agree.
+  ASSERT_TRUE(one.sample(Vec3(0.0f), Vec3(0, -1, 0), 0.7f, index, pmf));
+  EXPECT_EQ(pmf, one.pmf(Vec3(0.0f), Vec3(0, -1, 0), 0));
+  // With two leaves the bounds cull: both emitters below the receiver's horizon.
+  LightBounds c = b;
+  c.lo = c.hi = Vec3(3, 1, 0);
+  const LightTree two(std::vector<LightBounds>{b, c});
+  EXPECT_FALSE(two.sample(Vec3(0.0f), Vec3(0, -1, 0), 0.7f, index, pmf)) << "below the receiver's horizon";
+  EXPECT_EQ(two.pmf(Vec3(0.0f), Vec3(0, -1, 0), 0), 0.0f);
 }
 
 /// Visibility factors per grid cell change the probabilities, never their consistency: the pmf a
@@ -184,7 +193,7 @@ TEST(LightTree, EmptyAndSingle) {
 TEST(LightTree, VisibilityFactorsKeepSampleAndPmfConsistent) {
   std::mt19937 rng(5);
   const auto emitters = randomEmitters(200, rng);
-  const std::vector<uint8_t> groupable(emitters.size(), 1);
+  const std::vector<uint32_t> groupable(emitters.size(), 1);
   LightTree tree(emitters, &groupable, 4);
   VisibilityGrid grid;
   grid.origin = Vec3(-6.0f);

@@ -131,6 +131,25 @@ TEST(Warps, ConcentricDisk) {
   EXPECT_NEAR(sum * 4.0 / (double(g) * g), 1.0, 1e-4);
 }
 
+TEST(Warps, QuarterSinCosMatchesTheLibrary) {
+  // The polynomial sin/cos behind the concentric mapping, on a fine grid over [−π/4, π/4].
+  double worst = 0;
+  for (int i = -4096; i <= 4096; ++i) {
+    const float t = float(i) / 4096.0f * 0.25f * kPiF;
+    float c, s;
+    detail::sinCosQuarter(t, c, s);
+    worst = std::max({worst, std::abs(double(c) - std::cos(double(t))), std::abs(double(s) - std::sin(double(t)))});
+  }
+  EXPECT_LT(worst, 4e-7);
+  std::printf("quarter sin/cos: max abs error %.2e\n", worst);
+  // The disk mapping's sector corners land on the unit circle.
+  for (const Vec2 u : {Vec2(1, 1), Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(1, 0.5f), Vec2(0.5f, 1)}) {
+    const Vec2 p = squareToUniformDiskConcentric(u);
+    EXPECT_NEAR(double(p.x) * p.x + double(p.y) * p.y, 1.0, 1e-6) << u.x << "," << u.y;
+  }
+  EXPECT_EQ(squareToUniformDiskConcentric(Vec2(0.5f, 0.5f)), Vec2(0.0f));
+}
+
 TEST(Warps, UniformTriangle) {
   // Cells of a g×g grid over the (b1, b2) parameter square; the triangle b1 + b2 ≤ 1 has area 1/2,
   // density 2: inner cells expect 2h², diagonal cells h², cells outside 0.
