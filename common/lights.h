@@ -21,26 +21,34 @@ namespace fs {
 /// Intensity of an isotropic point light, Φ/(4π) in W/sr.
 inline Color pointIntensity(const LightDesc& l) { return l.power * static_cast<float>(0.25 * kInvPi); }
 
-/// Spot profile in [0, 1] for the cosine of the angle between the emitted direction and the axis:
-/// 1 for cosθ ≥ cos(inner), 0 for cosθ ≤ cos(outer), smoothstep in cosθ between.
-/// A hard-edged spot (inner == outer) is a step: 1 for cosθ ≥ cos(inner).
+/// A spot's cone, precomputed: the profile without trigonometry per call.
+struct SpotCone {
+  double cosInner = 1.0, cosOuter = 1.0;
+  SpotCone() = default;
+  explicit SpotCone(const LightDesc& l)
+      : cosInner(std::cos(glm::radians(l.innerAngleDeg))), cosOuter(std::cos(glm::radians(l.outerAngleDeg))) {}
+
+  /// Profile in [0, 1] for the cosine of the angle between the emitted direction and the axis:
+  /// 1 for cosθ ≥ cos(inner), 0 for cosθ ≤ cos(outer), smoothstep in cosθ between.
+  /// A hard-edged spot (inner == outer) is a step: 1 for cosθ ≥ cos(inner).
+  double profile(double c) const {
+    if (c >= cosInner) return 1.0;
+    if (c <= cosOuter || !(cosInner > cosOuter)) return 0.0;
+    const double t = (c - cosOuter) / (cosInner - cosOuter);
+    return t * t * (3.0 - 2.0 * t);
+  }
+  /// Integral of profile() over the sphere of directions, in sr:
+  /// 2π·[(1 − cos inner) + (cos inner − cos outer)/2].
+  double integral() const { return 2.0 * kPi * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter)); }
+};
+
+/// The profile of spot light @p l (SpotCone::profile).
 inline float spotProfile(const LightDesc& l, float cosTheta) {
-  const double cosInner = std::cos(glm::radians(l.innerAngleDeg));
-  const double cosOuter = std::cos(glm::radians(l.outerAngleDeg));
-  const double c = cosTheta;
-  if (c >= cosInner) return 1.0f;
-  if (c <= cosOuter || !(cosInner > cosOuter)) return 0.0f;
-  const double t = (c - cosOuter) / (cosInner - cosOuter);
-  return static_cast<float>(t * t * (3.0 - 2.0 * t));
+  return static_cast<float>(SpotCone(l).profile(cosTheta));
 }
 
-/// Integral of spotProfile over the sphere of directions, in sr:
-/// 2π·[(1 − cos inner) + (cos inner − cos outer)/2].
-inline double spotProfileIntegral(const LightDesc& l) {
-  const double cosInner = std::cos(glm::radians(l.innerAngleDeg));
-  const double cosOuter = std::cos(glm::radians(l.outerAngleDeg));
-  return 2.0 * kPi * ((1.0 - cosInner) + 0.5 * (cosInner - cosOuter));
-}
+/// Integral of spotProfile over the sphere of directions, in sr (SpotCone::integral).
+inline double spotProfileIntegral(const LightDesc& l) { return SpotCone(l).integral(); }
 
 /// On-axis intensity I0 = Φ / spotProfileIntegral of a spot light in W/sr, so that the total
 /// emitted power is Φ. Zero for a spot of zero solid angle.

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/bsdf.h"
+#include "common/lights.h"
 #include "common/math.h"
 #include "common/rng.h"
 #include "render/ray.h"
@@ -28,19 +29,29 @@ inline float powerHeuristic(float a, float b) {
 /// stops short of the light, which may be emitter geometry itself.
 Ray shadowRay(const Hit& hit, const Vec3& wi, float distance);
 
+/// A spot sample's normalised intensity profile I(ω)/Φ = profile(cos θ)/∫profile, in 1/sr, for
+/// cos θ between the emitted direction and the spot's axis.
+struct SpotKernel {
+  SpotCone cone;
+  float invIntegral = 0.0f;  ///< 1/∫profile dω, 1/sr
+  float operator()(float cosAxis) const { return float(cone.profile(cosAxis)) * invIntegral; }
+};
+
 /// The first-shot term of a scene's table, evaluated at the hit point.
 ///
 /// A factor r_ij is patch j's average irradiance from sample i per unit emission. For point lights
 /// and area-light vertices it is (scale_i/A_j)·V_ij·U_ij, with U_ij the closed-form integral of the
 /// sample's kernel over the whole patch and V_ij the visible fraction (docs/firstshot-format.md);
 /// build() recovers V_ij from r_ij. The irradiance at x on patch j is then modelled as
-///   E(x) = Σ_i emission_i · V_ij · k_i(x),   k_i(x) = cosθ_x/(4πd²) (point), (S_i/3)·cosθ_x·cosθL/d² (area vertex):
+///   E(x) = Σ_i emission_i · V_ij · k_i(x),   k_i(x) = cosθ_x/(4πd²) (point), cosθ_x·profile(θ)/(∫profile·d²)
+///   (spot), (S_i/3)·cosθ_x·cosθL/d² (area vertex):
 /// the exact unoccluded irradiance at x times the visible fraction, whose average over the patch is
 /// the table's Σ_i emission_i r_ij. Evaluated that way for samples closer than kNearPatches patch
 /// diameters; the others vary slowly across the patch and are summed, per side of the patch, into
 /// their exact patch average plus its gradient at the centroid (a linear term, zero on average):
-/// one lookup and one dot product per channel. Directional lights (constant over a patch), spots
-/// (no closed form) and degenerate entries contribute their patch average.
+/// one lookup and one dot product per channel. A spot's U_ij has no closed form: it is integrated
+/// numerically over the patch (midpoint rule), so that its E(x) still averages to r_ij.
+/// Directional lights (constant over a patch) and degenerate entries contribute their patch average.
 class FirstShotLighting {
  public:
   /// Samples closer to a patch's centroid than this many patch diameters are evaluated per point.
@@ -66,6 +77,7 @@ class FirstShotLighting {
   std::vector<SideTerm> side_;  ///< 2j: samples in front of patch j's plane, 2j+1: behind it
   /// Per factor (the table's CSR order): V_ij, or a negative value for a patch-average entry.
   std::vector<float> visible_;
+  std::vector<SpotKernel> spots_;  ///< by light sample: the spot profile (default for other kinds)
   /// CSR over patches of their near factors (indices into the table's factors).
   std::vector<uint64_t> nearStart_, nearFactor_;
 };

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/firstshot.h"
+#include "common/lights.h"
 #include "preprocess/preprocessor.h"
 #include "render/camera.h"
 #include "render/direct_light.h"
@@ -105,8 +106,9 @@ inline BiasMeasure measurePairedBias(const Integrator& a, const Integrator& b, c
 
 /// Irradiance that light sample @p s delivers at point @p x with unit normal @p n (front side
 /// only, no occlusion), W/m²: the exact point-to-sample term the table's factors integrate
-/// (point Φ cosθ/(4πd²), area vertex Le (S_i/3) cosθ cosθL/d², directional E⊥ cosθ). Spots: 0.
-inline Color unoccludedSampleIrradiance(const LightSample& s, const Vec3& x, const Vec3& n) {
+/// (point Φ cosθ/(4πd²), spot Φ cosθ·profile/(∫profile·d²) with @p light the spot's description,
+/// area vertex Le (S_i/3) cosθ cosθL/d², directional E⊥ cosθ).
+inline Color unoccludedSampleIrradiance(const LightSample& s, const Vec3& x, const Vec3& n, const LightDesc* light = nullptr) {
   if (s.kind == LightSampleKind::Directional) return s.emission * std::max(0.0f, -glm::dot(s.normal, n));
   const Vec3 d = s.position - x;
   const float d2 = glm::dot(d, d);
@@ -114,6 +116,10 @@ inline Color unoccludedSampleIrradiance(const LightSample& s, const Vec3& x, con
   const float cosX = glm::dot(wi, n);
   if (!(cosX > 0.0f)) return Color(0.0f);
   if (s.kind == LightSampleKind::Point) return s.emission * (cosX / (4.0f * float(kPi) * d2));
+  if (s.kind == LightSampleKind::Spot && light) {
+    const SpotCone cone(*light);
+    return s.emission * float(cosX * cone.profile(-glm::dot(wi, s.normal)) / (cone.integral() * d2));
+  }
   if (s.kind == LightSampleKind::AreaVertex) {
     const float cosL = -glm::dot(wi, s.normal);
     return cosL > 0.0f ? s.emission * (s.weight * cosX * cosL / d2) : Color(0.0f);
@@ -150,7 +156,7 @@ inline void patchIrradianceMC(const RenderScene& scene, uint32_t j, int n, uint6
     const Vec3 o = x + p.normal * (1e-6f * std::max(1.0f, maxComponent(glm::abs(x))));
     double e = 0;
     for (const LightSample& ls : t.samples) {
-      const Color c = unoccludedSampleIrradiance(ls, x, p.normal);
+      const Color c = unoccludedSampleIrradiance(ls, x, p.normal, &scene.desc().lights[ls.light]);
       if (maxComponent(c) <= 0.0f) continue;
       const bool dir = ls.kind == LightSampleKind::Directional;
       const Vec3 d = dir ? -ls.normal : ls.position - o;
