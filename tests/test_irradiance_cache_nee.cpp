@@ -152,12 +152,12 @@ TEST(IrradianceCacheNee, PatchNeeKeepsTheRecordMean) {
   off.preprocess(scene);
   for (const Vec3 p : {Vec3(1.0f, 1.0f, 1.2f), Vec3(2.0f, 1.0f, 2.1f)}) {
     const Hit hit = hitBelow(scene, p);
-    const Records rOff = records(off, hit, 200, 3);
+    const Records rOff = records(off, hit, 4000, 5);
     ASSERT_GT(rOff.E.mean, 0.0);
     for (float rate : {0.25f, 1.0f, 4.0f}) {
       IrradianceCacheIntegrator on(IntegratorOptions{}, oneBounce(128, rate));
       on.preprocess(scene);
-      const Records rOn = records(on, hit, 200, 4);
+      const Records rOn = records(on, hit, 400, 4);
       const std::string label = fmt::format("point ({}, {}), patch NEE {} per ray vs off", p.x, p.z, rate);
       EXPECT_LT(zScore(rOn, rOff, label), 3.0) << label;
       EXPECT_LT(3.0 * std::hypot(rOn.E.standardError(), rOff.E.standardError()), 0.25 * rOff.E.mean)
