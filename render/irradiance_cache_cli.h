@@ -44,6 +44,9 @@ struct IrradianceCacheCli {
         app.add_option("--neighbour-clamp", neighbourClamp, "irradiance cache: R_i <= R_j + |P_i - P_j| between "
                                                             "neighbouring records")
             ->check(onOff)->capture_default_str(),
+        app.add_option("--ic-patch-nee", settings.patchNee, "irradiance cache with --firstshot: patch NEE samples per "
+                                                            "hemisphere ray of a record, MIS-combined with the rays (0: off)")
+            ->check(CLI::Range(0.0, 64.0))->capture_default_str(),
         app.add_flag("--two-pass", settings.twoPass, "irradiance cache: fill the cache through every pixel first, then "
                                                      "render read-only (image independent of --threads)"),
         app.add_option("--cache-file", settings.cacheFile, "irradiance cache: records read from F if it exists, written "

@@ -26,4 +26,11 @@ enum class IrradianceCacheIntegrator::RayKind : uint8_t {
   Glossy,  ///< a BSDF sample of the non-diffuse part: gathered lights with MIS, small lights not
 };
 
+/// What radiance() reports of a ray's first vertex (for the primary method).
+struct IrradianceCacheIntegrator::FirstVertex {
+  float distance = 0.0f;   ///< to the first hit, m (infinity: the ray escaped)
+  Hit hit;                 ///< the first hit (valid if distance is finite)
+  Color firstShot{0.0f};   ///< first-shot term of the first hit, included in the radiance (W/(m² sr))
+};
+
 }  // namespace fs

@@ -57,10 +57,11 @@ std::string IrradianceCacheIntegrator::settingsText() const {
   const FirstShotTable* t = scene_ ? scene_->firstShot() : nullptr;
   return fmt::format(
       "accuracy={} samples={} bounces={} past-last={} ambient={},{},{} gradients={} clamp-footprint={},{} neighbour-clamp={} "
-      "max-depth={} gathered-lights=[{}] firstshot={}",
+      "max-depth={} gathered-lights=[{}] firstshot={} patch-nee={}",
       settings_.accuracy, settings_.samples, settings_.bounces, settings_.pathContinuation ? "path" : "ambient", settings_.ambient.x, settings_.ambient.y,
       settings_.ambient.z, settings_.gradients ? "on" : "off", settings_.footprintMin, settings_.footprintMax,
-      settings_.neighbourClamp ? "on" : "off", options_.maxDepth, gathered, t ? fmt::format("{:016x}", tableHash(*t)) : "none");
+      settings_.neighbourClamp ? "on" : "off", options_.maxDepth, gathered, t ? fmt::format("{:016x}", tableHash(*t)) : "none",
+      patchNeeOn() ? fmt::format("{}", settings_.patchNee) : "off");
 }
 
 std::vector<IntegratorRecord> IrradianceCacheIntegrator::records() const {
@@ -90,20 +91,20 @@ Color IrradianceCacheIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo
 }
 
 Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, float pathLength, Sampler& sampler,
-                                          Context& ctx, float* firstDistance, SampleInfo* info) const {
+                                          Context& ctx, FirstVertex* first, SampleInfo* info) const {
   const RenderScene& scene = *scene_;
   const LightSet& lights = scene.lights();
   Color L(0.0f), beta(1.0f);
   bool cameraChain = kind == RayKind::Camera;  // only mirrors and glass since the camera
   float prevPdf = 0.0f;
   Vec3 prevP(0.0f);
-  if (firstDistance) *firstDistance = std::numeric_limits<float>::infinity();
+  if (first) *first = FirstVertex{std::numeric_limits<float>::infinity(), Hit(), Color(0.0f)};
 
   for (int depth = 0;; ++depth) {
     Hit hit;
     ++ctx.rays;
     if (!scene.intersect(ray, hit)) break;
-    if (depth == 0 && firstDistance) *firstDistance = hit.t;
+    if (depth == 0 && first) first->distance = hit.t, first->hit = hit;
     pathLength += hit.t;
     const Vec3 wo = -glm::normalize(ray.d);
 
@@ -139,7 +140,8 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
       continue;
     }
 
-    L += beta * shade(hit, frame, woLocal, bsdf, level, cameraChain, pathLength, sampler, ctx);
+    L += beta * shade(hit, frame, woLocal, bsdf, level, cameraChain, pathLength, sampler, ctx,
+                      depth == 0 && first ? &first->firstShot : nullptr);
     if (bsdf.isDiffuse()) break;
 
     // The non-diffuse part f − ρd/π: NEE + MIS for the gathered lights, then one BSDF sample.
@@ -167,16 +169,20 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
 
 Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
                                        int level, bool cameraVertex, float pathLength, Sampler& sampler,
-                                       Context& ctx) const {
+                                       Context& ctx, Color* firstShot) const {
   const bool useTable =
       scene_->firstShot() && hit.onPatch() && !(options_.primary == PrimaryMode::Exact && cameraVertex);
   Color L(0.0f);
-  if (useTable) L += firstShot_.eval(hit, frame, woLocal, bsdf);
-  DirectLightOptions o;
-  o.skipReplaced = useTable;
-  o.include = &direct_;
-  o.mis = false;  // cache and BSDF rays never count the direct lights
-  L += estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
+  if (useTable) {
+    const Color fs = firstShot_.eval(hit, frame, woLocal, bsdf);
+    if (firstShot) *firstShot = fs;
+    L += fs;
+  }
+  NeeRequest nee;  // the direct lights (directLights_ holds no others), replaced ones where the table is not used
+  nee.kept = true;
+  nee.replaced = !useTable;
+  nee.mis = false;  // cache and BSDF rays never count the direct lights
+  L += directLights_.sample(hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
   const Color rho = bsdf.diffuseAlbedo();
   if (maxComponent(rho) > 0.0f) {
     const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the viewer's side
@@ -235,19 +241,29 @@ IrradianceRecord IrradianceCacheIntegrator::gather(const Hit& hit, const Vec3& n
   const Frame frame(n);
   HemisphereSamples hs(M, N);
   const uint64_t key = sampler.nextBits();
+  const bool nee = patchNeeOn() && options_.maxDepth >= 1;  // the rays count first-shot terms
+  Vec3d overlap(0.0);  // Σ (1 − w_h)·first-shot radiance of the rays: what patch NEE takes over
   for (int j = 0; j < M; ++j)
     for (int k = 0; k < N; ++k) {
-      const Vec3 w = frame.toWorld(squareToCosineHemisphereStratum(j, k, M, N, sampler.next2D()));
+      const Vec3 local = squareToCosineHemisphereStratum(j, k, M, N, sampler.next2D());
+      const Vec3 w = frame.toWorld(local);
       Sampler ps = Sampler::fromKey(hashKeys(key, uint64_t(j * N + k)));
-      float d;
-      hs.L(j, k) = radiance(Ray(hit.spawnOrigin(w), w), level + 1, RayKind::Gather, pathLength, ps, ctx, &d, nullptr);
-      hs.r(j, k) = d;
+      FirstVertex first;
+      hs.L(j, k) = radiance(Ray(hit.spawnOrigin(w), w), level + 1, RayKind::Gather, pathLength, ps, ctx, &first, nullptr);
+      hs.r(j, k) = first.distance;
+      if (nee && maxComponent(first.firstShot) > 0.0f)
+        overlap += Vec3d(first.firstShot) * double(1.0f - hemisphereWeight(hit.p, n, M * N, first.hit, local.z));
     }
 
   IrradianceRecord rec;
   rec.p = hit.p;
   rec.n = n;
-  hs.estimate(frame, settings_.gradients, rec);
+  hs.estimate(frame, settings_.gradients, rec);  // E, R and gradients from the rays' full radiance
+  if (nee) {
+    // E = π/(MN) Σ (L − (1 − w_h)·L_fs) + patch NEE; the gradients stay the hemisphere rays' own.
+    const Vec3d E = Vec3d(rec.E) - overlap * (kPi / double(M * N)) + Vec3d(patchNeeIrradiance(hit, n, M * N, key, ctx));
+    rec.E = Color(glm::max(E, Vec3d(0.0)));
+  }
   rec.R = std::min(rec.R, cache_ ? cache_->extent() : rec.R);
   if (settings_.gradients)  // R_i ≤ E_i/|∇t E_i| (Křivánek et al.): the linear change stays below E_i
     for (int c = 0; c < 3; ++c) {

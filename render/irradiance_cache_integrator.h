@@ -19,6 +19,15 @@
 ///   distributed ω, L traced by the path integrator (its NEE, first-shot patches as emitters,
 ///   Russian roulette), so the cache converges to what path tracing does; or, on request, it is
 ///   π·ambient (Ward's ambient term, biased).
+/// - Direct light at a vertex is next-event estimation through a LightSampler built over the
+///   direct lights only: one light chosen by a light tree (IntegratorOptions::lightSampler =
+///   Tree), or one sample of every direct light (All); weight 1 (mis off), since the cache's and
+///   BSDF rays never count those lights.
+/// - With a first-shot table and IrradianceCacheSettings::patchNee > 0, the primary method also
+///   samples the lit first-shot patches as area emitters at the record point (patch NEE,
+///   irradiance_cache_patch_nee.cpp) and combines those samples with the hemisphere rays' first-
+///   shot terms by multiple importance sampling, so E stays unbiased; gradients and R come from
+///   the hemisphere rays alone.
 /// - Mirrors and glass are followed by ray tracing; the glossy part f − ρd/π of a stretched-Phong
 ///   BSDF by one BSDF-sampled ray per vertex, with NEE + MIS for the large lights.
 ///
@@ -66,6 +75,9 @@ struct IrradianceCacheSettings {
   std::string cacheFile;        ///< records read in preprocess() if the file exists [--cache-file]
   uint64_t seed = 1;            ///< the render's seed (the fill traces the render's own camera samples)
   int threads = 0;              ///< workers of the fill pass (0 = one per core)
+  /// With a first-shot table: patch NEE samples per hemisphere ray of a record (rounded, at least
+  /// one), MIS-combined with the rays' first-shot terms; 0 = off [--ic-patch-nee].
+  float patchNee = 0.5f;
 };
 
 /// Counters of one run.
@@ -123,14 +135,25 @@ class IrradianceCacheIntegrator : public Integrator {
  private:
   struct Context;
   enum class RayKind : uint8_t;
+  struct FirstVertex;
   /// Radiance along @p ray at diffuse level @p level; @p pathLength is the distance from the
-  /// camera to the ray's origin along the path (for the footprint clamp).
+  /// camera to the ray's origin along the path (for the footprint clamp). @p first, if given,
+  /// receives the first hit and the first-shot term there.
   Color radiance(Ray ray, int level, RayKind kind, float pathLength, Sampler& sampler, Context& ctx,
-                 float* firstDistance, SampleInfo* info) const;
+                 FirstVertex* first, SampleInfo* info) const;
+  /// Outgoing radiance at a non-delta vertex; @p firstShot, if given, receives its first-shot term.
   Color shade(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, int level, bool cameraVertex,
-              float pathLength, Sampler& sampler, Context& ctx) const;
+              float pathLength, Sampler& sampler, Context& ctx, Color* firstShot = nullptr) const;
   Color irradiance(const Hit& hit, const Vec3& n, int level, float pathLength, Sampler& sampler, Context& ctx) const;
   IrradianceRecord gather(const Hit& hit, const Vec3& n, int level, float pathLength, Sampler& sampler, Context& ctx) const;
+  /// True if gather() samples the lit patches (a table, patch emitters, patchNee > 0).
+  bool patchNeeOn() const;
+  /// Patch NEE at the record point (hit, side @p n) against @p cells hemisphere rays: the
+  /// MIS-weighted irradiance of its samples (W/m²), drawn from the sampler keyed by @p key.
+  Color patchNeeIrradiance(const Hit& hit, const Vec3& n, int cells, uint64_t key, Context& ctx) const;
+  /// MIS weight of a hemisphere ray (one of @p cells, direction density cosθ/π) that met @p y
+  /// from the record at @p x with normal @p n, against patchNeeIrradiance()'s samples.
+  float hemisphereWeight(const Vec3& x, const Vec3& n, int cells, const Hit& y, float cosTheta) const;
   std::unique_ptr<IrradianceCache> makeCache() const;
   void fill();
 
@@ -139,6 +162,7 @@ class IrradianceCacheIntegrator : public Integrator {
   const RenderScene* scene_ = nullptr;
   FirstShotLighting firstShot_;
   std::unique_ptr<PathIntegrator> continuation_;  ///< traces the light past the last level
+  LightSampler directLights_;             ///< NEE over the direct lights (and the lit patches)
   std::vector<uint8_t> gathered_;         ///< per light: emission gathered by the cache (large area lights)
   std::vector<uint8_t> direct_;           ///< per light: NEE / first-shot (the others)
   std::vector<uint8_t> gatheredEmitter_;  ///< per emitter mesh: its light is gathered

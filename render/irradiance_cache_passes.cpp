@@ -49,6 +49,7 @@ void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
   firstShot_.build(scene);
   continuation_ = std::make_unique<PathIntegrator>(options_);
   continuation_->preprocess(scene);
+  if (!(settings_.patchNee >= 0.0f)) throw std::invalid_argument("irradiance cache: invalid settings");
 
   // Large area lights are gathered by the cache (§5); every other light is direct light.
   const LightSet& lights = scene.lights();
@@ -65,6 +66,8 @@ void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
     direct_[l] = 0;
     gatheredEmitter_[light.emitter] = 1;
   }
+  directLights_.build(scene, firstShot_, options_.lightSampler, scene.firstShot() && settings_.patchNee > 0.0f,
+                      options_.lightVisibility, &direct_);
 
   Vec3d lo, hi;
   scene.desc().bounds(lo, hi);

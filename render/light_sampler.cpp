@@ -112,7 +112,7 @@ void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bo
 }
 
 void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
-                         bool patchEmitters, bool visibility) {
+                         bool patchEmitters, bool visibility, const std::vector<uint8_t>* include) {
   scene_ = &scene;
   firstShot_ = &firstShot;
   strategy_ = strategy;
@@ -122,9 +122,13 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
   const size_t n = scene.lights().lights().size();
   lightGroup_.assign(n, kNone);
   lightFirst_.assign(n, 0);
+  included_.assign(n, 1);
+  if (include)
+    for (size_t l = 0; l < n; ++l) included_[l] = l < include->size() && (*include)[l] != 0;
   std::vector<LightBounds> bounds[3];
   if (strategy == LightStrategy::Tree)
     for (uint32_t l = 0; l < n; ++l) {
+      if (!included_[l]) continue;
       const GroupId id = scene.lights().lights()[l].replaced ? kReplaced : kKept;
       addLight(groups_[id], id, l, bounds[id]);
     }
@@ -190,9 +194,10 @@ float LightSampler::pdf(const Vec3& x, const Vec3& n, const NeeRequest& request,
   const LightSet& lights = scene_->lights();
   const RenderLight& light = lights.emitterLight(y.emitter);
   if (!(light.replaced ? request.replaced : request.kept)) return 0.0f;
+  const uint32_t l = static_cast<uint32_t>(&light - lights.lights().data());
+  if (!included_[l]) return 0.0f;
   if (glm::dot(y.ng, d) >= 0.0f) return 0.0f;  // one-sided: x is behind the emitter
   if (strategy_ == LightStrategy::All) return lights.pdf(light, x, y.p, y.ng);
-  const uint32_t l = static_cast<uint32_t>(&light - lights.lights().data());
   const Group& g = groups_[lightGroup_[l]];
   const uint32_t e = lightFirst_[l] + y.triangle;
   return selectProbability(g, x, n, e) * dist2 / (cosY * g.emitters[e].area);
@@ -205,15 +210,15 @@ Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLoc
   auto fromGroup = [&](GroupId id) {
     const Vec2 a = sampler.next2D();
     const float b = sampler.next1D();
-    sum += sampleGroup(groups_[id], hit, frame, woLocal, bsdf, n, Vec3(a, b), rays);
+    sum += sampleGroup(groups_[id], hit, frame, woLocal, bsdf, n, Vec3(a, b), request.mis, rays);
   };
   if (strategy_ == LightStrategy::All) {
     if (request.kept || request.replaced) {
       const std::vector<RenderLight>& lights = scene_->lights().lights();
       for (uint32_t l = 0; l < lights.size(); ++l) {
         const Vec2 u = sampler.next2D();  // drawn for every light, so later dimensions do not shift
-        if (!(lights[l].replaced ? request.replaced : request.kept)) continue;
-        sum += contribution({Emitter::Kind::Light, l, 0, 0.0f}, 1.0f, hit, frame, woLocal, bsdf, u, rays);
+        if (!included_[l] || !(lights[l].replaced ? request.replaced : request.kept)) continue;
+        sum += contribution({Emitter::Kind::Light, l, 0, 0.0f}, 1.0f, hit, frame, woLocal, bsdf, u, request.mis, rays);
       }
     }
   } else {
@@ -225,7 +230,7 @@ Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLoc
 }
 
 Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                                const BSDF& bsdf, const Vec3& n, const Vec3& u, uint64_t& rays) const {
+                                const BSDF& bsdf, const Vec3& n, const Vec3& u, bool mis, uint64_t& rays) const {
   float uSelect = u.x;
   const float pDir = g.pDirectional();
   if (pDir > 0.0f) {
@@ -233,7 +238,7 @@ Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& fra
       const uint32_t count = static_cast<uint32_t>(g.directional.size());
       const uint32_t k = std::min(count - 1, static_cast<uint32_t>(uSelect / pDir * float(count)));
       return contribution({Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count), hit, frame, woLocal,
-                          bsdf, Vec2(u.y, u.z), rays);
+                          bsdf, Vec2(u.y, u.z), mis, rays);
     }
     uSelect = std::min((uSelect - pDir) / (1.0f - pDir), 0x1.fffffep-1f);
   }
@@ -241,11 +246,11 @@ Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& fra
   float pmf;
   if (!g.tree.sample(hit.p, n, uSelect, e, pmf)) return Color(0.0f);
   const Emitter& em = g.emitters[e];
-  return contribution(em, pmf * (1.0f - pDir), hit, frame, woLocal, bsdf, Vec2(u.y, u.z), rays);
+  return contribution(em, pmf * (1.0f - pDir), hit, frame, woLocal, bsdf, Vec2(u.y, u.z), mis, rays);
 }
 
 Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame,
-                                 const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, uint64_t& rays) const {
+                                 const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, bool mis, uint64_t& rays) const {
   const LightSet& lights = scene_->lights();
   LightRecord rec;
   bool delta = false;
@@ -275,24 +280,8 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
       break;
     }
     case Emitter::Kind::Patch: {
-      const Patch& p = scene_->mesh().patches[e.index];
-      Hit y;
-      y.p = emitterPoint(e, u);
-      y.ng = p.normal;
-      y.patch = e.index;
-      const Vec3 d = y.p - hit.p;
-      const float dist2 = glm::dot(d, d);
-      if (!(dist2 > 0.0f)) return Color(0.0f);
-      rec.distance = std::sqrt(dist2);
-      rec.wi = d / rec.distance;
-      const float cosY = -glm::dot(e.sub == 0 ? p.normal : -p.normal, rec.wi);
-      if (!(cosY > 0.0f)) return Color(0.0f);  // x is on the other side: that side is another emitter
-      const BSDF& bsdfY = scene_->bsdf(p.material);
-      const Frame frameY(p.normal);
-      const Color Le = firstShot_->eval(y, frameY, frameY.toLocal(-rec.wi), bsdfY);
-      if (!(maxComponent(Le) > 0.0f)) return Color(0.0f);
-      rec.pdf = pSelect * dist2 / (cosY * e.area);
-      rec.value = Le / rec.pdf;
+      Color Le;
+      if (!patchPoint(e, pSelect, hit.p, u, rec, Le)) return Color(0.0f);
       break;
     }
   }
@@ -303,8 +292,46 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
   if (!(maxComponent(f) > 0.0f)) return Color(0.0f);
   ++rays;
   if (scene_->occluded(shadowRay(hit, rec.wi, rec.distance))) return Color(0.0f);
-  const float weight = delta ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
+  const float weight = delta || !mis ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
   return f * (std::abs(q.wi.z) * weight) * rec.value;
+}
+
+bool LightSampler::patchPoint(const Emitter& e, float pSelect, const Vec3& x, const Vec2& u, LightRecord& rec,
+                              Color& Le) const {
+  const Patch& p = scene_->mesh().patches[e.index];
+  Hit y;
+  y.p = emitterPoint(e, u);
+  y.ng = p.normal;
+  y.patch = e.index;
+  const Vec3 d = y.p - x;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return false;
+  rec.distance = std::sqrt(dist2);
+  rec.wi = d / rec.distance;
+  const float cosY = -glm::dot(e.sub == 0 ? p.normal : -p.normal, rec.wi);
+  if (!(cosY > 0.0f)) return false;  // x is on the other side: that side is another emitter
+  const BSDF& bsdfY = scene_->bsdf(p.material);
+  const Frame frameY(p.normal);
+  Le = firstShot_->eval(y, frameY, frameY.toLocal(-rec.wi), bsdfY);
+  if (!(maxComponent(Le) > 0.0f)) return false;
+  rec.pdf = pSelect * dist2 / (cosY * e.area);
+  rec.value = Le / rec.pdf;
+  return true;
+}
+
+bool LightSampler::samplePatch(const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s) const {
+  if (patchGroup_ == kNone) return false;
+  const Group& g = groups_[patchGroup_];  // patches only: no directional lights beside the tree
+  uint32_t e;
+  float pmf;
+  if (!g.tree.sample(x, n, u.x, e, pmf)) return false;
+  LightRecord rec;
+  if (!patchPoint(g.emitters[e], pmf, x, Vec2(u.y, u.z), rec, s.Le)) return false;
+  if (!std::isfinite(rec.pdf) || !std::isfinite(maxComponent(rec.value))) return false;
+  s.wi = rec.wi;
+  s.distance = rec.distance;
+  s.pdf = rec.pdf;
+  return true;
 }
 
 }  // namespace fs

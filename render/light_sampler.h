@@ -17,7 +17,10 @@
 ///   n_dir/(n_dir + 1).
 /// Either way, when the patches are requested, one patch chosen by a tree over the patch emitters.
 /// Area emitters (area-light triangles, patches) are weighted against BSDF sampling by the power
-/// heuristic: a path that meets one must weight it with pdf() of the vertex it came from.
+/// heuristic: a path that meets one must weight it with pdf() of the vertex it came from
+/// (unless NeeRequest::mis is false: then weight 1, and BSDF sampling must not count them).
+/// A sampler may be built over a subset of the lights (build()'s @c include mask; the irradiance
+/// cache samples only its direct lights): the others are never chosen and have pdf() 0.
 #include <cstdint>
 #include <vector>
 
@@ -37,6 +40,17 @@ struct NeeRequest {
   bool kept = false;      ///< the lights the table does not replace (every light without a table)
   bool replaced = false;  ///< the table's small lights (a vertex that does not use the table)
   bool patches = false;   ///< the first-shot patches
+  /// Weight area emitters against BSDF sampling (power heuristic); false: weight 1, for callers
+  /// whose BSDF-sampled rays never count these emitters.
+  bool mis = true;
+};
+
+/// One point of a lit first-shot patch chosen for a receiver (LightSampler::samplePatch).
+struct PatchSample {
+  Vec3 wi{0.0f};        ///< unit direction from the receiver to the point
+  float distance = 0;   ///< m
+  Color Le{0.0f};       ///< first-shot radiance the point sends towards the receiver, W/(m² sr)
+  float pdf = 0;        ///< solid-angle density of wi (emitter choice included), sr⁻¹
 };
 
 class LightSampler {
@@ -46,8 +60,10 @@ class LightSampler {
   /// table and @p firstShot built for the same scene). Both must outlive this object.
   /// @p visibility: weight the trees' top levels by the visibility of their emitters from each
   /// grid cell (light_tree.h, VisibilityGrid), estimated here with a few shadow rays per cell.
+  /// @p include: if set, only the lights l with (*include)[l] != 0 (LightSet indices) are
+  /// sampled; the mask is copied.
   void build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy, bool patchEmitters,
-             bool visibility = true);
+             bool visibility = true, const std::vector<uint8_t>* include = nullptr);
 
   LightStrategy strategy() const { return strategy_; }
   /// True if patch emitters exist (a table with lit patches and patch emitters asked for).
@@ -62,6 +78,12 @@ class LightSampler {
   /// @p request, picks the point of @p y: a hit on an area light or on a patch. 0 where that
   /// emitter is not requested (or not an emitter).
   float pdf(const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y) const;
+
+  /// Chooses a point of a lit patch for the receiver at @p x with receiving side normal @p n from
+  /// @p u ∈ [0,1)³ (u.x the patch, u.yz the point), as sample() does for NeeRequest::patches,
+  /// without a shadow ray. @return false if none was chosen or it sends nothing towards @p x;
+  /// otherwise @p s.pdf equals pdf(x, n, {patches}, hit at the point).
+  bool samplePatch(const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s) const;
 
   /// The emitter index of a hit on a patch seen from @p x in its group's tree, or kNoId.
   uint32_t patchEmitter(const Hit& y, const Vec3& x) const;
@@ -86,9 +108,12 @@ class LightSampler {
   void addPatches(Group& g, GroupId id, std::vector<LightBounds>& bounds);
   /// One emitter of group @p g, chosen from u[0], its point from u[1..2]: its weighted contribution.
   Color sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                    const Vec3& n, const Vec3& u, uint64_t& rays) const;
+                    const Vec3& n, const Vec3& u, bool mis, uint64_t& rays) const;
   Color contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                     const BSDF& bsdf, const Vec2& u, uint64_t& rays) const;
+                     const BSDF& bsdf, const Vec2& u, bool mis, uint64_t& rays) const;
+  /// The point of patch emitter @p e for @p u, seen from @p x: rec.value = Le/pdf. False if it
+  /// sends nothing towards @p x.
+  bool patchPoint(const Emitter& e, float pSelect, const Vec3& x, const Vec2& u, LightRecord& rec, Color& Le) const;
   float selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const;
   /// A point of emitter @p e for @p u ∈ [0,1)² (uniform by area; the position of a point light).
   Vec3 emitterPoint(const Emitter& e, const Vec2& u) const;
@@ -102,6 +127,7 @@ class LightSampler {
   size_t patchCount_ = 0;
   // Where each emitter lives: per LightSet light its group and first emitter (its triangles
   // follow in order); per patch side (2j + s) its emitter in the patch group.
+  std::vector<uint8_t> included_;  ///< per LightSet light: sampled by this sampler
   std::vector<uint8_t> lightGroup_;
   std::vector<uint32_t> lightFirst_;
   uint8_t patchGroup_ = kNone;

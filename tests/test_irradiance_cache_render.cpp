@@ -198,6 +198,9 @@ TEST(IrradianceCacheFirstShot, AgreesWithNeeAndGathersFirstShotLight) {
   };
   IntegratorOptions io;
   io.patchNee = PatchNee::Off;  // the lit patches as sampled emitters add shadow rays of their own
+  // One shadow ray per light: the camera vertex draws the same numbers for the light whether it is
+  // kept (NEE run) or replaced (first-shot run); a light tree draws per group, kept then replaced.
+  io.lightSampler = LightStrategy::All;
   auto render = [&](const RenderScene& scene) {
     IrradianceCacheIntegrator ic(io, s);
     ic.preprocess(scene);
