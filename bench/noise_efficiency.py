@@ -9,7 +9,8 @@ of two independent images has twice the variance of one, so an image's own noise
 in half the time. Bias is not seen here (the difference of two images of one method cancels it): the
 bias tests and the speed-against-error harness (firstshot_bench.py) cover that.
 
-Usage: bench/noise_efficiency.py [--build DIR] [--spp N] [--width W --height H] SCENE... (scenes/NAME.json)
+Usage: bench/noise_efficiency.py [--build DIR] [--spp N] [--width W --height H] [--methods A,B] SCENE...
+(scenes/NAME.json; --methods keeps the methods whose label contains one of the comma-separated words).
 Prints a Markdown table, one row per scene and method. Standard library only.
 """
 import argparse
@@ -30,6 +31,13 @@ METHODS = [
     ("first-shot, patch NEE at every vertex", True, ["--patch-nee", "every"]),
     ("first-shot, patch NEE at the first vertex", True, ["--patch-nee", "first"]),
     ("first-shot, all small lights at camera hits", True, ["--light-sampler", "all", "--patch-nee", "off"]),
+    # The irradiance cache at 4 spp (its records, not the camera samples, carry the indirect light);
+    # a pair of runs with different seeds has different records, so record noise is in the measure.
+    ("irradiance cache", False, ["--integrator", "irradiance-cache", "--spp", "4"]),
+    ("irradiance cache + first-shot, no patch NEE in gathers", True,
+     ["--integrator", "irradiance-cache", "--spp", "4", "--ic-patch-nee", "0"]),
+    ("irradiance cache + first-shot, patch NEE in gathers (0.5)", True,
+     ["--integrator", "irradiance-cache", "--spp", "4", "--ic-patch-nee", "0.5"]),
 ]
 
 
@@ -49,6 +57,7 @@ def main():
     ap.add_argument("--spp", type=int, default=32)
     ap.add_argument("--width", type=int, default=80)
     ap.add_argument("--height", type=int, default=60)
+    ap.add_argument("--methods", default="", help="comma-separated label substrings (default: every method)")
     ap.add_argument("scenes", nargs="+")
     args = ap.parse_args()
     render = os.path.join(args.build, "render", "firstshot-render")
@@ -62,12 +71,16 @@ def main():
             fsd = os.path.join(tmp, "t.fsd")
             cpu_seconds([preprocess, scene, "-o", fsd, "--quiet"])
             rows = []
+            wanted = [w for w in args.methods.split(",") if w]
             for label, firstshot, extra in METHODS:
+                if wanted and not any(w in label for w in wanted):
+                    continue
                 images, seconds = [], 0.0
                 for seed in (1, 2):
                     out = os.path.join(tmp, f"{seed}.exr")
-                    cmd = [render, scene, "--spp", str(args.spp), "--seed", str(seed), "--threads", "1", "--width",
-                           str(args.width), "--height", str(args.height), "--quiet", "-o", out] + extra
+                    spp = [] if "--spp" in extra else ["--spp", str(args.spp)]
+                    cmd = [render, scene, "--seed", str(seed), "--threads", "1", "--width", str(args.width), "--height",
+                           str(args.height), "--quiet", "-o", out] + spp + extra
                     if firstshot:
                         cmd += ["--firstshot", fsd]
                     seconds += cpu_seconds(cmd)
@@ -76,10 +89,11 @@ def main():
                 m = json.loads(r.stdout.strip().splitlines()[-1])
                 rel, mare = m["rel_rmse"] / 2 ** 0.5, m["mare"] / 2 ** 0.5
                 rows.append((label, firstshot, seconds / 2, rel, mare, 1.0 / (rel * rel * seconds / 2)))
-            best = max(e for _, fs, _, _, _, e in rows if not fs)
+            baselines = [e for label, fs, _, _, _, e in rows if not fs and "irradiance" not in label]
+            best = max(baselines) if baselines else None
             for label, _, sec, rel, mare, eff in rows:
-                print(f"| {name} | {label} | {sec:.2f} | {rel:.3f} | {mare:.3f} | {eff:.2f} | {eff / best:.2f}× |",
-                      flush=True)
+                ratio = f"{eff / best:.2f}×" if best else "–"
+                print(f"| {name} | {label} | {sec:.2f} | {rel:.3f} | {mare:.3f} | {eff:.2f} | {ratio} |", flush=True)
 
 
 if __name__ == "__main__":

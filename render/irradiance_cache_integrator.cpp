@@ -178,11 +178,22 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     if (firstShot) *firstShot = fs;
     L += fs;
   }
-  NeeRequest nee;  // the direct lights (directLights_ holds no others), replaced ones where the table is not used
-  nee.kept = true;
-  nee.replaced = !useTable;
-  nee.mis = false;  // cache and BSDF rays never count the direct lights
-  L += directLights_.sample(hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
+  if (cameraVertex) {
+    // What the camera sees keeps its direct light from NEE to every direct light: no cache averages
+    // it there, and one light per sample (the tree) leaves 5-8x the variance on many-lights.
+    DirectLightOptions o;
+    o.skipReplaced = useTable;
+    o.include = &direct_;
+    o.mis = false;  // cache and BSDF rays never count the direct lights
+    L += estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
+  } else {
+    // Inside gathers the hemisphere averages many vertices: the light sampler (--light-sampler).
+    NeeRequest nee;  // the direct lights (directLights_ holds no others), replaced ones where the table is not used
+    nee.kept = true;
+    nee.replaced = !useTable;
+    nee.mis = false;
+    L += directLights_.sample(hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
+  }
   const Color rho = bsdf.diffuseAlbedo();
   if (maxComponent(rho) > 0.0f) {
     const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the viewer's side
