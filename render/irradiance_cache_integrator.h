@@ -77,7 +77,7 @@ struct IrradianceCacheSettings {
   int threads = 0;              ///< workers of the fill pass (0 = one per core)
   /// With a first-shot table: patch NEE samples per hemisphere ray of a record (rounded, at least
   /// one), MIS-combined with the rays' first-shot terms; 0 = off [--ic-patch-nee].
-  float patchNee = 0.5f;
+  float patchNee = 0.0f;
 };
 
 /// Counters of one run.
