@@ -12,38 +12,13 @@
 #include "preprocess/preprocessor.h"
 #include "render/irradiance_cache_integrator.h"
 #include "tests/render_util.h"
+#include "tests/shaded_room.h"
 #include "tests/stats.h"
 #include "tests/test_util.h"
 
 using namespace fs;
 
 namespace {
-
-/// A 4 × 3 × 4 m room lit only by a point light inside an open-topped shade under the ceiling:
-/// the lit patches (the ceiling above the shade, the shade's inside) are small and bright.
-const char* kShadedLightRoom = R"({
-  "materials": {"wall": {"type": "diffuse", "albedo": 0.7}, "shade": {"type": "diffuse", "albedo": 0.5}},
-  "shapes": [
-    {"type": "box", "min": [0, 0, 0], "max": [4, 3, 4], "material": "wall", "flip_normals": true},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [2.3, 2.2, 1.7], [2.3, 2.2, 2.3], [1.7, 2.2, 2.3]]},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [1.7, 2.7, 1.7], [2.3, 2.7, 1.7], [2.3, 2.2, 1.7]]},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 2.3], [2.3, 2.2, 2.3], [2.3, 2.7, 2.3], [1.7, 2.7, 2.3]]},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [1.7, 2.2, 2.3], [1.7, 2.7, 2.3], [1.7, 2.7, 1.7]]},
-    {"type": "quad", "material": "shade", "vertices": [[2.3, 2.2, 1.7], [2.3, 2.7, 1.7], [2.3, 2.7, 2.3], [2.3, 2.2, 2.3]]}
-  ],
-  "lights": [{"type": "point", "position": [2, 2.45, 2], "power": 60}],
-  "camera": {"position": [3.6, 1.0, 0.4], "look_at": [1.2, 1.6, 3.6], "fov_y": 70, "resolution": [16, 16]},
-  "settings": {"patch_size": 0.25, "max_depth": 6}
-})";
-
-FirstShotTable preprocess(const SceneDesc& desc) {
-  PreprocessOptions po = defaultOptions(desc);
-  po.settings.backend = "embree";
-  po.settings.resolution = 128;
-  po.settings.lightPatchSize = 0.05;
-  po.quiet = true;
-  return preprocessScene(desc, po);
-}
 
 /// One bounce, nothing past it (ambient 0), no footprint clamp: a record's E is the light its
 /// hemisphere rays gather from the surfaces they hit (their direct and first-shot light).
@@ -94,6 +69,20 @@ double zScore(const Records& a, const Records& b, const std::string& label) {
   return std::abs(a.E.mean - b.E.mean) / se;
 }
 
+/// scenes/many-lights.json at @p width × @p height pixels.
+SceneDesc manyLights(int width, int height) {
+  SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));
+  desc.camera.width = width, desc.camera.height = height;
+  return desc;
+}
+
+/// The renderer's options with light strategy @p strategy.
+IntegratorOptions sampler(LightStrategy strategy) {
+  IntegratorOptions io;
+  io.lightSampler = strategy;
+  return io;
+}
+
 }  // namespace
 
 /// The office of many point lights: the cache's direct light by a light tree (one light per
@@ -101,12 +90,8 @@ double zScore(const Records& a, const Records& b, const std::string& label) {
 /// hemisphere rays hit. Same mean; the variance per record is reported (one light per vertex is
 /// noisier per record, and much cheaper).
 TEST(IrradianceCacheNee, LightTreeDirectAgreesWithNeeToEveryLight) {
-  SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));
-  desc.camera.width = 16, desc.camera.height = 12;
-  const RenderScene scene(desc);
-  IntegratorOptions tree, all;
-  tree.lightSampler = LightStrategy::Tree;
-  all.lightSampler = LightStrategy::All;
+  const RenderScene scene(manyLights(16, 12));
+  const IntegratorOptions tree = sampler(LightStrategy::Tree), all = sampler(LightStrategy::All);
   IrradianceCacheIntegrator a(tree, oneBounce(128, 0.0f)), b(all, oneBounce(128, 0.0f));
   a.preprocess(scene);
   b.preprocess(scene);
@@ -116,15 +101,12 @@ TEST(IrradianceCacheNee, LightTreeDirectAgreesWithNeeToEveryLight) {
   EXPECT_LT(zScore(ra, rb, "many-lights record, tree vs all"), 3.0);
 }
 
-/// The camera-visible direct light too: tree and every-light images of the many-lights office
-/// agree in mean (no cached bounce, so the pixels are independent and σ comes from them).
+/// Whole images: with the tree and with NEE to every light, the many-lights office agrees in mean
+/// (no cached bounce, so the pixels are independent and σ comes from them). Camera-visible points
+/// take NEE to every direct light either way; the continued paths differ.
 TEST(IrradianceCacheNee, LightTreeImageAgreesWithNeeToEveryLight) {
-  SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));
-  desc.camera.width = 24, desc.camera.height = 18;
-  const RenderScene scene(desc);
-  IntegratorOptions tree, all;
-  tree.lightSampler = LightStrategy::Tree;
-  all.lightSampler = LightStrategy::All;
+  const RenderScene scene(manyLights(24, 18));
+  const IntegratorOptions tree = sampler(LightStrategy::Tree), all = sampler(LightStrategy::All);
   // No cached bounce: the image is direct light at the camera vertex plus path-traced indirect light.
   IrradianceCacheSettings s;
   s.bounces = 0;
@@ -146,8 +128,8 @@ TEST(IrradianceCacheNee, LightTreeImageAgreesWithNeeToEveryLight) {
 /// techniques sum to one). Here E is first-shot light only, so counting it twice (no MIS) would
 /// double the mean: the test requires 3σ below a quarter of E, so that it would fail then.
 TEST(IrradianceCacheNee, PatchNeeKeepsTheRecordMean) {
-  const SceneDesc desc = test::sceneFromJson(kShadedLightRoom);
-  const RenderScene scene(desc, preprocess(desc));
+  const SceneDesc desc = test::shadedLightRoom(16);
+  const RenderScene scene(desc, test::quickTable(desc));
   IrradianceCacheIntegrator off(IntegratorOptions{}, oneBounce(128, 0.0f));
   off.preprocess(scene);
   for (const Vec3 p : {Vec3(1.0f, 1.0f, 1.2f), Vec3(2.0f, 1.0f, 2.1f)}) {
@@ -168,8 +150,8 @@ TEST(IrradianceCacheNee, PatchNeeKeepsTheRecordMean) {
 
 /// A two-pass cache with the light tree and patch NEE renders the same image on 1 and 2 threads.
 TEST(IrradianceCacheNee, TwoPassImageDoesNotDependOnThreads) {
-  const SceneDesc desc = test::sceneFromJson(kShadedLightRoom);
-  const RenderScene scene(desc, preprocess(desc));
+  const SceneDesc desc = test::shadedLightRoom(16);
+  const RenderScene scene(desc, test::quickTable(desc));
   auto run = [&](int threads) {
     IrradianceCacheSettings s = oneBounce(64, 1.0f);
     s.bounces = 2;

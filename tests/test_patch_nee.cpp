@@ -9,38 +9,12 @@
 #include "preprocess/preprocessor.h"
 #include "render/irradiance_cache_integrator.h"
 #include "tests/render_util.h"
+#include "tests/shaded_room.h"
 #include "tests/test_util.h"
 
 using namespace fs;
 
 namespace {
-
-/// A 4 × 3 × 4 m room lit only by a point light inside an open-topped shade under the ceiling:
-/// the camera sees no bulb, and most shadow rays to it are blocked.
-const char* kHiddenLightRoom = R"({
-  "materials": {"wall": {"type": "diffuse", "albedo": 0.7}, "shade": {"type": "diffuse", "albedo": 0.5}},
-  "shapes": [
-    {"type": "box", "min": [0, 0, 0], "max": [4, 3, 4], "material": "wall", "flip_normals": true},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [2.3, 2.2, 1.7], [2.3, 2.2, 2.3], [1.7, 2.2, 2.3]]},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [1.7, 2.7, 1.7], [2.3, 2.7, 1.7], [2.3, 2.2, 1.7]]},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 2.3], [2.3, 2.2, 2.3], [2.3, 2.7, 2.3], [1.7, 2.7, 2.3]]},
-    {"type": "quad", "material": "shade", "vertices": [[1.7, 2.2, 1.7], [1.7, 2.2, 2.3], [1.7, 2.7, 2.3], [1.7, 2.7, 1.7]]},
-    {"type": "quad", "material": "shade", "vertices": [[2.3, 2.2, 1.7], [2.3, 2.7, 1.7], [2.3, 2.7, 2.3], [2.3, 2.2, 2.3]]}
-  ],
-  "lights": [{"type": "point", "position": [2, 2.45, 2], "power": 60}],
-  "camera": {"position": [3.6, 1.0, 0.4], "look_at": [1.2, 1.6, 3.6], "fov_y": 70, "resolution": [24, 24]},
-  "settings": {"patch_size": 0.25, "max_depth": 6}
-})";
-
-FirstShotTable preprocess(const SceneDesc& desc, double patchSize = 0) {
-  PreprocessOptions po = defaultOptions(desc);
-  po.settings.backend = "embree";
-  po.settings.resolution = 128;
-  if (patchSize > 0) po.settings.patchSize = patchSize;
-  po.settings.lightPatchSize = 0.05;
-  po.quiet = true;
-  return preprocessScene(desc, po);
-}
 
 /// Largest |mean(a) − mean(b)| / σ over the channels, σ combined from both images' pixel variances.
 double meanZ(const Film& a, const Film& b, const std::string& label, double* relDiff = nullptr) {
@@ -74,8 +48,8 @@ double meanVariance(const Film& f) {
 }  // namespace
 
 TEST(PatchNee, HiddenLightSameMeanLessNoise) {
-  const SceneDesc desc = test::sceneFromJson(kHiddenLightRoom);
-  const RenderScene scene(desc, preprocess(desc));
+  const SceneDesc desc = test::shadedLightRoom(24);
+  const RenderScene scene(desc, test::quickTable(desc));
   IntegratorOptions off;
   off.patchNee = PatchNee::Off;
   const int spp = 96;
@@ -100,7 +74,7 @@ TEST(PatchNee, HiddenLightSameMeanLessNoise) {
 TEST(PatchNee, CornellSameMeanForBothStrategies) {
   SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
   desc.camera.width = desc.camera.height = 24;
-  const RenderScene scene(desc, preprocess(desc));
+  const RenderScene scene(desc, test::quickTable(desc));
   for (LightStrategy strategy : {LightStrategy::Tree, LightStrategy::All})
     for (PrimaryMode primary : {PrimaryMode::Exact, PrimaryMode::Patch}) {
       IntegratorOptions on, off;
@@ -161,8 +135,8 @@ TEST(LightTreeNee, VisibilityFactorsSameMeanLessNoise) {
 }
 
 TEST(PatchNee, ImageDoesNotDependOnThreads) {
-  const SceneDesc desc = test::sceneFromJson(kHiddenLightRoom);
-  const RenderScene scene(desc, preprocess(desc));
+  const SceneDesc desc = test::shadedLightRoom(24);
+  const RenderScene scene(desc, test::quickTable(desc));
   IntegratorOptions io;
   io.lightSampler = LightStrategy::Tree;
   io.patchNee = PatchNee::Every;
@@ -182,7 +156,7 @@ TEST(IrradianceCacheContinuation, DefaultsMatchPathTracing) {
   desc.camera.lookAt = Vec3d(0.278, 0.17, 0.0);
   desc.camera.fovYDeg = 28;
   desc.camera.width = desc.camera.height = 20;
-  const RenderScene scene(desc, preprocess(desc));
+  const RenderScene scene(desc, test::quickTable(desc));
   IntegratorOptions io;
   const auto path = test::renderPath(scene, io, 1024, 1);
   auto cacheMeans = [&](const IrradianceCacheSettings& settings, double& mean, double& se) {
