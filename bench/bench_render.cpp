@@ -3,13 +3,16 @@
 // sampling and film included), with NEE to every light (tree:0) and by the light tree (tree:1, the
 // renderer's default); BM_RawEmbreeIncoherent times plain rtcIntersect1 calls on random
 // rays (origins uniform in the box, directions uniform on the sphere). Both on 1 and 2 threads.
+// BM_HemisphereRays: an irradiance record's hemisphere rays as single rays, packets and streams.
 #include <benchmark/benchmark.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
+#include <vector>
 
 #include "common/rng.h"
 #include "common/sampling.h"
@@ -30,6 +33,8 @@ struct Fixture {
   std::unique_ptr<RenderScene> scene;
   std::unique_ptr<Integrator> tree, all;  ///< NEE by the light tree (the default) and to every light
   std::vector<Ray> randomRays;
+  std::vector<Ray> hemisphereRays;  ///< an irradiance record's 2M² = 512 cosine-stratified rays, at 64 camera hits
+  std::vector<Ray> hemisphereBlocks;  ///< the same rays, each record's in 4 × 4 blocks of neighbouring strata
 
   Fixture() {
     desc = loadScene(std::string(FIRSTSHOT_SOURCE_DIR) + "/scenes/cornell.json");
@@ -48,6 +53,24 @@ struct Fixture {
     for (Ray& r : randomRays) {
       const Vec3 u(s.next1D(), s.next1D(), s.next1D());
       r = Ray(Vec3(lo) + u * Vec3(hi - lo), squareToUniformSphere(s.next2D()));
+    }
+    const Camera camera(desc.camera);
+    const int M = 16, N = 2 * M;  // the cache's default of 512 samples
+    for (int point = 0; point < 64; ++point) {
+      Hit hit;
+      const Vec2 px = s.next2D();
+      if (!scene->intersect(camera.generateRay(px.x * float(camera.width()), px.y * float(camera.height())), hit)) continue;
+      const Frame frame(hit.ng);
+      const size_t first = hemisphereRays.size();
+      for (int j = 0; j < M; ++j)
+        for (int k = 0; k < N; ++k) {
+          const Vec3 w = frame.toWorld(squareToCosineHemisphereStratum(j, k, M, N, s.next2D()));
+          hemisphereRays.emplace_back(hit.spawnOrigin(w), w);
+        }
+      for (int jb = 0; jb < M; jb += 4)
+        for (int kb = 0; kb < N; kb += 4)
+          for (int j = jb; j < jb + 4; ++j)
+            for (int k = kb; k < kb + 4; ++k) hemisphereBlocks.push_back(hemisphereRays[first + size_t(j * N + k)]);
     }
   }
 };
@@ -96,8 +119,36 @@ void BM_RawEmbreeIncoherent(benchmark::State& state) {
   state.counters["hit fraction"] = double(hits.load()) / double(rays);
 }
 
+/// The irradiance cache's hemisphere rays (one record's 512 rays after another), one thread, by
+/// Embree layout: 0 single rtcIntersect1 calls, 1 packets of 16 (16 strata of one ring), 2 one stream
+/// (rtcIntersect1M) per record, 3 packets of 16 over 4 × 4 blocks of neighbouring strata.
+void BM_HemisphereRays(benchmark::State& state) {
+  Fixture& f = fixture();
+  const EmbreeScene& embree = f.scene->embree();
+  const std::vector<Ray>& rays = state.range(0) == 3 ? f.hemisphereBlocks : f.hemisphereRays;
+  size_t hits = 0;
+  uint64_t traced = 0;
+  enableFlushToZero();
+  for (auto _ : state) {
+    for (size_t first = 0; first < rays.size(); first += 512) {
+      const size_t n = std::min<size_t>(512, rays.size() - first);
+      switch (state.range(0)) {
+        case 0: hits += embree.intersectRaw(rays.data() + first, n); break;
+        case 1:
+        case 3: hits += embree.intersectRawPackets(rays.data() + first, n); break;
+        default: hits += embree.intersectRawStream(rays.data() + first, n); break;
+      }
+    }
+    traced += rays.size();
+  }
+  benchmark::DoNotOptimize(hits);
+  state.counters["rays/s"] = benchmark::Counter(double(traced), benchmark::Counter::kIsRate);
+  state.counters["hit fraction"] = double(hits) / double(traced);
+}
+
 }  // namespace
 
+BENCHMARK(BM_HemisphereRays)->ArgNames({"layout"})->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_PathTracer)->ArgNames({"threads", "tree"})->ArgsProduct({{1, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_RawEmbreeIncoherent)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 

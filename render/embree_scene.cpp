@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #if defined(__SSE__) || defined(__x86_64__)
 #include <pmmintrin.h>
@@ -180,6 +181,43 @@ size_t EmbreeScene::intersectRaw(const Ray* rays, size_t count) const {
     rtcIntersect1(impl_->scene, &context, &rh);
     hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
   }
+  return hits;
+}
+
+size_t EmbreeScene::intersectRawPackets(const Ray* rays, size_t count) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  size_t hits = 0;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  for (size_t first = 0; first < count; first += 16) {
+    for (int k = 0; k < 16; ++k) {
+      const size_t i = first + size_t(k);
+      valid[k] = i < count ? -1 : 0;
+      const Ray& r = rays[i < count ? i : first];
+      rh.ray.org_x[k] = r.o.x, rh.ray.org_y[k] = r.o.y, rh.ray.org_z[k] = r.o.z;
+      rh.ray.dir_x[k] = r.d.x, rh.ray.dir_y[k] = r.d.y, rh.ray.dir_z[k] = r.d.z;
+      rh.ray.tnear[k] = r.tmin, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0.0f;
+      rh.ray.mask[k] = 0xffffffffu, rh.ray.id[k] = unsigned(k), rh.ray.flags[k] = 0;
+      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, impl_->scene, &context, &rh);
+    for (int k = 0; k < 16; ++k) hits += valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+  }
+  return hits;
+}
+
+size_t EmbreeScene::intersectRawStream(const Ray* rays, size_t count) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  std::vector<RTCRayHit> stream(count);
+  for (size_t i = 0; i < count; ++i) stream[i] = toRTCHit(rays[i]);
+  rtcIntersect1M(impl_->scene, &context, stream.data(), static_cast<unsigned>(count), sizeof(RTCRayHit));
+  size_t hits = 0;
+  for (const RTCRayHit& h : stream) hits += h.hit.geomID != RTC_INVALID_GEOMETRY_ID;
   return hits;
 }
 

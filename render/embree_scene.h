@@ -38,6 +38,11 @@ class EmbreeScene {
   /// Benchmark hook: plain incoherent rtcIntersect1 calls over @p rays, nothing else.
   /// @return the number of rays that hit something.
   size_t intersectRaw(const Ray* rays, size_t count) const;
+  /// Benchmark hooks for ray layouts: the same closest-hit queries as intersectRaw, traced as
+  /// Embree packets of 16 (rtcIntersect16, rays taken 16 at a time in order) or as one stream
+  /// (rtcIntersect1M), both flagged coherent. @return the number of rays that hit something.
+  size_t intersectRawPackets(const Ray* rays, size_t count) const;
+  size_t intersectRawStream(const Ray* rays, size_t count) const;
 
  private:
   struct Impl;
