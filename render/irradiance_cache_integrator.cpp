@@ -180,7 +180,7 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
   }
   if (cameraVertex) {
     // What the camera sees keeps its direct light from NEE to every direct light: no cache averages
-    // it there, and one light per sample (the tree) leaves 5-8x the variance on many-lights.
+    // it there, and one light per sample (the tree) left 4x the noise of the image mean on many-lights.
     DirectLightOptions o;
     o.skipReplaced = useTable;
     o.include = &direct_;
