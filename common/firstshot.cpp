@@ -17,7 +17,7 @@ constexpr char kMagic[8] = {'F', 'S', 'H', 'O', 'T', 'F', 'S', 'D'};
 constexpr char kEnd[8] = {'F', 'S', 'H', 'O', 'T', 'E', 'N', 'D'};
 /// 2: the analytic estimator's factors are exact per patch (visible fraction from exact occlusion
 /// tests, over the exposed part of a patch); version-1 tables carried the biases fixed then.
-constexpr uint32_t kVersion = 2;
+constexpr uint32_t kVersion = 3;
 
 /// Appends plain values to a byte buffer (little-endian host assumed, checked at compile time).
 class Out {
@@ -106,7 +106,8 @@ class In {
 uint64_t FirstShotSettings::hash() const {
   Hasher h;
   h.add(resolution).add(std::string_view(window)).add(std::string_view(backend));
-  h.add(patchSize).add(lightPatchSize).add(smallLightMaxSolidAngle).add(rotationSeed);
+  h.add(patchSize).add(minPatchSize).add(refineTolerance).add(lightPatchSize).add(lightTolerance);
+  h.add(smallLightMaxSolidAngle).add(rotationSeed);
   h.add(std::string_view(estimator));
   return h.value();
 }
@@ -153,7 +154,10 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
   o.str(t.settings.window);
   o.str(t.settings.backend);
   o.put(t.settings.patchSize);
+  o.put(t.settings.minPatchSize);
+  o.put(t.settings.refineTolerance);
   o.put(t.settings.lightPatchSize);
+  o.put(t.settings.lightTolerance);
   o.put(t.settings.smallLightMaxSolidAngle);
   o.put(t.settings.rotationSeed);
   o.str(t.settings.estimator);
@@ -228,7 +232,10 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
   t.settings.window = in.str("SETT");
   t.settings.backend = in.str("SETT");
   t.settings.patchSize = in.get<double>("SETT");
+  t.settings.minPatchSize = in.get<double>("SETT");
+  t.settings.refineTolerance = in.get<double>("SETT");
   t.settings.lightPatchSize = in.get<double>("SETT");
+  t.settings.lightTolerance = in.get<double>("SETT");
   t.settings.smallLightMaxSolidAngle = in.get<double>("SETT");
   t.settings.rotationSeed = in.get<uint64_t>("SETT");
   t.settings.estimator = in.str("SETT");

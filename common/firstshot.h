@@ -38,8 +38,11 @@ struct FirstShotSettings {
   uint32_t resolution = 256;      ///< R, pixels across a full cube face
   std::string window = "hemicube";///< hemicube | tetra (area lights)
   std::string backend = "gl";     ///< gl | embree
-  double patchSize = 0.05;        ///< longest patch edge, m
-  double lightPatchSize = 0.02;   ///< area-light tessellation, m
+  double patchSize = 0.05;        ///< longest patch edge of the coarse mesh, m
+  double minPatchSize = 0;        ///< smallest edge adaptive refinement may reach, m; ≥ patchSize (or 0): a uniform mesh
+  double refineTolerance = 0.02;  ///< relative shadow-edge measure above which a patch is split (docs/firstshot-format.md)
+  double lightPatchSize = 0;      ///< area-light tessellation, m; 0: automatic from lightTolerance
+  double lightTolerance = 0.01;   ///< automatic area-light tessellation: relative error bound at the nearest receiver
   double smallLightMaxSolidAngle = 1.0;
   std::string estimator = "analytic"; ///< analytic: closed form × visible fraction (preprocess/coverage.h); pixels: Σ pixel weights
   uint64_t rotationSeed = 0;      ///< 0: windows aligned with the light frame; else a random rotation per sample

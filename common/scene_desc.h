@@ -77,8 +77,11 @@ struct CameraDesc {
 
 /// Settings that change results. Command-line options override them.
 struct SettingsDesc {
-  double patchSize = 0.05;         ///< longest patch edge, m
-  double lightPatchSize = 0.02;    ///< longest edge of an area light's tessellation, m
+  double patchSize = 0.05;         ///< longest patch edge, m (the coarse mesh adaptive refinement starts from)
+  double minPatchSize = 0;         ///< smallest patch edge refinement may reach, m; 0: the default (patchSize/kDefaultRefineRatio)
+  double refineTolerance = 0.02;   ///< split a patch whose shadow-edge measure exceeds this fraction of its irradiance
+  double lightPatchSize = 0;       ///< longest edge of an area light's tessellation, m; 0: automatic from lightTolerance
+  double lightTolerance = 0.01;    ///< automatic light tessellation: relative error of the vertex rule at the nearest receiver
   int spp = 64;                    ///< samples per pixel
   uint64_t seed = 1;
   int maxDepth = 16;               ///< longest path, in bounces

@@ -263,10 +263,13 @@ void parseCamera(const Reader& r, const Json& j, CameraDesc& c) {
 
 void parseSettings(const Reader& r, const Json& j, SettingsDesc& s) {
   const std::string w = "settings";
-  r.keys(j, w, {"patch_size", "light_patch_size", "spp", "seed", "max_depth", "item_buffer_resolution", "window",
+  r.keys(j, w, {"patch_size", "min_patch_size", "refine_tolerance", "light_patch_size", "light_tolerance", "spp", "seed", "max_depth", "item_buffer_resolution", "window",
                 "small_light_max_solid_angle"});
   if (j.contains("patch_size")) s.patchSize = r.positive(j["patch_size"], w + ".patch_size");
+  if (j.contains("min_patch_size")) s.minPatchSize = r.positive(j["min_patch_size"], w + ".min_patch_size");
+  if (j.contains("refine_tolerance")) s.refineTolerance = r.positive(j["refine_tolerance"], w + ".refine_tolerance");
   if (j.contains("light_patch_size")) s.lightPatchSize = r.positive(j["light_patch_size"], w + ".light_patch_size");
+  if (j.contains("light_tolerance")) s.lightTolerance = r.positive(j["light_tolerance"], w + ".light_tolerance");
   if (j.contains("spp")) s.spp = int(r.integer(j["spp"], w + ".spp", 1, 1 << 24));
   if (j.contains("seed")) s.seed = uint64_t(r.integer(j["seed"], w + ".seed", 0, INT64_MAX));
   if (j.contains("max_depth")) s.maxDepth = int(r.integer(j["max_depth"], w + ".max_depth", 0, 1024));

@@ -85,7 +85,7 @@ std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vec
         out.push_back(s);
         break;
       case LightType::Area:
-        areaSamples(scene, li, lightPatchSize, out);
+        areaSamples(scene, li, lightPatchSize > 0 ? lightPatchSize : 0.02, out);  // FIXME automatic tessellation
         break;
     }
   }

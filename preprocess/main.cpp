@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   return fs::runTool("firstshot-preprocess", [&] {
     CLI::App app{"firstshot-preprocess: computes the first-shot factors of a scene's small lights (.fsd)"};
     std::string scenePath, out, dump, window, backend = "gl", gl = "osmesa", estimator = "analytic";
-    double patchSize = 0, lightPatchSize = 0, timeLimit = 0;
+    double patchSize = 0, minPatchSize = 0, refineTolerance = 0, lightPatchSize = 0, lightTolerance = 0, timeLimit = 0;
     int resolution = 0, threads = 0;
     uint64_t seed = 0;
     bool stats = false, quiet = false;
@@ -61,6 +61,12 @@ int main(int argc, char** argv) {
     app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_option("--patch-size", patchSize, "longest patch edge in metres (default: settings.patch_size)")->check(CLI::PositiveNumber);
     app.add_option("--light-patch-size", lightPatchSize, "area-light tessellation in metres (default: settings.light_patch_size)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--min-patch-size", minPatchSize, "smallest patch edge adaptive refinement may reach, m (default: settings.min_patch_size)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--refine-tolerance", refineTolerance, "split patches whose shadow-edge measure exceeds this fraction of their irradiance (default: settings.refine_tolerance)")
+        ->check(CLI::PositiveNumber);
+    app.add_option("--light-tolerance", lightTolerance, "automatic area-light tessellation: relative error at the nearest receiver (default: settings.light_tolerance)")
         ->check(CLI::PositiveNumber);
     app.add_option("--threads", threads, "workers, one GL context each (default: one per core)")->check(CLI::NonNegativeNumber);
     app.add_option("--seed", seed, "0: windows aligned with each light's frame; else rotate each sample's window randomly about its axis");
@@ -83,7 +89,12 @@ int main(int argc, char** argv) {
     const fs::SceneDesc scene = fs::loadScene(scenePath);
     fs::PreprocessOptions o = fs::defaultOptions(scene);
     if (patchSize > 0) o.settings.patchSize = patchSize;
+    if (patchSize > 0 && scene.settings.minPatchSize == 0) o.settings.minPatchSize = patchSize / fs::kDefaultRefineRatio;
+    if (minPatchSize > 0) o.settings.minPatchSize = minPatchSize;
+    if (o.settings.minPatchSize > o.settings.patchSize) o.settings.minPatchSize = o.settings.patchSize;
+    if (refineTolerance > 0) o.settings.refineTolerance = refineTolerance;
     if (lightPatchSize > 0) o.settings.lightPatchSize = lightPatchSize;
+    if (lightTolerance > 0) o.settings.lightTolerance = lightTolerance;
     if (resolution > 0) o.settings.resolution = static_cast<uint32_t>(resolution);
     if (!window.empty()) o.settings.window = window;
     if (o.settings.resolution % 2) throw fs::InputError("", "--resolution", "must be even (the hemicube's side faces are R/2 high)");

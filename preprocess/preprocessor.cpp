@@ -27,7 +27,11 @@ PreprocessOptions defaultOptions(const SceneDesc& scene) {
   o.settings.resolution = static_cast<uint32_t>(scene.settings.itemBufferResolution);
   o.settings.window = scene.settings.window;
   o.settings.patchSize = scene.settings.patchSize;
+  o.settings.minPatchSize = scene.settings.minPatchSize > 0 ? scene.settings.minPatchSize
+                                                             : scene.settings.patchSize / kDefaultRefineRatio;
+  o.settings.refineTolerance = scene.settings.refineTolerance;
   o.settings.lightPatchSize = scene.settings.lightPatchSize;
+  o.settings.lightTolerance = scene.settings.lightTolerance;
   o.settings.smallLightMaxSolidAngle = scene.settings.smallLightMaxSolidAngle;
   return o;
 }

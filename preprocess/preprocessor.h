@@ -25,6 +25,10 @@ struct PreprocessStats {
   std::string renderer;           ///< e.g. "gl/osmesa (llvmpipe ...)" or "embree"
 };
 
+/// min_patch_size when the scene does not give it: patch_size / this (adaptive refinement by up to
+/// log2 of it levels).
+constexpr double kDefaultRefineRatio = 4.0;
+
 /// Options from the scene's settings (command-line values are applied on top by the caller).
 PreprocessOptions defaultOptions(const SceneDesc& scene);
 

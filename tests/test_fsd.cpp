@@ -79,7 +79,7 @@ TEST(FsdFile, WrongVersion) {
   b[8] = 1;  // a table from before the exposed-part factors: refused, with what to do
   writeBytes(dir + "/old.fsd", b);
   EXPECT_THAT(readError(dir + "/old.fsd"),
-              HasSubstr("format version 1, this build reads version 2: run firstshot-preprocess again"));
+              HasSubstr("format version 1, this build reads version 3: run firstshot-preprocess again"));
 }
 
 TEST(FsdFile, Truncated) {
