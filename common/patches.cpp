@@ -40,6 +40,8 @@ void polygonGeometry(Patch& p, const Vec3d* v) {
 
 }  // namespace
 
+void computePatchGeometry(Patch& p, const Vec3d* exact) { polygonGeometry(p, exact); }
+
 void computePatchGeometry(Patch& p) {
   Vec3d v[4];
   for (uint32_t i = 0; i < p.count; ++i) v[i] = Vec3d(p.v[i]);
@@ -68,10 +70,10 @@ void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std
     }
 }
 
-PatchMesh buildPatches(const SceneDesc& scene, double patchSize) {
-  PatchMesh mesh;
-  mesh.patchSize = patchSize;
+void forEachPatchPolygon(const SceneDesc& scene, double patchSize,
+                         const std::function<void(uint32_t, const std::vector<Vec3d>&)>& visit) {
   std::vector<std::vector<Vec3d>> polys;
+  uint64_t total = 0;
   for (size_t si = 0; si < scene.shapes.size(); ++si) {
     const ShapeDesc& s = scene.shapes[si];
     if (scene.materials[s.material].isEmissive()) continue;
@@ -80,20 +82,27 @@ PatchMesh buildPatches(const SceneDesc& scene, double patchSize) {
       for (int i = 0; i < f.count; ++i) v[i] = s.vertices[f.v[i]];
       polys.clear();
       subdividePolygon(v, f.count, patchSize, polys);
-      if (mesh.patches.size() + polys.size() > std::numeric_limits<uint32_t>::max())
+      total += polys.size();
+      if (total > std::numeric_limits<uint32_t>::max())
         throw InputError(scene.file, s.name, "more than 2^32-1 patches: raise settings.patch_size");
-      for (const auto& poly : polys) {
-        Patch p;
-        p.count = static_cast<uint32_t>(poly.size());
-        for (size_t i = 0; i < poly.size(); ++i) p.v[i] = Vec3(poly[i]);
-        if (p.count == 3) p.v[3] = p.v[2];
-        p.material = static_cast<uint32_t>(s.material);
-        p.shape = static_cast<uint32_t>(si);
-        polygonGeometry(p, poly.data());  // exact sub-polygon, before rounding to float
-        mesh.patches.push_back(p);
-      }
+      for (const auto& poly : polys) visit(static_cast<uint32_t>(si), poly);
     }
   }
+}
+
+PatchMesh buildPatches(const SceneDesc& scene, double patchSize) {
+  PatchMesh mesh;
+  mesh.patchSize = patchSize;
+  forEachPatchPolygon(scene, patchSize, [&](uint32_t shape, const std::vector<Vec3d>& poly) {
+    Patch p;
+    p.count = static_cast<uint32_t>(poly.size());
+    for (size_t i = 0; i < poly.size(); ++i) p.v[i] = Vec3(poly[i]);
+    if (p.count == 3) p.v[3] = p.v[2];
+    p.material = static_cast<uint32_t>(scene.shapes[shape].material);
+    p.shape = shape;
+    polygonGeometry(p, poly.data());  // exact sub-polygon, before rounding to float
+    mesh.patches.push_back(p);
+  });
   return mesh;
 }
 

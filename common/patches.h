@@ -4,6 +4,7 @@
 /// The patch mesh is what the preprocessor renders into item buffers and what the renderer traces,
 /// so a hit's primitive maps straight to a patch.
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "common/math.h"
@@ -34,11 +35,19 @@ struct PatchMesh {
 
 /// Area, normal and centroid of a planar polygon from its (float) vertices, computed in double.
 void computePatchGeometry(Patch& p);
+/// The same from the exact polygon @p exact (p.count vertices) the float vertices were rounded from.
+void computePatchGeometry(Patch& p, const Vec3d* exact);
 
 /// Splits a triangle or planar quad into sub-polygons whose edges are all at most @p maxEdge long.
 /// Quads become an n×m grid of quads (bilinear split), triangles a k² regular subdivision.
 /// Appends world-space polygons to @p out; vertices are shared exactly between neighbours.
 void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std::vector<Vec3d>>& out);
+
+/// Calls @p visit(shape index, polygon) for every polygon of the uniform mesh of @p patchSize over
+/// the non-emissive shapes, in shape order then face order (what buildPatches() makes patches of).
+/// @throws InputError if the count exceeds 2^32-1.
+void forEachPatchPolygon(const SceneDesc& scene, double patchSize,
+                         const std::function<void(uint32_t, const std::vector<Vec3d>&)>& visit);
 
 /// Builds the patch mesh of all non-emissive shapes, in shape order then face order, so the same
 /// scene gives the same patches byte for byte. @throws InputError if the count exceeds 2^32-1.

@@ -11,36 +11,51 @@ namespace {
 
 using analytic::clipPolygonToPlane;
 
-/// Calls fn(i, j, w) for every pixel centre (i, j) of @p view with weight w > 0 that falls inside the
-/// convex planar polygon @p poly clipped to depth ≥ @p near.
-template <typename Fn>
-void forEachCentre(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near, Fn fn) {
+/// A polygon clipped to the near plane and projected onto a view's image plane.
+struct Projected {
+  Vec2d q[8];
+  int n = 0;
+  double sign = 1;  ///< orientation, so that "inside" means the same side of every edge
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;  ///< pixel index range whose centres may fall inside
+};
+
+/// Projects the convex planar polygon @p poly, clipped to depth ≥ @p near; false if nothing is left.
+bool project(const View& view, const Vec3d* poly, int count, double near, Projected& out) {
   Vec3d clipped[8];
   const bool persp = view.projection == Projection::Perspective;
   const int n = clipPolygonToPlane(poly, count, view.eye, view.forward, persp ? near : 0.0, clipped);
-  if (n < 3) return;
-  // Image-plane coordinates of the clipped polygon.
-  Vec2d q[8];
+  if (n < 3) return false;
   Vec2d lo(1e300), hi(-1e300);
   for (int i = 0; i < n; ++i) {
     const Vec3d r = clipped[i] - view.eye;
     const double z = persp ? glm::dot(r, view.forward) : 1.0;
-    q[i] = Vec2d(glm::dot(r, view.right) / z, glm::dot(r, view.up) / z);
-    lo = glm::min(lo, q[i]), hi = glm::max(hi, q[i]);
+    out.q[i] = Vec2d(glm::dot(r, view.right) / z, glm::dot(r, view.up) / z);
+    lo = glm::min(lo, out.q[i]), hi = glm::max(hi, out.q[i]);
   }
-  // Orientation, so that "inside" means the same side of every edge.
+  out.n = n;
   double area2 = 0;
-  for (int i = 0; i < n; ++i) area2 += q[i].x * q[(i + 1) % n].y - q[(i + 1) % n].x * q[i].y;
-  if (area2 == 0) return;
-  const double sign = area2 > 0 ? 1.0 : -1.0;
-  // Pixel index range whose centres may fall inside.
+  for (int i = 0; i < n; ++i) area2 += out.q[i].x * out.q[(i + 1) % n].y - out.q[(i + 1) % n].x * out.q[i].y;
+  if (area2 == 0) return false;
+  out.sign = area2 > 0 ? 1.0 : -1.0;
   const double du = (view.planeMax.x - view.planeMin.x) / view.width, dv = (view.planeMax.y - view.planeMin.y) / view.height;
-  const int i0 = std::max(0, int(std::floor((lo.x - view.planeMin.x) / du - 0.5)));
-  const int i1 = std::min(view.width - 1, int(std::ceil((hi.x - view.planeMin.x) / du - 0.5)));
-  const int j0 = std::max(0, int(std::floor((view.planeMax.y - hi.y) / dv - 0.5)));
-  const int j1 = std::min(view.height - 1, int(std::ceil((view.planeMax.y - lo.y) / dv - 0.5)));
-  for (int j = j0; j <= j1; ++j) {
-    for (int i = i0; i <= i1; ++i) {
+  out.i0 = std::max(0, int(std::floor((lo.x - view.planeMin.x) / du - 0.5)));
+  out.i1 = std::min(view.width - 1, int(std::ceil((hi.x - view.planeMin.x) / du - 0.5)));
+  out.j0 = std::max(0, int(std::floor((view.planeMax.y - hi.y) / dv - 0.5)));
+  out.j1 = std::min(view.height - 1, int(std::ceil((view.planeMax.y - lo.y) / dv - 0.5)));
+  return true;
+}
+
+/// Calls fn(i, j, w) for every pixel centre (i, j) of @p view with weight w > 0 that falls inside the
+/// convex planar polygon @p poly clipped to depth ≥ @p near.
+template <typename Fn>
+void forEachCentre(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near, Fn fn) {
+  Projected pr;
+  if (!project(view, poly, count, near, pr)) return;
+  const Vec2d* q = pr.q;
+  const int n = pr.n;
+  const double sign = pr.sign;
+  for (int j = pr.j0; j <= pr.j1; ++j) {
+    for (int i = pr.i0; i <= pr.i1; ++i) {
       const Vec2d c = view.pixelCentre(i, j);
       bool inside = true;
       for (int e = 0; e < n && inside; ++e) {
@@ -101,6 +116,16 @@ bool occludedNear(const View& view, const std::vector<uint32_t>& ids, const Patc
 }
 
 }  // namespace
+
+void markProjection(const View& view, const Patch& patch, double near, int margin, std::vector<uint8_t>& mask) {
+  Vec3d poly[4];
+  for (uint32_t k = 0; k < patch.count; ++k) poly[k] = Vec3d(patch.v[k]);
+  Projected pr;
+  if (!project(view, poly, int(patch.count), near, pr)) return;
+  const int i0 = std::max(0, pr.i0 - margin), i1 = std::min(view.width - 1, pr.i1 + margin);
+  const int j0 = std::max(0, pr.j0 - margin), j1 = std::min(view.height - 1, pr.j1 + margin);
+  for (int j = j0; j <= j1; ++j) std::fill_n(mask.begin() + size_t(j) * view.width + i0, std::max(0, i1 - i0 + 1), uint8_t(1));
+}
 
 double coveredWeight(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near,
                      size_t& pixels) {

@@ -55,6 +55,11 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
 int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
                     const EmbreeItemBuffer& rays, const Vec3d& x, double near);
 
+/// Flags in @p mask (one byte per pixel of @p view) the pixels whose centres may fall inside patch
+/// @p patch (clipped to depth ≥ @p near) and @p margin pixels around them: what the coverage of that
+/// patch reads from an item buffer (its centres and their 8 neighbours need margin ≥ 1).
+void markProjection(const View& view, const Patch& patch, double near, int margin, std::vector<uint8_t>& mask);
+
 /// ∫ dω over the polygon seen from @p eye (its solid angle).
 double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count);
 

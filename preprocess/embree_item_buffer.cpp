@@ -146,6 +146,26 @@ EmbreeItemBuffer::~EmbreeItemBuffer() {
   if (device_) rtcReleaseDevice(device_);
 }
 
+void EmbreeItemBuffer::renderMasked(const View& view, const std::vector<uint8_t>& mask, std::vector<uint32_t>& ids) const {
+  ids.assign(view.pixelCount(), kNoPatch);
+  const double far = farDepth(view, bounds_);
+  if (view.pixelCount() == 0 || !(far > near_) || triPatch_.empty()) return;
+  FlushDenormals ftz;
+  const RaySetup setup{view, float(near_), float(far)};
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  RTCRayHit rh;
+  for (int j = 0; j < view.height; ++j)
+    for (int i = 0; i < view.width; ++i) {
+      const size_t k = static_cast<size_t>(j) * view.width + i;
+      if (!mask[k]) continue;
+      initRay(rh, setup, i, j);
+      rtcIntersect1(scene_, &ctx, &rh);
+      if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) ids[k] = triPatch_[rh.hit.primID];
+    }
+}
+
 uint32_t EmbreeItemBuffer::firstHit(const Vec3d& origin, const Vec3d& direction, double tfar, double& t) const {
   if (triPatch_.empty()) return kNoPatch;
   FlushDenormals ftz;

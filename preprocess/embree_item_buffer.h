@@ -33,6 +33,10 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   /// Only reads the scene, so it may also be called from several threads at once.
   void render(const View& view, std::vector<uint32_t>& ids) override;
   const char* name() const override { return "embree"; }
+  /// The item buffer of @p view at the pixels flagged in @p mask (row-major, one byte per pixel,
+  /// View's pixel order) only; every other pixel is kNoPatch. Thread-safe, like render(). For
+  /// refinement passes, which need the pixels around a few split patches.
+  void renderMasked(const View& view, const std::vector<uint8_t>& mask, std::vector<uint32_t>& ids) const;
   /// The patch first hit by the ray @p origin + t·@p direction, t in [0, @p tfar] (direction not
   /// necessarily unit), or kNoPatch; @p t receives its t. Thread-safe, like render().
   uint32_t firstHit(const Vec3d& origin, const Vec3d& direction, double tfar, double& t) const;

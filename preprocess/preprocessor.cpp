@@ -13,6 +13,7 @@
 #include "common/patches.h"
 #include "common/progress.h"
 #include "common/rng.h"
+#include "preprocess/adaptive_mesh.h"
 #include "preprocess/coverage.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
@@ -91,12 +92,12 @@ int litSide(const SampleSetup& s, const Patch& p) {
   return side >= 0 ? 0 : 1;
 }
 
-/// The analytic estimator (preprocess/coverage.h): closed form × visible fraction, the fraction
-/// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when
-/// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
-/// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
-/// @p exposure is required (it also lends its ray caster to the point tests).
-double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
+/// The analytic estimator's visible fraction (preprocess/coverage.h), decided in exact geometry at
+/// the pixel centres inside the patch, or at a few points on it when fewer than
+/// kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its exposed part
+/// only (preprocess/exposure.h). @p touched: the patch shows in the item buffer. @p exposure is
+/// required (it also lends its ray caster to the point tests). −1 (or 0) when the patch is unseen.
+double visibleFraction(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
                         double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
   auto coverage = [&](const ExposureQuery* mask) {
     PatchCoverage total;
@@ -132,18 +133,35 @@ double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, co
       if (query.mask->partial) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, &query);
     }
   }
-  return fraction > 0 ? fraction * unoccludedIntegral(s, views[0].eye, mesh.patches[patch]) : 0.0;
+  return fraction;
 }
 
 /// One factor before it is sorted into the CSR table.
 struct Entry {
   uint32_t patch;
   float factor;
+  float visible;  ///< V_ij, the visible fraction (the refinement's measure); −1 if not computed
 };
 
-/// Renders one sample's views and returns its non-zero factors, sorted by patch.
-std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup& s, const PatchMesh& mesh,
-                                std::vector<double>& acc, std::vector<uint32_t>& touched,
+/// r_ij·A_j/scale_i of a patch with visible fraction @p fraction: the closed form times the fraction.
+double analyticIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p, double fraction) {
+  return fraction > 0 ? fraction * unoccludedIntegral(s, eye, p) : 0.0;
+}
+
+/// What one task of a shooting pass computes: a sample's factors over all patches, or over a
+/// sorted subset of them (the children of patches split since the sample was last shot).
+struct Task {
+  uint32_t sample = 0;
+  std::vector<uint32_t> patches;  ///< empty: all
+};
+
+/// Renders one sample's views and returns its non-zero factors over @p task's patches, sorted by
+/// patch. With @p needVisible, factors from pixel sums (spots, the pixels estimator) also get their
+/// visible fraction. A task over a subset of patches traces only the pixels around them with
+/// @p exposure's ray caster (a refinement pass: a few split patches per window); a task over all
+/// patches renders whole views with @p renderer.
+std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup& s, const PatchMesh& mesh, const Task& task,
+                                bool needVisible, std::vector<double>& acc, std::vector<uint32_t>& touched,
                                 std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure) {
   Framed frame(s.axis);
   if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
@@ -153,9 +171,18 @@ std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup&
   }
   const std::vector<View> views = placeWindow(*s.window, s.position, frame, s.eyeOffset);
   idsPerView.resize(views.size());
+  const bool masked = !task.patches.empty();
+  const double near = masked ? exposure->rays().nearPlane() : renderer->nearPlane();
+  std::vector<uint8_t> mask;
   for (size_t v = 0; v < views.size(); ++v) {
     std::vector<uint32_t>& ids = idsPerView[v];
-    renderer.render(views[v], ids);
+    if (masked) {
+      mask.assign(views[v].pixelCount(), 0);
+      for (uint32_t id : task.patches) markProjection(views[v], mesh.patches[id], near, 2, mask);
+      exposure->rays().renderMasked(views[v], mask, ids);
+    } else {
+      renderer->render(views[v], ids);
+    }
     const std::vector<double>& w = (*s.weights)[v];
     for (size_t p = 0; p < ids.size(); ++p) {
       const uint32_t id = ids[p];
@@ -167,21 +194,33 @@ std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup&
   std::sort(touched.begin(), touched.end());
   std::vector<Entry> out;
   out.reserve(touched.size());
-  auto emit = [&](uint32_t id, double integral) {
-    if (integral > 0) out.push_back({id, static_cast<float>(s.scale * integral / mesh.patches[id].area)});
+  auto emit = [&](uint32_t id, double integral, double fraction) {
+    if (integral > 0)
+      out.push_back({id, static_cast<float>(s.scale * integral / mesh.patches[id].area), static_cast<float>(fraction)});
+  };
+  auto fraction = [&](uint32_t id, bool shown) {
+    return visibleFraction(s, views, idsPerView, near, mesh, id, shown, exposure);
+  };
+  auto inTask = [&](uint32_t id) {
+    return task.patches.empty() || std::binary_search(task.patches.begin(), task.patches.end(), id);
   };
   if (!s.analytic) {
-    for (uint32_t id : touched) emit(id, acc[id]), acc[id] = 0.0;
+    for (uint32_t id : touched)
+      if (inTask(id)) emit(id, acc[id], needVisible ? std::max(0.0, fraction(id, true)) : -1.0);
   } else {
     // Every patch: those that show in the item buffer, and those too small to hold a pixel centre
     // (missing them would lose their light, since their neighbours get only their own exact share).
-    size_t next = 0;
-    for (uint32_t id = 0; id < mesh.size(); ++id) {
-      const bool shown = next < touched.size() && touched[next] == id;
-      if (shown) ++next, acc[id] = 0.0;
-      emit(id, analyticIntegral(s, views, idsPerView, renderer.nearPlane(), mesh, id, shown, exposure));
-    }
+    auto visit = [&](uint32_t id) {
+      const bool shown = std::binary_search(touched.begin(), touched.end(), id);
+      const double f = fraction(id, shown);
+      emit(id, analyticIntegral(s, views[0].eye, mesh.patches[id], f), f);
+    };
+    if (task.patches.empty())
+      for (uint32_t id = 0; id < mesh.size(); ++id) visit(id);
+    else
+      for (uint32_t id : task.patches) visit(id);
   }
+  for (uint32_t id : touched) acc[id] = 0.0;
   touched.clear();
   return out;
 }
@@ -192,6 +231,141 @@ std::unique_ptr<ItemBufferRenderer> makeRenderer(const PreprocessOptions& o, con
   throw std::invalid_argument("unknown item-buffer back end \"" + o.settings.backend + "\" (gl, embree)");
 }
 
+/// One shooting pass over a fixed mesh: workers with their own renderer (GL context) take tasks in
+/// any order; results are stored by sample index, so the table does not depend on the thread count.
+struct Shooter {
+  const SceneDesc& scene;
+  const PreprocessOptions& options;
+  const std::vector<SampleSetup>& setups;
+  const Bounds3d& bounds;
+  bool quiet = false;
+  std::string rendererName;
+  std::chrono::steady_clock::time_point deadline;  ///< past it the run fails (nothing is written)
+
+  /// Runs @p tasks over @p mesh; each task's factors are added to results[task.sample], which ends
+  /// sorted by patch.
+  void run(const PatchMesh& mesh, const std::vector<Task>& tasks, bool needVisible, const std::string& label,
+           std::vector<std::vector<Entry>>& results) {
+    if (tasks.empty()) return;
+    const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
+    int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    threads = std::max(1, std::min<int>(threads, static_cast<int>(tasks.size())));
+    // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
+    std::unique_ptr<EmbreeItemBuffer> probe;
+    std::unique_ptr<ExposureCache> exposure;
+    if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty()) {
+      probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
+      exposure = std::make_unique<ExposureCache>(mesh, *probe);
+    }
+    std::atomic<size_t> next{0};
+    std::mutex errorMutex;
+    std::exception_ptr error;
+    Progress progress(label, tasks.size(), quiet);
+    auto work = [&](int worker) {
+      try {
+        std::unique_ptr<ItemBufferRenderer> renderer;
+        std::vector<double> acc;
+        std::vector<uint32_t> touched;
+        std::vector<std::vector<uint32_t>> ids;
+        for (size_t k; (k = next++) < tasks.size();) {
+          const Task& task = tasks[k];
+          if (acc.empty()) acc.assign(mesh.size(), 0.0);
+          if (!renderer && task.patches.empty()) {
+            renderer = makeRenderer(options, geometry, bounds);
+            if (worker == 0 && rendererName.empty()) rendererName = renderer->name();
+          }
+          if (std::chrono::steady_clock::now() > deadline)
+            throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached (" + label +
+                                     ", " + std::to_string(k) + " of " + std::to_string(tasks.size()) +
+                                     " light samples); nothing written");
+          std::vector<Entry> out = renderSample(renderer.get(), setups[task.sample], mesh, task, needVisible, acc, touched, ids,
+                                                exposure.get());
+          std::vector<Entry>& r = results[task.sample];
+          if (r.empty()) {
+            r = std::move(out);
+          } else {
+            r.insert(r.end(), out.begin(), out.end());
+            std::sort(r.begin(), r.end(), [](const Entry& a, const Entry& b) { return a.patch < b.patch; });
+          }
+          progress.advance();
+        }
+      } catch (...) {
+        std::lock_guard lock(errorMutex);
+        if (!error) error = std::current_exception();
+        next = tasks.size();
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
+    work(0);
+    for (auto& th : pool) th.join();
+    progress.finish();
+    if (error) std::rethrow_exception(error);
+  }
+};
+
+/// The leaves to split: where the first-shot irradiance varies across a patch by partial visibility
+/// (0 < V_ij < 1), measured as Σ_i E⁰_ij·V_ij(1 − V_ij) / Σ_i E⁰_ij with E⁰_ij the unoccluded
+/// irradiance (luminance) sample i would bring; above the tolerance, and while the children stay
+/// at least settings.minPatchSize. The renderer evaluates the unoccluded term exactly at each point
+/// (render/direct_light.h), so smooth variation near a light needs no split: only V does, which the
+/// table holds per patch.
+std::vector<uint8_t> splitFlags(const AdaptiveMesh& adaptive, const std::vector<std::vector<Entry>>& results,
+                                const std::vector<LightSample>& samples, const FirstShotSettings& settings) {
+  const uint32_t n = adaptive.mesh().size();
+  std::vector<double> varying(n, 0.0), total(n, 0.0);
+  for (size_t i = 0; i < results.size(); ++i) {
+    const double lum = luminance(samples[i].emission);
+    for (const Entry& e : results[i]) {
+      if (!(e.visible > 0)) continue;
+      const double unoccluded = lum * e.factor / e.visible;
+      varying[e.patch] += unoccluded * e.visible * (1.0 - e.visible);
+      total[e.patch] += unoccluded;
+    }
+  }
+  std::vector<uint8_t> flags(n, 0);
+  for (uint32_t j = 0; j < n; ++j)
+    flags[j] = total[j] > 0 && varying[j] > settings.refineTolerance * total[j] &&
+               adaptive.splittable(j, settings.minPatchSize);
+  return flags;
+}
+
+/// Moves the factors onto the refined mesh: unsplit patches keep theirs; the children of a split
+/// patch that sample i saw whole (V = 1, closed-form kinds) get their closed forms; children of a
+/// patch it saw in part (or by pixel sums) become a task for sample i. A patch the sample did not
+/// reach has no entry and its children none either.
+void carryOver(const PatchMesh& mesh, const std::vector<SampleSetup>& setups, const std::vector<uint8_t>& flags,
+               const std::vector<uint32_t>& first, std::vector<std::vector<Entry>>& results, std::vector<Task>& tasks) {
+  tasks.clear();
+  for (size_t i = 0; i < results.size(); ++i) {
+    const SampleSetup& s = setups[i];
+    std::vector<Entry> moved;
+    moved.reserve(results[i].size());
+    Task task;
+    task.sample = static_cast<uint32_t>(i);
+    for (const Entry& e : results[i]) {
+      const uint32_t c0 = first[e.patch];
+      if (!flags[e.patch]) {
+        moved.push_back({c0, e.factor, e.visible});
+        continue;
+      }
+      const bool whole = s.analytic && e.visible >= 1.0f;
+      const Vec3d eye = s.position + s.eyeOffset * Framed(s.axis).n;  // as placeWindow() puts it
+      for (uint32_t c = c0; c < first[e.patch + 1]; ++c) {
+        if (!whole) {
+          task.patches.push_back(c);
+          continue;
+        }
+        const Patch& p = mesh.patches[c];
+        const double integral = analyticIntegral(s, eye, p, 1.0);
+        if (integral > 0) moved.push_back({c, static_cast<float>(s.scale * integral / p.area), 1.0f});
+      }
+    }
+    results[i] = std::move(moved);
+    if (!task.patches.empty()) tasks.push_back(std::move(task));
+  }
+}
+
 }  // namespace
 
 FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& options, PreprocessStats* stats) {
@@ -199,7 +373,6 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   FirstShotTable t;
   t.sceneHash = hashScene(scene);
   t.settings = options.settings;
-  t.mesh = buildPatches(scene, options.settings.patchSize);
   t.replacedLights = smallLights(scene, options.settings.smallLightMaxSolidAngle);
   t.samples = makeLightSamples(scene, t.replacedLights, options.settings.lightPatchSize);
   const int R = static_cast<int>(options.settings.resolution);
@@ -257,58 +430,25 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
       s.rotation = 2.0 * kPi * bitsToUnitDouble(hashKeys(options.settings.rotationSeed, i));
   }
 
-  // Workers: each with its own renderer (GL context); samples taken in any order, results stored
-  // by sample index, so the table does not depend on the thread count.
-  const ItemGeometry geometry = ItemGeometry::fromPatches(t.mesh);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(
-                                                               options.timeLimit > 0 ? options.timeLimit : 1e9);
-  int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::max(1, std::min<int>(threads, static_cast<int>(std::max<size_t>(1, t.samples.size()))));
-  // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
-  std::unique_ptr<EmbreeItemBuffer> probe;
-  std::unique_ptr<ExposureCache> exposure;
-  if (options.settings.estimator == "analytic") {
-    probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
-    exposure = std::make_unique<ExposureCache>(t.mesh, *probe);
-  }
+  // Level 0 over the coarse mesh, then refinement levels that re-shoot only what changed.
+  AdaptiveMesh adaptive(scene, options.settings.patchSize);
+  Shooter shooter{scene, options, setups, bounds, options.quiet, {},
+                  std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                         std::chrono::duration<double>(options.timeLimit > 0 ? options.timeLimit : 1e9))};
+  std::vector<Task> tasks(t.samples.size());
+  for (size_t i = 0; i < tasks.size(); ++i) tasks[i].sample = static_cast<uint32_t>(i);
+  const bool refine = options.settings.minPatchSize > 0 && options.settings.minPatchSize < options.settings.patchSize;
   std::vector<std::vector<Entry>> results(t.samples.size());
-  std::atomic<size_t> next{0};
-  std::mutex errorMutex;
-  std::exception_ptr error;
-  std::string rendererName;
-  Progress progress("first-shot", t.samples.size(), options.quiet);
-  auto work = [&](int worker) {
-    try {
-      std::unique_ptr<ItemBufferRenderer> renderer;
-      std::vector<double> acc;
-      std::vector<uint32_t> touched;
-      std::vector<std::vector<uint32_t>> ids;
-      for (size_t i; (i = next++) < t.samples.size();) {
-        if (!renderer) {
-          renderer = makeRenderer(options, geometry, bounds);
-          acc.assign(t.mesh.size(), 0.0);
-          if (worker == 0) rendererName = renderer->name();
-        }
-        if (std::chrono::steady_clock::now() > deadline)
-          throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached after " +
-                                   std::to_string(i) + " of " + std::to_string(t.samples.size()) +
-                                   " light samples; nothing written");
-        results[i] = renderSample(*renderer, setups[i], t.mesh, acc, touched, ids, exposure.get());
-        progress.advance();
-      }
-    } catch (...) {
-      std::lock_guard lock(errorMutex);
-      if (!error) error = std::current_exception();
-      next = t.samples.size();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int w = 1; w < threads; ++w) pool.emplace_back(work, w);
-  work(0);
-  for (auto& th : pool) th.join();
-  progress.finish();
-  if (error) std::rethrow_exception(error);
-
+  shooter.run(adaptive.mesh(), tasks, refine, "first-shot", results);
+  std::string rendererName = shooter.rendererName;
+  for (int level = 1; refine; ++level) {
+    const std::vector<uint8_t> flags = splitFlags(adaptive, results, t.samples, options.settings);
+    if (std::find(flags.begin(), flags.end(), uint8_t(1)) == flags.end()) break;
+    const std::vector<uint32_t> first = adaptive.split(flags);
+    carryOver(adaptive.mesh(), setups, flags, first, results, tasks);
+    shooter.run(adaptive.mesh(), tasks, true, "refine " + std::to_string(level), results);
+  }
+  t.mesh = adaptive.mesh();
   // CSR by patch; within a row, samples ascend.
   const uint32_t n = t.mesh.size();
   t.rowStart.assign(size_t(n) + 1, 0);

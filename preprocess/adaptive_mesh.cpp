@@ -1,0 +1,95 @@
+// The patch mesh as a forest of quadtrees (adaptive refinement).
+#include "preprocess/adaptive_mesh.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "common/error.h"
+
+namespace fs {
+
+AdaptiveMesh::AdaptiveMesh(const SceneDesc& scene, double patchSize) : file_(scene.file) {
+  mesh_.patchSize = patchSize;
+  forEachPatchPolygon(scene, patchSize, [&](uint32_t shape, const std::vector<Vec3d>& poly) {
+    Leaf l;
+    l.count = static_cast<uint32_t>(poly.size());
+    for (size_t i = 0; i < poly.size(); ++i) l.v[i] = poly[i];
+    if (l.count == 3) l.v[3] = l.v[2];
+    l.material = static_cast<uint32_t>(scene.shapes[shape].material);
+    l.shape = shape;
+    leaves_.push_back(l);
+  });
+  rebuild();
+}
+
+void AdaptiveMesh::rebuild() {
+  mesh_.patches.clear();
+  mesh_.patches.reserve(leaves_.size());
+  for (const Leaf& l : leaves_) {
+    Patch p;
+    p.count = l.count;
+    for (uint32_t i = 0; i < 4; ++i) p.v[i] = Vec3(l.v[i]);
+    p.material = l.material;
+    p.shape = l.shape;
+    computePatchGeometry(p, l.v);  // exact polygon, before rounding to float
+    mesh_.patches.push_back(p);
+  }
+}
+
+bool AdaptiveMesh::splittable(uint32_t patch, double minEdge) const {
+  const Leaf& l = leaves_[patch];
+  double longest = 0;
+  for (uint32_t i = 0; i < l.count; ++i) longest = std::max(longest, glm::length(l.v[(i + 1) % l.count] - l.v[i]));
+  return 0.5 * longest >= minEdge * (1 - 1e-9);
+}
+
+void AdaptiveMesh::children(const Vec3d* v, int count, std::vector<std::vector<Vec3d>>& out) {
+  auto mid = [&](int a, int b) { return 0.5 * (v[a] + v[b]); };
+  if (count == 4) {
+    const Vec3d m01 = mid(0, 1), m12 = mid(1, 2), m23 = mid(2, 3), m30 = mid(3, 0);
+    const Vec3d c = 0.25 * (v[0] + v[1] + v[2] + v[3]);
+    out.push_back({v[0], m01, c, m30});
+    out.push_back({m01, v[1], m12, c});
+    out.push_back({c, m12, v[2], m23});
+    out.push_back({m30, c, m23, v[3]});
+    return;
+  }
+  const Vec3d m01 = mid(0, 1), m12 = mid(1, 2), m20 = mid(2, 0);
+  out.push_back({v[0], m01, m20});
+  out.push_back({m01, v[1], m12});
+  out.push_back({m20, m12, v[2]});
+  out.push_back({m01, m12, m20});
+}
+
+std::vector<uint32_t> AdaptiveMesh::split(const std::vector<uint8_t>& flags) {
+  size_t count = 0;
+  for (size_t j = 0; j < leaves_.size(); ++j) count += flags[j] ? 4 : 1;
+  if (count > std::numeric_limits<uint32_t>::max())
+    throw InputError(file_, "settings.min_patch_size", "refinement would make more than 2^32-1 patches: raise it");
+  std::vector<uint32_t> first(leaves_.size() + 1);
+  std::vector<Leaf> next;
+  next.reserve(count);
+  std::vector<std::vector<Vec3d>> polys;
+  for (size_t j = 0; j < leaves_.size(); ++j) {
+    first[j] = static_cast<uint32_t>(next.size());
+    const Leaf& l = leaves_[j];
+    if (!flags[j]) {
+      next.push_back(l);
+      continue;
+    }
+    polys.clear();
+    children(l.v, int(l.count), polys);
+    for (const auto& poly : polys) {
+      Leaf c = l;
+      for (size_t i = 0; i < poly.size(); ++i) c.v[i] = poly[i];
+      if (c.count == 3) c.v[3] = c.v[2];
+      next.push_back(c);
+    }
+  }
+  first.back() = static_cast<uint32_t>(next.size());
+  leaves_ = std::move(next);
+  rebuild();
+  return first;
+}
+
+}  // namespace fs

@@ -1,0 +1,54 @@
+#pragma once
+/// @file adaptive_mesh.h
+/// The patch mesh as a forest of quadtrees: the uniform coarse mesh of settings.patch_size is the
+/// roots, and a patch can be split into four (quads at their edge midpoints and centre, triangles at
+/// their edge midpoints) down to settings.min_patch_size. Vertices stay in double precision from the
+/// scene's own faces, so neighbours at the same level share vertices bit for bit; a split next to an
+/// unsplit neighbour leaves a T-junction whose midpoint lies on the neighbour's edge (up to float
+/// rounding of the patch vertices).
+#include <cstdint>
+#include <vector>
+
+#include "common/math.h"
+#include "common/patches.h"
+#include "common/scene_desc.h"
+
+namespace fs {
+
+class AdaptiveMesh {
+ public:
+  /// The coarse mesh: every non-emissive face split as buildPatches() does with @p patchSize.
+  /// @throws InputError if there would be more than 2^32-1 patches.
+  AdaptiveMesh(const SceneDesc& scene, double patchSize);
+
+  /// The current leaves as a PatchMesh, in depth-first order of the roots (shape order, then face
+  /// order, then the children of a split patch in place of it): the same scene, settings and split
+  /// decisions give the same mesh byte for byte.
+  const PatchMesh& mesh() const { return mesh_; }
+
+  /// Whether leaf @p patch (an index into mesh()) may be split without an edge falling below @p minEdge (m).
+  bool splittable(uint32_t patch, double minEdge) const;
+
+  /// Splits the leaves flagged in @p split (one flag per current leaf) and rebuilds mesh().
+  /// @return for every old leaf, the index of its first new leaf; a split leaf's 4 children follow
+  /// each other from there, an unsplit leaf maps to one new leaf. Size: old leaf count + 1 (the
+  /// last entry is the new leaf count).
+  std::vector<uint32_t> split(const std::vector<uint8_t>& split);
+
+  /// The children of a split patch: 4 polygons of @p count vertices (3 or 4), counter-clockwise as
+  /// the parent; appended to @p out.
+  static void children(const Vec3d* v, int count, std::vector<std::vector<Vec3d>>& out);
+
+ private:
+  struct Leaf {
+    Vec3d v[4];
+    uint32_t count = 3, material = 0, shape = 0;
+  };
+  void rebuild();
+
+  std::vector<Leaf> leaves_;
+  PatchMesh mesh_;
+  std::string file_;
+};
+
+}  // namespace fs
