@@ -1,0 +1,162 @@
+// Adaptive patches (preprocess/adaptive_mesh.h): refinement follows the shadow edges, the mesh does
+// not depend on the thread count, and the first-shot lighting of an adaptive mesh matches that of
+// the uniform fine mesh with several times fewer patches.
+#include <gtest/gtest.h>
+
+#include <fmt/core.h>
+
+#include <cmath>
+
+#include "preprocess/adaptive_mesh.h"
+#include "preprocess/preprocessor.h"
+#include "common/scene_desc.h"
+#include "tests/render_util.h"
+#include "tests/test_util.h"
+
+using namespace fs;
+
+namespace {
+
+FirstShotTable preprocess(const SceneDesc& desc, double patchSize, double minPatchSize, int threads = 0) {
+  PreprocessOptions o = defaultOptions(desc);
+  o.settings.patchSize = patchSize;
+  o.settings.minPatchSize = minPatchSize;
+  o.quiet = true;
+  o.threads = threads;
+  return preprocessScene(desc, o);
+}
+
+double longestEdge(const Patch& p) {
+  double e = 0;
+  for (uint32_t k = 0; k < p.count; ++k) e = std::max(e, double(glm::length(p.v[(k + 1) % p.count] - p.v[k])));
+  return e;
+}
+
+/// A 4 m × 4 m floor, a point light 2 m above its centre and a 0.8 m square occluder 1 m above it:
+/// the shadow is the square |x|, |z| < 0.8 m (the occluder's edges projected from the light), whose
+/// edges cross the coarse patches.
+SceneDesc shadowScene() {
+  return test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [
+      {"type": "quad", "material": "white", "vertices": [[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]], "name": "floor"},
+      {"type": "quad", "material": "white", "vertices": [[-0.4,1,-0.4],[0.4,1,-0.4],[0.4,1,0.4],[-0.4,1,0.4]], "name": "occluder"}],
+    "lights": [{"type": "point", "position": [0, 2, 0], "power": 100}],
+    "settings": {"patch_size": 0.5}})");
+}
+
+}  // namespace
+
+TEST(AdaptivePatches, ChildrenTileTheirParent) {
+  const Vec3d quad[4] = {{0, 0, 0}, {2, 0, 0}, {2.5, 0, 1}, {0, 0, 1}};
+  const Vec3d tri[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  for (int count : {3, 4}) {
+    const Vec3d* v = count == 4 ? quad : tri;
+    std::vector<std::vector<Vec3d>> kids;
+    AdaptiveMesh::children(v, count, kids);
+    ASSERT_EQ(kids.size(), 4u);
+    Patch parent;
+    parent.count = count;
+    computePatchGeometry(parent, v);
+    double area = 0;
+    for (const auto& k : kids) {
+      Patch c;
+      c.count = count;
+      computePatchGeometry(c, k.data());
+      EXPECT_GT(glm::dot(c.normal, parent.normal), 0.999f) << "a child turned over";
+      area += c.area;
+    }
+    EXPECT_NEAR(area, parent.area, 1e-12 * parent.area);
+  }
+}
+
+// Every patch that the shadow boundary crosses is split down to the smallest size; patches well
+// inside the lit part or the shadow keep the coarse size.
+TEST(AdaptivePatches, RefinementFollowsTheShadowEdge) {
+  const SceneDesc desc = shadowScene();
+  const double coarse = 0.5, fine = 0.0625;
+  const FirstShotTable t = preprocess(desc, coarse, fine);
+  int crossing = 0, coarseLeft = 0, fineFar = 0;
+  for (const Patch& p : t.mesh.patches) {
+    if (p.shape != 0) continue;
+    int inside = 0;
+    for (uint32_t k = 0; k < p.count; ++k) inside += std::abs(p.v[k].x) < 0.8 && std::abs(p.v[k].z) < 0.8;
+    const double edge = longestEdge(p);
+    if (inside > 0 && inside < int(p.count)) {
+      ++crossing;
+      EXPECT_LT(edge, fine * 1.01) << "a patch across the shadow edge at " << p.centroid.x << ", " << p.centroid.z;
+    }
+    const double toEdge = std::abs(std::max(std::abs(p.centroid.x), std::abs(p.centroid.z)) - 0.8);
+    if (toEdge > coarse) fineFar += edge < coarse * 0.99;
+    coarseLeft += edge > coarse * 0.99;
+  }
+  EXPECT_GT(crossing, 80);  // the 6.4 m boundary at 1/16 m
+  EXPECT_EQ(fineFar, 0) << "patches split far from any shadow edge";
+  EXPECT_GT(coarseLeft, 20);
+  const size_t uniform = size_t(std::pow(4 / fine, 2));
+  fmt::print("floor: {} patches adaptive against {} uniform at {} m\n", t.mesh.size() - 4, uniform, fine);
+  EXPECT_LT(t.mesh.size() * 4, uniform);
+}
+
+TEST(AdaptivePatches, SameMeshAndTableForOneAndTwoThreads) {
+  const SceneDesc desc = shadowScene();
+  const FirstShotTable a = preprocess(desc, 0.5, 0.0625, 1), b = preprocess(desc, 0.5, 0.0625, 2);
+  EXPECT_EQ(hashPatches(a.mesh), hashPatches(b.mesh));
+  EXPECT_EQ(a.rowStart, b.rowStart);
+  EXPECT_EQ(a.sampleIndex, b.sampleIndex);
+  EXPECT_EQ(a.factor, b.factor);
+}
+
+// The flux the adaptive table delivers equals the uniform fine table's: refinement moves no light
+// (measured: equal to 1e-8).
+TEST(AdaptivePatches, FluxMatchesTheUniformMesh) {
+  const SceneDesc desc = shadowScene();
+  const FirstShotTable a = preprocess(desc, 0.5, 0.0625), u = preprocess(desc, 0.0625, 0.0625);
+  auto flux = [](const FirstShotTable& t) {
+    double f = 0;
+    for (uint32_t j = 0; j < t.mesh.size(); ++j)
+      if (t.mesh.patches[j].shape == 0) f += luminance(t.irradiance(j)) * t.mesh.patches[j].area;
+    return f;
+  };
+  // Exact: the floor's solid angle from the light minus the occluder's shadow, ×Φ/4π.
+  const double exact = 100 / (4 * kPi) * (4 * std::asin(4.0 / std::sqrt(8.0 * 8.0)) - 4 * std::asin(0.64 / 4.64));
+  fmt::print("floor flux: adaptive {:.5f}, uniform {:.5f}, exact {:.5f} W\n", flux(a), flux(u), exact);
+  EXPECT_NEAR(flux(a), flux(u), 1e-5 * exact);
+  // Both carry the aliasing of pixel centres along the 6.4 m shadow edge (+0.24% at R = 256).
+  EXPECT_NEAR(flux(u), exact, 5e-3 * exact);
+}
+
+// The 64-light room (its furniture casts shadow edges everywhere): the first-shot lighting at
+// camera-visible points (depth 1, the table evaluated at each hit, paired pixel positions) of the
+// adaptive mesh from 0.8 m down to 0.1 m at the default tolerance is within 0.3% rel. RMS of the
+// uniform 0.1 m mesh's error against the exact direct light (NEE to every point light: no noise),
+// with at least 5 times fewer patches. Measured (R = 128): relative RMS error 0.41% with 6,321
+// patches against 0.21% with 32,880; the coarse 0.8 m mesh alone 0.85% (1,932), tolerance 0.05
+// 0.56% (3,567), 0.005 0.22% (11,637).
+TEST(AdaptivePatches, ManyLightsMatchesTheUniformFineMeshWithFiveTimesFewerPatches) {
+  SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));
+  desc.camera.width = 80, desc.camera.height = 60;
+  auto table = [&](double coarse) {
+    PreprocessOptions o = defaultOptions(desc);
+    o.settings.patchSize = coarse, o.settings.minPatchSize = 0.1, o.settings.resolution = 128, o.quiet = true;
+    return preprocessScene(desc, o);
+  };
+  const RenderScene adaptive(desc, table(0.8)), uniform(desc, table(0.1)), exact(desc, 0.1);
+  IntegratorOptions io;
+  io.maxDepth = 1;
+  io.lightSampler = LightStrategy::All;
+  io.primary = PrimaryMode::Patch;
+  const test::RenderRun a = test::renderPath(adaptive, io, 4), u = test::renderPath(uniform, io, 4);
+  io.primary = PrimaryMode::Exact;
+  const test::RenderRun n = test::renderPath(exact, io, 4);
+  double errA = 0, errU = 0, ref = 0;
+  for (int y = 0; y < desc.camera.height; ++y)
+    for (int x = 0; x < desc.camera.width; ++x) {
+      const double e = n.film.mean(x, y).y;
+      errA += std::pow(a.film.mean(x, y).y - e, 2), errU += std::pow(u.film.mean(x, y).y - e, 2), ref += e * e;
+    }
+  const double relA = std::sqrt(errA / ref), relU = std::sqrt(errU / ref);
+  fmt::print("many-lights: {} adaptive patches, rel. RMS error {:.4f}; {} uniform, {:.4f}\n", adaptive.mesh().size(), relA,
+             uniform.mesh().size(), relU);
+  EXPECT_LE(adaptive.mesh().size() * 5, uniform.mesh().size());
+  EXPECT_LT(relA - relU, 0.003);
+}
