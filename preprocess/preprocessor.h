@@ -27,7 +27,7 @@ struct PreprocessStats {
 
 /// min_patch_size when the scene does not give it: patch_size / this (adaptive refinement by up to
 /// log2 of it levels).
-constexpr double kDefaultRefineRatio = 4.0;
+constexpr double kDefaultRefineRatio = 8.0;
 
 /// Options from the scene's settings (command-line values are applied on top by the caller).
 PreprocessOptions defaultOptions(const SceneDesc& scene);

@@ -22,19 +22,11 @@
 
 namespace fs::test {
 
-/// scenes/cornell.json scaled ×10 (a 5.56 m room), its light 1 cm under the ceiling; patch sizes
-/// scaled with it (0.25 m), the light tessellated at @p lightPatchSize, m.
-inline SceneDesc cornellMetre(double lightPatchSize = 0.25) {
-  SceneDesc d = loadScene(source("scenes/cornell.json"));
-  for (ShapeDesc& s : d.shapes)
-    for (Vec3d& v : s.vertices) v *= 10.0;
-  for (ShapeDesc& s : d.shapes)
-    if (d.materials[s.material].isEmissive())
-      for (Vec3d& v : s.vertices) v.y = 5.488 - 0.01;
-  d.camera.position *= 10.0;
-  d.camera.lookAt *= 10.0;
-  d.settings.patchSize = 0.25;
-  d.settings.lightPatchSize = lightPatchSize;
+/// The shipped scenes/cornell.json scaled ×10 (scenes/cornell-metre.json: a 5.56 m room, its light
+/// 1 cm under the ceiling) at its own settings; the light tessellated at @p lightPatchSize, m, if given.
+inline SceneDesc cornellMetre(double lightPatchSize = 0) {
+  SceneDesc d = loadScene(source("scenes/cornell-metre.json"));
+  if (lightPatchSize > 0) d.settings.lightPatchSize = lightPatchSize;
   return d;
 }
 

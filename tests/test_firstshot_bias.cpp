@@ -95,7 +95,7 @@ TEST(FirstShotBias, MetreCornellImageMeanAgreesWithNee) {
 // seen from the light, occluders included). Was −0.95% ± 0.07%.
 TEST(FirstShotBias, MetreCornellFinePatchesImageMeanAgreesWithNee) {
   SceneDesc desc = test::cornellMetre();
-  desc.settings.patchSize = 0.025;
+  desc.settings.patchSize = desc.settings.minPatchSize = 0.025;  // uniform
   desc.camera.width = desc.camera.height = 48;
   expectUnbiased("cornell ×10, 0.025 m patches", imageBias(desc, 64));
 }
