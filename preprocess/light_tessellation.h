@@ -9,11 +9,13 @@
 /// is the sum of the triangles' own errors, and for a triangle of diameter h at distance d from x
 ///     |error_T| ≤ C·(h/d)²·E_T     (E_T: the exact irradiance T gives at x),
 /// so a tessellation in which every triangle satisfies C·(h/d)² ≤ tolerance, d being its distance to
-/// the nearest receiver surface in front of the light, keeps the relative error at every receiver
-/// point within the tolerance. C = kVertexRuleErrorConstant, measured (docs/firstshot-format.md,
-/// "Light samples"): over random receivers facing the triangle within 60°, h/d ≤ 1.6, max
-/// |error_T|/(E_T·(h/d)²) is 0.65–0.88 for squares, 1.24:1 rectangles and equilateral, right and thin
-/// triangles (1.1 for 4:1 rectangles); for any orientation |error_T| ≤ 0.5·(h/d)²·A_T/d².
+/// the nearest receiver surface in front of the light, keeps the relative error within the tolerance
+/// at every receiver point that sees the whole light above its horizon. C = kVertexRuleErrorConstant,
+/// measured (docs/firstshot-format.md, "Light samples"): over random receivers facing the triangle
+/// within 60°, h/d ≤ 1.6, max |error_T|/(E_T·(h/d)²) is 0.65–0.88 for squares, 1.24:1 rectangles and
+/// equilateral, right and thin triangles (1.1 for 4:1 rectangles, median 0.2–0.35); for any
+/// orientation with the triangle in front, |error_T| ≤ 0.5·(h/d)²·A_T/d². Where a receiver's plane cuts
+/// the light the integrand has a kink and the relative error is larger, on a small irradiance.
 #include <array>
 #include <cstdint>
 #include <vector>
