@@ -1,62 +1,25 @@
 #include "preprocess/light_samples.h"
 
-#include <array>
-#include <map>
-
-#include "common/patches.h"
+#include "preprocess/light_tessellation.h"
 
 namespace fs {
 
 namespace {
 
-/// Vertex samples of one emissive shape: shared vertices merged exactly (same double coordinates).
-void areaSamples(const SceneDesc& scene, uint32_t lightIndex, double lightPatchSize, std::vector<LightSample>& out) {
+/// Vertex samples of one emissive shape (preprocess/light_tessellation.h).
+void areaSamples(const SceneDesc& scene, uint32_t lightIndex, double lightPatchSize, double lightTolerance,
+                 std::vector<LightSample>& out) {
   const LightDesc& light = scene.lights[lightIndex];
-  const ShapeDesc& shape = scene.shapes[light.shape];
-  const Color le = scene.materials[shape.material].emission;
-  struct Acc {
-    double area = 0;
-    Vec3d normal{0.0};
-  };
-  std::map<std::array<double, 3>, size_t> index;
-  std::vector<Vec3d> positions;
-  std::vector<Acc> acc;
-  auto vertex = [&](const Vec3d& p) {
-    const std::array<double, 3> key{p.x, p.y, p.z};
-    auto [it, inserted] = index.emplace(key, positions.size());
-    if (inserted) {
-      positions.push_back(p);
-      acc.emplace_back();
-    }
-    return it->second;
-  };
-  std::vector<std::vector<Vec3d>> polys;
-  for (const Face& f : shape.faces) {
-    Vec3d v[4];
-    for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
-    polys.clear();
-    subdividePolygon(v, f.count, lightPatchSize, polys);
-    for (const auto& poly : polys) {
-      for (size_t k = 1; k + 1 < poly.size(); ++k) {  // fan: quads become two triangles
-        const Vec3d tri[3] = {poly[0], poly[k], poly[k + 1]};
-        const Vec3d n = glm::cross(tri[1] - tri[0], tri[2] - tri[0]);
-        const double area = 0.5 * glm::length(n);
-        for (const Vec3d& p : tri) {
-          Acc& a = acc[vertex(p)];
-          a.area += area;
-          a.normal += n;  // |n| = 2·area: area-weighted
-        }
-      }
-    }
-  }
-  for (size_t i = 0; i < positions.size(); ++i) {
+  const Color le = scene.materials[scene.shapes[light.shape].material].emission;
+  const LightTessellation t = tessellateAreaLight(scene, light.shape, lightPatchSize, lightTolerance);
+  for (size_t i = 0; i < t.positions.size(); ++i) {
     LightSample s;
     s.kind = LightSampleKind::AreaVertex;
     s.light = lightIndex;
-    s.position = Vec3(positions[i]);
-    s.normal = Vec3(glm::normalize(acc[i].normal));
+    s.position = Vec3(t.positions[i]);
+    s.normal = Vec3(t.normals[i]);
     s.emission = le;
-    s.weight = static_cast<float>(acc[i].area / 3.0);
+    s.weight = static_cast<float>(t.weights[i]);
     out.push_back(s);
   }
 }
@@ -64,7 +27,7 @@ void areaSamples(const SceneDesc& scene, uint32_t lightIndex, double lightPatchS
 }  // namespace
 
 std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vector<uint32_t>& lights,
-                                          double lightPatchSize) {
+                                          double lightPatchSize, double lightTolerance) {
   std::vector<LightSample> out;
   for (uint32_t li : lights) {
     const LightDesc& l = scene.lights[li];
@@ -85,7 +48,7 @@ std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vec
         out.push_back(s);
         break;
       case LightType::Area:
-        areaSamples(scene, li, lightPatchSize > 0 ? lightPatchSize : 0.02, out);  // FIXME automatic tessellation
+        areaSamples(scene, li, lightPatchSize, lightTolerance, out);
         break;
     }
   }

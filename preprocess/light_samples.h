@@ -12,10 +12,11 @@
 namespace fs {
 
 /// The light samples of the given lights, in light order. An area light's emissive faces are split
-/// into triangles with edges at most @p lightPatchSize long; each shared vertex becomes one sample
-/// with the trapezoidal weight S_i/3 (S_i = area of the triangles around it) and the area-weighted
-/// normal of those triangles.
+/// into triangles (preprocess/light_tessellation.h): with edges at most @p lightPatchSize long (m) if
+/// it is > 0, else automatically for relative accuracy @p lightTolerance of the vertex rule at the
+/// receivers. Each shared vertex becomes one sample with the trapezoidal weight S_i/3 (S_i = area of
+/// the triangles around it, m²) and the area-weighted normal of those triangles.
 std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vector<uint32_t>& lights,
-                                          double lightPatchSize);
+                                          double lightPatchSize, double lightTolerance);
 
 }  // namespace fs

@@ -374,7 +374,8 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   t.sceneHash = hashScene(scene);
   t.settings = options.settings;
   t.replacedLights = smallLights(scene, options.settings.smallLightMaxSolidAngle);
-  t.samples = makeLightSamples(scene, t.replacedLights, options.settings.lightPatchSize);
+  t.samples = makeLightSamples(scene, t.replacedLights, options.settings.lightPatchSize,
+                               options.settings.lightTolerance);
   const int R = static_cast<int>(options.settings.resolution);
 
   // The scene's bounds: patches, emitters and positional lights (near/far planes, eye offsets).

@@ -1,0 +1,89 @@
+#pragma once
+/// @file light_tessellation.h
+/// Splitting an area light into the triangles whose vertices become light samples: uniformly (an
+/// explicit edge length) or automatically, as finely as the receivers in front of the light need for
+/// a stated relative accuracy of the vertex rule.
+///
+/// The renderer integrates an area light with the vertex rule: each triangle T of the tessellation
+/// contributes (A_T/3)·Σ_corners f(y), f(y) = Le·cosθ_x·cosθ_L/|x−y|². Its error at a receiver point x
+/// is the sum of the triangles' own errors, and for a triangle of diameter h at distance d from x
+///     |error_T| ≤ C·(h/d)²·E_T     (E_T: the exact irradiance T gives at x),
+/// so a tessellation in which every triangle satisfies C·(h/d)² ≤ tolerance, d being its distance to
+/// the nearest receiver surface in front of the light, keeps the relative error within the tolerance
+/// at every receiver point that sees the whole light above its horizon. C = kVertexRuleErrorConstant,
+/// measured (docs/firstshot-format.md, "Light samples"): over random receivers facing the triangle
+/// within 60°, h/d ≤ 1.6, max |error_T|/(E_T·(h/d)²) is 0.65–0.88 for squares, 1.24:1 rectangles and
+/// equilateral, right and thin triangles (1.1 for 4:1 rectangles, median 0.2–0.35); for any
+/// orientation with the triangle in front, |error_T| ≤ 0.5·(h/d)²·A_T/d². Where a receiver's plane cuts
+/// the light the integrand has a kink and the relative error is larger, on a small irradiance.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "common/math.h"
+#include "common/scene_desc.h"
+
+namespace fs {
+
+/// C of the vertex rule's per-triangle bound |error| ≤ C·(h/d)²·E (see the file comment).
+inline constexpr double kVertexRuleErrorConstant = 1.0;
+
+/// Automatic tessellation: the first grid of a face has at least this many cells along its longest
+/// extent when its receivers are close (further splits are adaptive).
+inline constexpr int kLightGridMaxCells = 8;
+
+/// Automatic tessellation floor: no triangle is split below (face diameter)/kLightMinSizeRatio, m. A
+/// receiver touching the light therefore gets at most 3 adaptive levels below the 8×8 first grid
+/// (≤ 64² cells per face) and the bound is not met in the region within ~10 floor sizes of it.
+inline constexpr double kLightMinSizeRatio = 64.0;
+
+/// A tessellated area light: vertex samples with their trapezoidal weights, and the triangles.
+struct LightTessellation {
+  std::vector<Vec3d> positions;              ///< sample positions, m, in order of first appearance
+  std::vector<double> weights;               ///< S_i/3, m² (S_i: area of the triangles around vertex i)
+  std::vector<Vec3d> normals;                ///< unit, area-weighted normal of the triangles around it
+  std::vector<std::array<Vec3d, 3>> triangles;  ///< the leaf triangles, m (counter-clockwise from the front)
+};
+
+/// Distance (m) from @p p to a convex planar polygon of @p count ≤ 8 vertices.
+double pointPolygonDistance(const Vec3d& p, const Vec3d* poly, int count);
+
+/// Distance (m) between two convex planar polygons (≤ 8 vertices each) that do not cross each
+/// other's interior: the least of the vertex-to-polygon and edge-to-edge distances.
+double polygonPolygonDistance(const Vec3d* a, int na, const Vec3d* b, int nb);
+
+/// The receivers of one emissive face: every face of every non-emissive shape, clipped to the
+/// half-space in front of the face's plane (the side its normal points to). Faces behind the light,
+/// and faces lying in its plane (which it cannot light), are left out.
+class LightReceivers {
+ public:
+  /// @param scene all shapes; @param origin a point of the emitting face's plane; @param normal its
+  /// front normal (any length).
+  LightReceivers(const SceneDesc& scene, const Vec3d& origin, const Vec3d& normal);
+  /// Distance (m) from the convex polygon @p poly (in the light's plane) to the nearest receiver;
+  /// +∞ when there is none.
+  double distance(const Vec3d* poly, int count) const;
+  /// Number of receiver polygons kept.
+  size_t size() const { return polys_.size(); }
+
+ private:
+  struct Poly {
+    std::array<Vec3d, 8> v;
+    int count = 0;
+    Vec3d centre{0.0};
+    double radius = 0;  ///< bounding sphere about centre, m
+  };
+  std::vector<Poly> polys_;
+};
+
+/// Tessellates the emissive shape @p shapeIndex. @p lightPatchSize > 0: uniform, every edge at most
+/// that long (m; quads as grids, triangles k²-split). Otherwise automatic with relative accuracy
+/// @p tolerance: each face is cut into a grid whose cells meet the bound at the face's own distance
+/// to its receivers (at least (diameter)/kLightGridMaxCells cells), then each cell is split 4-way
+/// (midpoints; quads bilinearly) until C·(h/d)² ≤ tolerance, h its diameter and d its distance to
+/// the receivers, or h reaches the floor. Vertices are shared exactly between neighbours; hanging
+/// vertices where levels meet get weight only from their own triangles, so Σ weights = area.
+/// Same input → same output, byte for byte.
+LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance);
+
+}  // namespace fs
