@@ -167,6 +167,9 @@ TEST(ShippedScenes, CornellMetreIsCornellScaledByTen) {
 
   EXPECT_NEAR(big.camera.position.z, 10 * small.camera.position.z, 1e-9);
   EXPECT_NEAR(big.camera.fovYDeg, small.camera.fovYDeg, 1e-12);
-  EXPECT_DOUBLE_EQ(big.settings.patchSize, 0.05);
-  EXPECT_GT(big.settings.lightPatchSize, 0.02) << "coarser than the default so that preprocessing stays fast";
+  // Patches from 0.4 m refined to 0.05 m where shadows cross them; the light cut automatically.
+  EXPECT_DOUBLE_EQ(big.settings.patchSize, 0.4);
+  EXPECT_DOUBLE_EQ(big.settings.minPatchSize, 0.0);
+  EXPECT_DOUBLE_EQ(big.settings.lightPatchSize, 0.0);
+  EXPECT_DOUBLE_EQ(big.settings.lightTolerance, 0.02);
 }
