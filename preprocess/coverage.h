@@ -55,12 +55,8 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
 int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
                     const EmbreeItemBuffer& rays, const Vec3d& x, double near);
 
-/// ∫ dω over the polygon seen from @p eye (its solid angle).
-double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count);
-
-/// ∫ cosθ dω over the part of the polygon above the plane through @p eye with normal @p n
-/// (the hemicube's weight integrated: π × the point-to-polygon form factor).
-double unoccludedCosineSolidAngle(const Vec3d& eye, const Vec3d& n, const Vec3d* poly, int count);
+// The solid angle and cosine-weighted solid angle of a patch (points, area vertices) are
+// fs::analyticIntegral (common/firstshot_groups.h), shared with the .fsd reader.
 
 /// Projected area of the polygon perpendicular to @p direction, m².
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count);

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <thread>
 
+#include "common/firstshot_groups.h"
 #include "common/lights.h"
 #include "common/patches.h"
 #include "common/progress.h"
@@ -40,6 +41,7 @@ namespace {
 
 /// How one light sample is rendered: which window, where, and the scale from Σ weights to r_ij·A_j.
 struct SampleSetup {
+  const LightSample* sample = nullptr;
   const Window* window = nullptr;
   const std::vector<std::vector<double>>* weights = nullptr;  ///< the window's, or a spot's profiled copy
   Vec3d position{0.0};
@@ -54,14 +56,17 @@ struct SampleSetup {
 /// Fewer pixel centres than this inside a patch and the fraction is taken at points on it instead.
 constexpr size_t kMinPixelsForAnalytic = 4;
 
-/// The closed-form integral of the window weight over the whole patch (no occlusion).
-double unoccludedIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p) {
-  Vec3d poly[4];
-  for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
+/// The closed-form integral of the window weight over the whole patch (no occlusion); for points and
+/// area vertices the one the reader recomputes grouped factors from (common/firstshot_groups.h).
+double unoccludedIntegral(const SampleSetup& s, const Patch& p) {
   switch (s.kind) {
-    case LightSampleKind::Point: return unoccludedSolidAngle(eye, poly, int(p.count));
-    case LightSampleKind::AreaVertex: return unoccludedCosineSolidAngle(eye, s.axis, poly, int(p.count));
-    case LightSampleKind::Directional: return unoccludedProjectedArea(s.axis, poly, int(p.count));
+    case LightSampleKind::Point:
+    case LightSampleKind::AreaVertex: return analyticIntegral(*s.sample, s.eyeOffset, p);
+    case LightSampleKind::Directional: {
+      Vec3d poly[4];
+      for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
+      return unoccludedProjectedArea(s.axis, poly, int(p.count));
+    }
     case LightSampleKind::Spot: break;  // no closed form for the profile
   }
   return 0.0;
@@ -91,12 +96,12 @@ int litSide(const SampleSetup& s, const Patch& p) {
   return side >= 0 ? 0 : 1;
 }
 
-/// The analytic estimator (preprocess/coverage.h): closed form × visible fraction, the fraction
+/// The analytic estimator's visible fraction (preprocess/coverage.h; the factor is closed form × fraction), the fraction
 /// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when
 /// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
 /// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
-/// @p exposure is required (it also lends its ray caster to the point tests).
-double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
+/// @p exposure is required (it also lends its ray caster to the point tests). ≤ 0: no light.
+double visibleFraction(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
                         double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
   auto coverage = [&](const ExposureQuery* mask) {
     PatchCoverage total;
@@ -132,7 +137,7 @@ double analyticIntegral(const SampleSetup& s, const std::vector<View>& views, co
       if (query.mask->partial) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, &query);
     }
   }
-  return fraction > 0 ? fraction * unoccludedIntegral(s, views[0].eye, mesh.patches[patch]) : 0.0;
+  return fraction;
 }
 
 /// One factor before it is sorted into the CSR table.
@@ -167,11 +172,11 @@ std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup&
   std::sort(touched.begin(), touched.end());
   std::vector<Entry> out;
   out.reserve(touched.size());
-  auto emit = [&](uint32_t id, double integral) {
-    if (integral > 0) out.push_back({id, static_cast<float>(s.scale * integral / mesh.patches[id].area)});
-  };
   if (!s.analytic) {
-    for (uint32_t id : touched) emit(id, acc[id]), acc[id] = 0.0;
+    for (uint32_t id : touched) {
+      if (acc[id] > 0) out.push_back({id, static_cast<float>(s.scale * acc[id] / mesh.patches[id].area)});
+      acc[id] = 0.0;
+    }
   } else {
     // Every patch: those that show in the item buffer, and those too small to hold a pixel centre
     // (missing them would lose their light, since their neighbours get only their own exact share).
@@ -179,7 +184,10 @@ std::vector<Entry> renderSample(ItemBufferRenderer& renderer, const SampleSetup&
     for (uint32_t id = 0; id < mesh.size(); ++id) {
       const bool shown = next < touched.size() && touched[next] == id;
       if (shown) ++next, acc[id] = 0.0;
-      emit(id, analyticIntegral(s, views, idsPerView, renderer.nearPlane(), mesh, id, shown, exposure));
+      const double fraction = visibleFraction(s, views, idsPerView, renderer.nearPlane(), mesh, id, shown, exposure);
+      if (!(fraction > 0)) continue;
+      const double U = unoccludedIntegral(s, mesh.patches[id]);
+      if (fraction * U > 0) out.push_back({id, analyticFactor(s.scale, fraction, U, mesh.patches[id].area)});
     }
   }
   touched.clear();
@@ -209,6 +217,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   Vec3d lo, hi;
   scene.bounds(lo, hi);
   bounds.extend(lo), bounds.extend(hi);
+  t.areaEyeOffset = areaLightEyeOffset(bounds);
 
   // Windows and weight tables, built once.
   const Window cube = makeCubeWindow(R);
@@ -220,12 +229,13 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     const LightSample& ls = t.samples[i];
     const LightDesc& light = scene.lights[ls.light];
     SampleSetup& s = setups[i];
+    s.sample = &ls;
     s.position = Vec3d(ls.position);
     s.kind = ls.kind;
     s.analytic = options.settings.estimator == "analytic" && ls.kind != LightSampleKind::Spot;
     switch (ls.kind) {
       case LightSampleKind::Point:
-        s.window = &cube, s.weights = &cube.weights, s.scale = 1.0 / (4.0 * kPi);
+        s.window = &cube, s.weights = &cube.weights, s.scale = analyticScale(ls);
         break;
       case LightSampleKind::Spot: {
         if (!perLight[ls.light]) {  // cube weights times the spot profile, in the spot's frame (z = axis)
@@ -250,7 +260,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
         break;
       case LightSampleKind::AreaVertex:
         s.window = &area, s.weights = &area.weights, s.axis = Vec3d(ls.normal);
-        s.eyeOffset = areaLightEyeOffset(bounds), s.scale = ls.weight;
+        s.eyeOffset = t.areaEyeOffset, s.scale = analyticScale(ls);
         break;
     }
     if (options.settings.rotationSeed != 0 && ls.kind != LightSampleKind::Directional)
