@@ -255,25 +255,31 @@ TEST(FsdFile, MalformedGroupsAreRefused) {
     poke<uint32_t>(m, l.groupCount + 4 * row, c + 1);
     refused(m, "group counts do not add up");
   }
-  {  // a sample listed both as a single and in a group: the same light twice in a row
+  {  // a sample listed both as a single and in a group: the next single entry after the first grouped row moved
+     // into that row (its count and the row lengths changed, no bytes moved), made a vertex of the group's light
     auto m = b;
+    auto count = [&](size_t array, uint32_t j) {
+      uint32_t c;
+      std::memcpy(&c, m.data() + array + 4 * j, 4);
+      return c;
+    };
+    uint64_t single = 0;
+    for (uint32_t j = 0; j < row; ++j) single += count(l.singleCount, j);
+    uint32_t next = row;
+    while (next < t.mesh.size() && count(l.singleCount, next) == 0) ++next;
+    ASSERT_LT(next, t.mesh.size());
+    ASSERT_GT(next, row) << "the first grouped row has single entries too";
+    poke<uint32_t>(m, l.singleCount + 4 * row, 1);
+    poke<uint32_t>(m, l.singleCount + 4 * next, count(l.singleCount, next) - 1);
+    poke<uint32_t>(m, l.rowCount + 4 * row, count(l.rowCount, row) + 1);
+    poke<uint32_t>(m, l.rowCount + 4 * next, count(l.rowCount, next) - 1);
     uint32_t light;
     std::memcpy(&light, m.data() + l.groupLight + 4 * group, 4);
-    uint32_t s0 = 0;  // a vertex of the light that the group expands to in this row
+    uint32_t vertex = 0;  // a vertex of the light that the group expands to in the row
     for (uint64_t k = t.rowStart[row]; k < t.rowStart[row + 1]; ++k)
-      if (t.samples[t.sampleIndex[k]].light == light) s0 = t.sampleIndex[k];
-    uint64_t single = 0;  // the first single entry of the group's row, if any, made a vertex of the light
-    for (uint32_t j = 0; j < row; ++j) {
-      uint32_t c;
-      std::memcpy(&c, m.data() + l.singleCount + 4 * j, 4);
-      single += c;
-    }
-    uint32_t inRow;
-    std::memcpy(&inRow, m.data() + l.singleCount + 4 * row, 4);
-    if (inRow > 0) {
-      poke<uint32_t>(m, l.singleSample + 4 * single, s0);
-      refused(m, "row " + std::to_string(row));
-    }
+      if (t.samples[t.sampleIndex[k]].light == light) vertex = t.sampleIndex[k];
+    poke<uint32_t>(m, l.singleSample + 4 * single, vertex);
+    refused(m, "row " + std::to_string(row) + ": light samples not ascending or listed twice");
   }
   EXPECT_NO_THROW(readFirstShot(good));
 }
