@@ -28,10 +28,15 @@ inline double solidAnglePolygon(const Vec3d& eye, const std::vector<Vec3d>& poly
 /// Point-to-polygon form factor for a Lambertian receiver at @p x with unit normal @p n:
 /// F = (1/2π) Σ γ_i n·(R_i×R_{i+1})/|R_i×R_{i+1}|. The sign convention makes F ≥ 0 for a polygon in
 /// front of the receiver whatever the polygon's winding. Irradiance from a uniform polygon: E = π·L·F.
-inline double pointPolygonFormFactor(const Vec3d& x, const Vec3d& n, const std::vector<Vec3d>& poly) {
+/// Each vertex direction is normalised once (the hot loop of reading a .fsd table's grouped factors).
+inline double pointPolygonFormFactor(const Vec3d& x, const Vec3d& n, const Vec3d* poly, size_t count) {
+  Vec3d dirs[16];
+  std::vector<Vec3d> many;  // polygons above 16 vertices (none in the patch meshes)
+  Vec3d* dir = count <= 16 ? dirs : (many.resize(count), many.data());
+  for (size_t i = 0; i < count; ++i) dir[i] = glm::normalize(poly[i] - x);
   double sum = 0;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const Vec3d a = glm::normalize(poly[i] - x), b = glm::normalize(poly[(i + 1) % poly.size()] - x);
+  for (size_t i = 0; i < count; ++i) {
+    const Vec3d a = dir[i], b = dir[(i + 1) % count];
     const Vec3d c = glm::cross(a, b);
     const double len = glm::length(c);
     if (len <= 0) continue;
@@ -39,6 +44,11 @@ inline double pointPolygonFormFactor(const Vec3d& x, const Vec3d& n, const std::
     sum += gamma * glm::dot(n, c / len);
   }
   return std::abs(sum) / (2.0 * kPi);
+}
+
+/// The same for a polygon held in a vector.
+inline double pointPolygonFormFactor(const Vec3d& x, const Vec3d& n, const std::vector<Vec3d>& poly) {
+  return pointPolygonFormFactor(x, n, poly.data(), poly.size());
 }
 
 /// Sutherland–Hodgman: writes to @p out (room for n+1 vertices) the part of the convex polygon
@@ -68,7 +78,7 @@ inline double polygonCosineSolidAngle(const Vec3d& eye, const Vec3d& n, const Ve
   Vec3d clipped[9];
   const int m = clipPolygonToPlane(poly, count, eye, n, 0.0, clipped);
   if (m < 3) return 0.0;
-  return kPi * pointPolygonFormFactor(eye, n, std::vector<Vec3d>(clipped, clipped + m));
+  return kPi * pointPolygonFormFactor(eye, n, clipped, size_t(m));
 }
 
 /// Area (m²) of a planar polygon projected along @p direction (any length).

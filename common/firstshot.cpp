@@ -8,6 +8,7 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/firstshot_groups.h"
 #include "common/hash.h"
 
 namespace fs {
@@ -17,6 +18,7 @@ constexpr char kMagic[8] = {'F', 'S', 'H', 'O', 'T', 'F', 'S', 'D'};
 constexpr char kEnd[8] = {'F', 'S', 'H', 'O', 'T', 'E', 'N', 'D'};
 /// 2: the analytic estimator's factors are exact per patch (visible fraction from exact occlusion
 /// tests, over the exposed part of a patch); version-1 tables carried the biases fixed then.
+/// 3: settings for adaptive patches and light tessellation; grouped factors (common/firstshot_groups.h).
 constexpr uint32_t kVersion = 3;
 
 /// Appends plain values to a byte buffer (little-endian host assumed, checked at compile time).
@@ -180,10 +182,20 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
   o.array(t.replacedLights);
   o.end(s);
   s = o.begin("CSRR");
+  const GroupedFactors g = groupFactors(t);
   o.put<uint64_t>(t.factor.size());
-  o.array(t.rowStart);
-  o.array(t.sampleIndex);
-  o.array(t.factor);
+  o.put<uint64_t>(g.singleSample.size());
+  o.put<uint64_t>(g.groupLight.size());
+  o.put(t.areaEyeOffset);
+  o.array(g.rowCount);
+  if (!g.groupLight.empty()) {  // without groups, every factor is a single
+    o.array(g.singleCount);
+    o.array(g.groupCount);
+  }
+  o.array(g.singleSample);
+  o.array(g.singleFactor);
+  o.array(g.groupLight);
+  o.array(g.groupVisible);
   o.end(s);
   o.put(Hasher().bytes(o.buf.data(), o.buf.size()).value());
   o.buf.insert(o.buf.end(), kEnd, kEnd + 8);
@@ -198,9 +210,13 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
 }
 
 FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash) {
-  std::ifstream f(path, std::ios::binary);
+  std::ifstream f(path, std::ios::binary | std::ios::ate);
   if (!f) throw InputError(path, "", "cannot open first-shot file");
-  std::vector<char> data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::streamoff size = f.tellg();
+  if (size < 0) throw InputError(path, "", "cannot read first-shot file");
+  std::vector<char> data(static_cast<size_t>(size));  // the whole file in one read
+  f.seekg(0);
+  if (!f.read(data.data(), size)) throw InputError(path, "", "cannot read first-shot file");
   In in(path, data.data(), data.size());
   if (data.size() < 8 || std::memcmp(data.data(), kMagic, 8) != 0)
     in.fail("header", "not a first-shot (.fsd) file: wrong magic");
@@ -273,16 +289,25 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
 
   e = in.section("CSRR");
   const uint64_t nnz = in.get<uint64_t>("CSRR");
-  in.array(t.rowStart, n + 1, "CSRR");
-  in.array(t.sampleIndex, nnz, "CSRR");
-  in.array(t.factor, nnz, "CSRR");
+  const uint64_t singles = in.get<uint64_t>("CSRR");
+  const uint64_t groups = in.get<uint64_t>("CSRR");
+  t.areaEyeOffset = in.get<double>("CSRR");
+  if (!std::isfinite(t.areaEyeOffset)) in.fail("CSRR", "invalid area-light eye offset (corrupt file)");
+  GroupedFactors g;
+  in.array(g.rowCount, n, "CSRR");
+  if (groups > 0) {
+    in.array(g.singleCount, n, "CSRR");
+    in.array(g.groupCount, n, "CSRR");
+  } else {
+    g.singleCount = g.rowCount;
+    g.groupCount.assign(n, 0);
+  }
+  in.array(g.singleSample, singles, "CSRR");
+  in.array(g.singleFactor, singles, "CSRR");
+  in.array(g.groupLight, groups, "CSRR");
+  in.array(g.groupVisible, groups, "CSRR");
   in.leave(e, "CSRR");
-  if (t.rowStart.front() != 0 || t.rowStart.back() != nnz) in.fail("CSRR", "row offsets do not span the factors");
-  for (uint64_t j = 0; j < n; ++j)
-    if (t.rowStart[j] > t.rowStart[j + 1]) in.fail("CSRR", "row offsets decrease (corrupt file)");
-  for (uint64_t k = 0; k < nnz; ++k)
-    if (t.sampleIndex[k] >= ns || !(t.factor[k] >= 0) || !std::isfinite(t.factor[k]))
-      in.fail("CSRR", "factor " + std::to_string(k) + " is invalid (corrupt file)");
+  expandFactors(g, nnz, t, [&](const std::string& msg) { in.fail("CSRR", msg); });
   return t;
 }
 

@@ -56,10 +56,19 @@ struct FirstShotTable {
   PatchMesh mesh;                       ///< the patches the factors refer to
   std::vector<LightSample> samples;
   std::vector<uint32_t> replacedLights; ///< indices into SceneDesc::lights of the small lights
+  /// Distance of an area vertex's window eye from the light's plane, along its normal, m
+  /// (preprocess/window.h, areaLightEyeOffset): part of the analytic factors' closed form, which the
+  /// file's grouped factors are recomputed from (common/firstshot_groups.h).
+  double areaEyeOffset = 0;
   /// CSR over patches: the factors of patch j are [rowStart[j], rowStart[j+1]).
   std::vector<uint64_t> rowStart;       ///< size mesh.size()+1
   std::vector<uint32_t> sampleIndex;    ///< light sample of each factor
   std::vector<float> factor;            ///< r_ij
+  /// Optional, per factor: the visible fraction V_ij recovered from r_ij for point lights and area
+  /// vertices (common/firstshot_groups.h, recoveredVisible; −1 for other kinds), filled by
+  /// readFirstShot while it expands the grouped factors. Empty: the renderer recovers it itself, to
+  /// the same values.
+  std::vector<float> visible;
 
   size_t nonZeros() const { return factor.size(); }
   /// True if SceneDesc::lights[l] is replaced by this table.

@@ -172,14 +172,6 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
   return -1;
 }
 
-double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count) {
-  return analytic::polygonSolidAngle(eye, poly, count);
-}
-
-double unoccludedCosineSolidAngle(const Vec3d& eye, const Vec3d& n, const Vec3d* poly, int count) {
-  return analytic::polygonCosineSolidAngle(eye, n, poly, count);
-}
-
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count) {
   return analytic::polygonProjectedArea(direction, poly, count);
 }

@@ -60,12 +60,8 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
 /// patch reads from an item buffer (its centres and their 8 neighbours need margin ≥ 1).
 void markProjection(const View& view, const Patch& patch, double near, int margin, std::vector<uint8_t>& mask);
 
-/// ∫ dω over the polygon seen from @p eye (its solid angle).
-double unoccludedSolidAngle(const Vec3d& eye, const Vec3d* poly, int count);
-
-/// ∫ cosθ dω over the part of the polygon above the plane through @p eye with normal @p n
-/// (the hemicube's weight integrated: π × the point-to-polygon form factor).
-double unoccludedCosineSolidAngle(const Vec3d& eye, const Vec3d& n, const Vec3d* poly, int count);
+// The solid angle and cosine-weighted solid angle of a patch (points, area vertices) are
+// fs::analyticIntegral (common/firstshot_groups.h), shared with the .fsd reader.
 
 /// Projected area of the polygon perpendicular to @p direction, m².
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count);

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <thread>
 
+#include "common/firstshot_groups.h"
 #include "common/lights.h"
 #include "common/patches.h"
 #include "common/progress.h"
@@ -41,6 +42,7 @@ namespace {
 
 /// How one light sample is rendered: which window, where, and the scale from Σ weights to r_ij·A_j.
 struct SampleSetup {
+  const LightSample* sample = nullptr;
   const Window* window = nullptr;
   const std::vector<std::vector<double>>* weights = nullptr;  ///< the window's, or a spot's profiled copy
   Vec3d position{0.0};
@@ -55,14 +57,17 @@ struct SampleSetup {
 /// Fewer pixel centres than this inside a patch and the fraction is taken at points on it instead.
 constexpr size_t kMinPixelsForAnalytic = 4;
 
-/// The closed-form integral of the window weight over the whole patch (no occlusion).
-double unoccludedIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p) {
-  Vec3d poly[4];
-  for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
+/// The closed-form integral of the window weight over the whole patch (no occlusion); for points and
+/// area vertices the one the reader recomputes grouped factors from (common/firstshot_groups.h).
+double unoccludedIntegral(const SampleSetup& s, const Patch& p) {
   switch (s.kind) {
-    case LightSampleKind::Point: return unoccludedSolidAngle(eye, poly, int(p.count));
-    case LightSampleKind::AreaVertex: return unoccludedCosineSolidAngle(eye, s.axis, poly, int(p.count));
-    case LightSampleKind::Directional: return unoccludedProjectedArea(s.axis, poly, int(p.count));
+    case LightSampleKind::Point:
+    case LightSampleKind::AreaVertex: return analyticIntegral(*s.sample, s.eyeOffset, p);
+    case LightSampleKind::Directional: {
+      Vec3d poly[4];
+      for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
+      return unoccludedProjectedArea(s.axis, poly, int(p.count));
+    }
     case LightSampleKind::Spot: break;  // no closed form for the profile
   }
   return 0.0;
@@ -92,11 +97,11 @@ int litSide(const SampleSetup& s, const Patch& p) {
   return side >= 0 ? 0 : 1;
 }
 
-/// The analytic estimator's visible fraction (preprocess/coverage.h), decided in exact geometry at
-/// the pixel centres inside the patch, or at a few points on it when fewer than
-/// kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its exposed part
-/// only (preprocess/exposure.h). @p touched: the patch shows in the item buffer. @p exposure is
-/// required (it also lends its ray caster to the point tests). −1 (or 0) when the patch is unseen.
+/// The analytic estimator's visible fraction (preprocess/coverage.h; the factor is closed form × fraction), the fraction
+/// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when
+/// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
+/// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
+/// @p exposure is required (it also lends its ray caster to the point tests). ≤ 0: no light.
 double visibleFraction(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
                         double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
   auto coverage = [&](const ExposureQuery* mask) {
@@ -143,9 +148,11 @@ struct Entry {
   float visible;  ///< V_ij, the visible fraction (the refinement's measure); −1 if not computed
 };
 
-/// r_ij·A_j/scale_i of a patch with visible fraction @p fraction: the closed form times the fraction.
-double analyticIntegral(const SampleSetup& s, const Vec3d& eye, const Patch& p, double fraction) {
-  return fraction > 0 ? fraction * unoccludedIntegral(s, eye, p) : 0.0;
+/// r_ij of a patch with visible fraction @p fraction > 0 (closed-form kinds): the closed form times the
+/// fraction, computed as the .fsd reader recomputes grouped factors (0 if the patch gets nothing).
+float analyticPatchFactor(const SampleSetup& s, const Patch& p, double fraction) {
+  const double U = unoccludedIntegral(s, p);
+  return fraction * U > 0 ? analyticFactor(s.scale, fraction, U, p.area) : 0.0f;
 }
 
 /// What one task of a shooting pass computes: a sample's factors over all patches, or over a
@@ -194,9 +201,8 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   std::sort(touched.begin(), touched.end());
   std::vector<Entry> out;
   out.reserve(touched.size());
-  auto emit = [&](uint32_t id, double integral, double fraction) {
-    if (integral > 0)
-      out.push_back({id, static_cast<float>(s.scale * integral / mesh.patches[id].area), static_cast<float>(fraction)});
+  auto emit = [&](uint32_t id, float factor, double fraction) {
+    if (factor > 0) out.push_back({id, factor, static_cast<float>(fraction)});
   };
   auto fraction = [&](uint32_t id, bool shown) {
     return visibleFraction(s, views, idsPerView, near, mesh, id, shown, exposure);
@@ -206,14 +212,16 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   };
   if (!s.analytic) {
     for (uint32_t id : touched)
-      if (inTask(id)) emit(id, acc[id], needVisible ? std::max(0.0, fraction(id, true)) : -1.0);
+      if (inTask(id) && acc[id] > 0)
+        emit(id, static_cast<float>(s.scale * acc[id] / mesh.patches[id].area),
+             needVisible ? std::max(0.0, fraction(id, true)) : -1.0);
   } else {
     // Every patch: those that show in the item buffer, and those too small to hold a pixel centre
     // (missing them would lose their light, since their neighbours get only their own exact share).
     auto visit = [&](uint32_t id) {
       const bool shown = std::binary_search(touched.begin(), touched.end(), id);
       const double f = fraction(id, shown);
-      emit(id, analyticIntegral(s, views[0].eye, mesh.patches[id], f), f);
+      if (f > 0) emit(id, analyticPatchFactor(s, mesh.patches[id], f), f);
     };
     if (task.patches.empty())
       for (uint32_t id = 0; id < mesh.size(); ++id) visit(id);
@@ -350,15 +358,13 @@ void carryOver(const PatchMesh& mesh, const std::vector<SampleSetup>& setups, co
         continue;
       }
       const bool whole = s.analytic && e.visible >= 1.0f;
-      const Vec3d eye = s.position + s.eyeOffset * Framed(s.axis).n;  // as placeWindow() puts it
       for (uint32_t c = c0; c < first[e.patch + 1]; ++c) {
         if (!whole) {
           task.patches.push_back(c);
           continue;
         }
-        const Patch& p = mesh.patches[c];
-        const double integral = analyticIntegral(s, eye, p, 1.0);
-        if (integral > 0) moved.push_back({c, static_cast<float>(s.scale * integral / p.area), 1.0f});
+        const float factor = analyticPatchFactor(s, mesh.patches[c], 1.0);
+        if (factor > 0) moved.push_back({c, factor, 1.0f});
       }
     }
     results[i] = std::move(moved);
@@ -383,6 +389,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   Vec3d lo, hi;
   scene.bounds(lo, hi);
   bounds.extend(lo), bounds.extend(hi);
+  t.areaEyeOffset = areaLightEyeOffset(bounds);
 
   // Windows and weight tables, built once.
   const Window cube = makeCubeWindow(R);
@@ -394,12 +401,13 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     const LightSample& ls = t.samples[i];
     const LightDesc& light = scene.lights[ls.light];
     SampleSetup& s = setups[i];
+    s.sample = &ls;
     s.position = Vec3d(ls.position);
     s.kind = ls.kind;
     s.analytic = options.settings.estimator == "analytic" && ls.kind != LightSampleKind::Spot;
     switch (ls.kind) {
       case LightSampleKind::Point:
-        s.window = &cube, s.weights = &cube.weights, s.scale = 1.0 / (4.0 * kPi);
+        s.window = &cube, s.weights = &cube.weights, s.scale = analyticScale(ls);
         break;
       case LightSampleKind::Spot: {
         if (!perLight[ls.light]) {  // cube weights times the spot profile, in the spot's frame (z = axis)
@@ -424,7 +432,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
         break;
       case LightSampleKind::AreaVertex:
         s.window = &area, s.weights = &area.weights, s.axis = Vec3d(ls.normal);
-        s.eyeOffset = areaLightEyeOffset(bounds), s.scale = ls.weight;
+        s.eyeOffset = t.areaEyeOffset, s.scale = analyticScale(ls);
         break;
     }
     if (options.settings.rotationSeed != 0 && ls.kind != LightSampleKind::Directional)

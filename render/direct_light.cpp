@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/analytic.h"
+#include "common/firstshot_groups.h"
 #include "common/sampling.h"
 
 namespace fs {
@@ -130,6 +130,7 @@ void FirstShotLighting::build(const RenderScene& scene) {
       k.invIntegral = k.cone.integral() > 0 ? float(1.0 / k.cone.integral()) : 0.0f;
     }
   std::vector<uint8_t> near(t->factor.size(), 0);
+  const bool haveVisible = t->visible.size() == t->factor.size();
   tbb::parallel_for(uint32_t(0), n, [&](uint32_t j) {
     const Patch& p = t->mesh.patches[j];
     Vec3d poly[4];
@@ -143,16 +144,16 @@ void FirstShotLighting::build(const RenderScene& scene) {
       const LightSample& s = t->samples[t->sampleIndex[k]];
       const int side = sampleSide(s, p);
       if (side < 0) continue;
-      double scaledU = 0;  // scale_i · U_ij
-      if (s.kind == LightSampleKind::Point)
-        scaledU = analytic::polygonSolidAngle(Vec3d(s.position), poly, int(p.count)) / (4.0 * kPi);
-      else if (s.kind == LightSampleKind::Spot)
-        scaledU = spotPatchIntegral(s, spots_[t->sampleIndex[k]], poly, int(p.count), side == 0 ? normal : -normal,
-                                    glm::length(Vec3d(s.position) - c), diameter);
-      else if (s.kind == LightSampleKind::AreaVertex)
-        scaledU = s.weight * analytic::polygonCosineSolidAngle(Vec3d(s.position), glm::normalize(Vec3d(s.normal)), poly,
-                                                               int(p.count));
-      const double v = scaledU > 0 ? double(t->factor[k]) * p.area / scaledU : -1.0;
+      // V_ij = r_ij A_j / (scale_i U_ij): points and area vertices by the preprocessor's closed forms
+      // (as the reader already did, if it did), spots by their integrated kernel.
+      double v = -1.0;
+      if (s.kind == LightSampleKind::Spot) {
+        const double scaledU = spotPatchIntegral(s, spots_[t->sampleIndex[k]], poly, int(p.count),
+                                                 side == 0 ? normal : -normal, glm::length(Vec3d(s.position) - c), diameter);
+        v = scaledU > 0 ? double(t->factor[k]) * p.area / scaledU : -1.0;
+      } else if (s.kind != LightSampleKind::Directional) {
+        v = haveVisible ? t->visible[k] : recoveredVisible(t->factor[k], s, t->areaEyeOffset, p);
+      }
       if (v >= 0 && v <= kMaxVisible) {
         visible_[k] = float(v);
         if (glm::length(Vec3d(s.position) - c) < kNearPatches * diameter) {

@@ -3,11 +3,15 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "common/error.h"
 #include "common/firstshot.h"
+#include "common/hash.h"
 #include "common/scene_desc.h"
 #include "tests/test_util.h"
 
@@ -33,6 +37,57 @@ std::vector<char> readBytes(const std::string& path) {
 
 void writeBytes(const std::string& path, const std::vector<char>& b) {
   std::ofstream(path, std::ios::binary).write(b.data(), std::streamsize(b.size()));
+}
+
+/// A table with grouped factors (an area light): the Cornell box at R = 32, made once by the real tool.
+const std::string& groupedTable() {
+  static const std::string path = [] {
+    const std::string out = test::tempDir() + "/cornell.fsd";
+    const auto r = test::run(kExe + " " + test::source("scenes/cornell.json") + " -o " + out +
+                             " --resolution 32 --quiet --threads 2");
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return out;
+  }();
+  return path;
+}
+
+/// The arrays of a file's CSRR section (docs/firstshot-format.md), as byte offsets into the file.
+struct CsrrLayout {
+  size_t rowCount, singleCount, groupCount, singleSample, singleFactor, groupLight, groupVisible;
+  uint64_t singles, groups;
+};
+
+CsrrLayout csrrLayout(const std::vector<char>& b, uint64_t patches) {
+  size_t p = 40;  // magic, version, flags, three hashes
+  for (;;) {
+    uint64_t len;
+    std::memcpy(&len, b.data() + p + 4, 8);
+    if (std::memcmp(b.data() + p, "CSRR", 4) == 0) break;
+    p += 12 + len;
+  }
+  p += 12;
+  CsrrLayout l{};
+  std::memcpy(&l.singles, b.data() + p + 8, 8);
+  std::memcpy(&l.groups, b.data() + p + 16, 8);
+  l.rowCount = p + 32;
+  l.singleCount = l.rowCount + 4 * patches;
+  l.groupCount = l.singleCount + 4 * patches;
+  l.singleSample = l.groupCount + 4 * patches;
+  l.singleFactor = l.singleSample + 4 * l.singles;
+  l.groupLight = l.singleFactor + 4 * l.singles;
+  l.groupVisible = l.groupLight + 4 * l.groups;
+  return l;
+}
+
+template <typename T>
+void poke(std::vector<char>& b, size_t offset, T v) {
+  std::memcpy(b.data() + offset, &v, sizeof(T));
+}
+
+/// Writes @p b with its checksum recomputed, so that the reader gets past it to the contents.
+void writeResealed(const std::string& path, std::vector<char> b) {
+  poke(b, b.size() - 16, Hasher().bytes(b.data(), b.size() - 16).value());
+  writeBytes(path, b);
 }
 
 std::string readError(const std::string& path, uint64_t hash = 0) {
@@ -142,4 +197,102 @@ TEST(PreprocessCli, SummaryLine) {
   const auto r = test::run(kExe + " " + test::source("scenes/cornell.json") + " -o " + dir + "/c.fsd --resolution 32 --quiet --threads 2");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   for (const char* part : {"light samples", "patches", "non-zero factors", "samples/s"}) EXPECT_THAT(r.output, HasSubstr(part));
+}
+
+// Version 3's grouped factors: every malformed group is refused, naming the file and the section.
+TEST(FsdFile, MalformedGroupsAreRefused) {
+  const std::string& good = groupedTable();
+  const FirstShotTable t = readFirstShot(good);
+  const std::vector<char> b = readBytes(good);
+  const CsrrLayout l = csrrLayout(b, t.mesh.size());
+  ASSERT_GT(l.groups, 0u);
+  ASSERT_GT(l.singles, 0u);
+  // The first row with a group (its group is the file's first), and one after it.
+  const uint64_t group = 0;
+  uint32_t row = 0;
+  for (;; ++row) {
+    uint32_t c;
+    std::memcpy(&c, b.data() + l.groupCount + 4 * row, 4);
+    if (c > 0) break;
+  }
+  ASSERT_LT(row + 1, t.mesh.size());
+  const std::string dir = test::tempDir();
+  const std::string bad = dir + "/bad.fsd";
+  auto refused = [&](std::vector<char> m, const std::string& what) {
+    writeResealed(bad, std::move(m));
+    const std::string e = readError(bad);
+    EXPECT_THAT(e, HasSubstr("CSRR"));
+    EXPECT_THAT(e, HasSubstr(what));
+  };
+  {  // a light that has no area-light vertices
+    auto m = b;
+    poke<uint32_t>(m, l.groupLight + 4 * group, 12345);
+    refused(m, "has no area-light vertices");
+  }
+  for (float v : {0.0f, -0.5f, 1.5f, std::numeric_limits<float>::quiet_NaN()}) {  // V outside (0, 1]
+    auto m = b;
+    poke<float>(m, l.groupVisible + 4 * group, v);
+    refused(m, "visible fraction outside (0, 1]");
+  }
+  {  // a single entry's sample out of range
+    auto m = b;
+    poke<uint32_t>(m, l.singleSample, uint32_t(t.samples.size()));
+    refused(m, "is invalid");
+  }
+  {  // a row claiming one factor more than its entries expand to (and the next one fewer)
+    auto m = b;
+    uint32_t c0, c1;
+    std::memcpy(&c0, m.data() + l.rowCount + 4 * row, 4);
+    std::memcpy(&c1, m.data() + l.rowCount + 4 * (row + 1), 4);
+    poke<uint32_t>(m, l.rowCount + 4 * row, c0 + 1);
+    poke<uint32_t>(m, l.rowCount + 4 * (row + 1), c1 - 1);
+    refused(m, "row " + std::to_string(row) + ": its entries expand to");
+  }
+  {  // group counts that do not add up
+    auto m = b;
+    uint32_t c;
+    std::memcpy(&c, m.data() + l.groupCount + 4 * row, 4);
+    poke<uint32_t>(m, l.groupCount + 4 * row, c + 1);
+    refused(m, "group counts do not add up");
+  }
+  {  // a sample listed both as a single and in a group: the next single entry after the first grouped row moved
+     // into that row (its count and the row lengths changed, no bytes moved), made a vertex of the group's light
+    auto m = b;
+    auto count = [&](size_t array, uint32_t j) {
+      uint32_t c;
+      std::memcpy(&c, m.data() + array + 4 * j, 4);
+      return c;
+    };
+    uint64_t single = 0;
+    for (uint32_t j = 0; j < row; ++j) single += count(l.singleCount, j);
+    uint32_t next = row;
+    while (next < t.mesh.size() && count(l.singleCount, next) == 0) ++next;
+    ASSERT_LT(next, t.mesh.size());
+    ASSERT_GT(next, row) << "the first grouped row has single entries too";
+    poke<uint32_t>(m, l.singleCount + 4 * row, 1);
+    poke<uint32_t>(m, l.singleCount + 4 * next, count(l.singleCount, next) - 1);
+    poke<uint32_t>(m, l.rowCount + 4 * row, count(l.rowCount, row) + 1);
+    poke<uint32_t>(m, l.rowCount + 4 * next, count(l.rowCount, next) - 1);
+    uint32_t light;
+    std::memcpy(&light, m.data() + l.groupLight + 4 * group, 4);
+    uint32_t vertex = 0;  // a vertex of the light that the group expands to in the row
+    for (uint64_t k = t.rowStart[row]; k < t.rowStart[row + 1]; ++k)
+      if (t.samples[t.sampleIndex[k]].light == light) vertex = t.sampleIndex[k];
+    poke<uint32_t>(m, l.singleSample + 4 * single, vertex);
+    refused(m, "row " + std::to_string(row) + ": light samples not ascending or listed twice");
+  }
+  EXPECT_NO_THROW(readFirstShot(good));
+}
+
+// A table without groups (a point light) carries neither the single nor the group counts.
+TEST(FsdFile, TableWithoutGroupsHasNoGroupArrays) {
+  const std::string dir = test::tempDir();
+  const std::string path = makeTable(dir);
+  const FirstShotTable t = readFirstShot(path);
+  const std::vector<char> b = readBytes(path);
+  const CsrrLayout l = csrrLayout(b, t.mesh.size());
+  EXPECT_EQ(l.groups, 0u);
+  EXPECT_EQ(l.singles, t.nonZeros());
+  // rowCount, then straight to the singles: 4 bytes per row and 8 per factor, then checksum and end marker.
+  EXPECT_EQ(b.size(), l.rowCount + 4 * t.mesh.size() + 8 * t.nonZeros() + 16);
 }
