@@ -5,10 +5,14 @@
 
 #include <fmt/core.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 
 #include "preprocess/adaptive_mesh.h"
 #include "preprocess/preprocessor.h"
+#include "common/firstshot.h"
 #include "common/scene_desc.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
@@ -125,6 +129,31 @@ TEST(AdaptivePatches, FluxMatchesTheUniformMesh) {
   EXPECT_NEAR(flux(u), exact, 5e-3 * exact);
 }
 
+namespace {
+
+/// First-shot at camera-visible points (depth 1, the table evaluated at each hit) against the exact
+/// direct light (NEE to every light; paired pixel positions): relative RMS difference of the Y
+/// channel over the image. With point lights only the reference has no noise.
+double directError(const RenderScene& table, const RenderScene& exact, int spp, int exactSpp) {
+  IntegratorOptions io;
+  io.maxDepth = 1;
+  io.lightSampler = LightStrategy::All;
+  io.primary = PrimaryMode::Patch;
+  const test::RenderRun a = test::renderPath(table, io, spp);
+  io.primary = PrimaryMode::Exact;
+  const test::RenderRun n = test::renderPath(exact, io, exactSpp);
+  const CameraDesc& c = table.desc().camera;
+  double err = 0, ref = 0;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      const double e = n.film.mean(x, y).y;
+      err += std::pow(a.film.mean(x, y).y - e, 2), ref += e * e;
+    }
+  return std::sqrt(err / ref);
+}
+
+}  // namespace
+
 // The 64-light room (its furniture casts shadow edges everywhere): the first-shot lighting at
 // camera-visible points (depth 1, the table evaluated at each hit, paired pixel positions) of the
 // adaptive mesh from 0.8 m down to 0.1 m at the default tolerance is within 0.3% rel. RMS of the
@@ -141,22 +170,47 @@ TEST(AdaptivePatches, ManyLightsMatchesTheUniformFineMeshWithFiveTimesFewerPatch
     return preprocessScene(desc, o);
   };
   const RenderScene adaptive(desc, table(0.8)), uniform(desc, table(0.1)), exact(desc, 0.1);
-  IntegratorOptions io;
-  io.maxDepth = 1;
-  io.lightSampler = LightStrategy::All;
-  io.primary = PrimaryMode::Patch;
-  const test::RenderRun a = test::renderPath(adaptive, io, 4), u = test::renderPath(uniform, io, 4);
-  io.primary = PrimaryMode::Exact;
-  const test::RenderRun n = test::renderPath(exact, io, 4);
-  double errA = 0, errU = 0, ref = 0;
-  for (int y = 0; y < desc.camera.height; ++y)
-    for (int x = 0; x < desc.camera.width; ++x) {
-      const double e = n.film.mean(x, y).y;
-      errA += std::pow(a.film.mean(x, y).y - e, 2), errU += std::pow(u.film.mean(x, y).y - e, 2), ref += e * e;
-    }
-  const double relA = std::sqrt(errA / ref), relU = std::sqrt(errU / ref);
+  const double relA = directError(adaptive, exact, 4, 4), relU = directError(uniform, exact, 4, 4);
   fmt::print("many-lights: {} adaptive patches, rel. RMS error {:.4f}; {} uniform, {:.4f}\n", adaptive.mesh().size(), relA,
              uniform.mesh().size(), relU);
   EXPECT_LE(adaptive.mesh().size() * 5, uniform.mesh().size());
   EXPECT_LT(relA - relU, 0.003);
+}
+
+/// Measurement harness (disabled; run with --gtest_also_run_disabled_tests): per scene, the uniform
+/// mesh at the scene's smallest patch size against the scene's adaptive default: patches, factors,
+/// .fsd size, preprocess time and the first-shot direct-light error at camera-visible points.
+/// ADAPT_SCENES comma-separated scene names (default cornell-metre,many-lights,fixture-room);
+/// ADAPT_SPP exact-NEE samples per pixel for scenes with area lights (256).
+TEST(AdaptivePatches, DISABLED_Measure) {
+  const char* env = std::getenv("ADAPT_SCENES");
+  std::string list = env ? env : "cornell-metre,many-lights,fixture-room";
+  const int spp = std::getenv("ADAPT_SPP") ? std::atoi(std::getenv("ADAPT_SPP")) : 256;
+  list += ',';
+  for (size_t start = 0, comma; (comma = list.find(',', start)) != std::string::npos; start = comma + 1) {
+    const std::string name = list.substr(start, comma - start);
+    SceneDesc desc = loadScene(test::source("scenes/" + name + ".json"));
+    desc.camera.width = 160, desc.camera.height = desc.camera.height * 160 / std::max(1, desc.camera.width);
+    desc.camera.height = std::max(desc.camera.height, 90);
+    PreprocessOptions o = defaultOptions(desc);
+    o.quiet = true;
+    const double fine = o.settings.minPatchSize;
+    bool area = false;
+    for (const LightDesc& l : desc.lights) area = area || l.type == LightType::Area;
+    const RenderScene exact(desc, fine);
+    for (bool uniform : {true, false}) {
+      PreprocessOptions u = o;
+      if (uniform) u.settings.patchSize = u.settings.minPatchSize = fine;
+      const auto t0 = std::chrono::steady_clock::now();
+      FirstShotTable t = preprocessScene(desc, u);
+      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const std::string path = test::tempDir() + "/measure.fsd";
+      writeFirstShot(path, t);
+      const size_t bytes = std::filesystem::file_size(path), patches = t.mesh.size(), factors = t.nonZeros();
+      const RenderScene scene(desc, std::move(t));
+      const double err = directError(scene, exact, area ? spp : 4, area ? spp : 4);
+      fmt::print("| {} | {} {}–{} m | {} | {} | {:.2f} MB | {:.2f} s | {:.2f}% |\n", name, uniform ? "uniform" : "adaptive",
+                 uniform ? fine : o.settings.patchSize, fine, patches, factors, bytes / 1e6, secs, 100 * err);
+    }
+  }
 }
