@@ -55,44 +55,18 @@ Run preprocess(const SceneDesc& scene, double lightPatchSize, double tolerance, 
 
 double mean(const Color& c) { return (double(c.x) + c.y + c.z) / 3.0; }
 
-/// Worst error of the unoccluded vertex rule at the patch centroids (see the file comment): relative
-/// at points that see the whole light above their horizon; at points whose plane cuts the light,
-/// relative to the irradiance they would receive facing the light.
-struct RuleError {
-  double uncut = 0, cut = 0;
-};
-
-RuleError ruleError(const SceneDesc& scene, const FirstShotTable& t, double lightPatchSize, double tolerance) {
-  RuleError worst;
+/// Worst error of the unoccluded vertex rule at the patch centroids (both sides; see the file comment).
+VertexRuleError ruleError(const SceneDesc& scene, const FirstShotTable& t, double lightPatchSize, double tolerance) {
+  VertexRuleError worst;
+  std::vector<std::pair<Vec3d, Vec3d>> points;
+  for (const Patch& p : t.mesh.patches)
+    for (double side : {1.0, -1.0}) points.emplace_back(Vec3d(p.centroid), side * Vec3d(p.normal));
   for (uint32_t li : t.replacedLights) {
     const LightDesc& l = scene.lights[li];
     if (l.type != LightType::Area || scene.shapes[l.shape].faces.size() != 1) continue;
-    const ShapeDesc& shape = scene.shapes[l.shape];
-    const Face& f = shape.faces[0];
-    Vec3d poly[4];
-    for (int i = 0; i < f.count; ++i) poly[i] = shape.vertices[f.v[i]];
-    const Vec3d front = glm::cross(poly[1] - poly[0], poly[2] - poly[0]);
     const LightTessellation lt = tessellateAreaLight(scene, l.shape, lightPatchSize, tolerance);
-    for (const Patch& p : t.mesh.patches)
-      for (double side : {1.0, -1.0}) {
-        const Vec3d x(p.centroid), n = side * Vec3d(p.normal);
-        if (glm::dot(x - poly[0], front) <= 0) continue;  // behind the light
-        const double exact = analytic::polygonCosineSolidAngle(x, n, poly, f.count);
-        if (exact <= 1e-12) continue;
-        double rule = 0, facing = 0;
-        for (size_t i = 0; i < lt.positions.size(); ++i) {
-          const Vec3d r = lt.positions[i] - x;
-          const double d = glm::length(r), cosL = std::max(0.0, -glm::dot(lt.normals[i], r) / d);
-          rule += lt.weights[i] * std::max(0.0, glm::dot(n, r) / d) * cosL / (d * d);
-          facing += lt.weights[i] * cosL / (d * d);
-        }
-        bool cut = false;
-        for (int i = 0; i < f.count; ++i) cut = cut || glm::dot(n, poly[i] - x) <= 0;
-        if (cut)
-          worst.cut = std::max(worst.cut, std::abs(rule - exact) / facing);
-        else
-          worst.uncut = std::max(worst.uncut, std::abs(rule - exact) / exact);
-      }
+    const VertexRuleError e = vertexRuleError(scene.shapes[l.shape], lt, points);
+    worst.cut = std::max(worst.cut, e.cut), worst.uncut = std::max(worst.uncut, e.uncut);
   }
   return worst;
 }
@@ -110,7 +84,7 @@ void report(const SceneDesc& scene, const std::string& label, const Run& run, co
     const double e = mean(t.irradiance(j)), er = mean(ref.table.irradiance(j));
     if (er >= 0.01 * meanE && std::abs(e - er) / er > worst) worst = std::abs(e - er) / er, worstPatch = j;
   }
-  const RuleError rule = ruleError(scene, t, lps, tol);
+  const VertexRuleError rule = ruleError(scene, t, lps, tol);
   const Patch& wp = t.mesh.patches[worstPatch];
   std::printf("| %s | %zu | %.2f | %.3f%% | %.3f%% | %.2f%% (%s, E/mean %.3f) | %.3f%% | %.4f%% |\n", label.c_str(),
               t.samples.size(), run.seconds, 100 * l1 / sumAE, 100 * std::sqrt(l2 / ref2), 100 * worst,

@@ -221,4 +221,32 @@ LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, do
   return out.finish();
 }
 
+VertexRuleError vertexRuleError(const ShapeDesc& light, const LightTessellation& t,
+                                const std::vector<std::pair<Vec3d, Vec3d>>& points) {
+  const Face& f = light.faces.at(0);
+  Vec3d poly[4];
+  for (int i = 0; i < f.count; ++i) poly[i] = light.vertices[f.v[i]];
+  const Vec3d front = glm::cross(poly[1] - poly[0], poly[2] - poly[0]);
+  VertexRuleError worst;
+  for (const auto& [x, n] : points) {
+    if (glm::dot(x - poly[0], front) <= 0) continue;
+    const double exact = analytic::polygonCosineSolidAngle(x, n, poly, f.count);
+    if (exact <= 1e-12) continue;
+    double rule = 0, facing = 0;
+    for (size_t i = 0; i < t.positions.size(); ++i) {
+      const Vec3d r = t.positions[i] - x;
+      const double d = glm::length(r), cosL = std::max(0.0, -glm::dot(t.normals[i], r) / d);
+      rule += t.weights[i] * std::max(0.0, glm::dot(n, r) / d) * cosL / (d * d);
+      facing += t.weights[i] * cosL / (d * d);
+    }
+    bool cut = false;
+    for (int i = 0; i < f.count; ++i) cut = cut || glm::dot(n, poly[i] - x) <= 0;
+    if (cut)
+      worst.cut = std::max(worst.cut, std::abs(rule - exact) / facing);
+    else
+      worst.uncut = std::max(worst.uncut, std::abs(rule - exact) / exact);
+  }
+  return worst;
+}
+
 }  // namespace fs

@@ -18,6 +18,7 @@
 /// the light the integrand has a kink and the relative error is larger, on a small irradiance.
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "common/math.h"
@@ -85,5 +86,16 @@ class LightReceivers {
 /// vertices where levels meet get weight only from their own triangles, so Σ weights = area.
 /// Same input → same output, byte for byte.
 LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance);
+
+/// Worst error of the vertex rule Σ w_i cosθ_x cosθ_L / d² of @p t against the exact
+/// ∫ cosθ_x cosθ_L / d² dA (analytic::polygonCosineSolidAngle) over @p points (position, normal), the
+/// light being the single-face emissive shape @p light. Points behind the light, or that receive
+/// nothing, are skipped. For tests and the accuracy bench.
+struct VertexRuleError {
+  double uncut = 0;  ///< relative, at points that see the whole light above their horizon
+  double cut = 0;    ///< at points whose plane cuts the light: |error| / Σ w_i cosθ_L/d² (the point facing the light)
+};
+VertexRuleError vertexRuleError(const ShapeDesc& light, const LightTessellation& t,
+                                const std::vector<std::pair<Vec3d, Vec3d>>& points);
 
 }  // namespace fs

@@ -13,17 +13,14 @@
 #include "common/scene_desc.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/light_tessellation.h"
+#include "tests/render_util.h"
 #include "tests/test_util.h"
 
 using namespace fs;
 
 namespace {
 
-SceneDesc sceneFrom(const std::string& json) {
-  SceneDesc s = parseSceneJson(json, "test.json");
-  validateScene(s);
-  return s;
-}
+SceneDesc sceneFrom(const std::string& json) { return test::sceneFromJson(json); }
 
 /// A 4 × 3 × 4 m room seen from inside plus @p lightShapes (material "lamp") and @p extraShapes.
 std::string room(const std::string& lightShapes, const std::string& extraShapes = "") {
@@ -46,41 +43,6 @@ double sum(const std::vector<double>& v) {
 
 double triangleDiameter(const std::array<Vec3d, 3>& t) {
   return std::max({glm::length(t[1] - t[0]), glm::length(t[2] - t[1]), glm::length(t[0] - t[2])});
-}
-
-/// Worst error of the vertex rule Σ w_i cosθ_x cosθ_L / d² against the exact ∫ cosθ_x cosθ_L / d² dA
-/// (analytic::polygonCosineSolidAngle) over @p points (position, normal), the light being the
-/// single-face emissive shape @p light. Points behind the light, or that receive nothing, are skipped.
-struct RuleError {
-  double uncut = 0;  ///< relative, at points that see the whole light above their horizon
-  double cut = 0;    ///< at points whose plane cuts the light: |error| / Σ w_i cosθ_L/d² (the point facing the light)
-};
-
-RuleError vertexRuleError(const ShapeDesc& light, const LightTessellation& t, const std::vector<std::pair<Vec3d, Vec3d>>& points) {
-  const Face& f = light.faces.at(0);
-  Vec3d poly[4];
-  for (int i = 0; i < f.count; ++i) poly[i] = light.vertices[f.v[i]];
-  const Vec3d front = glm::cross(poly[1] - poly[0], poly[2] - poly[0]);
-  RuleError worst;
-  for (const auto& [x, n] : points) {
-    if (glm::dot(x - poly[0], front) <= 0) continue;
-    const double exact = analytic::polygonCosineSolidAngle(x, n, poly, f.count);
-    if (exact <= 1e-12) continue;
-    double rule = 0, facing = 0;
-    for (size_t i = 0; i < t.positions.size(); ++i) {
-      const Vec3d r = t.positions[i] - x;
-      const double d = glm::length(r), cosL = std::max(0.0, -glm::dot(t.normals[i], r) / d);
-      rule += t.weights[i] * std::max(0.0, glm::dot(n, r) / d) * cosL / (d * d);
-      facing += t.weights[i] * cosL / (d * d);
-    }
-    bool cut = false;
-    for (int i = 0; i < f.count; ++i) cut = cut || glm::dot(n, poly[i] - x) <= 0;
-    if (cut)
-      worst.cut = std::max(worst.cut, std::abs(rule - exact) / facing);
-    else
-      worst.uncut = std::max(worst.uncut, std::abs(rule - exact) / exact);
-  }
-  return worst;
 }
 
 /// Patch centroids and normals of every receiver surface (both sides of two-sided surfaces are the
@@ -170,7 +132,7 @@ TEST(LightTessellation, DefaultToleranceMetreCornell) {
   const double tol = SettingsDesc{}.lightTolerance;
   const auto pts = receiverPoints(s, 0.25);
   const LightTessellation fine = tessellateAreaLight(s, li, 0, tol);
-  const RuleError e = vertexRuleError(s.shapes[li], fine, pts);
+  const VertexRuleError e = vertexRuleError(s.shapes[li], fine, pts);
   EXPECT_LE(e.uncut, tol);
   EXPECT_LE(e.cut, tol);
   EXPECT_LT(fine.positions.size(), 200u);
@@ -188,7 +150,7 @@ TEST(LightTessellation, DefaultToleranceUnderCeilingNearWall) {
   for (double y = 2.5; y < 2.99; y += 0.04)  // the wall next to the light, up to its plane
     for (double z = 0.8; z < 1.8; z += 0.1) pts.emplace_back(Vec3d(0, y, z), Vec3d(1, 0, 0));
   const LightTessellation t = tessellateAreaLight(s, li, 0, tol);
-  const RuleError e = vertexRuleError(s.shapes[li], t, pts);
+  const VertexRuleError e = vertexRuleError(s.shapes[li], t, pts);
   EXPECT_LE(e.uncut, tol);
   EXPECT_LE(e.cut, tol);
   EXPECT_LT(t.positions.size(), 2000u);
