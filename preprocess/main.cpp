@@ -7,6 +7,7 @@
 #include "common/patches.h"
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
+#include "preprocess/profile.h"
 
 namespace {
 
@@ -109,7 +110,11 @@ int main(int argc, char** argv) {
     if (out.empty()) throw fs::InputError("", "command line", "no output file given (-o OUT.fsd)");
     fs::PreprocessStats st;
     const fs::FirstShotTable table = fs::preprocessScene(scene, o, &st);
-    fs::writeFirstShot(out, table);
+    {
+      fs::profile::Scope writeTime(fs::profile::Write);
+      fs::writeFirstShot(out, table);
+    }
+    if (fs::profile::enabled()) fs::profile::report(stderr);
     fmt::print("{}: {} light samples ({} small lights, {} large), {} patches, {} non-zero factors, {:.2f} s, {:.1f} samples/s [{}; R = {}]\n",
                out, st.lightSamples, st.smallLights, st.largeLights, st.patches, st.nonZeros, st.seconds,
                st.seconds > 0 ? st.lightSamples / st.seconds : 0.0, st.renderer, o.settings.resolution);

@@ -19,6 +19,7 @@
 #include "preprocess/exposure.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/light_samples.h"
+#include "preprocess/profile.h"
 #include "preprocess/window.h"
 
 namespace fs {
@@ -115,9 +116,15 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
   };
   double fraction = -1;
   if (touched) {
+    profile::Scope coverageTime(profile::Coverage);
     PatchCoverage total = coverage(nullptr);
     if (total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
-      getMask();
+      coverageTime.stop();
+      {
+        profile::Scope exposureTime(profile::Exposure);
+        getMask();
+      }
+      profile::Scope again(profile::Coverage);
       if (query.mask->partial) total = coverage(&query);
     }
     if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
@@ -126,10 +133,16 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
   if (fraction < 0) {
     // 5 points; a patch that shows nowhere (occluded, or smaller than a pixel) is decided by its
     // centroid unless that lies outside the window.
+    profile::Scope pointTime(profile::PointTests);
     fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, nullptr);
     if (fraction < 0 && !touched) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, true, nullptr);
     if (fraction > 0 && fraction < 1) {
-      getMask();
+      pointTime.stop();
+      {
+        profile::Scope exposureTime(profile::Exposure);
+        getMask();
+      }
+      profile::Scope again(profile::PointTests);
       if (query.mask->partial) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, &query);
     }
   }
@@ -176,13 +189,17 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   std::vector<uint8_t> mask;
   for (size_t v = 0; v < views.size(); ++v) {
     std::vector<uint32_t>& ids = idsPerView[v];
+    profile::Scope renderTime(profile::Render);
     if (masked) {
       mask.assign(views[v].pixelCount(), 0);
       for (uint32_t id : task.patches) markProjection(views[v], mesh.patches[id], near, 2, mask);
       exposure->rays().renderMasked(views[v], mask, ids);
     } else {
+      renderTime.stop();
       renderer->render(views[v], ids);
     }
+    renderTime.stop();
+    profile::Scope accumulateTime(profile::Accumulate);
     const std::vector<double>& w = (*s.weights)[v];
     for (size_t p = 0; p < ids.size(); ++p) {
       const uint32_t id = ids[p];
@@ -213,6 +230,7 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
     auto visit = [&](uint32_t id) {
       const bool shown = std::binary_search(touched.begin(), touched.end(), id);
       const double f = fraction(id, shown);
+      profile::Scope integralTime(profile::Integral);
       emit(id, analyticIntegral(s, views[0].eye, mesh.patches[id], f), f);
     };
     if (task.patches.empty())
@@ -247,13 +265,16 @@ struct Shooter {
   void run(const PatchMesh& mesh, const std::vector<Task>& tasks, bool needVisible, const std::string& label,
            std::vector<std::vector<Entry>>& results) {
     if (tasks.empty()) return;
+    profile::Scope meshTime(profile::Mesh);
     const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
+    meshTime.stop();
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min<int>(threads, static_cast<int>(tasks.size())));
     // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
     std::unique_ptr<EmbreeItemBuffer> probe;
     std::unique_ptr<ExposureCache> exposure;
     if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty()) {
+      profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
       exposure = std::make_unique<ExposureCache>(mesh, *probe);
     }
@@ -271,6 +292,7 @@ struct Shooter {
           const Task& task = tasks[k];
           if (acc.empty()) acc.assign(mesh.size(), 0.0);
           if (!renderer && task.patches.empty()) {
+            profile::Scope setupTime(profile::RendererSetup);
             renderer = makeRenderer(options, geometry, bounds);
             if (worker == 0 && rendererName.empty()) rendererName = renderer->name();
           }
@@ -385,6 +407,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   bounds.extend(lo), bounds.extend(hi);
 
   // Windows and weight tables, built once.
+  profile::Scope windowTime(profile::Windows);
   const Window cube = makeCubeWindow(R);
   const Window area = parseWindowKind(options.settings.window) == WindowKind::Tetrahedron ? makeTetraWindow(R)
                                                                                            : makeHemicubeWindow(R);
@@ -431,8 +454,11 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
       s.rotation = 2.0 * kPi * bitsToUnitDouble(hashKeys(options.settings.rotationSeed, i));
   }
 
+  windowTime.stop();
   // Level 0 over the coarse mesh, then refinement levels that re-shoot only what changed.
+  profile::Scope meshTime(profile::Mesh);
   AdaptiveMesh adaptive(scene, options.settings.patchSize);
+  meshTime.stop();
   Shooter shooter{scene, options, setups, bounds, options.quiet, {},
                   std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                          std::chrono::duration<double>(options.timeLimit > 0 ? options.timeLimit : 1e9))};
@@ -449,6 +475,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     carryOver(adaptive.mesh(), setups, flags, first, results, tasks);
     shooter.run(adaptive.mesh(), tasks, true, "refine " + std::to_string(level), results);
   }
+  profile::Scope tableTime(profile::Table);
   t.mesh = adaptive.mesh();
   // CSR by patch; within a row, samples ascend.
   const uint32_t n = t.mesh.size();
@@ -465,6 +492,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
       t.sampleIndex[k] = static_cast<uint32_t>(i);
       t.factor[k] = e.factor;
     }
+  tableTime.stop();
   if (stats) {
     stats->lightSamples = t.samples.size();
     stats->patches = n;
