@@ -19,6 +19,7 @@
 #include "preprocess/exposure.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/light_samples.h"
+#include "preprocess/occlusion_cull.h"
 #include "preprocess/profile.h"
 #include "preprocess/window.h"
 
@@ -175,7 +176,8 @@ struct Task {
 /// patches renders whole views with @p renderer.
 std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup& s, const PatchMesh& mesh, const Task& task,
                                 bool needVisible, std::vector<double>& acc, std::vector<uint32_t>& touched,
-                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure) {
+                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure,
+                                const OcclusionCull* cull, std::vector<uint32_t>& candidates) {
   Framed frame(s.axis);
   if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
     const double c = std::cos(s.rotation), sn = std::sin(s.rotation);
@@ -233,10 +235,19 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
       profile::Scope integralTime(profile::Integral);
       emit(id, analyticIntegral(s, views[0].eye, mesh.patches[id], f), f);
     };
-    if (task.patches.empty())
+    if (task.patches.empty() && cull && views[0].projection == Projection::Perspective) {
+      // The same, less the clusters of unseen patches proven hidden behind a face of the scene (which
+      // their point tests would find occluded): preprocess/occlusion_cull.h.
+      candidates.assign(touched.begin(), touched.end());
+      cull->visible(views[0].eye, touched, candidates);
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      for (uint32_t id : candidates) visit(id);
+    } else if (task.patches.empty()) {
       for (uint32_t id = 0; id < mesh.size(); ++id) visit(id);
-    else
+    } else {
       for (uint32_t id : task.patches) visit(id);
+    }
   }
   for (uint32_t id : touched) acc[id] = 0.0;
   touched.clear();
@@ -278,6 +289,11 @@ struct Shooter {
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
       exposure = std::make_unique<ExposureCache>(mesh, *probe);
     }
+    std::unique_ptr<OcclusionCull> cull;
+    if (options.settings.estimator == "analytic" && tasks.front().patches.empty()) {
+      profile::Scope cullTime(profile::Mesh);
+      cull = std::make_unique<OcclusionCull>(scene, mesh);
+    }
     std::atomic<size_t> next{0};
     std::mutex errorMutex;
     std::exception_ptr error;
@@ -288,6 +304,7 @@ struct Shooter {
         std::vector<double> acc;
         std::vector<uint32_t> touched;
         std::vector<std::vector<uint32_t>> ids;
+        std::vector<uint32_t> candidates;
         for (size_t k; (k = next++) < tasks.size();) {
           const Task& task = tasks[k];
           if (acc.empty()) acc.assign(mesh.size(), 0.0);
@@ -301,7 +318,7 @@ struct Shooter {
                                      ", " + std::to_string(k) + " of " + std::to_string(tasks.size()) +
                                      " light samples); nothing written");
           std::vector<Entry> out = renderSample(renderer.get(), setups[task.sample], mesh, task, needVisible, acc, touched, ids,
-                                                exposure.get());
+                                                exposure.get(), cull.get(), candidates);
           std::vector<Entry>& r = results[task.sample];
           if (r.empty()) {
             r = std::move(out);
