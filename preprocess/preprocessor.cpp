@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "common/lights.h"
@@ -125,7 +126,7 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
         profile::Scope exposureTime(profile::Exposure);
         getMask();
       }
-      profile::Scope again(profile::Coverage);
+      profile::Scope again(profile::CoverageExposed);
       if (query.mask->partial) total = coverage(&query);
     }
     if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
@@ -254,7 +255,21 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   return out;
 }
 
-std::unique_ptr<ItemBufferRenderer> makeRenderer(const PreprocessOptions& o, const ItemGeometry& geo, const Bounds3d& b) {
+/// A worker's view of an Embree item buffer shared by all workers (its render() only reads the BVH).
+class SharedEmbree final : public ItemBufferRenderer {
+ public:
+  explicit SharedEmbree(EmbreeItemBuffer& rays) : rays_(rays) {}
+  void render(const View& view, std::vector<uint32_t>& ids) override { rays_.render(view, ids); }
+  const char* name() const override { return rays_.name(); }
+  double nearPlane() const override { return rays_.nearPlane(); }
+
+ private:
+  EmbreeItemBuffer& rays_;
+};
+
+std::unique_ptr<ItemBufferRenderer> makeRenderer(const PreprocessOptions& o, const ItemGeometry& geo, const Bounds3d& b,
+                                                 EmbreeItemBuffer* shared) {
+  if (o.settings.backend == "embree" && shared) return std::make_unique<SharedEmbree>(*shared);
   if (o.settings.backend == "embree") return std::make_unique<EmbreeItemBuffer>(geo, b);
   if (o.settings.backend == "gl") return std::make_unique<GLItemBuffer>(geo, b, parseGLBackend(o.gl));
   throw std::invalid_argument("unknown item-buffer back end \"" + o.settings.backend + "\" (gl, embree)");
@@ -284,7 +299,9 @@ struct Shooter {
     // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
     std::unique_ptr<EmbreeItemBuffer> probe;
     std::unique_ptr<ExposureCache> exposure;
-    if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty()) {
+    // One BVH for the point tests, the probes and, with the embree back end, every worker's item buffers.
+    if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty() ||
+        options.settings.backend == "embree") {
       profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
       exposure = std::make_unique<ExposureCache>(mesh, *probe);
@@ -310,7 +327,7 @@ struct Shooter {
           if (acc.empty()) acc.assign(mesh.size(), 0.0);
           if (!renderer && task.patches.empty()) {
             profile::Scope setupTime(profile::RendererSetup);
-            renderer = makeRenderer(options, geometry, bounds);
+            renderer = makeRenderer(options, geometry, bounds, probe.get());
             if (worker == 0 && rendererName.empty()) rendererName = renderer->name();
           }
           if (std::chrono::steady_clock::now() > deadline)
@@ -425,9 +442,18 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
 
   // Windows and weight tables, built once.
   profile::Scope windowTime(profile::Windows);
-  const Window cube = makeCubeWindow(R);
-  const Window area = parseWindowKind(options.settings.window) == WindowKind::Tetrahedron ? makeTetraWindow(R)
-                                                                                           : makeHemicubeWindow(R);
+  // (Each built on first use: a cube window at R = 512 is 1.5 M pixels of directions and weights.)
+  std::optional<Window> cubeWindow, areaWindow;
+  auto cube = [&]() -> const Window& {
+    if (!cubeWindow) cubeWindow = makeCubeWindow(R);
+    return *cubeWindow;
+  };
+  auto area = [&]() -> const Window& {
+    if (!areaWindow)
+      areaWindow = parseWindowKind(options.settings.window) == WindowKind::Tetrahedron ? makeTetraWindow(R)
+                                                                                       : makeHemicubeWindow(R);
+    return *areaWindow;
+  };
   std::vector<std::unique_ptr<Window>> perLight(scene.lights.size());  // directional windows, spot profiles
   std::vector<SampleSetup> setups(t.samples.size());
   for (size_t i = 0; i < t.samples.size(); ++i) {
@@ -439,11 +465,11 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     s.analytic = options.settings.estimator == "analytic" && ls.kind != LightSampleKind::Spot;
     switch (ls.kind) {
       case LightSampleKind::Point:
-        s.window = &cube, s.weights = &cube.weights, s.scale = 1.0 / (4.0 * kPi);
+        s.window = &cube(), s.weights = &cube().weights, s.scale = 1.0 / (4.0 * kPi);
         break;
       case LightSampleKind::Spot: {
         if (!perLight[ls.light]) {  // cube weights times the spot profile, in the spot's frame (z = axis)
-          auto w = std::make_unique<Window>(cube);
+          auto w = std::make_unique<Window>(cube());
           for (size_t v = 0; v < w->views.size(); ++v)
             for (int y = 0; y < w->views[v].height; ++y)
               for (int x = 0; x < w->views[v].width; ++x) {
@@ -463,7 +489,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
         s.position = bounds.centre(), s.axis = light.direction, s.scale = 1.0;
         break;
       case LightSampleKind::AreaVertex:
-        s.window = &area, s.weights = &area.weights, s.axis = Vec3d(ls.normal);
+        s.window = &area(), s.weights = &area().weights, s.axis = Vec3d(ls.normal);
         s.eyeOffset = areaLightEyeOffset(bounds), s.scale = ls.weight;
         break;
     }

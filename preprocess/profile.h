@@ -21,6 +21,7 @@ enum Phase : int {
   Readback,        ///< GL glReadPixels
   Accumulate,      ///< Σ weights per patch
   Coverage,        ///< analytic estimator: patchCoverage (software rasterisation + exact tests)
+  CoverageExposed, ///< the same again over the exposed part of partly buried patches
   PointTests,      ///< analytic estimator: point tests of small or unseen patches
   Exposure,        ///< buried-part probes (ExposureCache masks)
   Integral,        ///< closed-form integrals and emitting entries
@@ -32,6 +33,7 @@ enum Phase : int {
 inline const char* name(Phase p) {
   static const char* names[] = {"windows", "mesh", "renderer setup (GL context / Embree BVH)", "probe BVH",
                                 "render (draw / rays)", "readback", "accumulate", "coverage (patchCoverage)",
+                                "coverage of exposed parts",
                                 "point tests", "exposure probes", "closed forms + entries", "table assembly",
                                 "file write"};
   return names[p];
