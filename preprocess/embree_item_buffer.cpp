@@ -120,7 +120,7 @@ EmbreeItemBuffer::EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d&
   if (!device_) embreeFail(nullptr, "rtcNewDevice");
   scene_ = rtcNewScene(device_);
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
   const size_t nTri = geometry.triangleCount();
   if (nTri > 0) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
