@@ -267,13 +267,19 @@ class SharedEmbree final : public ItemBufferRenderer {
   EmbreeItemBuffer& rays_;
 };
 
-std::unique_ptr<ItemBufferRenderer> makeRenderer(const PreprocessOptions& o, const ItemGeometry& geo, const Bounds3d& b,
-                                                 EmbreeItemBuffer* shared) {
-  if (o.settings.backend == "embree" && shared) return std::make_unique<SharedEmbree>(*shared);
-  if (o.settings.backend == "embree") return std::make_unique<EmbreeItemBuffer>(geo, b);
-  if (o.settings.backend == "gl") return std::make_unique<GLItemBuffer>(geo, b, parseGLBackend(o.gl));
-  throw std::invalid_argument("unknown item-buffer back end \"" + o.settings.backend + "\" (gl, embree)");
+std::unique_ptr<ItemBufferRenderer> makeRenderer(const std::string& backend, const PreprocessOptions& o,
+                                                 const ItemGeometry& geo, const Bounds3d& b, EmbreeItemBuffer* shared) {
+  if (backend == "embree" && shared) return std::make_unique<SharedEmbree>(*shared);
+  if (backend == "embree") return std::make_unique<EmbreeItemBuffer>(geo, b);
+  if (backend == "gl") return std::make_unique<GLItemBuffer>(geo, b, parseGLBackend(o.gl));
+  throw std::invalid_argument("unknown item-buffer back end \"" + backend + "\" (gl, embree, auto)");
 }
+
+/// The back end of sample window @p w for backend "auto" (docs/preprocess-performance.md): the GL
+/// rasteriser's cost grows with the triangles it draws, Embree's with the pixels it traces (and only
+/// as the log of the triangles); measured on llvmpipe, a triangle costs about as much as a traced
+/// pixel, so GL while the scene has fewer triangles than the window has pixels.
+const char* autoBackend(size_t triangles, const Window& w) { return triangles <= w.pixelCount() ? "gl" : "embree"; }
 
 /// One shooting pass over a fixed mesh: workers with their own renderer (GL context) take tasks in
 /// any order; results are stored by sample index, so the table does not depend on the thread count.
@@ -301,7 +307,7 @@ struct Shooter {
     std::unique_ptr<ExposureCache> exposure;
     // One BVH for the point tests, the probes and, with the embree back end, every worker's item buffers.
     if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty() ||
-        options.settings.backend == "embree") {
+        options.settings.backend != "gl") {
       profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
       exposure = std::make_unique<ExposureCache>(mesh, *probe);
@@ -312,12 +318,13 @@ struct Shooter {
       cull = std::make_unique<OcclusionCull>(scene, mesh);
     }
     std::atomic<size_t> next{0};
+    std::atomic<int> used[2] = {0, 0};  // which back ends "auto" chose
     std::mutex errorMutex;
     std::exception_ptr error;
     Progress progress(label, tasks.size(), quiet);
     auto work = [&](int worker) {
       try {
-        std::unique_ptr<ItemBufferRenderer> renderer;
+        std::unique_ptr<ItemBufferRenderer> renderers[2];  // gl, embree
         std::vector<double> acc;
         std::vector<uint32_t> touched;
         std::vector<std::vector<uint32_t>> ids;
@@ -325,16 +332,24 @@ struct Shooter {
         for (size_t k; (k = next++) < tasks.size();) {
           const Task& task = tasks[k];
           if (acc.empty()) acc.assign(mesh.size(), 0.0);
-          if (!renderer && task.patches.empty()) {
-            profile::Scope setupTime(profile::RendererSetup);
-            renderer = makeRenderer(options, geometry, bounds, probe.get());
-            if (worker == 0 && rendererName.empty()) rendererName = renderer->name();
+          ItemBufferRenderer* renderer = nullptr;
+          if (task.patches.empty()) {
+            std::string backend = options.settings.backend;
+            if (backend == "auto") backend = autoBackend(geometry.triangleCount(), *setups[task.sample].window);
+            auto& r = renderers[backend == "gl" ? 0 : 1];
+            if (!r) {
+              profile::Scope setupTime(profile::RendererSetup);
+              r = makeRenderer(backend, options, geometry, bounds, probe.get());
+            }
+            renderer = r.get();
+            used[backend == "gl" ? 0 : 1] = 1;
+            if (options.settings.backend != "auto" && worker == 0 && rendererName.empty()) rendererName = renderer->name();
           }
           if (std::chrono::steady_clock::now() > deadline)
             throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached (" + label +
                                      ", " + std::to_string(k) + " of " + std::to_string(tasks.size()) +
                                      " light samples); nothing written");
-          std::vector<Entry> out = renderSample(renderer.get(), setups[task.sample], mesh, task, needVisible, acc, touched, ids,
+          std::vector<Entry> out = renderSample(renderer, setups[task.sample], mesh, task, needVisible, acc, touched, ids,
                                                 exposure.get(), cull.get(), candidates);
           std::vector<Entry>& r = results[task.sample];
           if (r.empty()) {
@@ -357,6 +372,8 @@ struct Shooter {
     for (auto& th : pool) th.join();
     progress.finish();
     if (error) std::rethrow_exception(error);
+    if (options.settings.backend == "auto" && (used[0] || used[1]) && rendererName.empty())
+      rendererName = used[0] && used[1] ? "auto: gl+embree" : used[0] ? "auto: gl" : "auto: embree";
   }
 };
 
