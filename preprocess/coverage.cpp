@@ -67,6 +67,9 @@ void forEachCentre(const View& view, const std::vector<double>& weights, const V
     return true;
   };
   const double du = (view.planeMax.x - view.planeMin.x) / view.width;
+  // View::pixelCentre()'s own expressions, the y one hoisted out of the row.
+  const double spanX = view.planeMax.x - view.planeMin.x;
+  auto centre = [&](int i, double cy) { return Vec2d(view.planeMin.x + (i + 0.5) * spanX / view.width, cy); };
   for (int j = pr.j0; j <= pr.j1; ++j) {
     const double cy = view.pixelCentre(0, j).y;
     double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
@@ -87,12 +90,13 @@ void forEachCentre(const View& view, const std::vector<double>& weights, const V
     if (i0 > i1) {
       i0 = std::min(std::max(i0, pr.i0), pr.i1), i1 = i0;  // a one-pixel probe; grows below if inside
     }
-    while (i0 > pr.i0 && inside(view.pixelCentre(i0, j))) --i0;
-    while (i1 < pr.i1 && inside(view.pixelCentre(i1, j))) ++i1;
+    while (i0 > pr.i0 && inside(centre(i0, cy))) --i0;
+    while (i1 < pr.i1 && inside(centre(i1, cy))) ++i1;
     const double* w = weights.data() + size_t(j) * view.width;
     for (int i = i0; i <= i1; ++i) {
-      if (!inside(view.pixelCentre(i, j))) continue;
-      if (w[i] > 0) fn(i, j, w[i]);
+      const Vec2d c = centre(i, cy);
+      if (!inside(c)) continue;
+      if (w[i] > 0) fn(i, j, w[i], c);
     }
   }
 }
@@ -182,7 +186,7 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
                      size_t& pixels) {
   pixels = 0;
   double sum = 0;
-  forEachCentre(view, weights, poly, count, near, [&](int, int, double w) { sum += w, ++pixels; });
+  forEachCentre(view, weights, poly, count, near, [&](int, int, double w, const Vec2d&) { sum += w, ++pixels; });
   return sum;
 }
 
@@ -195,7 +199,8 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
   const ExactPolygon self(p);
   PolygonCache polygons(mesh);
   const uint32_t n = mesh.size();
-  forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w) {
+  const bool persp = view.projection == Projection::Perspective;
+  forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w, const Vec2d& uv) {
     if (!exposure) {
       // No other patch shows at this pixel or its 8 neighbours: nothing to propose as an occluder,
       // so the centre is visible (what occludedNear() would find, without computing the ray).
@@ -213,7 +218,9 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
         return;
       }
     }
-    const Vec3d o = view.pixelOrigin(i, j), d = view.pixelDirection(i, j);
+    // View::pixelOrigin() and pixelDirection() at the centre already computed.
+    const Vec3d o = persp ? view.eye : view.eye + uv.x * view.right + uv.y * view.up;
+    const Vec3d d = persp ? view.forward + uv.x * view.right + uv.y * view.up : view.forward;
     const double t = self.planeDepth(o, d);
     if (exposure && exposure->buried(o + t * d)) return;
     r.expected += w, ++r.pixels;
