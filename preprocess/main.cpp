@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(2, 8192));
     app.add_option("--window", window, "area-light window: hemicube | tetra (default: settings.window)")
         ->check(CLI::IsMember({"hemicube", "tetra"}));
-    app.add_option("--backend", backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has fewer triangles than the light's window has pixels, else embree)")
+    app.add_option("--backend", backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree)")
         ->check(CLI::IsMember({"gl", "embree", "auto"}));
     app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_option("--patch-size", patchSize, "longest patch edge in metres (default: settings.patch_size)")->check(CLI::PositiveNumber);

@@ -236,7 +236,10 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
       profile::Scope integralTime(profile::Integral);
       emit(id, analyticIntegral(s, views[0].eye, mesh.patches[id], f), f);
     };
-    if (task.patches.empty() && cull && views[0].projection == Projection::Perspective) {
+    const bool oneEye = std::all_of(views.begin(), views.end(), [&](const View& v) {
+      return v.projection == Projection::Perspective && v.eye == views[0].eye;
+    });
+    if (task.patches.empty() && cull && oneEye) {
       // The same, less the clusters of unseen patches proven hidden behind a face of the scene (which
       // their point tests would find occluded): preprocess/occlusion_cull.h.
       candidates.assign(touched.begin(), touched.end());
@@ -276,10 +279,13 @@ std::unique_ptr<ItemBufferRenderer> makeRenderer(const std::string& backend, con
 }
 
 /// The back end of sample window @p w for backend "auto" (docs/preprocess-performance.md): the GL
-/// rasteriser's cost grows with the triangles it draws, Embree's with the pixels it traces (and only
-/// as the log of the triangles); measured on llvmpipe, a triangle costs about as much as a traced
-/// pixel, so GL while the scene has fewer triangles than the window has pixels.
-const char* autoBackend(size_t triangles, const Window& w) { return triangles <= w.pixelCount() ? "gl" : "embree"; }
+/// rasteriser's cost grows with the triangles it draws (llvmpipe: about 0.4 µs each), Embree's with
+/// the pixels it traces (about 33 ns each, growing only as the log of the triangles); so GL while
+/// the scene has at most 1/12 as many triangles as the window has pixels.
+constexpr size_t kPixelsPerTriangleForGL = 12;
+const char* autoBackend(size_t triangles, const Window& w) {
+  return triangles * kPixelsPerTriangleForGL <= w.pixelCount() ? "gl" : "embree";
+}
 
 /// One shooting pass over a fixed mesh: workers with their own renderer (GL context) take tasks in
 /// any order; results are stored by sample index, so the table does not depend on the thread count.
