@@ -37,7 +37,7 @@ struct LightSample {
 struct FirstShotSettings {
   uint32_t resolution = 256;      ///< R, pixels across a full cube face
   std::string window = "hemicube";///< hemicube | tetra (area lights)
-  std::string backend = "gl";     ///< gl | embree
+  std::string backend = "gl";     ///< gl | embree | auto (per light sample, preprocess/preprocessor.cpp autoBackend)
   double patchSize = 0.05;        ///< longest patch edge of the coarse mesh, m
   double minPatchSize = 0;        ///< smallest edge adaptive refinement may reach, m; ≥ patchSize (or 0): a uniform mesh
   double refineTolerance = 0.02;  ///< relative shadow-edge measure above which a patch is split (docs/firstshot-format.md)

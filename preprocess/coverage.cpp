@@ -42,7 +42,7 @@ bool project(const View& view, const Vec3d* poly, int count, double near, Projec
   out.i1 = std::min(view.width - 1, int(std::ceil((hi.x - view.planeMin.x) / du - 0.5)));
   out.j0 = std::max(0, int(std::floor((view.planeMax.y - hi.y) / dv - 0.5)));
   out.j1 = std::min(view.height - 1, int(std::ceil((view.planeMax.y - lo.y) / dv - 0.5)));
-  return true;
+  return out.i0 <= out.i1 && out.j0 <= out.j1;  // else beside the view: no pixel centre to visit
 }
 
 /// Calls fn(i, j, w) for every pixel centre (i, j) of @p view with weight w > 0 that falls inside the
@@ -51,20 +51,52 @@ template <typename Fn>
 void forEachCentre(const View& view, const std::vector<double>& weights, const Vec3d* poly, int count, double near, Fn fn) {
   Projected pr;
   if (!project(view, poly, count, near, pr)) return;
-  const Vec2d* q = pr.q;
   const int n = pr.n;
   const double sign = pr.sign;
+  Vec2d ea[8], eb[8];
+  for (int e = 0; e < n; ++e) ea[e] = pr.q[e], eb[e] = pr.q[(e + 1) % n];
+  // The inside test, in exactly this floating-point form. Each edge's test is monotone in the centre's
+  // x (every operation is), so a row's centres inside form one run of pixels: found from the edges'
+  // crossings, widened by a pixel each side and grown while the test holds beyond its ends, then
+  // every pixel of it is tested as before. Same centres as testing the whole bounding box.
+  auto inside = [&](const Vec2d& c) {
+    for (int e = 0; e < n; ++e) {
+      const Vec2d a = ea[e], b = eb[e];
+      if (!(sign * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) >= 0)) return false;
+    }
+    return true;
+  };
+  const double du = (view.planeMax.x - view.planeMin.x) / view.width;
+  // View::pixelCentre()'s own expressions, the y one hoisted out of the row.
+  const double spanX = view.planeMax.x - view.planeMin.x;
+  auto centre = [&](int i, double cy) { return Vec2d(view.planeMin.x + (i + 0.5) * spanX / view.width, cy); };
   for (int j = pr.j0; j <= pr.j1; ++j) {
-    for (int i = pr.i0; i <= pr.i1; ++i) {
-      const Vec2d c = view.pixelCentre(i, j);
-      bool inside = true;
-      for (int e = 0; e < n && inside; ++e) {
-        const Vec2d a = q[e], b = q[(e + 1) % n];
-        inside = sign * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)) >= 0;
-      }
-      if (!inside) continue;
-      const double w = weights[size_t(j) * view.width + i];
-      if (w > 0) fn(i, j, w);
+    const double cy = view.pixelCentre(0, j).y;
+    double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+    for (int e = 0; e < n; ++e) {
+      const Vec2d a = ea[e], b = eb[e];
+      const double dy = b.y - a.y;
+      if (dy == 0) continue;  // independent of x: tested per pixel below
+      const double x = a.x + (b.x - a.x) * (cy - a.y) / dy;
+      if (!std::isfinite(x)) continue;
+      if (-sign * dy > 0) lo = std::max(lo, x);
+      else hi = std::min(hi, x);
+    }
+    int i0 = pr.i0, i1 = pr.i1;
+    if (lo > -std::numeric_limits<double>::infinity())
+      i0 = std::max(i0, int(std::max(-1e9, std::min(1e9, std::ceil((lo - view.planeMin.x) / du - 0.5)))) - 1);
+    if (hi < std::numeric_limits<double>::infinity())
+      i1 = std::min(i1, int(std::max(-1e9, std::min(1e9, std::floor((hi - view.planeMin.x) / du - 0.5)))) + 1);
+    if (i0 > i1) {
+      i0 = std::min(std::max(i0, pr.i0), pr.i1), i1 = i0;  // a one-pixel probe; grows below if inside
+    }
+    while (i0 > pr.i0 && inside(centre(i0, cy))) --i0;
+    while (i1 < pr.i1 && inside(centre(i1, cy))) ++i1;
+    const double* w = weights.data() + size_t(j) * view.width;
+    for (int i = i0; i <= i1; ++i) {
+      const Vec2d c = centre(i, cy);
+      if (!inside(c)) continue;
+      if (w[i] > 0) fn(i, j, w[i], c);
     }
   }
 }
@@ -74,6 +106,7 @@ struct ExactPolygon {
   Vec3d v[4];
   Vec3d n{0.0};  ///< Newell normal (not unit), orientation of the vertex order
   int count = 0;
+  ExactPolygon() = default;
   explicit ExactPolygon(const Patch& p) : count(int(p.count)) {
     for (int k = 0; k < count; ++k) v[k] = Vec3d(p.v[k]);
     for (int k = 0; k < count; ++k) n += glm::cross(v[k], v[(k + 1) % count]);
@@ -91,10 +124,32 @@ struct ExactPolygon {
   }
 };
 
+/// The exact polygons of the patches one patchCoverage() call meets as candidate occluders, built once
+/// each (a patch's neighbours recur at most of its border pixels).
+class PolygonCache {
+ public:
+  explicit PolygonCache(const PatchMesh& mesh) : mesh_(mesh) {}
+  const ExactPolygon& get(uint32_t id) {
+    for (int k = 0; k < n_; ++k)
+      if (ids_[k] == id) return polys_[k];
+    const int k = n_ < kSize ? n_++ : (next_++ % kSize);
+    ids_[k] = id;
+    polys_[k] = ExactPolygon(mesh_.patches[id]);
+    return polys_[k];
+  }
+
+ private:
+  static constexpr int kSize = 16;
+  const PatchMesh& mesh_;
+  uint32_t ids_[kSize];
+  ExactPolygon polys_[kSize];
+  int n_ = 0, next_ = 0;
+};
+
 /// True if a patch seen at pixel (i, j) of @p view or one of its 8 neighbours, other than @p patch,
 /// is hit by the ray o + t·d strictly before depth @p tSelf (and not before @p near).
 bool occludedNear(const View& view, const std::vector<uint32_t>& ids, const PatchMesh& mesh, uint32_t patch, int i, int j,
-                  const Vec3d& o, const Vec3d& d, double tSelf, double near) {
+                  const Vec3d& o, const Vec3d& d, double tSelf, double near, PolygonCache& polygons) {
   // Depth tolerance: planes of neighbours rebuilt from float vertices agree to ~1e-7 relative.
   constexpr double kRelativeTolerance = 1e-6;
   const double tMax = tSelf - kRelativeTolerance * std::abs(tSelf);
@@ -108,7 +163,7 @@ bool occludedNear(const View& view, const std::vector<uint32_t>& ids, const Patc
       for (int c = 0; c < nc && !seen; ++c) seen = cand[c] == id;
       if (seen) continue;
       cand[nc++] = id;
-      const ExactPolygon other(mesh.patches[id]);
+      const ExactPolygon& other = polygons.get(id);
       const double t = other.planeDepth(o, d);
       if (t >= near && t < tMax && other.contains(o + t * d)) return true;
     }
@@ -131,7 +186,7 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
                      size_t& pixels) {
   pixels = 0;
   double sum = 0;
-  forEachCentre(view, weights, poly, count, near, [&](int, int, double w) { sum += w, ++pixels; });
+  forEachCentre(view, weights, poly, count, near, [&](int, int, double w, const Vec2d&) { sum += w, ++pixels; });
   return sum;
 }
 
@@ -142,12 +197,34 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
   Vec3d poly[4];
   for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
   const ExactPolygon self(p);
-  forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w) {
-    const Vec3d o = view.pixelOrigin(i, j), d = view.pixelDirection(i, j);
+  PolygonCache polygons(mesh);
+  const uint32_t n = mesh.size();
+  const bool persp = view.projection == Projection::Perspective;
+  forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w, const Vec2d& uv) {
+    if (!exposure) {
+      // No other patch shows at this pixel or its 8 neighbours: nothing to propose as an occluder,
+      // so the centre is visible (what occludedNear() would find, without computing the ray).
+      bool candidates = false;
+      for (int y = std::max(0, j - 1); y <= std::min(view.height - 1, j + 1) && !candidates; ++y)
+        for (int x = std::max(0, i - 1); x <= std::min(view.width - 1, i + 1); ++x) {
+          const uint32_t id = ids[size_t(y) * view.width + x];
+          if (id != patch && id < n) {
+            candidates = true;
+            break;
+          }
+        }
+      if (!candidates) {
+        r.expected += w, ++r.pixels, r.visible += w;
+        return;
+      }
+    }
+    // View::pixelOrigin() and pixelDirection() at the centre already computed.
+    const Vec3d o = persp ? view.eye : view.eye + uv.x * view.right + uv.y * view.up;
+    const Vec3d d = persp ? view.forward + uv.x * view.right + uv.y * view.up : view.forward;
     const double t = self.planeDepth(o, d);
     if (exposure && exposure->buried(o + t * d)) return;
     r.expected += w, ++r.pixels;
-    if (!occludedNear(view, ids, mesh, patch, i, j, o, d, t, near)) r.visible += w;
+    if (!occludedNear(view, ids, mesh, patch, i, j, o, d, t, near, polygons)) r.visible += w;
   });
   return r;
 }

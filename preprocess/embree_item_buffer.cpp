@@ -1,5 +1,7 @@
 #include "preprocess/embree_item_buffer.h"
 
+#include "preprocess/profile.h"
+
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>
 #include <xmmintrin.h>
@@ -118,7 +120,7 @@ EmbreeItemBuffer::EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d&
   if (!device_) embreeFail(nullptr, "rtcNewDevice");
   scene_ = rtcNewScene(device_);
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
-  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
+  rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
   const size_t nTri = geometry.triangleCount();
   if (nTri > 0) {
     RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
@@ -182,6 +184,7 @@ uint32_t EmbreeItemBuffer::firstHit(const Vec3d& origin, const Vec3d& direction,
 }
 
 void EmbreeItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
+  profile::Scope time(profile::Render);
   ids.assign(view.pixelCount(), kNoPatch);
   const double far = farDepth(view, bounds_);
   if (view.pixelCount() == 0 || !(far > near_) || triPatch_.empty()) return;

@@ -1,5 +1,7 @@
 #include "preprocess/gl_item_buffer.h"
 
+#include "preprocess/profile.h"
+
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -253,6 +255,7 @@ void GLItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
   const double far = farDepth(view, bounds_);
   if (!(far > near_) || vertexCount_ == 0) return;  // nothing in front of the eye
 
+  profile::Scope drawTime(profile::Render);
   context_.makeCurrent();
   ensureFramebuffer(view.width, view.height);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
@@ -301,6 +304,9 @@ void GLItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
   glBindVertexArray(vao_);
   if (!drawFirst_.empty())
     glMultiDrawArrays(GL_TRIANGLES, drawFirst_.data(), drawCount_.data(), static_cast<GLsizei>(drawFirst_.size()));
+  if (profile::enabled()) glFinish();  // so that the draw is not counted as readback
+  drawTime.stop();
+  profile::Scope readTime(profile::Readback);
   glReadPixels(0, 0, view.width, view.height, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
   checkErrors("render");
 }

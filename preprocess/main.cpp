@@ -7,6 +7,7 @@
 #include "common/patches.h"
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
+#include "preprocess/profile.h"
 
 namespace {
 
@@ -57,7 +58,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(2, 8192));
     app.add_option("--window", window, "area-light window: hemicube | tetra (default: settings.window)")
         ->check(CLI::IsMember({"hemicube", "tetra"}));
-    app.add_option("--backend", backend, "item buffers: gl (rasterised) | embree (ray cast)")->check(CLI::IsMember({"gl", "embree"}));
+    app.add_option("--backend", backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree)")
+        ->check(CLI::IsMember({"gl", "embree", "auto"}));
     app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_option("--patch-size", patchSize, "longest patch edge in metres (default: settings.patch_size)")->check(CLI::PositiveNumber);
     app.add_option("--light-patch-size", lightPatchSize, "area-light tessellation in metres (default: settings.light_patch_size)")
@@ -109,7 +111,11 @@ int main(int argc, char** argv) {
     if (out.empty()) throw fs::InputError("", "command line", "no output file given (-o OUT.fsd)");
     fs::PreprocessStats st;
     const fs::FirstShotTable table = fs::preprocessScene(scene, o, &st);
-    fs::writeFirstShot(out, table);
+    {
+      fs::profile::Scope writeTime(fs::profile::Write);
+      fs::writeFirstShot(out, table);
+    }
+    if (fs::profile::enabled()) fs::profile::report(stderr);
     fmt::print("{}: {} light samples ({} small lights, {} large), {} patches, {} non-zero factors, {:.2f} s, {:.1f} samples/s [{}; R = {}]\n",
                out, st.lightSamples, st.smallLights, st.largeLights, st.patches, st.nonZeros, st.seconds,
                st.seconds > 0 ? st.lightSamples / st.seconds : 0.0, st.renderer, o.settings.resolution);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "common/firstshot_groups.h"
@@ -20,6 +21,8 @@
 #include "preprocess/exposure.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/light_samples.h"
+#include "preprocess/occlusion_cull.h"
+#include "preprocess/profile.h"
 #include "preprocess/window.h"
 
 namespace fs {
@@ -120,9 +123,15 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
   };
   double fraction = -1;
   if (touched) {
+    profile::Scope coverageTime(profile::Coverage);
     PatchCoverage total = coverage(nullptr);
     if (total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
-      getMask();
+      coverageTime.stop();
+      {
+        profile::Scope exposureTime(profile::Exposure);
+        getMask();
+      }
+      profile::Scope again(profile::CoverageExposed);
       if (query.mask->partial) total = coverage(&query);
     }
     if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
@@ -131,10 +140,16 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
   if (fraction < 0) {
     // 5 points; a patch that shows nowhere (occluded, or smaller than a pixel) is decided by its
     // centroid unless that lies outside the window.
+    profile::Scope pointTime(profile::PointTests);
     fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, nullptr);
     if (fraction < 0 && !touched) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, true, nullptr);
     if (fraction > 0 && fraction < 1) {
-      getMask();
+      pointTime.stop();
+      {
+        profile::Scope exposureTime(profile::Exposure);
+        getMask();
+      }
+      profile::Scope again(profile::PointTests);
       if (query.mask->partial) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, &query);
     }
   }
@@ -169,7 +184,8 @@ struct Task {
 /// patches renders whole views with @p renderer.
 std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup& s, const PatchMesh& mesh, const Task& task,
                                 bool needVisible, std::vector<double>& acc, std::vector<uint32_t>& touched,
-                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure) {
+                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure,
+                                const OcclusionCull* cull, std::vector<uint32_t>& candidates) {
   Framed frame(s.axis);
   if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
     const double c = std::cos(s.rotation), sn = std::sin(s.rotation);
@@ -183,13 +199,17 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   std::vector<uint8_t> mask;
   for (size_t v = 0; v < views.size(); ++v) {
     std::vector<uint32_t>& ids = idsPerView[v];
+    profile::Scope renderTime(profile::Render);
     if (masked) {
       mask.assign(views[v].pixelCount(), 0);
       for (uint32_t id : task.patches) markProjection(views[v], mesh.patches[id], near, 2, mask);
       exposure->rays().renderMasked(views[v], mask, ids);
     } else {
+      renderTime.stop();
       renderer->render(views[v], ids);
     }
+    renderTime.stop();
+    profile::Scope accumulateTime(profile::Accumulate);
     const std::vector<double>& w = (*s.weights)[v];
     for (size_t p = 0; p < ids.size(); ++p) {
       const uint32_t id = ids[p];
@@ -221,22 +241,60 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
     auto visit = [&](uint32_t id) {
       const bool shown = std::binary_search(touched.begin(), touched.end(), id);
       const double f = fraction(id, shown);
-      if (f > 0) emit(id, analyticPatchFactor(s, mesh.patches[id], f), f);
+      if (f > 0) {
+        profile::Scope integralTime(profile::Integral);
+        emit(id, analyticPatchFactor(s, mesh.patches[id], f), f);
+      }
     };
-    if (task.patches.empty())
+    const bool oneEye = std::all_of(views.begin(), views.end(), [&](const View& v) {
+      return v.projection == Projection::Perspective && v.eye == views[0].eye;
+    });
+    if (task.patches.empty() && cull && oneEye) {
+      // The same, less the clusters of unseen patches proven hidden behind a face of the scene (which
+      // their point tests would find occluded): preprocess/occlusion_cull.h.
+      candidates.assign(touched.begin(), touched.end());
+      cull->visible(views[0].eye, touched, candidates);
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      for (uint32_t id : candidates) visit(id);
+    } else if (task.patches.empty()) {
       for (uint32_t id = 0; id < mesh.size(); ++id) visit(id);
-    else
+    } else {
       for (uint32_t id : task.patches) visit(id);
+    }
   }
   for (uint32_t id : touched) acc[id] = 0.0;
   touched.clear();
   return out;
 }
 
-std::unique_ptr<ItemBufferRenderer> makeRenderer(const PreprocessOptions& o, const ItemGeometry& geo, const Bounds3d& b) {
-  if (o.settings.backend == "embree") return std::make_unique<EmbreeItemBuffer>(geo, b);
-  if (o.settings.backend == "gl") return std::make_unique<GLItemBuffer>(geo, b, parseGLBackend(o.gl));
-  throw std::invalid_argument("unknown item-buffer back end \"" + o.settings.backend + "\" (gl, embree)");
+/// A worker's view of an Embree item buffer shared by all workers (its render() only reads the BVH).
+class SharedEmbree final : public ItemBufferRenderer {
+ public:
+  explicit SharedEmbree(EmbreeItemBuffer& rays) : rays_(rays) {}
+  void render(const View& view, std::vector<uint32_t>& ids) override { rays_.render(view, ids); }
+  const char* name() const override { return rays_.name(); }
+  double nearPlane() const override { return rays_.nearPlane(); }
+
+ private:
+  EmbreeItemBuffer& rays_;
+};
+
+std::unique_ptr<ItemBufferRenderer> makeRenderer(const std::string& backend, const PreprocessOptions& o,
+                                                 const ItemGeometry& geo, const Bounds3d& b, EmbreeItemBuffer* shared) {
+  if (backend == "embree" && shared) return std::make_unique<SharedEmbree>(*shared);
+  if (backend == "embree") return std::make_unique<EmbreeItemBuffer>(geo, b);
+  if (backend == "gl") return std::make_unique<GLItemBuffer>(geo, b, parseGLBackend(o.gl));
+  throw std::invalid_argument("unknown item-buffer back end \"" + backend + "\" (gl, embree, auto)");
+}
+
+/// The back end of sample window @p w for backend "auto" (docs/preprocess-performance.md): the GL
+/// rasteriser's cost grows with the triangles it draws (llvmpipe: about 0.4 µs each), Embree's with
+/// the pixels it traces (about 33 ns each, growing only as the log of the triangles); so GL while
+/// the scene has at most 1/12 as many triangles as the window has pixels.
+constexpr size_t kPixelsPerTriangleForGL = 12;
+const char* autoBackend(size_t triangles, const Window& w) {
+  return triangles * kPixelsPerTriangleForGL <= w.pixelCount() ? "gl" : "embree";
 }
 
 /// One shooting pass over a fixed mesh: workers with their own renderer (GL context) take tasks in
@@ -255,39 +313,60 @@ struct Shooter {
   void run(const PatchMesh& mesh, const std::vector<Task>& tasks, bool needVisible, const std::string& label,
            std::vector<std::vector<Entry>>& results) {
     if (tasks.empty()) return;
+    profile::Scope meshTime(profile::Mesh);
     const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
+    meshTime.stop();
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min<int>(threads, static_cast<int>(tasks.size())));
     // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
     std::unique_ptr<EmbreeItemBuffer> probe;
     std::unique_ptr<ExposureCache> exposure;
-    if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty()) {
+    // One BVH for the point tests, the probes and, with the embree back end, every worker's item buffers.
+    if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty() ||
+        options.settings.backend != "gl") {
+      profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
       exposure = std::make_unique<ExposureCache>(mesh, *probe);
     }
+    std::unique_ptr<OcclusionCull> cull;
+    if (options.settings.estimator == "analytic" && tasks.front().patches.empty()) {
+      profile::Scope cullTime(profile::Mesh);
+      cull = std::make_unique<OcclusionCull>(scene, mesh);
+    }
     std::atomic<size_t> next{0};
+    std::atomic<int> used[2] = {0, 0};  // which back ends "auto" chose
     std::mutex errorMutex;
     std::exception_ptr error;
     Progress progress(label, tasks.size(), quiet);
     auto work = [&](int worker) {
       try {
-        std::unique_ptr<ItemBufferRenderer> renderer;
+        std::unique_ptr<ItemBufferRenderer> renderers[2];  // gl, embree
         std::vector<double> acc;
         std::vector<uint32_t> touched;
         std::vector<std::vector<uint32_t>> ids;
+        std::vector<uint32_t> candidates;
         for (size_t k; (k = next++) < tasks.size();) {
           const Task& task = tasks[k];
           if (acc.empty()) acc.assign(mesh.size(), 0.0);
-          if (!renderer && task.patches.empty()) {
-            renderer = makeRenderer(options, geometry, bounds);
-            if (worker == 0 && rendererName.empty()) rendererName = renderer->name();
+          ItemBufferRenderer* renderer = nullptr;
+          if (task.patches.empty()) {
+            std::string backend = options.settings.backend;
+            if (backend == "auto") backend = autoBackend(geometry.triangleCount(), *setups[task.sample].window);
+            auto& r = renderers[backend == "gl" ? 0 : 1];
+            if (!r) {
+              profile::Scope setupTime(profile::RendererSetup);
+              r = makeRenderer(backend, options, geometry, bounds, probe.get());
+            }
+            renderer = r.get();
+            used[backend == "gl" ? 0 : 1] = 1;
+            if (options.settings.backend != "auto" && worker == 0 && rendererName.empty()) rendererName = renderer->name();
           }
           if (std::chrono::steady_clock::now() > deadline)
             throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached (" + label +
                                      ", " + std::to_string(k) + " of " + std::to_string(tasks.size()) +
                                      " light samples); nothing written");
-          std::vector<Entry> out = renderSample(renderer.get(), setups[task.sample], mesh, task, needVisible, acc, touched, ids,
-                                                exposure.get());
+          std::vector<Entry> out = renderSample(renderer, setups[task.sample], mesh, task, needVisible, acc, touched, ids,
+                                                exposure.get(), cull.get(), candidates);
           std::vector<Entry>& r = results[task.sample];
           if (r.empty()) {
             r = std::move(out);
@@ -309,6 +388,8 @@ struct Shooter {
     for (auto& th : pool) th.join();
     progress.finish();
     if (error) std::rethrow_exception(error);
+    if (options.settings.backend == "auto" && (used[0] || used[1]) && rendererName.empty())
+      rendererName = used[0] && used[1] ? "auto: gl+embree" : used[0] ? "auto: gl" : "auto: embree";
   }
 };
 
@@ -392,9 +473,19 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   t.areaEyeOffset = areaLightEyeOffset(bounds);
 
   // Windows and weight tables, built once.
-  const Window cube = makeCubeWindow(R);
-  const Window area = parseWindowKind(options.settings.window) == WindowKind::Tetrahedron ? makeTetraWindow(R)
-                                                                                           : makeHemicubeWindow(R);
+  profile::Scope windowTime(profile::Windows);
+  // (Each built on first use: a cube window at R = 512 is 1.5 M pixels of directions and weights.)
+  std::optional<Window> cubeWindow, areaWindow;
+  auto cube = [&]() -> const Window& {
+    if (!cubeWindow) cubeWindow = makeCubeWindow(R);
+    return *cubeWindow;
+  };
+  auto area = [&]() -> const Window& {
+    if (!areaWindow)
+      areaWindow = parseWindowKind(options.settings.window) == WindowKind::Tetrahedron ? makeTetraWindow(R)
+                                                                                       : makeHemicubeWindow(R);
+    return *areaWindow;
+  };
   std::vector<std::unique_ptr<Window>> perLight(scene.lights.size());  // directional windows, spot profiles
   std::vector<SampleSetup> setups(t.samples.size());
   for (size_t i = 0; i < t.samples.size(); ++i) {
@@ -407,11 +498,11 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     s.analytic = options.settings.estimator == "analytic" && ls.kind != LightSampleKind::Spot;
     switch (ls.kind) {
       case LightSampleKind::Point:
-        s.window = &cube, s.weights = &cube.weights, s.scale = analyticScale(ls);
+        s.window = &cube(), s.weights = &cube().weights, s.scale = analyticScale(ls);
         break;
       case LightSampleKind::Spot: {
         if (!perLight[ls.light]) {  // cube weights times the spot profile, in the spot's frame (z = axis)
-          auto w = std::make_unique<Window>(cube);
+          auto w = std::make_unique<Window>(cube());
           for (size_t v = 0; v < w->views.size(); ++v)
             for (int y = 0; y < w->views[v].height; ++y)
               for (int x = 0; x < w->views[v].width; ++x) {
@@ -431,7 +522,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
         s.position = bounds.centre(), s.axis = light.direction, s.scale = 1.0;
         break;
       case LightSampleKind::AreaVertex:
-        s.window = &area, s.weights = &area.weights, s.axis = Vec3d(ls.normal);
+        s.window = &area(), s.weights = &area().weights, s.axis = Vec3d(ls.normal);
         s.eyeOffset = t.areaEyeOffset, s.scale = analyticScale(ls);
         break;
     }
@@ -439,8 +530,11 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
       s.rotation = 2.0 * kPi * bitsToUnitDouble(hashKeys(options.settings.rotationSeed, i));
   }
 
+  windowTime.stop();
   // Level 0 over the coarse mesh, then refinement levels that re-shoot only what changed.
+  profile::Scope meshTime(profile::Mesh);
   AdaptiveMesh adaptive(scene, options.settings.patchSize);
+  meshTime.stop();
   Shooter shooter{scene, options, setups, bounds, options.quiet, {},
                   std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                          std::chrono::duration<double>(options.timeLimit > 0 ? options.timeLimit : 1e9))};
@@ -457,6 +551,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     carryOver(adaptive.mesh(), setups, flags, first, results, tasks);
     shooter.run(adaptive.mesh(), tasks, true, "refine " + std::to_string(level), results);
   }
+  profile::Scope tableTime(profile::Table);
   t.mesh = adaptive.mesh();
   // CSR by patch; within a row, samples ascend.
   const uint32_t n = t.mesh.size();
@@ -473,6 +568,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
       t.sampleIndex[k] = static_cast<uint32_t>(i);
       t.factor[k] = e.factor;
     }
+  tableTime.stop();
   if (stats) {
     stats->lightSamples = t.samples.size();
     stats->patches = n;
