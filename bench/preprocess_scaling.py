@@ -7,7 +7,7 @@ Builds synthetic scenes with about N patches and M point lights and runs firstsh
 ceiling. The mesh is uniform (patch_size = min_patch_size = P, P chosen for N), so N is what the command line sets;
 each light sees its own room only, so the factors grow as N*M/100 (the table must fit in memory at 1M x 1000).
 
-    python3 bench/preprocess_scaling.py [--build build/dev] [--patches 1e4,1e5,1e6] [--lights 10,100,1000]
+    python3 bench/preprocess_scaling.py [--build build/release] [--patches 1e4,1e5,1e6] [--lights 10,100,1000]
                                         [--resolution 128] [--backend embree] [--threads 2] [--time-limit 600]
 
 prints one Markdown row per run (N, M, wall s, user s, peak RSS MB, non-zeros) and the least-squares slope of
@@ -99,7 +99,7 @@ def slope(xs, ys):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--build", default="build/dev")
+    ap.add_argument("--build", default="build/release")
     ap.add_argument("--patches", default="1e4,1e5,1e6")
     ap.add_argument("--lights", default="10,100,1000")
     ap.add_argument("--resolution", type=int, default=128)
