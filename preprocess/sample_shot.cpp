@@ -1,0 +1,215 @@
+// One light sample's factors: window, item buffers, analytic estimator (preprocess/sample_shot.h).
+#include "preprocess/sample_shot.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/firstshot_groups.h"
+#include "preprocess/coverage.h"
+#include "preprocess/embree_item_buffer.h"
+#include "preprocess/profile.h"
+
+namespace fs {
+
+namespace {
+
+/// Fewer pixel centres than this inside a patch and the fraction is taken at points on it instead.
+constexpr size_t kMinPixelsForAnalytic = 4;
+
+/// The closed-form integral of the window weight over the whole patch (no occlusion); for points and
+/// area vertices the one the reader recomputes grouped factors from (common/firstshot_groups.h).
+double unoccludedIntegral(const SampleSetup& s, const Patch& p) {
+  switch (s.kind) {
+    case LightSampleKind::Point:
+    case LightSampleKind::AreaVertex: return analyticIntegral(*s.sample, s.eyeOffset, p);
+    case LightSampleKind::Directional: {
+      Vec3d poly[4];
+      for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
+      return unoccludedProjectedArea(s.axis, poly, int(p.count));
+    }
+    case LightSampleKind::Spot: break;  // no closed form for the profile
+  }
+  return 0.0;
+}
+
+/// Visible fraction of a patch from points on it (for patches covering too few pixel centres): its
+/// centroid and, if @p spread, the midpoints between the centroid and each vertex. −1 if none is in a view.
+double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s, const EmbreeItemBuffer& rays,
+                            double near, const PatchMesh& mesh, uint32_t patch, bool spread,
+                            const ExposureQuery* exposure) {
+  const Patch& p = mesh.patches[patch];
+  const Vec3d c(p.centroid);
+  int seen = 0, visible = 0;
+  for (uint32_t k = spread ? 0 : p.count; k <= p.count; ++k) {
+    const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
+    if (exposure && exposure->buried(x)) continue;
+    const int v = pointVisibility(views, *s.weights, rays, x, near);
+    if (v >= 0) ++seen, visible += v;
+  }
+  return seen > 0 ? double(visible) / seen : -1.0;
+}
+
+/// Which side of patch @p p sample @p s lights: 0 the normal's side, 1 the other.
+int litSide(const SampleSetup& s, const Patch& p) {
+  const Vec3d n(p.normal);
+  const double side = s.kind == LightSampleKind::Directional ? -glm::dot(s.axis, n) : glm::dot(s.position - Vec3d(p.centroid), n);
+  return side >= 0 ? 0 : 1;
+}
+
+/// The analytic estimator's visible fraction (preprocess/coverage.h; the factor is closed form × fraction), the fraction
+/// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when
+/// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
+/// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
+/// @p exposure is required (it also lends its ray caster to the point tests). ≤ 0: no light.
+double visibleFraction(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
+                        double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
+  auto coverage = [&](const ExposureQuery* mask) {
+    PatchCoverage total;
+    for (size_t v = 0; v < views.size(); ++v) {
+      const PatchCoverage c = patchCoverage(views[v], (*s.weights)[v], ids[v], mesh, patch, near, mask);
+      total.expected += c.expected, total.visible += c.visible, total.pixels += c.pixels;
+    }
+    return total;
+  };
+  ExposureQuery query;
+  auto getMask = [&] {
+    if (query.mask) return;
+    query.cache = exposure, query.patch = patch, query.side = litSide(s, mesh.patches[patch]);
+    query.mask = &exposure->mask(patch, query.side);
+  };
+  double fraction = -1;
+  if (touched) {
+    profile::Scope coverageTime(profile::Coverage);
+    PatchCoverage total = coverage(nullptr);
+    if (total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
+      coverageTime.stop();
+      {
+        profile::Scope exposureTime(profile::Exposure);
+        getMask();
+      }
+      profile::Scope again(profile::CoverageExposed);
+      if (query.mask->partial) total = coverage(&query);
+    }
+    if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
+      fraction = std::min(1.0, total.visible / total.expected);
+  }
+  if (fraction < 0) {
+    // 5 points; a patch that shows nowhere (occluded, or smaller than a pixel) is decided by its
+    // centroid unless that lies outside the window.
+    profile::Scope pointTime(profile::PointTests);
+    fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, nullptr);
+    if (fraction < 0 && !touched) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, true, nullptr);
+    if (fraction > 0 && fraction < 1) {
+      pointTime.stop();
+      {
+        profile::Scope exposureTime(profile::Exposure);
+        getMask();
+      }
+      profile::Scope again(profile::PointTests);
+      if (query.mask->partial) fraction = pointVisibleFraction(views, s, exposure->rays(), near, mesh, patch, touched, &query);
+    }
+  }
+  return fraction;
+}
+
+}  // namespace
+
+/// r_ij of a patch with visible fraction @p fraction > 0 (closed-form kinds): the closed form times the
+/// fraction, computed as the .fsd reader recomputes grouped factors (0 if the patch gets nothing).
+float analyticPatchFactor(const SampleSetup& s, const Patch& p, double fraction) {
+  const double U = unoccludedIntegral(s, p);
+  return fraction * U > 0 ? analyticFactor(s.scale, fraction, U, p.area) : 0.0f;
+}
+
+/// Renders one sample's views and returns its non-zero factors over @p task's patches, sorted by
+/// patch. With @p needVisible, factors from pixel sums (spots, the pixels estimator) also get their
+/// visible fraction. A task over a subset of patches traces only the pixels around them with
+/// @p exposure's ray caster (a refinement pass: a few split patches per window); a task over all
+/// patches renders whole views with @p renderer.
+std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup& s, const PatchMesh& mesh, const Task& task,
+                                bool needVisible, std::vector<double>& acc, std::vector<uint32_t>& touched,
+                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure,
+                                const OcclusionCull* cull, std::vector<uint32_t>& candidates) {
+  Framed frame(s.axis);
+  if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
+    const double c = std::cos(s.rotation), sn = std::sin(s.rotation);
+    const Vec3d a = frame.s, b = frame.t;
+    frame.s = c * a + sn * b, frame.t = -sn * a + c * b;
+  }
+  const std::vector<View> views = placeWindow(*s.window, s.position, frame, s.eyeOffset);
+  idsPerView.resize(views.size());
+  const bool masked = !task.patches.empty();
+  const double near = masked ? exposure->rays().nearPlane() : renderer->nearPlane();
+  std::vector<uint8_t> mask;
+  for (size_t v = 0; v < views.size(); ++v) {
+    std::vector<uint32_t>& ids = idsPerView[v];
+    profile::Scope renderTime(profile::Render);
+    if (masked) {
+      mask.assign(views[v].pixelCount(), 0);
+      for (uint32_t id : task.patches) markProjection(views[v], mesh.patches[id], near, 2, mask);
+      exposure->rays().renderMasked(views[v], mask, ids);
+    } else {
+      renderTime.stop();
+      renderer->render(views[v], ids);
+    }
+    renderTime.stop();
+    profile::Scope accumulateTime(profile::Accumulate);
+    const std::vector<double>& w = (*s.weights)[v];
+    for (size_t p = 0; p < ids.size(); ++p) {
+      const uint32_t id = ids[p];
+      if (id == kNoPatch || w[p] == 0.0) continue;
+      if (acc[id] == 0.0) touched.push_back(id);
+      acc[id] += w[p];
+    }
+  }
+  std::sort(touched.begin(), touched.end());
+  std::vector<Entry> out;
+  out.reserve(touched.size());
+  auto emit = [&](uint32_t id, float factor, double fraction) {
+    if (factor > 0) out.push_back({id, factor, static_cast<float>(fraction)});
+  };
+  auto fraction = [&](uint32_t id, bool shown) {
+    return visibleFraction(s, views, idsPerView, near, mesh, id, shown, exposure);
+  };
+  auto inTask = [&](uint32_t id) {
+    return task.patches.empty() || std::binary_search(task.patches.begin(), task.patches.end(), id);
+  };
+  if (!s.analytic) {
+    for (uint32_t id : touched)
+      if (inTask(id) && acc[id] > 0)
+        emit(id, static_cast<float>(s.scale * acc[id] / mesh.patches[id].area),
+             needVisible ? std::max(0.0, fraction(id, true)) : -1.0);
+  } else {
+    // Every patch: those that show in the item buffer, and those too small to hold a pixel centre
+    // (missing them would lose their light, since their neighbours get only their own exact share).
+    auto visit = [&](uint32_t id) {
+      const bool shown = std::binary_search(touched.begin(), touched.end(), id);
+      const double f = fraction(id, shown);
+      if (f > 0) {
+        profile::Scope integralTime(profile::Integral);
+        emit(id, analyticPatchFactor(s, mesh.patches[id], f), f);
+      }
+    };
+    const bool oneEye = std::all_of(views.begin(), views.end(), [&](const View& v) {
+      return v.projection == Projection::Perspective && v.eye == views[0].eye;
+    });
+    if (task.patches.empty() && cull && oneEye) {
+      // The same, less the clusters of unseen patches proven hidden behind a face of the scene (which
+      // their point tests would find occluded): preprocess/occlusion_cull.h.
+      candidates.assign(touched.begin(), touched.end());
+      cull->visible(views[0].eye, touched, candidates);
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      for (uint32_t id : candidates) visit(id);
+    } else if (task.patches.empty()) {
+      for (uint32_t id = 0; id < mesh.size(); ++id) visit(id);
+    } else {
+      for (uint32_t id : task.patches) visit(id);
+    }
+  }
+  for (uint32_t id : touched) acc[id] = 0.0;
+  touched.clear();
+  return out;
+}
+
+}  // namespace fs

@@ -1,0 +1,62 @@
+#pragma once
+/// @file sample_shot.h
+/// One light sample's share of the first-shot table: its window placed and rendered (or, in a
+/// refinement pass, only the pixels around a few patches traced), and each patch's factor from the
+/// analytic estimator (closed form × visible fraction) or the pixel sums. preprocess/preprocessor.cpp
+/// runs these over all samples and assembles the table.
+#include <cstdint>
+#include <vector>
+
+#include "common/firstshot.h"
+#include "common/math.h"
+#include "common/patches.h"
+#include "preprocess/exposure.h"
+#include "preprocess/item_buffer.h"
+#include "preprocess/occlusion_cull.h"
+#include "preprocess/window.h"
+
+namespace fs {
+
+/// How one light sample is rendered: which window, where, and the scale from Σ weights to r_ij·A_j.
+struct SampleSetup {
+  const LightSample* sample = nullptr;
+  const Window* window = nullptr;
+  const std::vector<std::vector<double>>* weights = nullptr;  ///< the window's, or a spot's profiled copy
+  Vec3d position{0.0};
+  Vec3d axis{0, 0, 1};
+  double rotation = 0;  ///< radians about the axis (settings.rotationSeed)
+  double eyeOffset = 0;
+  double scale = 1;
+  LightSampleKind kind = LightSampleKind::Point;
+  bool analytic = true;  ///< closed form × visible fraction (preprocess/coverage.h)
+};
+
+/// One factor before it is sorted into the CSR table.
+struct Entry {
+  uint32_t patch;
+  float factor;
+  float visible;  ///< V_ij, the visible fraction (the refinement's measure); −1 if not computed
+};
+
+/// What one task of a shooting pass computes: a sample's factors over all patches, or over a
+/// sorted subset of them (the children of patches split since the sample was last shot).
+struct Task {
+  uint32_t sample = 0;
+  std::vector<uint32_t> patches;  ///< empty: all
+};
+
+/// r_ij of a patch with visible fraction @p fraction > 0 (closed-form kinds): the closed form times the
+/// fraction, computed as the .fsd reader recomputes grouped factors (0 if the patch gets nothing).
+float analyticPatchFactor(const SampleSetup& s, const Patch& p, double fraction);
+
+/// Renders one sample's views and returns its non-zero factors over @p task's patches, sorted by
+/// patch. With @p needVisible, factors from pixel sums (spots, the pixels estimator) also get their
+/// visible fraction. A task over a subset of patches traces only the pixels around them with
+/// @p exposure's ray caster (a refinement pass: a few split patches per window); a task over all
+/// patches renders whole views with @p renderer.
+std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup& s, const PatchMesh& mesh, const Task& task,
+                                bool needVisible, std::vector<double>& acc, std::vector<uint32_t>& touched,
+                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure,
+                                const OcclusionCull* cull, std::vector<uint32_t>& candidates);
+
+}  // namespace fs
