@@ -212,3 +212,18 @@ TEST(SceneBadInput, InputErrorCarriesFileAndElement) {
     EXPECT_EQ(e.element(), "shapes[0].material");
   }
 }
+
+// The refinement and light-tessellation settings: refused where they make no sense, with their key.
+TEST(SceneBadInput, RefinementSettings) {
+  auto withSettings = [](const std::string& settings) {
+    return variant("\"power\": 10}]", "\"power\": 10}], \"settings\": " + settings);
+  };
+  expectBadInput(runOn(withSettings(R"({"patch_size": 0.5, "min_patch_size": 1})")),
+                 {"settings.min_patch_size", "must not exceed settings.patch_size"});
+  expectBadInput(runOn(withSettings(R"({"min_patch_size": -0.1})")), {"settings.min_patch_size"});
+  expectBadInput(runOn(withSettings(R"({"refine_tolerance": 0})")), {"settings.refine_tolerance"});
+  expectBadInput(runOn(withSettings(R"({"light_tolerance": -1})")), {"settings.light_tolerance"});
+  EXPECT_EQ(runOn(withSettings(R"({"patch_size": 0.5, "min_patch_size": 0.1, "refine_tolerance": 0.05, "light_tolerance": 0.02})"))
+                .exitCode,
+            0);
+}
