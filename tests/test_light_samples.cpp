@@ -123,21 +123,33 @@ TEST(LightTessellation, FinerNearACloseReceiver) {
   }
 }
 
+namespace {
+
+/// At the default tolerance the automatic cut of light shape @p li keeps the vertex rule within it at
+/// @p pts with fewer than @p maxSamples samples, and a uniform cut of @p coarse m does not (so the
+/// check can fail).
+void expectToleranceMet(const SceneDesc& s, int li, const std::vector<std::pair<Vec3d, Vec3d>>& pts, size_t maxSamples,
+                        double coarse) {
+  const double tol = SettingsDesc{}.lightTolerance;
+  const LightTessellation t = tessellateAreaLight(s, li, 0, tol);
+  const VertexRuleError e = vertexRuleError(s.shapes[li], t, pts);
+  EXPECT_LE(e.uncut, tol);
+  EXPECT_LE(e.cut, tol);
+  EXPECT_LT(t.positions.size(), maxSamples);
+  EXPECT_GT(vertexRuleError(s.shapes[li], tessellateAreaLight(s, li, coarse, tol), pts).uncut, tol)
+      << "the check must be able to fail";
+}
+
+}  // namespace
+
 // (c) At the default tolerance the vertex rule is within it at the receivers of the metre-scale
 // Cornell box (its light 1 cm under the ceiling, which is behind the light and does not count), and a
 // too-coarse tessellation is not.
 TEST(LightTessellation, DefaultToleranceMetreCornell) {
   SceneDesc s = loadScene(test::source("scenes/cornell-metre.json"));
   const int li = firstEmissiveShape(s);
-  const double tol = SettingsDesc{}.lightTolerance;
   const auto pts = receiverPoints(s, 0.25);
-  const LightTessellation fine = tessellateAreaLight(s, li, 0, tol);
-  const VertexRuleError e = vertexRuleError(s.shapes[li], fine, pts);
-  EXPECT_LE(e.uncut, tol);
-  EXPECT_LE(e.cut, tol);
-  EXPECT_LT(fine.positions.size(), 200u);
-  const LightTessellation coarse = tessellateAreaLight(s, li, 0.7, tol);
-  EXPECT_GT(vertexRuleError(s.shapes[li], coarse, pts).uncut, tol) << "the check must be able to fail";
+  expectToleranceMet(s, li, pts, 200, 0.7);
 }
 
 // (c) A light 1 cm under the ceiling of a small room, 10 cm from a wall: the wall is sampled down
@@ -145,17 +157,10 @@ TEST(LightTessellation, DefaultToleranceMetreCornell) {
 TEST(LightTessellation, DefaultToleranceUnderCeilingNearWall) {
   const SceneDesc s = sceneFrom(room(R"({"type": "quad", "material": "lamp", "vertices": [[0.1,2.99,1],[0.7,2.99,1],[0.7,2.99,1.6],[0.1,2.99,1.6]]})"));
   const int li = firstEmissiveShape(s);
-  const double tol = SettingsDesc{}.lightTolerance;
   std::vector<std::pair<Vec3d, Vec3d>> pts = receiverPoints(s, 0.1);
   for (double y = 2.5; y < 2.99; y += 0.04)  // the wall next to the light, up to its plane
     for (double z = 0.8; z < 1.8; z += 0.1) pts.emplace_back(Vec3d(0, y, z), Vec3d(1, 0, 0));
-  const LightTessellation t = tessellateAreaLight(s, li, 0, tol);
-  const VertexRuleError e = vertexRuleError(s.shapes[li], t, pts);
-  EXPECT_LE(e.uncut, tol);
-  EXPECT_LE(e.cut, tol);
-  EXPECT_LT(t.positions.size(), 2000u);
-  const LightTessellation coarse = tessellateAreaLight(s, li, 0.1, tol);
-  EXPECT_GT(vertexRuleError(s.shapes[li], coarse, pts).uncut, tol) << "the check must be able to fail";
+  expectToleranceMet(s, li, pts, 2000, 0.1);
 }
 
 // (d) A light far from everything is one cell: its 4 corners.

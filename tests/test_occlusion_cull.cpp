@@ -13,16 +13,13 @@
 #include "preprocess/item_buffer.h"
 #include "preprocess/occlusion_cull.h"
 #include "preprocess/view.h"
+#include "tests/render_util.h"
 
 using namespace fs;
 
 namespace {
 
-SceneDesc sceneFrom(const std::string& json) {
-  SceneDesc s = parseSceneJson(json, "test.json");
-  validateScene(s);
-  return s;
-}
+SceneDesc sceneFrom(const std::string& json) { return test::sceneFromJson(json); }
 
 std::set<uint32_t> kept(const OcclusionCull& cull, const Vec3d& eye, const std::vector<uint32_t>& shown) {
   std::vector<uint32_t> out;

@@ -10,17 +10,14 @@
 #include "common/firstshot.h"
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
+#include "tests/render_util.h"
 #include "tests/test_util.h"
 
 using namespace fs;
 
 namespace {
 
-SceneDesc sceneFrom(const std::string& json) {
-  SceneDesc s = parseSceneJson(json, "test.json");
-  validateScene(s);
-  return s;
-}
+SceneDesc sceneFrom(const std::string& json) { return test::sceneFromJson(json); }
 
 FirstShotTable run(const SceneDesc& s, int R, const std::string& backend = "gl", double lightPatch = 0, int threads = 2) {
   PreprocessOptions o = defaultOptions(s);
