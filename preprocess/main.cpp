@@ -91,9 +91,8 @@ int main(int argc, char** argv) {
     const fs::SceneDesc scene = fs::loadScene(scenePath);
     fs::PreprocessOptions o = fs::defaultOptions(scene);
     if (patchSize > 0) o.settings.patchSize = patchSize;
-    if (patchSize > 0 && scene.settings.minPatchSize == 0) o.settings.minPatchSize = patchSize / fs::kDefaultRefineRatio;
-    if (minPatchSize > 0) o.settings.minPatchSize = minPatchSize;
-    if (o.settings.minPatchSize > o.settings.patchSize) o.settings.minPatchSize = o.settings.patchSize;
+    o.settings.minPatchSize =
+        fs::minPatchSizeFor(o.settings.patchSize, minPatchSize > 0 ? minPatchSize : scene.settings.minPatchSize);
     if (refineTolerance > 0) o.settings.refineTolerance = refineTolerance;
     if (lightPatchSize > 0) o.settings.lightPatchSize = lightPatchSize;
     if (lightTolerance > 0) o.settings.lightTolerance = lightTolerance;

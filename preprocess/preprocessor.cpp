@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -16,7 +15,6 @@
 #include "common/progress.h"
 #include "common/rng.h"
 #include "preprocess/adaptive_mesh.h"
-#include "preprocess/coverage.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
 #include "preprocess/gl_item_buffer.h"
@@ -33,8 +31,7 @@ PreprocessOptions defaultOptions(const SceneDesc& scene) {
   o.settings.resolution = static_cast<uint32_t>(scene.settings.itemBufferResolution);
   o.settings.window = scene.settings.window;
   o.settings.patchSize = scene.settings.patchSize;
-  o.settings.minPatchSize = scene.settings.minPatchSize > 0 ? scene.settings.minPatchSize
-                                                             : scene.settings.patchSize / kDefaultRefineRatio;
+  o.settings.minPatchSize = minPatchSizeFor(scene.settings.patchSize, scene.settings.minPatchSize);
   o.settings.refineTolerance = scene.settings.refineTolerance;
   o.settings.lightPatchSize = scene.settings.lightPatchSize;
   o.settings.lightTolerance = scene.settings.lightTolerance;

@@ -29,6 +29,12 @@ struct PreprocessStats {
 /// log2 of it levels).
 constexpr double kDefaultRefineRatio = 8.0;
 
+/// The smallest patch edge refinement may reach for coarse patches of @p patchSize (m): @p given if
+/// positive (at most patchSize), else patchSize / kDefaultRefineRatio.
+inline double minPatchSizeFor(double patchSize, double given) {
+  return given > 0 ? (given < patchSize ? given : patchSize) : patchSize / kDefaultRefineRatio;
+}
+
 /// Options from the scene's settings (command-line values are applied on top by the caller).
 PreprocessOptions defaultOptions(const SceneDesc& scene);
 
