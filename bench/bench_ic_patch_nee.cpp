@@ -25,7 +25,7 @@
 #include "common/firstshot.h"
 #include "common/scene_desc.h"
 #include "render/camera.h"
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 #include "render/render_scene.h"
 
 using namespace fs;

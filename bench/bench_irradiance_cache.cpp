@@ -30,8 +30,8 @@
 
 #include "preprocess/preprocessor.h"
 #include "render/camera.h"
-#include "render/irradiance_cache_integrator.h"
-#include "render/path_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
+#include "render/integrators/path.h"
 #include "render/renderer.h"
 
 using namespace fs;

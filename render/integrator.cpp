@@ -2,8 +2,8 @@
 #include "render/integrator.h"
 
 #include "common/error.h"
-#include "render/irradiance_cache_integrator.h"
-#include "render/path_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
+#include "render/integrators/path.h"
 
 namespace fs {
 

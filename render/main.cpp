@@ -11,7 +11,7 @@
 #include "render/camera.h"
 #include "render/film.h"
 #include "render/integrator.h"
-#include "render/irradiance_cache_cli.h"
+#include "render/integrators/irradiance_cache/cli.h"
 #include "render/preview/preview_app.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
         ->needs(previewOpt);
     app.add_option("--window-grab", windowGrab, "with --preview --frames: save the window's pixels as shown (.png), for tests")
         ->needs(previewOpt);
-    fs::IrradianceCacheCli irradianceCache;  // --accuracy, --bounces, --cache-file, ... (render/irradiance_cache_cli.h)
+    fs::IrradianceCacheCli irradianceCache;  // --accuracy, --bounces, --cache-file, ... (render/integrators/irradiance_cache/cli.h)
     irradianceCache.add(app);
     try {
       app.parse(argc, argv);

@@ -11,7 +11,7 @@
 #include <random>
 #include <thread>
 
-#include "render/irradiance_cache.h"
+#include "render/integrators/irradiance_cache/cache.h"
 
 using namespace fs;
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"

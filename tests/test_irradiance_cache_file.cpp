@@ -11,8 +11,8 @@
 #include <fstream>
 
 #include "common/error.h"
-#include "render/cache_file.h"
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/cache_file.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/irradiance_cache_util.h"
 
 using namespace fs;

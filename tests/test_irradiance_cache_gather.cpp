@@ -11,7 +11,7 @@
 #include <cmath>
 
 #include "common/analytic.h"
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/render_util.h"
 #include "tests/stats.h"
 

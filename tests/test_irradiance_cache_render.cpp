@@ -12,8 +12,8 @@
 #include <fmt/core.h>
 
 #include "preprocess/preprocessor.h"
-#include "render/irradiance_cache_integrator.h"
-#include "render/path_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
+#include "render/integrators/path.h"
 #include "tests/irradiance_cache_util.h"
 
 using namespace fs;

@@ -7,7 +7,7 @@
 #include <fmt/core.h>
 
 #include "preprocess/preprocessor.h"
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/render_util.h"
 #include "tests/shaded_room.h"
 #include "tests/test_util.h"

@@ -16,7 +16,7 @@
 
 #include "render/camera.h"
 #include "render/film.h"
-#include "render/path_integrator.h"
+#include "render/integrators/path.h"
 #include "render/preview/orbit_camera.h"
 #include "render/preview/preview_app.h"
 #include "tests/render_util.h"

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "render/irradiance_cache.h"
+#include "render/integrators/irradiance_cache/cache.h"
 
 namespace fs {
 

@@ -1,5 +1,5 @@
 #pragma once
-/// @file irradiance_cache_integrator.h
+/// @file integrator.h
 /// Irradiance caching (Ward, Rubinstein & Clear 1988) on top of the first-shot renderer.
 ///
 /// At every non-specular vertex the outgoing radiance is split as
@@ -49,8 +49,8 @@
 #include "render/direct_light.h"
 #include "render/film.h"
 #include "render/integrator.h"
-#include "render/irradiance_cache.h"
-#include "render/path_integrator.h"
+#include "render/integrators/irradiance_cache/cache.h"
+#include "render/integrators/path.h"
 
 namespace fs {
 

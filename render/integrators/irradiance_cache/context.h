@@ -1,11 +1,11 @@
 #pragma once
-/// @file irradiance_cache_context.h
+/// @file context.h
 /// Private to the irradiance cache integrator's sources: the state of one camera sample or fill
 /// task, and how a ray was chosen (which decides whether the emission it meets counts).
 #include <cstdint>
 #include <memory>
 
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 
 namespace fs {
 

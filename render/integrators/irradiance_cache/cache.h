@@ -1,5 +1,5 @@
 #pragma once
-/// @file irradiance_cache.h
+/// @file cache.h
 /// The store of an irradiance cache (Ward, Rubinstein & Clear 1988, "secondary method"): records
 /// of indirect irradiance, the weight of eq. 5 with the acceptance w > 1/a, the "in front" test of
 /// eq. 6, Ward & Heckbert's (1992) gradients, and one octree per diffuse bounce level (§3.3, §3.4).

@@ -13,8 +13,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "render/irradiance_cache_context.h"
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/context.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 
 namespace fs {
 

@@ -10,11 +10,11 @@
 
 #include "common/error.h"
 #include "common/small_lights.h"
-#include "render/cache_file.h"
+#include "render/integrators/irradiance_cache/cache_file.h"
 #include "render/camera.h"
 #include "render/embree_scene.h"
-#include "render/irradiance_cache_context.h"
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/context.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 
 namespace fs {
 

@@ -1,5 +1,5 @@
 // Irradiance records, Ward's weights and the per-level octrees.
-#include "render/irradiance_cache.h"
+#include "render/integrators/irradiance_cache/cache.h"
 
 #include <algorithm>
 #include <cmath>

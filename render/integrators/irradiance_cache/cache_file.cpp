@@ -1,5 +1,5 @@
 // The irradiance cache file: writer and verifying reader.
-#include "render/cache_file.h"
+#include "render/integrators/irradiance_cache/cache_file.h"
 
 #include <bit>
 #include <cmath>

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "common/math.h"
-#include "render/irradiance_cache.h"
+#include "render/integrators/irradiance_cache/cache.h"
 
 namespace fs {
 

@@ -1,5 +1,5 @@
 // Irradiance caching: the shading of camera and gather paths, and the primary method.
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 
 #include <fmt/core.h>
 
@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "common/sampling.h"
-#include "render/hemisphere_samples.h"
-#include "render/irradiance_cache_context.h"
+#include "render/integrators/irradiance_cache/hemisphere_samples.h"
+#include "render/integrators/irradiance_cache/context.h"
 
 namespace fs {
 

@@ -1,5 +1,5 @@
 #pragma once
-/// @file path_integrator.h
+/// @file path.h
 /// Unidirectional path tracing with next-event estimation (render/light_sampler.h: NEE to every
 /// light or one light chosen by a light tree), multiple importance sampling (power heuristic)
 /// against BSDF sampling for area emitters, and Russian roulette.

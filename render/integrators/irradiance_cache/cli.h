@@ -1,5 +1,5 @@
 #pragma once
-/// @file irradiance_cache_cli.h
+/// @file cli.h
 /// The command-line options of the irradiance cache integrator for firstshot-render (header-only,
 /// included by render/main.cpp, which links CLI11): declaring them, handing them to the
 /// integrator before preprocess(), and the outputs after the render.
@@ -12,7 +12,7 @@
 
 #include "common/error.h"
 #include "render/film.h"
-#include "render/irradiance_cache_integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
 
 namespace fs {
 

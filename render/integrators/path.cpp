@@ -1,6 +1,6 @@
 // Path tracing with NEE + MIS + Russian roulette, the first-shot term for small lights and the
 // lit patches as sampled emitters.
-#include "render/path_integrator.h"
+#include "render/integrators/path.h"
 
 #include <algorithm>
 #include <cmath>

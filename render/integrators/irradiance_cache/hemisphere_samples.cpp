@@ -1,5 +1,5 @@
 // Irradiance, harmonic mean distance and gradients from stratified hemisphere samples.
-#include "render/hemisphere_samples.h"
+#include "render/integrators/irradiance_cache/hemisphere_samples.h"
 
 #include <algorithm>
 #include <cmath>
