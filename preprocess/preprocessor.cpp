@@ -268,7 +268,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     s.sample = &ls;
     s.position = Vec3d(ls.position);
     s.kind = ls.kind;
-    s.analytic = options.settings.estimator == "analytic" && ls.kind != LightSampleKind::Spot;
+    s.analytic = options.settings.estimator == "analytic";
     switch (ls.kind) {
       case LightSampleKind::Point:
         s.window = &cube(), s.weights = &cube().weights, s.scale = analyticScale(ls);
@@ -286,7 +286,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
           perLight[ls.light] = std::move(w);
         }
         s.window = perLight[ls.light].get(), s.weights = &perLight[ls.light]->weights;
-        s.axis = light.direction, s.scale = 1.0 / spotProfileIntegral(light);
+        s.axis = light.direction, s.scale = 1.0 / spotProfileIntegral(light), s.cone = SpotCone(light);
         break;
       }
       case LightSampleKind::Directional:

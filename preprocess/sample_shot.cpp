@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/firstshot_groups.h"
+#include "common/spot_integral.h"
 #include "preprocess/coverage.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/profile.h"
@@ -15,6 +16,13 @@ namespace {
 
 /// Fewer pixel centres than this inside a patch and the fraction is taken at points on it instead.
 constexpr size_t kMinPixelsForAnalytic = 4;
+
+/// Which side of patch @p p sample @p s lights: 0 the normal's side, 1 the other.
+int litSide(const SampleSetup& s, const Patch& p) {
+  const Vec3d n(p.normal);
+  const double side = s.kind == LightSampleKind::Directional ? -glm::dot(s.axis, n) : glm::dot(s.position - Vec3d(p.centroid), n);
+  return side >= 0 ? 0 : 1;
+}
 
 /// The closed-form integral of the window weight over the whole patch (no occlusion); for points and
 /// area vertices the one the reader recomputes grouped factors from (common/firstshot_groups.h).
@@ -27,7 +35,7 @@ double unoccludedIntegral(const SampleSetup& s, const Patch& p) {
       for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
       return unoccludedProjectedArea(s.axis, poly, int(p.count));
     }
-    case LightSampleKind::Spot: break;  // no closed form for the profile
+    case LightSampleKind::Spot: return spotPatchIntegral(*s.sample, s.cone, p, litSide(s, p));  // numerical
   }
   return 0.0;
 }
@@ -49,12 +57,6 @@ double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s
   return seen > 0 ? double(visible) / seen : -1.0;
 }
 
-/// Which side of patch @p p sample @p s lights: 0 the normal's side, 1 the other.
-int litSide(const SampleSetup& s, const Patch& p) {
-  const Vec3d n(p.normal);
-  const double side = s.kind == LightSampleKind::Directional ? -glm::dot(s.axis, n) : glm::dot(s.position - Vec3d(p.centroid), n);
-  return side >= 0 ? 0 : 1;
-}
 
 /// The analytic estimator's visible fraction (preprocess/coverage.h; the factor is closed form × fraction), the fraction
 /// decided in exact geometry at the pixel centres inside the patch, or at a few points on it when

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/firstshot.h"
+#include "common/lights.h"
 #include "common/math.h"
 #include "common/patches.h"
 #include "preprocess/exposure.h"
@@ -27,6 +28,7 @@ struct SampleSetup {
   double rotation = 0;  ///< radians about the axis (settings.rotationSeed)
   double eyeOffset = 0;
   double scale = 1;
+  SpotCone cone;  ///< a spot's cone (its profile), for its numerical U_ij (common/spot_integral.h)
   LightSampleKind kind = LightSampleKind::Point;
   bool analytic = true;  ///< closed form × visible fraction (preprocess/coverage.h)
 };

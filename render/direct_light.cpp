@@ -8,6 +8,7 @@
 
 #include "common/firstshot_groups.h"
 #include "common/sampling.h"
+#include "common/spot_integral.h"
 
 namespace fs {
 
@@ -35,29 +36,6 @@ inline float sampleKernel(const LightSample& s, const SpotKernel& spot, const Ve
   const float cosL = -glm::dot(wi, s.normal);
   if (s.kind == LightSampleKind::Spot) return cosX * inv * inv * spot(cosL);
   return cosL > 0.0f ? s.weight * cosX * cosL * inv * inv : 0.0f;
-}
-
-/// ∫ k_i dA over polygon @p poly (its unit normal @p n on the sample's side) by the midpoint rule
-/// on an m × m grid per fan triangle: the spot's U_ij, which has no closed form. m grows for
-/// samples near the patch (@p dist from its centroid), where the kernel varies most.
-double spotPatchIntegral(const LightSample& s, const SpotKernel& spot, const Vec3d* poly, int count, const Vec3d& n,
-                         double dist, double diameter) {
-  const int m = dist < 2.0 * diameter ? 32 : dist < 8.0 * diameter ? 12 : 4;
-  double sum = 0;
-  for (int t = 0; t + 2 < count; ++t) {
-    const Vec3d a = poly[0], b = poly[t + 1], e = poly[t + 2];
-    const double area = 0.5 * glm::length(glm::cross(b - a, e - a));
-    double tri = 0;
-    for (int i = 0; i < m; ++i)
-      for (int j = 0; j < m; ++j) {
-        const Vec3 bary = squareToUniformTriangle(Vec2((float(i) + 0.5f) / float(m), (float(j) + 0.5f) / float(m)));
-        const Vec3d x = double(bary.x) * a + double(bary.y) * b + double(bary.z) * e;
-        Vec3 wi;
-        tri += sampleKernel(s, spot, Vec3(x), Vec3(n), 1.0f, wi);
-      }
-    sum += area * tri / double(m * m);
-  }
-  return sum;
 }
 
 /// Gradient of the kernel with respect to x (m⁻¹ per unit of the kernel's value, W/m³ per unit
@@ -148,8 +126,8 @@ void FirstShotLighting::build(const RenderScene& scene) {
       // (as the reader already did, if it did), spots by their integrated kernel.
       double v = -1.0;
       if (s.kind == LightSampleKind::Spot) {
-        const double scaledU = spotPatchIntegral(s, spots_[t->sampleIndex[k]], poly, int(p.count),
-                                                 side == 0 ? normal : -normal, glm::length(Vec3d(s.position) - c), diameter);
+        const SpotKernel& spot = spots_[t->sampleIndex[k]];
+        const double scaledU = spotPatchIntegral(s, spot.cone, p, side) * spot.invIntegral;
         v = scaledU > 0 ? double(t->factor[k]) * p.area / scaledU : -1.0;
       } else if (s.kind != LightSampleKind::Directional) {
         v = haveVisible ? t->visible[k] : recoveredVisible(t->factor[k], s, t->areaEyeOffset, p);

@@ -135,14 +135,34 @@ inline Vec3 samplePatch(const Patch& p, Vec2 u) {
 
 /// Brute-force patch-averaged front-side irradiance of patch @p j (channel mean), W/m²: @p n
 /// uniform points, each with a shadow ray to every light sample on the front side.
+/// True if most of 16 rays leaving @p x over the hemisphere of @p n hit the back of a surface: the
+/// point lies inside a closed object (the floor under a box), where the renderer never shades.
+inline bool buriedPoint(const RenderScene& scene, const Vec3& x, const Vec3& n) {
+  const Frame f(n);
+  const Vec3 o = x + n * (1e-5f * std::max(1.0f, maxComponent(glm::abs(x))));
+  int back = 0;
+  for (int k = 0; k < 16; ++k) {
+    const float u = (float(k % 4) + 0.5f) / 4.0f, v = (float(k / 4) + 0.5f) / 4.0f;
+    const float r = std::sqrt(u), phi = 2.0f * float(kPi) * v;
+    const Vec3 d = f.toWorld(Vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u))));
+    Hit h;
+    if (scene.intersect(Ray(o, d), h) && glm::dot(h.ng, d) > 0.0f) ++back;
+  }
+  return back > 8;
+}
+
+/// Monte Carlo patch-average irradiance of patch @p j (n uniform points); with @p paired, of the
+/// first-shot term minus the exact value. @p exposedOnly: points inside closed objects are skipped
+/// (the estimate is then over the exposed part, what an image shows).
 inline void patchIrradianceMC(const RenderScene& scene, uint32_t j, int n, uint64_t seed, double& mean, double& se,
-                              const FirstShotLighting* paired = nullptr) {
+                              const FirstShotLighting* paired = nullptr, bool exposedOnly = false) {
   const FirstShotTable& t = *scene.firstShot();
   const Patch& p = t.mesh.patches[j];
   double sum = 0, sum2 = 0;
   for (int k = 0; k < n; ++k) {
     Sampler s(seed, j, uint64_t(k));
     const Vec3 x = samplePatch(p, s.next2D());
+    if (exposedOnly && buriedPoint(scene, x, p.normal)) continue;
     // The shadow ray aims from a point just off the patch straight at the sample (no parallel
     // shift, which would let it cross an area light's plane before its end) and stops just short.
     const Vec3 o = x + p.normal * (1e-6f * std::max(1.0f, maxComponent(glm::abs(x))));
@@ -164,6 +184,7 @@ inline void patchIrradianceMC(const RenderScene& scene, uint32_t j, int n, uint6
     }
     sum += e, sum2 += e * e;
   }
+  // Skipped (buried) points count as 0: the mean stays an average over the whole patch area.
   mean = sum / n;
   se = std::sqrt(std::max(0.0, (sum2 / n - mean * mean) / (n - 1)));
 }
