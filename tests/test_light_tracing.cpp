@@ -212,3 +212,24 @@ TEST(LightTracing, CommandLine) {
     EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
   }
 }
+
+// The preview renders light tracing pass by pass: its scripted run gives the offline film.
+TEST(LightTracing, PreviewEqualsOfflineRender) {
+  if (test::run("command -v xvfb-run").exitCode != 0) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string exe = FIRSTSHOT_RENDER_EXE, dir = test::tempDir();
+  const std::string common = test::source("scenes/cornell.json") + " --integrator light --width 32 --height 24";
+  const auto offline = test::run(exe + " " + common + " --spp 3 -q -o " + dir + "/off.exr");
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  test::CommandResult preview;
+  for (int attempt = 0; attempt < 4; ++attempt) {  // two servers started at once may pick one display: retry
+    preview = test::run("env ASAN_OPTIONS=\"${ASAN_OPTIONS}:detect_leaks=0\" xvfb-run -a -s \"-screen 0 1024x768x24\" " +
+                        exe + " " + common + " --preview --frames 3 --screenshot " + dir + "/shot.png");
+    if (preview.output.find("Xvfb failed to start") == std::string::npos) break;
+  }
+  ASSERT_EQ(preview.exitCode, 0) << preview.output;
+  int w = 0, h = 0;
+  std::vector<std::string> channels;
+  const auto a = Film::read(dir + "/off.exr", w, h, channels), b = Film::read(dir + "/shot.exr", w, h, channels);
+  EXPECT_EQ(a, b);
+  EXPECT_GT(*std::max_element(a.begin(), a.end()), 0.0f);
+}
