@@ -84,7 +84,8 @@ class Integrator {
   /// Particles per pass for @p camera.
   virtual uint64_t particlesPerPass(const Camera& /*camera*/) const { return 0; }
   /// Traces particles [begin, end) of pass @p pass, each keyed by (seed, particle, pass), appending
-  /// their splats to @p out in particle order. Thread-safe. @p rays counts the rays traced.
+  /// their splats to @p out in particle order. Thread-safe. @p rays counts the rays traced. The
+  /// renderer drops (and counts in RenderStats::nonFinite) splats that are NaN or Inf.
   virtual void splatParticles(const Camera& /*camera*/, uint64_t /*seed*/, uint64_t /*pass*/, uint64_t /*begin*/,
                               uint64_t /*end*/, std::vector<Splat>& /*out*/, uint64_t& /*rays*/) const {}
 };

@@ -45,8 +45,13 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
   if (cancelled) return false;
 
   std::vector<Vec3d> image(size_t(w) * size_t(h), Vec3d(0.0));
+  uint64_t badSplats = 0;
   for (const std::vector<Splat>& chunk : splats)  // fixed order: the sums do not depend on the threads
-    for (const Splat& s : chunk) image[s.pixel] += Vec3d(s.L);
+    for (const Splat& s : chunk) {
+      if (isFinite(s.L)) image[s.pixel] += Vec3d(s.L);
+      else ++badSplats;
+    }
+  nonFinite += badSplats;
   splats.clear();
 
   arena.execute([&] {

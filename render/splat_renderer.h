@@ -16,7 +16,7 @@ namespace fs {
 inline constexpr uint64_t kSplatChunk = 1024;
 
 /// render() for a splatting integrator: same options, same statistics (cameraSamples counts the
-/// pixel samples; rays include the particles' rays).
+/// pixel samples; rays include the particles' rays; nonFinite counts NaN/Inf splats and pixel samples).
 RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options);
 
 }  // namespace fs

@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 
 #include "common/sampling.h"
+#include "preprocess/preprocessor.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
@@ -17,7 +18,7 @@ constexpr int kBlock = 8;
 
 /// Per-pass gray means of every kBlock × kBlock block of @p scene rendered by @p integrator:
 /// pass k is render() with firstSample = k and one sample, so the passes are independent samples.
-std::vector<test::Moments> blockMeans(const Integrator& integrator, const RenderScene& scene, int passes) {
+std::vector<test::Moments> blockMeans(const Integrator& integrator, const RenderScene& scene, int passes, uint64_t seed = 1) {
   const Camera camera(scene.desc().camera);
   const int w = camera.width(), h = camera.height(), bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
   std::vector<test::Moments> blocks(size_t(bw) * bh);
@@ -26,6 +27,7 @@ std::vector<test::Moments> blockMeans(const Integrator& integrator, const Render
     RenderOptions ro;
     ro.spp = 1;
     ro.firstSample = k;
+    ro.seed = seed;
     render(integrator, camera, film, ro);
     std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
     for (int y = 0; y < h; ++y)
@@ -39,6 +41,20 @@ std::vector<test::Moments> blockMeans(const Integrator& integrator, const Render
   return blocks;
 }
 
+/// Two integrators' per-pass block means: every block within 3σ of the difference.
+void expectBlocksAgree(const std::string& name, const std::vector<test::Moments>& a, const std::vector<test::Moments>& b) {
+  double worst = 0, worstRel = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    const double se = std::hypot(a[k].se(), b[k].se()), z = std::abs(a[k].mean() - b[k].mean()) / se;
+    worst = std::max(worst, z);
+    worstRel = std::max(worstRel, se / b[k].mean());
+    EXPECT_LT(z, 3.0) << name << " block " << k << ": " << a[k].mean() << " ± " << a[k].se() << " against "
+                      << b[k].mean() << " ± " << b[k].se();
+  }
+  fmt::print("{}: {} blocks, worst {:.2f}σ, largest relative σ {:.2f}%\n", name, a.size(), worst, 100 * worstRel);
+  EXPECT_LT(worstRel, 0.05) << name << ": too noisy to test";
+}
+
 /// Light tracing against path tracing on @p d at 32×24: every block within 3σ of the difference.
 void expectImagesAgree(const std::string& name, SceneDesc d, int ltPasses, int ptPasses) {
   d.camera.width = 32, d.camera.height = 24;
@@ -48,17 +64,7 @@ void expectImagesAgree(const std::string& name, SceneDesc d, int ltPasses, int p
   auto lt = makeIntegrator("light", io), pt = makeIntegrator("path", io);
   lt->preprocess(scene);
   pt->preprocess(scene);
-  const auto a = blockMeans(*lt, scene, ltPasses), b = blockMeans(*pt, scene, ptPasses);
-  double worst = 0, worstRel = 0;
-  for (size_t k = 0; k < a.size(); ++k) {
-    const double se = std::hypot(a[k].se(), b[k].se()), z = std::abs(a[k].mean() - b[k].mean()) / se;
-    worst = std::max(worst, z);
-    worstRel = std::max(worstRel, se / b[k].mean());
-    EXPECT_LT(z, 3.0) << name << " block " << k << ": light " << a[k].mean() << " ± " << a[k].se() << ", path "
-                      << b[k].mean() << " ± " << b[k].se();
-  }
-  fmt::print("{}: {} blocks, worst {:.2f}σ, largest relative σ {:.2f}%\n", name, a.size(), worst, 100 * worstRel);
-  EXPECT_LT(worstRel, 0.05) << name << ": too noisy to test";
+  expectBlocksAgree(name, blockMeans(*lt, scene, ltPasses), blockMeans(*pt, scene, ptPasses));
 }
 
 void expectImagesAgree(const std::string& name, int ltPasses, int ptPasses) {
@@ -88,6 +94,20 @@ TEST(LightTracing, MirrorAndGlassAgreeWithPathTracing) {
                {"type": "quad", "material": "lamp", "vertices": [[0.7,1.49,0.8],[1.3,1.49,0.8],[1.3,1.49,1.4],[0.7,1.49,1.4]]}],
     "camera": {"position": [0.6, 0.9, 0.05], "look_at": [1.3, 0.5, 1.5], "fov_y": 70, "resolution": [32, 24]},
     "settings": {"patch_size": 0.5, "max_depth": 8}})"), 600, 300);
+}
+
+// With a first-shot table the small lights stay lights for shooting: the same image as without.
+TEST(LightTracing, FirstShotTableLeavesTheImageUnchanged) {
+  SceneDesc d = loadScene(test::source("scenes/many-lights.json"));
+  d.camera.width = 32, d.camera.height = 24;
+  PreprocessOptions po = defaultOptions(d);
+  po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+  const RenderScene plain(d, d.settings.patchSize), withTable(d, preprocessScene(d, po));
+  ASSERT_FALSE(withTable.firstShot()->replacedLights.empty());
+  auto a = makeIntegrator("light", IntegratorOptions()), b = makeIntegrator("light", IntegratorOptions());
+  a->preprocess(withTable);
+  b->preprocess(plain);
+  expectBlocksAgree("many-lights with and without a table", blockMeans(*a, withTable, 300, 2), blockMeans(*b, plain, 300));
 }
 
 // f(ωi, ωo) = f(ωo, ωi) for the non-delta BSDFs, on random pairs of directions (both hemispheres).

@@ -65,7 +65,7 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
       Splat s;
       if (!connect(v, camera, s.pixel, s.L, rays)) continue;
       s.L *= invN;
-      if (isFinite(s.L)) out.push_back(s);
+      out.push_back(s);  // the renderer counts and drops non-finite ones
     }
   }
 }
