@@ -34,6 +34,7 @@ METHODS = [
     # The irradiance cache at 4 spp (its records, not the camera samples, carry the indirect light);
     # a pair of runs with different seeds has different records, so record noise is in the measure.
     ("irradiance cache", False, ["--integrator", "irradiance-cache", "--spp", "4"]),
+    ("light tracing (one particle per pixel per pass)", False, ["--integrator", "light"]),
     ("irradiance cache + first-shot, no patch NEE in gathers", True,
      ["--integrator", "irradiance-cache", "--spp", "4", "--ic-patch-nee", "0"]),
     ("irradiance cache + first-shot, patch NEE in gathers (0.5)", True,

@@ -9,6 +9,7 @@
 
 #include "common/math.h"
 #include "common/rng.h"
+#include "render/camera.h"
 #include "render/light_sampler.h"
 #include "render/ray.h"
 #include "render/render_scene.h"
@@ -56,6 +57,12 @@ struct IntegratorRecord {
   float radius = 0.0f;            ///< radius of validity, m
 };
 
+/// A contribution a splatting integrator adds to one pixel in one pass.
+struct Splat {
+  uint32_t pixel = 0;  ///< y·width + x
+  Color L{0.0f};       ///< added to the pixel's estimate of the pass, W/(m² sr)
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -69,6 +76,18 @@ class Integrator {
   virtual bool hasRecords() const { return false; }
   /// The records stored so far, for display. The preview calls it between render passes only.
   virtual std::vector<IntegratorRecord> records() const { return {}; }
+
+  /// Splatting integrators (light tracing): each pass, besides one Li() per pixel, traces
+  /// particlesPerPass() particles whose splats are summed into the pass's pixel estimates
+  /// (render/splat_renderer.h). False by default.
+  virtual bool splats() const { return false; }
+  /// Particles per pass for @p camera.
+  virtual uint64_t particlesPerPass(const Camera& /*camera*/) const { return 0; }
+  /// Traces particles [begin, end) of pass @p pass, each keyed by (seed, particle, pass), appending
+  /// their splats to @p out in particle order. Thread-safe. @p rays counts the rays traced. The
+  /// renderer drops (and counts in RenderStats::nonFinite) splats that are NaN or Inf.
+  virtual void splatParticles(const Camera& /*camera*/, uint64_t /*seed*/, uint64_t /*pass*/, uint64_t /*begin*/,
+                              uint64_t /*end*/, std::vector<Splat>& /*out*/, uint64_t& /*rays*/) const {}
 };
 
 /// The names makeIntegrator accepts, in the order the preview offers them (keys 1, 2, ...).

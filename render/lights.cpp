@@ -91,17 +91,8 @@ bool LightSet::sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightR
       out.value = l.irradiance;
       return maxComponent(out.value) > 0.0f;
     case LightType::Area: {
-      if (l.cdf.empty() || !(l.area > 0)) return false;
-      // Choose a triangle by area, then reuse the remainder of u.x inside it.
-      const auto it = std::upper_bound(l.cdf.begin(), l.cdf.end(), u.x);
-      const size_t t = std::min(static_cast<size_t>(it - l.cdf.begin()), l.cdf.size() - 1);
-      const float lo = t > 0 ? l.cdf[t - 1] : 0.0f, hi = l.cdf[t];
-      const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
-      const EmitterMesh& m = meshes_[l.emitter];
-      const Vec3 a = m.vertices[m.indices[3 * t]], b = m.vertices[m.indices[3 * t + 1]], c = m.vertices[m.indices[3 * t + 2]];
-      const Vec3 bary = squareToUniformTriangle(Vec2(ux, u.y));
-      const Vec3 y = bary.x * a + bary.y * b + bary.z * c;
-      const Vec3 n = glm::normalize(glm::cross(b - a, c - a));
+      Vec3 y, n;
+      if (!samplePoint(l, u, y, n)) return false;
       const Vec3 d = y - x;
       const float dist2 = glm::dot(d, d);
       if (!(dist2 > 0.0f)) return false;
@@ -115,6 +106,21 @@ bool LightSet::sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightR
     }
   }
   return false;
+}
+
+bool LightSet::samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n) const {
+  if (l.type != LightType::Area || l.cdf.empty() || !(l.area > 0)) return false;
+  // Choose a triangle by area, then reuse the remainder of u.x inside it.
+  const auto it = std::upper_bound(l.cdf.begin(), l.cdf.end(), u.x);
+  const size_t t = std::min(static_cast<size_t>(it - l.cdf.begin()), l.cdf.size() - 1);
+  const float lo = t > 0 ? l.cdf[t - 1] : 0.0f, hi = l.cdf[t];
+  const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
+  const EmitterMesh& m = meshes_[l.emitter];
+  const Vec3 a = m.vertices[m.indices[3 * t]], b = m.vertices[m.indices[3 * t + 1]], c = m.vertices[m.indices[3 * t + 2]];
+  const Vec3 bary = squareToUniformTriangle(Vec2(ux, u.y));
+  y = bary.x * a + bary.y * b + bary.z * c;
+  n = glm::normalize(glm::cross(b - a, c - a));
+  return true;
 }
 
 Color LightSet::emitted(uint32_t emitter, const Vec3& ng, const Vec3& wo) const {

@@ -60,6 +60,10 @@ class LightSet {
   ///         light, degenerate geometry); out is then unspecified.
   bool sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightRecord& out) const;
 
+  /// A point of area light @p l, uniform by area, from @p u ∈ [0,1)²: position @p y (m) and the
+  /// front side's unit normal @p n. @return false for a light without area.
+  bool samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n) const;
+
   /// Radiance leaving emitter @p emitter at a point with geometric normal @p ng towards @p wo
   /// (unit, pointing away from the emitter): Le on the front side, 0 behind.
   Color emitted(uint32_t emitter, const Vec3& ng, const Vec3& wo) const;

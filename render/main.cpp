@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
     std::string screenshot, windowGrab;
     app.add_option("scene", scenePath, "scene file (.json, .obj, .gltf, .glb, .ply)")->required();
     app.add_option("--firstshot", fsdPath, "first-shot table from firstshot-preprocess (.fsd)");
-    app.add_option("--integrator", integratorName, "integrator: path | irradiance-cache")->capture_default_str();
+    app.add_option("--integrator", integratorName, "integrator: path | irradiance-cache | light (light tracing, "
+                                                   "docs/light-tracing.md)")->capture_default_str();
     app.add_option("--primary", primary, "with --firstshot, camera-visible surfaces: exact (shadow rays to small lights) "
                                          "or patch (first-shot there too)")
         ->check(CLI::IsMember({"exact", "patch"}))->capture_default_str();

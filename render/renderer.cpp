@@ -13,6 +13,7 @@
 #include "common/progress.h"
 #include "common/rng.h"
 #include "render/embree_scene.h"
+#include "render/splat_renderer.h"
 
 namespace fs {
 
@@ -56,6 +57,7 @@ void renderTile(const Integrator& integrator, const Camera& camera, Film& film, 
 RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options) {
   if (film.width() != camera.width() || film.height() != camera.height())
     throw std::invalid_argument("render: film and camera sizes differ");
+  if (integrator.splats()) return renderSplatting(integrator, camera, film, options);
   const std::vector<Tile> tiles = makeTiles(camera.width(), camera.height(), std::max(1, options.tileSize));
   const uint64_t pixels = uint64_t(camera.width()) * uint64_t(camera.height());
   std::atomic<uint64_t> rays{0}, nonFinite{0};

@@ -38,6 +38,8 @@ METHODS = {
                                "irradiance cache, no first-shot (not a baseline: shown for comparison)"),
     "irradiance-cache+firstshot": Method("irradiance-cache", ["--light-sampler", "all"] + IC_ARGS, True, False,
                                          "irradiance cache with first-shot"),
+    "light": Method("light", [], False, False,
+                    "light tracing (shooting, docs/light-tracing.md; not a baseline: shown for comparison)"),
 }
 DEFAULT_METHODS = list(METHODS)
 

@@ -1,0 +1,120 @@
+// The deterministic render loop of splatting integrators.
+#include "render/splat_renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+
+#include "common/progress.h"
+#include "common/rng.h"
+#include "render/embree_scene.h"
+
+namespace fs {
+
+namespace {
+
+/// One pass: the particles' splats summed in particle order, then one film sample per pixel.
+/// @return false if cancelled (the film is then untouched).
+bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options,
+               uint64_t pass, tbb::task_arena& arena, std::atomic<uint64_t>& rays, std::atomic<uint64_t>& nonFinite) {
+  const int w = camera.width(), h = camera.height();
+  const uint64_t n = integrator.particlesPerPass(camera);
+  const size_t chunks = size_t((n + kSplatChunk - 1) / kSplatChunk);
+  std::vector<std::vector<Splat>> splats(chunks);
+  std::atomic<bool> cancelled{false};
+  auto stop = [&] { return options.cancel && options.cancel->load(std::memory_order_relaxed); };
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const tbb::blocked_range<size_t>& r) {
+      enableFlushToZero();
+      for (size_t c = r.begin(); c < r.end(); ++c) {
+        if (stop()) {
+          cancelled = true;
+          continue;
+        }
+        uint64_t chunkRays = 0;
+        integrator.splatParticles(camera, options.seed, pass, c * kSplatChunk, std::min(n, (c + 1) * kSplatChunk),
+                                  splats[c], chunkRays);
+        rays += chunkRays;
+      }
+    });
+  });
+  if (cancelled) return false;
+
+  std::vector<Vec3d> image(size_t(w) * size_t(h), Vec3d(0.0));
+  uint64_t badSplats = 0;
+  for (const std::vector<Splat>& chunk : splats)  // fixed order: the sums do not depend on the threads
+    for (const Splat& s : chunk) {
+      if (isFinite(s.L)) image[s.pixel] += Vec3d(s.L);
+      else ++badSplats;
+    }
+  nonFinite += badSplats;
+  splats.clear();
+
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& r) {
+      enableFlushToZero();
+      uint64_t rowRays = 0, rowBad = 0;
+      for (int y = r.begin(); y < r.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          const uint64_t pixel = uint64_t(y) * uint64_t(w) + uint64_t(x);
+          Sampler sampler(options.seed, pixel, pass);
+          const Vec2 jitter = sampler.next2D();
+          SampleInfo info;
+          Color L = integrator.Li(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, &info);
+          rowRays += info.rays;
+          if (!isFinite(L)) ++rowBad, L = Color(0.0f);
+          film.add(x, y, Color(image[pixel]) + L, info.albedo, info.normal);
+        }
+      rays += rowRays;
+      nonFinite += rowBad;
+    });
+  });
+  return true;
+}
+
+}  // namespace
+
+RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options) {
+  const uint64_t pixels = uint64_t(camera.width()) * uint64_t(camera.height());
+  std::atomic<uint64_t> rays{0}, nonFinite{0};
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+
+  RenderStats stats;
+  const bool timed = options.timeLimit > 0;
+  const int spp = std::max(1, options.spp);
+  const uint64_t budgetMs = uint64_t(options.timeLimit * 1000.0);
+  Progress progress("render", timed ? budgetMs : pixels * uint64_t(spp), options.quiet);
+  uint64_t shownMs = 0;
+  int s = options.firstSample;
+  while (true) {
+    if (!splatPass(integrator, camera, film, options, uint64_t(s), arena, rays, nonFinite)) {
+      stats.cancelled = true;
+      break;
+    }
+    ++s;
+    if (timed) {
+      const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
+      progress.advance(nowMs - shownMs);
+      shownMs = nowMs;
+      if (seconds() >= options.timeLimit) break;
+    } else {
+      progress.advance(pixels);
+      if (s - options.firstSample >= spp) break;
+    }
+  }
+  progress.finish();
+  stats.spp = s - options.firstSample;
+  stats.seconds = seconds();
+  stats.rays = rays;
+  stats.nonFinite = nonFinite;
+  stats.cameraSamples = pixels * uint64_t(stats.spp);
+  return stats;
+}
+
+}  // namespace fs

@@ -1,0 +1,255 @@
+// Light tracing (--integrator light): images against path tracing per 8×8 block, reciprocity of
+// the BSDFs and of one transport path, bit-identical images for any thread count, and the CLI.
+#include <gtest/gtest.h>
+
+#include <fmt/core.h>
+
+#include "common/sampling.h"
+#include "preprocess/preprocessor.h"
+#include "tests/light_tracing_util.h"
+#include "tests/render_util.h"
+#include "tests/test_util.h"
+
+using namespace fs;
+
+namespace {
+
+constexpr int kBlock = 8;
+
+/// Per-pass gray means of every kBlock × kBlock block of @p scene rendered by @p integrator:
+/// pass k is render() with firstSample = k and one sample, so the passes are independent samples.
+std::vector<test::Moments> blockMeans(const Integrator& integrator, const RenderScene& scene, int passes, uint64_t seed = 1) {
+  const Camera camera(scene.desc().camera);
+  const int w = camera.width(), h = camera.height(), bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
+  std::vector<test::Moments> blocks(size_t(bw) * bh);
+  for (int k = 0; k < passes; ++k) {
+    Film film(w, h);
+    RenderOptions ro;
+    ro.spp = 1;
+    ro.firstSample = k;
+    ro.seed = seed;
+    render(integrator, camera, film, ro);
+    std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t b = size_t(y / kBlock) * bw + size_t(x / kBlock);
+        const Vec3d m = film.mean(x, y);
+        sum[b] += (m.x + m.y + m.z) / 3.0, count[b] += 1;
+      }
+    for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
+  }
+  return blocks;
+}
+
+/// Two integrators' per-pass block means: every block within 3σ of the difference.
+void expectBlocksAgree(const std::string& name, const std::vector<test::Moments>& a, const std::vector<test::Moments>& b) {
+  double worst = 0, worstRel = 0;
+  for (size_t k = 0; k < a.size(); ++k) {
+    const double se = std::hypot(a[k].se(), b[k].se()), z = std::abs(a[k].mean() - b[k].mean()) / se;
+    worst = std::max(worst, z);
+    worstRel = std::max(worstRel, se / b[k].mean());
+    EXPECT_LT(z, 3.0) << name << " block " << k << ": " << a[k].mean() << " ± " << a[k].se() << " against "
+                      << b[k].mean() << " ± " << b[k].se();
+  }
+  fmt::print("{}: {} blocks, worst {:.2f}σ, largest relative σ {:.2f}%\n", name, a.size(), worst, 100 * worstRel);
+  EXPECT_LT(worstRel, 0.05) << name << ": too noisy to test";
+}
+
+/// Light tracing against path tracing on @p d at 32×24: every block within 3σ of the difference.
+void expectImagesAgree(const std::string& name, SceneDesc d, int ltPasses, int ptPasses) {
+  d.camera.width = 32, d.camera.height = 24;
+  const RenderScene scene(d, d.settings.patchSize);
+  IntegratorOptions io;
+  io.maxDepth = d.settings.maxDepth;
+  auto lt = makeIntegrator("light", io), pt = makeIntegrator("path", io);
+  lt->preprocess(scene);
+  pt->preprocess(scene);
+  expectBlocksAgree(name, blockMeans(*lt, scene, ltPasses), blockMeans(*pt, scene, ptPasses));
+}
+
+void expectImagesAgree(const std::string& name, int ltPasses, int ptPasses) {
+  expectImagesAgree(name, loadScene(test::source("scenes/" + name + ".json")), ltPasses, ptPasses);
+}
+
+}  // namespace
+
+// The area light of the Cornell box is seen directly: light tracing draws it by connecting the
+// particles' first vertex (on the light) to the camera, so no block is left out.
+TEST(LightTracing, CornellImageAgreesWithPathTracing) { expectImagesAgree("cornell", 600, 300); }
+TEST(LightTracing, ManyLightsImageAgreesWithPathTracing) { expectImagesAgree("many-lights", 600, 300); }
+TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) { expectImagesAgree("sierpinski-glossy", 600, 300); }
+
+// Delta surfaces: a mirror and a glass block seen by the camera (their pixels are path traced)
+// and the glass's caustic on the floor (light tracing carries it through the adjoint refraction;
+// path tracing finds it only when a BSDF sample meets the light).
+TEST(LightTracing, MirrorAndGlassAgreeWithPathTracing) {
+  expectImagesAgree("mirror-glass", test::sceneFromJson(R"({"materials": {
+      "white": {"type": "diffuse", "albedo": 0.7}, "red": {"type": "diffuse", "albedo": [0.7, 0.2, 0.1]},
+      "mirror": {"type": "mirror", "specular": 0.9}, "glass": {"type": "dielectric", "ior": 1.5},
+      "lamp": {"type": "diffuse", "emission": [6, 5, 4]}},
+    "shapes": [{"type": "box", "material": "white", "min": [0,0,0], "max": [2,1.5,2], "flip_normals": true},
+               {"type": "quad", "material": "red", "vertices": [[0.01,0,0.2],[0.01,0,1.8],[0.01,1.5,1.8],[0.01,1.5,0.2]]},
+               {"type": "quad", "material": "mirror", "vertices": [[1.99,0.2,1.8],[1.99,0.2,0.6],[1.99,1.2,0.6],[1.99,1.2,1.8]]},
+               {"type": "box", "material": "glass", "min": [0.7,0.3,0.9], "max": [1.2,0.6,1.4]},
+               {"type": "quad", "material": "lamp", "vertices": [[0.7,1.49,0.8],[1.3,1.49,0.8],[1.3,1.49,1.4],[0.7,1.49,1.4]]}],
+    "camera": {"position": [0.6, 0.9, 0.05], "look_at": [1.3, 0.5, 1.5], "fov_y": 70, "resolution": [32, 24]},
+    "settings": {"patch_size": 0.5, "max_depth": 8}})"), 600, 300);
+}
+
+// With a first-shot table the small lights stay lights for shooting: the same image as without.
+TEST(LightTracing, FirstShotTableLeavesTheImageUnchanged) {
+  SceneDesc d = loadScene(test::source("scenes/many-lights.json"));
+  d.camera.width = 32, d.camera.height = 24;
+  PreprocessOptions po = defaultOptions(d);
+  po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+  const RenderScene plain(d, d.settings.patchSize), withTable(d, preprocessScene(d, po));
+  ASSERT_FALSE(withTable.firstShot()->replacedLights.empty());
+  auto a = makeIntegrator("light", IntegratorOptions()), b = makeIntegrator("light", IntegratorOptions());
+  a->preprocess(withTable);
+  b->preprocess(plain);
+  expectBlocksAgree("many-lights with and without a table", blockMeans(*a, withTable, 300, 2), blockMeans(*b, plain, 300));
+}
+
+// f(ωi, ωo) = f(ωo, ωi) for the non-delta BSDFs, on random pairs of directions (both hemispheres).
+TEST(LightTracing, BsdfsAreReciprocal) {
+  const std::vector<BSDF> bsdfs = {LambertBRDF{Color(0.7f, 0.5f, 0.2f)},
+                                   StretchedPhongBRDF(Color(0.2f), Color(0.5f, 0.4f, 0.3f), 3.0f),
+                                   StretchedPhongBRDF(Color(0.05f), Color(2.0f), 40.0f)};
+  Sampler s(1, 2, 3);
+  int nonZero = 0;
+  for (const BSDF& bsdf : bsdfs)
+    for (int i = 0; i < 2000; ++i) {
+      const Vec3 a = squareToUniformSphere(s.next2D()), b = squareToUniformSphere(s.next2D());
+      for (TransportMode mode : {TransportMode::Radiance, TransportMode::Importance}) {
+        const Color f = bsdf.eval(BSDFQuery(a, b, mode)), g = bsdf.eval(BSDFQuery(b, a, mode));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], g[c], 1e-5f * std::max(1.0f, f[c]));
+        nonZero += maxComponent(f) > 0.0f;
+      }
+    }
+  EXPECT_GT(nonZero, 3000);  // about half the pairs lie on one side
+}
+
+// One path light → x1 → x2 → camera (area light, glossy x1, diffuse x2): the light tracer's
+// connection of x2, with the particle's throughput in area measure, weighs the same as the
+// camera's side: W_e·G(camera, x2)·f(x2)·G(x2, x1)·f(x1)·G(x1, y)·Le, with W_e from the camera's
+// field of view (1/(A_pixel cos⁴θ)) and the BSDFs evaluated in the gathering direction.
+TEST(LightTracing, TransportPathWeighsTheSameBothWays) {
+  SceneDesc d = test::sceneFromJson(R"({"materials": {"d": {"type": "diffuse", "albedo": [0.6, 0.5, 0.4]},
+      "g": {"type": "glossy", "albedo": 0.2, "specular": 0.5, "exponent": 8}, "lamp": {"type": "diffuse", "emission": [5, 4, 3]}},
+    "shapes": [{"type": "quad", "material": "d", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]},
+               {"type": "quad", "material": "g", "vertices": [[1.5,-1,-1],[1.5,1,-1],[1.5,1,1],[1.5,-1,1]]},
+               {"type": "quad", "material": "lamp", "vertices": [[-0.1,2,-0.1],[0.1,2,-0.1],[0.1,2,0.1],[-0.1,2,0.1]]}],
+    "camera": {"position": [0, 1, -3], "look_at": [0, 0, 0], "fov_y": 50, "resolution": [40, 30]}})");
+  const RenderScene scene(d, 0.5);
+  LightTracingIntegrator lt{IntegratorOptions()};
+  lt.preprocess(scene);
+  const Camera camera(d.camera);
+  const Vec3 y(0.02f, 2.0f, 0.01f), ny(0, -1, 0), x1(1.5f, 0.6f, 0.2f), n1(-1, 0, 0), x2(0.3f, 0.0f, -0.2f), n2(0, 1, 0);
+  const Vec3 c = camera.position();
+  auto G = [](const Vec3& a, const Vec3& na, const Vec3& b, const Vec3& nb) {
+    const Vec3 ab = b - a;
+    const float d2 = glm::dot(ab, ab), len = std::sqrt(d2);
+    return std::abs(glm::dot(na, ab) / len) * std::abs(glm::dot(nb, ab) / len) / d2;
+  };
+  auto f = [&](const Vec3& n, const Vec3& towardsLight, const Vec3& towardsEye, const char* m) {
+    const Frame fr(n);
+    return scene.bsdf(uint32_t(d.findMaterial(m))).eval(BSDFQuery(fr.toLocal(glm::normalize(towardsLight)),
+                                                                   fr.toLocal(glm::normalize(towardsEye))));
+  };
+  const Color Le(5, 4, 3);
+  // Light side: the particle's throughput at x2, then the light tracer's connection.
+  LightVertex v;
+  v.hit.p = x2, v.hit.ng = n2, v.hit.patch = 0, v.hit.eps = 1e-5f;
+  v.wi = glm::normalize(x1 - x2);
+  v.material = uint32_t(d.findMaterial("d"));
+  v.beta = Le * G(y, ny, x1, n1) * f(n1, y - x1, x2 - x1, "g") * G(x1, n1, x2, n2);
+  uint32_t pixel = 0;
+  Color light(0.0f);
+  uint64_t rays = 0;
+  ASSERT_TRUE(lt.connect(v, camera, pixel, light, rays));
+  // Camera side, from the camera's own description.
+  const Vec3 wc = glm::normalize(x2 - c), fwd = glm::normalize(Vec3(d.camera.lookAt) - c);
+  const float cosC = glm::dot(wc, fwd), tanHalf = std::tan(glm::radians(float(d.camera.fovYDeg)) * 0.5f);
+  const float aPixel = (2 * tanHalf) * (2 * tanHalf * 40.0f / 30.0f) / (40.0f * 30.0f);
+  const float We = 1.0f / (aPixel * std::pow(cosC, 4.0f));
+  const float cameraG = cosC * std::abs(glm::dot(n2, wc)) / glm::dot(x2 - c, x2 - c);
+  const Color eye = We * cameraG * f(n2, x1 - x2, c - x2, "d") * G(x2, n2, x1, n1) * f(n1, y - x1, x2 - x1, "g") *
+                    G(x1, n1, y, ny) * Le;
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(light[k], eye[k], 1e-4f * eye[k]);
+  EXPECT_GT(maxComponent(eye), 0.0f);
+  // And the pixel is the one the camera ray through x2 starts in.
+  Hit hit;
+  const Ray r = camera.generateRay(float(pixel % 40) + 0.5f, float(pixel / 40) + 0.5f);
+  ASSERT_TRUE(scene.intersect(r, hit));
+  EXPECT_LT(glm::length(hit.p - x2), 0.3f);
+}
+
+// The image does not depend on the number of threads, and passes rendered one at a time give
+// the film of one render.
+TEST(LightTracing, BitIdenticalForOneAndTwoThreadsAndByPasses) {
+  SceneDesc d = loadScene(test::source("scenes/cornell.json"));
+  d.camera.width = 40, d.camera.height = 30;  // 1200 particles a pass: two chunks
+  const RenderScene scene(d, d.settings.patchSize);
+  auto lt = makeIntegrator("light", IntegratorOptions());
+  lt->preprocess(scene);
+  const auto one = test::renderWith(*lt, scene, 3, 1, 1), two = test::renderWith(*lt, scene, 3, 1, 2);
+  const Camera camera(d.camera);
+  Film passes(40, 30);
+  for (int k = 0; k < 3; ++k) {
+    RenderOptions ro;
+    ro.spp = 1, ro.firstSample = k, ro.threads = 2;
+    render(*lt, camera, passes, ro);
+  }
+  double sum = 0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      EXPECT_EQ(one.film.mean(x, y), two.film.mean(x, y));
+      EXPECT_EQ(one.film.variance(x, y), two.film.variance(x, y));
+      EXPECT_EQ(one.film.mean(x, y), passes.mean(x, y));
+      EXPECT_EQ(one.film.samples(x, y), 3u);
+      sum += one.film.mean(x, y).x;
+    }
+  EXPECT_GT(sum, 0.0);
+  EXPECT_EQ(one.stats.spp, 3);
+  EXPECT_GT(one.stats.rays, uint64_t(3 * 1200));
+}
+
+TEST(LightTracing, CommandLine) {
+  const std::string exe = FIRSTSHOT_RENDER_EXE, scene = test::source("scenes/cornell.json"), dir = test::tempDir();
+  const auto ok = test::run(exe + " " + scene + " --integrator light --spp 2 --width 24 --height 20 --aov -o " + dir +
+                            "/l.exr -o " + dir + "/l.png");
+  ASSERT_EQ(ok.exitCode, 0) << ok.output;
+  int w = 0, h = 0;
+  std::vector<std::string> channels;
+  const auto img = Film::read(dir + "/l.exr", w, h, channels);
+  EXPECT_EQ(channels.size(), 9u);
+  EXPECT_EQ(w, 24);
+  const auto timed = test::run(exe + " " + scene + " --integrator light --time 0.2 --width 24 --height 20 -q -o " + dir + "/t.exr");
+  EXPECT_EQ(timed.exitCode, 0) << timed.output;
+  for (const std::string bad : {" --integrator light --spp 0", " --integrator light --accuracy 0.2", " --integrator lite",
+                                " --integrator light --max-depth -1"}) {
+    const auto r = test::run(exe + " " + scene + bad + " -q -o " + dir + "/bad.exr");
+    EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
+  }
+}
+
+// The preview renders light tracing pass by pass: its scripted run gives the offline film.
+TEST(LightTracing, PreviewEqualsOfflineRender) {
+  if (test::run("command -v xvfb-run").exitCode != 0) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string exe = FIRSTSHOT_RENDER_EXE, dir = test::tempDir();
+  const std::string common = test::source("scenes/cornell.json") + " --integrator light --width 32 --height 24";
+  const auto offline = test::run(exe + " " + common + " --spp 3 -q -o " + dir + "/off.exr");
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  test::CommandResult preview;
+  for (int attempt = 0; attempt < 4; ++attempt) {  // two servers started at once may pick one display: retry
+    preview = test::run("env ASAN_OPTIONS=\"${ASAN_OPTIONS}:detect_leaks=0\" xvfb-run -a -s \"-screen 0 1024x768x24\" " +
+                        exe + " " + common + " --preview --frames 3 --screenshot " + dir + "/shot.png");
+    if (preview.output.find("Xvfb failed to start") == std::string::npos) break;
+  }
+  ASSERT_EQ(preview.exitCode, 0) << preview.output;
+  int w = 0, h = 0;
+  std::vector<std::string> channels;
+  const auto a = Film::read(dir + "/off.exr", w, h, channels), b = Film::read(dir + "/shot.exr", w, h, channels);
+  EXPECT_EQ(a, b);
+  EXPECT_GT(*std::max_element(a.begin(), a.end()), 0.0f);
+}
