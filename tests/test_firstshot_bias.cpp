@@ -311,8 +311,8 @@ TEST(FirstShotBias, DISABLED_Measure) {
       if (std::getenv("FSBIAS_WORSTPOINT")) {  // the patches that lose most, with their table entries
         std::vector<uint32_t> order(n);
         for (uint32_t j = 0; j < n; ++j) order[j] = j;
-        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-          return t.mesh.patches[a].area * dm[a] < t.mesh.patches[b].area * dm[b];
+        std::sort(order.begin(), order.end(), [&](uint32_t ja, uint32_t jb) {
+          return t.mesh.patches[ja].area * dm[ja] < t.mesh.patches[jb].area * dm[jb];
         });
         for (int k = 0; k < std::atoi(std::getenv("FSBIAS_WORSTPOINT")); ++k) {
           const uint32_t j = order[size_t(k)];
@@ -320,8 +320,8 @@ TEST(FirstShotBias, DISABLED_Measure) {
           for (uint64_t f = t.rowStart[j]; f < t.rowStart[j + 1]; ++f) {  // each factor against its own exact average
             const LightSample& ls = t.samples[t.sampleIndex[f]];
             double ex = 0, un = 0;
-            const int m = 400;
-            for (int q = 0; q < m; ++q) {
+            const int points = 400;
+            for (int q = 0; q < points; ++q) {
               Sampler sq(7, j, uint64_t(q));
               const Vec3 x = test::samplePatch(p, sq.next2D());
               const Color c = test::unoccludedSampleIrradiance(ls, x, p.normal, &desc.lights[ls.light]);
@@ -333,7 +333,7 @@ TEST(FirstShotBias, DISABLED_Measure) {
             }
             const Color e = ls.emission * t.factor[f];
             fmt::print("      sample {} ({}): table {:.4g}  exact {:.4g}  unoccluded {:.4g}  V {:.4f}\n", t.sampleIndex[f],
-                       desc.lights[ls.light].name, (double(e.x) + e.y + e.z) / 3.0, ex / m, un / m,
+                       desc.lights[ls.light].name, (double(e.x) + e.y + e.z) / 3.0, ex / points, un / points,
                        t.visible.empty() ? -1.0 : double(t.visible[f]));
           }
           fmt::print("    patch {} shape {} area {:.4f} centroid ({:.2f} {:.2f} {:.2f}): {:+.4f}% (exact mean {:.4g}, diff {:.4g} ± {:.2g})\n",
