@@ -69,6 +69,13 @@ class Integrator {
   virtual bool hasRecords() const { return false; }
   /// The records stored so far, for display. The preview calls it between render passes only.
   virtual std::vector<IntegratorRecord> records() const { return {}; }
+  /// True for integrators with a global state per sample index (ray-bundle stochastic iteration):
+  /// render() then takes one sample per pixel per pass and calls beginPass() before each pass.
+  virtual bool perPass() const { return false; }
+  /// Called by render() before the camera samples of sample index @p sampleIndex, inside the
+  /// render's thread arena and never while Li() runs: the integrator may update its (mutable)
+  /// per-pass state here. Default: nothing.
+  virtual void beginPass(int /*sampleIndex*/, uint64_t /*seed*/) const {}
 };
 
 /// The names makeIntegrator accepts, in the order the preview offers them (keys 1, 2, ...).
