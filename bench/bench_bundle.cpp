@@ -5,13 +5,15 @@
 // one; run each case in its own process to read its peak RSS):
 //   build/dev/bench/bench_bundle --benchmark_filter='BM_BundleIteration/1/'   (≈1.2 M patches)
 // Counters: patches, lines per iteration, hits per line, state (the per-element arrays, MB),
-// deposits (the per-line exchange records kept for the ordered gather, MB), peak RSS (MB).
+// peak RSS and the RSS the integrator added on top of the scene (MB).
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
+#include <unistd.h>
 #include <tbb/task_arena.h>
 
 #include <fmt/core.h>
 
+#include <cstdio>
 #include <map>
 #include <memory>
 
@@ -39,6 +41,16 @@ SceneDesc room() {
 /// Patch sizes by index: ≈ 600, 10 k, 150 k patches; index 1 is ≥ 1 M.
 constexpr double kPatchSizes[] = {0.2, 0.0045, 0.05, 0.0125};
 
+/// Resident set size now, MB (/proc/self/statm).
+double rssMb() {
+  long pages = 0, resident = 0;
+  if (FILE* f = std::fopen("/proc/self/statm", "r")) {
+    if (std::fscanf(f, "%ld %ld", &pages, &resident) != 2) resident = 0;
+    std::fclose(f);
+  }
+  return double(resident) * double(sysconf(_SC_PAGESIZE)) / 1e6;
+}
+
 double peakRssMb() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
@@ -51,6 +63,7 @@ void BM_BundleIteration(benchmark::State& state) {
   static std::map<double, std::unique_ptr<RenderScene>> scenes;  // built once per patch size
   auto& scene = scenes[patchSize];
   if (!scene) scene = std::make_unique<RenderScene>(room(), patchSize);
+  const double sceneRss = rssMb();
   BundleIntegrator bundle(IntegratorOptions{});
   BundleSettings settings;
   settings.resolution = B;
@@ -72,6 +85,7 @@ void BM_BundleIteration(benchmark::State& state) {
   state.counters["hits/line"] = double(rays) / double(k) / lines - 1.0;  // the last ray of a line misses
   state.counters["state_MB"] = elements * (2 * 5 * sizeof(Color) + sizeof(BundleElement)) / 1e6;
   state.counters["peak_RSS_MB"] = peakRssMb();
+  state.counters["bundle_RSS_MB"] = rssMb() - sceneRss;  // what the integrator and its iterations added
 }
 
 }  // namespace

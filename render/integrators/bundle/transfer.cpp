@@ -71,6 +71,15 @@ Color BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w) const {
   }
   const BSDF& bsdf = scene.bsdf(el.material);
   if (bsdf.hasDelta() || maxComponent(bsdf.albedo()) <= 0.0f) return L;
+  const FirstShotTable* table = scene.firstShot();
+  const bool firstShot = table && e < table->mesh.size();
+  if (bsdf.isDiffuse()) {  // f = ρ/π for every direction on side s: the sum of irradiances, no frames
+    Color E = (2.0f * kPiF) * (prevIncoming_[slot] + prevPoint_[slot]);
+    if (firstShot) E += sideIrradiance_[slot];
+    for (size_t d = 0; d < directional_.size(); ++d)
+      if (sideFacing(el.normal, -scene.lights().lights()[directional_[d]].direction) == side) E += directionalIrradiance(d, e);
+    return L + bsdf.albedo() * kInvPiF * E;
+  }
   const Frame frame(el.normal);
   const Vec3 wo = frame.toLocal(w);
   // What the previous iteration brought, from ±ω_{k−1} on this side.
@@ -81,17 +90,12 @@ Color BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w) const {
     L += (2.0f * kPiF) * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo)) * in;
   }
   // First-shot: the patch average per light sample, directions from the centroid.
-  const FirstShotTable* table = scene.firstShot();
-  if (table && e < table->mesh.size()) {
-    if (bsdf.isDiffuse()) {
-      L += bsdf.eval(BSDFQuery(Vec3(0.0f, 0.0f, side == 0 ? 1.0f : -1.0f), wo)) * sideIrradiance_[slot];
-    } else {
-      const Vec3 c = table->mesh.patches[e].centroid;
-      for (uint64_t k = table->rowStart[e]; k < table->rowStart[e + 1]; ++k) {
-        const LightSample& s = table->samples[table->sampleIndex[k]];
-        const Vec3 wi = s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - c);
-        L += s.emission * table->factor[k] * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
-      }
+  if (firstShot) {
+    const Vec3 c = table->mesh.patches[e].centroid;
+    for (uint64_t k = table->rowStart[e]; k < table->rowStart[e + 1]; ++k) {
+      const LightSample& s = table->samples[table->sampleIndex[k]];
+      const Vec3 wi = s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - c);
+      L += s.emission * table->factor[k] * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
     }
   }
   for (size_t d = 0; d < directional_.size(); ++d) {

@@ -43,7 +43,7 @@
 namespace fs {
 
 struct BundleSettings {
-  int resolution = 256;  ///< B: lines per side of the grid (B² lines per bundle)
+  int resolution = 128;  ///< B: lines per side of the grid (B² lines per bundle); docs/bundle.md for the default
   BundleDirections directions = BundleDirections::Random;
 };
 
