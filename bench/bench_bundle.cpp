@@ -1,9 +1,9 @@
 // Ray-bundle stochastic iteration: the cost of one iteration (global transfer: outgoing radiance of
 // every element, B² lines with successive hits, ordered gathering) against the patch count and the
 // bundle resolution B, and the memory it needs. The scene: a closed 2 m room with a box and a
-// glossy block inside, its patch size chosen for ~600 to ~1.2 M patches (--benchmark_filter picks
+// glossy block inside, its patch size chosen for ~700 to ~1.3 M patches (--benchmark_filter picks
 // one; run each case in its own process to read its peak RSS):
-//   build/dev/bench/bench_bundle --benchmark_filter='BM_BundleIteration/1/'   (≈1.2 M patches)
+//   build/dev/bench/bench_bundle --benchmark_filter='BM_BundleIteration/scene:1/B:1024/'   (1.34 M patches)
 // Counters: patches, lines per iteration, hits per line, state (the per-element arrays, MB),
 // peak RSS and the RSS the integrator added on top of the scene (MB).
 #include <benchmark/benchmark.h>
@@ -38,8 +38,8 @@ SceneDesc room() {
                         "bench-room.json");
 }
 
-/// Patch sizes by index: ≈ 600, 10 k, 150 k patches; index 1 is ≥ 1 M.
-constexpr double kPatchSizes[] = {0.2, 0.0045, 0.05, 0.0125};
+/// Patch sizes by index: the room with ≈ 700, 1.3 M, 11 k, 173 k patches; 4: sierpinski-glossy.
+constexpr double kPatchSizes[] = {0.2, 0.0045, 0.05, 0.0125, 0.05};
 
 /// Resident set size now, MB (/proc/self/statm).
 double rssMb() {
@@ -62,11 +62,14 @@ void BM_BundleIteration(benchmark::State& state) {
   const int B = int(state.range(1));
   static std::map<double, std::unique_ptr<RenderScene>> scenes;  // built once per patch size
   auto& scene = scenes[patchSize];
-  if (!scene) scene = std::make_unique<RenderScene>(room(), patchSize);
+  if (!scene)  // scene 4: sierpinski-glossy, whose lines cross many surfaces
+    scene = std::make_unique<RenderScene>(
+        state.range(0) == 4 ? loadScene(std::string(FIRSTSHOT_SOURCE_DIR) + "/scenes/sierpinski-glossy.json") : room(), patchSize);
   const double sceneRss = rssMb();
   BundleIntegrator bundle(IntegratorOptions{});
   BundleSettings settings;
   settings.resolution = B;
+  settings.allHits = state.range(3) != 0;
   bundle.setSettings(settings);
   bundle.preprocess(*scene);
   tbb::task_arena arena(int(state.range(2)));
@@ -91,11 +94,14 @@ void BM_BundleIteration(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_BundleIteration)
-    ->ArgNames({"scene", "B", "threads"})
-    ->Args({0, 64, 2})->Args({0, 256, 2})->Args({0, 1024, 2})
-    ->Args({2, 256, 2})->Args({3, 256, 2})
-    ->Args({1, 64, 2})->Args({1, 256, 2})->Args({1, 1024, 2})
-    ->Args({0, 256, 1})
+    ->ArgNames({"scene", "B", "threads", "allhits"})
+    ->Args({0, 64, 2, 0})->Args({0, 256, 2, 0})->Args({0, 1024, 2, 0})
+    ->Args({2, 256, 2, 0})->Args({3, 256, 2, 0})
+    ->Args({1, 64, 2, 0})->Args({1, 256, 2, 0})->Args({1, 1024, 2, 0})
+    ->Args({0, 256, 1, 0})
+    // successive closest hits (allhits:0) against one all-hits query per line (allhits:1)
+    ->Args({0, 1024, 1, 0})->Args({0, 1024, 1, 1})->Args({3, 1024, 1, 0})->Args({3, 1024, 1, 1})
+    ->Args({4, 512, 1, 0})->Args({4, 512, 1, 1})
     ->Unit(benchmark::kMillisecond)
     ->MinTime(0.5);
 

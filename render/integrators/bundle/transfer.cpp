@@ -172,19 +172,30 @@ void BundleTransfer::traceBundle(uint64_t seed) {
       int side;  ///< the side facing +ω_k
     };
     std::vector<Crossing> along;
+    std::vector<Hit> hits;
     uint64_t n = 0;
     Ray ray;
     Hit hit;
+    auto cross = [&](const Hit& h) {
+      const uint32_t e = elements_.index(h);
+      const int side = sideFacing(elements_[e].normal, dir_);
+      if (side >= 0 && (along.empty() || along.back().e != e)) along.push_back({e, side});
+    };
     for (int b = 0; b < B; ++b) {
       if (!grid.line(a, b, ray)) continue;
       along.clear();
-      for (int i = 0; i < kMaxHitsPerLine; ++i) {  // successive closest hits
+      if (settings_.allHits) {
         ++n;
-        if (!scene.intersect(ray, hit)) break;
-        const uint32_t e = elements_.index(hit);
-        const int side = sideFacing(elements_[e].normal, dir_);
-        if (side >= 0 && (along.empty() || along.back().e != e)) along.push_back({e, side});
-        ray.tmin = hit.t + hit.eps;
+        hits.clear();
+        scene.embree().allHits(ray, hits);
+        for (const Hit& h : hits) cross(h);
+      } else {
+        for (int i = 0; i < kMaxHitsPerLine; ++i) {  // successive closest hits
+          ++n;
+          if (!scene.intersect(ray, hit)) break;
+          cross(hit);
+          ray.tmin = hit.t + hit.eps;
+        }
       }
       for (size_t i = 0; i + 1 < along.size(); ++i) {
         const Crossing near = along[i], far = along[i + 1];

@@ -45,6 +45,10 @@ namespace fs {
 struct BundleSettings {
   int resolution = 128;  ///< B: lines per side of the grid (B² lines per bundle); docs/bundle.md for the default
   BundleDirections directions = BundleDirections::Random;
+  /// Find a line's surfaces with one all-hits query (EmbreeScene::allHits) instead of successive
+  /// closest hits (the default; measured faster, docs/bundle.md). The same state either way up to
+  /// hits closer together than the successive-hit offset.
+  bool allHits = false;
 };
 
 class BundleTransfer {
