@@ -38,6 +38,11 @@ METHODS = {
                                "irradiance cache, no first-shot (not a baseline: shown for comparison)"),
     "irradiance-cache+firstshot": Method("irradiance-cache", ["--light-sampler", "all"] + IC_ARGS, True, False,
                                          "irradiance cache with first-shot"),
+    "bundle": Method("bundle", [], False, False,
+                     "ray-bundle stochastic iteration, no first-shot: small lights emit through the bundle, NEE at "
+                     "camera-visible surfaces (not a baseline: the paper's plain method, docs/bundle.md)"),
+    "bundle+firstshot": Method("bundle", [], True, False,
+                               "ray-bundle stochastic iteration with incoming first-shot (the paper's §5)"),
 }
 DEFAULT_METHODS = list(METHODS)
 
