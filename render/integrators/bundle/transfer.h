@@ -43,7 +43,7 @@
 namespace fs {
 
 struct BundleSettings {
-  int resolution = 128;  ///< B: lines per side of the grid (B² lines per bundle); docs/bundle.md for the default
+  int resolution = 256;  ///< B: lines per side of the grid (B² lines per bundle); docs/bundle.md for the default
   BundleDirections directions = BundleDirections::Random;
   /// Find a line's surfaces with one all-hits query (EmbreeScene::allHits) instead of successive
   /// closest hits (the default; measured faster, docs/bundle.md). The same state either way up to
