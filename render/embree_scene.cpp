@@ -84,7 +84,8 @@ EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh
   rtcSetDeviceErrorFunction(m.device, onEmbreeError, &m.lastError);
   m.scene = rtcNewScene(m.device);
   // Robust: watertight edges between patches that share (bit-identical) vertices.
-  rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
+  // Context filters: allHits() collects every crossing in one traversal.
+  rtcSetSceneFlags(m.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
   rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
 
   // Patches: one quad primitive per patch (a triangle repeats its last vertex), so primID = patch ID.
@@ -170,6 +171,54 @@ bool EmbreeScene::occluded(const Ray& ray) const {
   RTCRay r = toRTC(ray);
   rtcOccluded1(impl_->scene, &context, &r);
   return r.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
+}
+
+namespace {
+
+/// An intersect context that carries the list allHits() fills (the context must come first).
+struct CollectContext {
+  RTCIntersectContext context;
+  std::vector<std::pair<float, uint64_t>>* hits;  ///< (t, geomID << 32 | primID)
+};
+
+void collectHit(const RTCFilterFunctionNArguments* args) {
+  auto* c = reinterpret_cast<const CollectContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const uint64_t id = (uint64_t(RTCHitN_geomID(args->hit, args->N, i)) << 32) | RTCHitN_primID(args->hit, args->N, i);
+    c->hits->emplace_back(RTCRayN_tfar(args->ray, args->N, i), id);
+    args->valid[i] = 0;  // reject: the traversal goes on to the next candidate
+  }
+}
+
+}  // namespace
+
+void EmbreeScene::allHits(const Ray& ray, std::vector<Hit>& out) const {
+  std::vector<std::pair<float, uint64_t>> hits;
+  CollectContext c;
+  rtcInitIntersectContext(&c.context);
+  c.context.filter = collectHit;
+  c.hits = &hits;
+  RTCRayHit rh = toRTCHit(ray);
+  rtcIntersect1(impl_->scene, &c.context, &rh);
+  std::sort(hits.begin(), hits.end());
+  for (size_t k = 0; k < hits.size(); ++k) {
+    if (k > 0 && hits[k].second == hits[k - 1].second) continue;  // the same primitive again
+    Hit hit;
+    hit.t = hits[k].first;
+    hit.p = ray.at(hit.t);
+    const unsigned geomID = unsigned(hits[k].second >> 32), primID = unsigned(hits[k].second);
+    if (geomID == kPatchGeometry) {
+      hit.patch = primID;
+      hit.ng = impl_->patchNormals[primID];
+    } else {
+      hit.emitter = geomID - 1;
+      hit.triangle = primID;
+      hit.ng = impl_->emitterNormals[hit.emitter][primID];
+    }
+    hit.eps = 1e-5f * (1.0f + maxAbs(hit.p)) + 2e-6f * hit.t * glm::length(ray.d);
+    out.push_back(hit);
+  }
 }
 
 size_t EmbreeScene::intersectRaw(const Ray* rays, size_t count) const {

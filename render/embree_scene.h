@@ -34,6 +34,10 @@ class EmbreeScene {
   bool intersect(const Ray& ray, Hit& hit) const;
   /// True if anything lies on the ray within [ray.tmin, ray.tmax].
   bool occluded(const Ray& ray) const;
+  /// Every surface the ray crosses within [ray.tmin, ray.tmax], sorted by t, appended to @p out: one
+  /// traversal whose context filter records each candidate and rejects it (a hit found twice, e.g.
+  /// on a quad's diagonal, is listed once). The ray bundles' alternative to successive closest hits.
+  void allHits(const Ray& ray, std::vector<Hit>& out) const;
 
   /// Benchmark hook: plain incoherent rtcIntersect1 calls over @p rays, nothing else.
   /// @return the number of rays that hit something.

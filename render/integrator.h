@@ -88,6 +88,14 @@ class Integrator {
   /// renderer drops (and counts in RenderStats::nonFinite) splats that are NaN or Inf.
   virtual void splatParticles(const Camera& /*camera*/, uint64_t /*seed*/, uint64_t /*pass*/, uint64_t /*begin*/,
                               uint64_t /*end*/, std::vector<Splat>& /*out*/, uint64_t& /*rays*/) const {}
+
+  /// True for integrators with a global state per sample index (ray-bundle stochastic iteration):
+  /// render() then takes one sample per pixel per pass and calls beginPass() before each pass.
+  virtual bool perPass() const { return false; }
+  /// Called by render() before the camera samples of sample index @p sampleIndex, inside the
+  /// render's thread arena and never while Li() runs: the integrator may update its (mutable)
+  /// per-pass state here. Default: nothing.
+  virtual void beginPass(int /*sampleIndex*/, uint64_t /*seed*/) const {}
 };
 
 /// The names makeIntegrator accepts, in the order the preview offers them (keys 1, 2, ...).

@@ -11,6 +11,7 @@
 #include "render/camera.h"
 #include "render/film.h"
 #include "render/integrator.h"
+#include "render/integrators/bundle/cli.h"
 #include "render/integrators/irradiance_cache/cli.h"
 #include "render/preview/preview_app.h"
 #include "render/render_scene.h"
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
     app.add_option("scene", scenePath, "scene file (.json, .obj, .gltf, .glb, .ply)")->required();
     app.add_option("--firstshot", fsdPath, "first-shot table from firstshot-preprocess (.fsd)");
     app.add_option("--integrator", integratorName, "integrator: path | irradiance-cache | light (light tracing, "
-                                                   "docs/light-tracing.md)")->capture_default_str();
+                                                   "docs/light-tracing.md) | bundle (ray-bundle stochastic iteration, "
+                                                   "docs/bundle.md)")->capture_default_str();
     app.add_option("--primary", primary, "with --firstshot, camera-visible surfaces: exact (shadow rays to small lights) "
                                          "or patch (first-shot there too)")
         ->check(CLI::IsMember({"exact", "patch"}))->capture_default_str();
@@ -77,6 +79,8 @@ int main(int argc, char** argv) {
         ->needs(previewOpt);
     fs::IrradianceCacheCli irradianceCache;  // --accuracy, --bounces, --cache-file, ... (render/integrators/irradiance_cache/cli.h)
     irradianceCache.add(app);
+    fs::BundleCli bundle;  // --iterations, --bundle-resolution, --bundle-directions (render/integrators/bundle/cli.h)
+    bundle.add(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -104,6 +108,7 @@ int main(int argc, char** argv) {
     io.lightVisibility = lightVisibility == "on";
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);
+    bundle.configure(*integrator, spp, app);
     for (const auto& out : outputs) {  // reject a bad output name before the render, not after
       const auto dot = out.rfind('.');
       const std::string ext = dot == std::string::npos ? "" : out.substr(dot);
@@ -124,9 +129,10 @@ int main(int argc, char** argv) {
       po.integratorOptions = io;
       po.seed = app.count("--seed") ? seed : scene.settings.seed;
       // Keys 1..n switch integrators: each is configured like the offline render's.
-      po.factory = [io, ic = irradianceCache, seed = po.seed, threads](const std::string& name) mutable {
+      po.factory = [io, ic = irradianceCache, bs = bundle.settings, seed = po.seed, threads](const std::string& name) mutable {
         auto made = fs::makeIntegrator(name, io);
         if (dynamic_cast<fs::IrradianceCacheIntegrator*>(made.get())) ic.configure(*made, seed, threads);
+        if (auto* b = dynamic_cast<fs::BundleIntegrator*>(made.get())) b->setSettings(bs);
         return made;
       };
       po.threads = threads;

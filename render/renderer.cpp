@@ -67,7 +67,7 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
 
   // One pass over all tiles for samples [s0, s1).
-  auto pass = [&](int s0, int s1, Progress& progress) {
+  auto tilePass = [&](int s0, int s1, Progress& progress) {
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
         enableFlushToZero();
@@ -85,6 +85,14 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
         }
       });
     });
+  };
+  // Integrators with a per-pass state: one sample index at a time, each after its beginPass().
+  auto pass = [&](int s0, int s1, Progress& progress) {
+    if (!integrator.perPass()) return tilePass(s0, s1, progress);
+    for (int s = s0; s < s1 && !cancelled; ++s) {
+      arena.execute([&] { integrator.beginPass(s, options.seed); });
+      tilePass(s, s + 1, progress);
+    }
   };
 
   RenderStats stats;

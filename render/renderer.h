@@ -38,7 +38,8 @@ struct RenderStats {
 };
 
 /// Renders into @p film (which must be camera.width() × camera.height()). The integrator must
-/// have been preprocessed. With a time limit the image depends on how many passes fit.
+/// have been preprocessed. With a time limit the image depends on how many passes fit. An integrator
+/// with Integrator::perPass() gets beginPass(s, seed) before the camera samples of each sample index s.
 RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options);
 
 }  // namespace fs

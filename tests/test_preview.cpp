@@ -218,6 +218,22 @@ TEST(PreviewCli, ScriptedRunEqualsTheOfflineRender) {
   EXPECT_LT(sumLevels / double(offPng.v.size()), 0.05);
 }
 
+/// The ray-bundle integrator in the preview: pass k runs iteration k, so N frames equal an offline
+/// render of N iterations, bit for bit.
+TEST(PreviewCli, BundleScriptedRunEqualsTheOfflineRender) {
+  if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string dir = test::tempDir();
+  const std::string common = cornell() + " --integrator bundle --bundle-resolution 64 --width 32 --height 24";
+  const auto offline = test::run(kRender + " " + common + " --iterations 4 -q -o " + dir + "/off.exr");
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  const auto preview = runUnderXvfb(common + " --preview --frames 4 --screenshot " + dir + "/shot.png");
+  ASSERT_EQ(preview.exitCode, 0) << preview.output;
+  const Image off = load(dir + "/off.exr"), shot = load(dir + "/shot.exr");
+  ASSERT_EQ(shot.v.size(), off.v.size());
+  EXPECT_EQ(shot.v, off.v);
+  EXPECT_GT(std::accumulate(off.v.begin(), off.v.end(), 0.0), 0.0);
+}
+
 TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
   const std::string dir = test::tempDir();

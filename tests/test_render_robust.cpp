@@ -1,6 +1,6 @@
 // Robustness of the renderer: the image does not depend on the number of threads, and the
 // preprocessor's hard-case scenes (plus the delta BSDFs) render without a NaN or Inf pixel, with
-// NEE and with first-shot in both primary modes.
+// NEE and with first-shot in both primary modes, with the path tracer and the ray-bundle integrator.
 #include <gtest/gtest.h>
 
 #include <fmt/core.h>
@@ -9,6 +9,7 @@
 #include <map>
 
 #include "preprocess/preprocessor.h"
+#include "tests/bundle_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
@@ -128,17 +129,20 @@ TEST_P(HardCase, NoNaNOrInfPixel) {
   patch.primary = PrimaryMode::Patch;
   for (const auto& [scene, io, what] : {std::tuple{&nee, exact, "NEE"}, std::tuple{&fs, exact, "first-shot, exact"},
                                         std::tuple{&fs, patch, "first-shot, patch"}}) {
-    SCOPED_TRACE(what);
-    const auto run = test::renderPath(*scene, io, 8);
-    EXPECT_EQ(run.stats.nonFinite, 0u);
-    double sum = 0;
-    for (int y = 0; y < run.film.height(); ++y)
-      for (int x = 0; x < run.film.width(); ++x) {
-        const Vec3d m = run.film.mean(x, y);
-        ASSERT_TRUE(isFinite(m)) << "pixel " << x << ", " << y;
-        sum += m.x + m.y + m.z;
-      }
-    EXPECT_GT(sum, 0.0) << "the scene is lit";
+    for (const char* integrator : {"path", "bundle"}) {
+      SCOPED_TRACE(std::string(what) + ", " + integrator);
+      const auto run = std::string(integrator) == "path" ? test::renderPath(*scene, io, 8)
+                                                         : test::renderWith(*test::makeBundle(*scene, io, 32), *scene, 8);
+      EXPECT_EQ(run.stats.nonFinite, 0u);
+      double sum = 0;
+      for (int y = 0; y < run.film.height(); ++y)
+        for (int x = 0; x < run.film.width(); ++x) {
+          const Vec3d m = run.film.mean(x, y);
+          ASSERT_TRUE(isFinite(m)) << "pixel " << x << ", " << y;
+          sum += m.x + m.y + m.z;
+        }
+      EXPECT_GT(sum, 0.0) << "the scene is lit";
+    }
   }
 }
 

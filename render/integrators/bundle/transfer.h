@@ -1,0 +1,112 @@
+#pragma once
+/// @file transfer.h
+/// Ray-bundle stochastic iteration (Szirmay-Kalos 1999; with incoming first-shot, the first-shot
+/// paper's §5): the global transfer and its per-element state. docs/bundle.md derives the estimators.
+///
+/// Iteration k draws ω_k uniform on the sphere and B×B parallel lines along it (BundleGrid). Along a
+/// line every surface it crosses is found in order; each consecutive pair exchanges radiance both
+/// ways: the nearer one's outgoing radiance towards +ω_k arrives at the farther one, and the farther
+/// one's towards −ω_k at the nearer one. All lines of an iteration are parallel, so each side of an
+/// element receives from one direction only (±ω_k, whichever lies on that side) and one value per
+/// element side is stored, the unbiased line-density estimate
+///     I_k(j, s) = δA⊥/A_j · Σ_{lines arriving at side s of j} L_arriving      [W/(m² sr)]
+/// whose expectation over the grid offset is (1/A_j)∫_{A_j} L_in(x, ω_in)|cos θ_in| dA.
+/// For a given side, ω_in is uniform over its hemisphere (pdf 1/2π, since both ±ω_k are used), so
+///     L_r(j, s, ω) ≈ 2π · f_r(ω_in, ω) · I_k(j, s)
+/// is an unbiased estimate of the patch-averaged reflected radiance (the cos θ_in is in the line
+/// density). (A one-way transfer, lines along +ω_k only, would have 4π here.)
+///
+/// Outgoing radiance of element j on side s towards w = ±ω_k (the one on side s) in iteration k:
+///   Le (emitter front side, unless a first-shot table replaces that light)
+///   + Σ_i Le_i r_ij f_r(ω_i, w)            first-shot, at the patch centroid (diffuse: f·E per side)
+///   + f_r(−d_l, w)·D_k(l, j)               each kept directional light l (its own bundle, below)
+///   + 2π f_r(ω_in, w)·(I_{k−1} + P_{k−1})(j, s)
+/// Kept point and spot lights emit as themselves: each iteration they send one line along +ω_k and
+/// one along −ω_k from their position; the element side first hit gets P_k += I_light(dir)/A_j
+/// (so that 2π f P_k has the expectation (1/A_j)∫_{Ω_j} f I dω of the patch-averaged direct light).
+/// A kept directional light (E⊥, direction d) gets an extra bundle along d each iteration; the side
+/// first hit gets D_k += E⊥·δA⊥/A_j, an unbiased estimate of its patch-averaged direct irradiance.
+/// Delta surfaces (mirror, glass) block lines and neither reflect nor pass radiance in the transfer.
+///
+/// Deterministic: lines are traced in parallel in fixed chunks (a grid row each) that record their
+/// deposits; the deposits are then summed chunk by chunk in row order, so the state is bit-identical
+/// for any number of threads.
+#include <cstdint>
+#include <vector>
+
+#include "common/math.h"
+#include "render/direct_light.h"
+#include "render/integrators/bundle/bundle_grid.h"
+#include "render/integrators/bundle/elements.h"
+#include "render/render_scene.h"
+
+namespace fs {
+
+struct BundleSettings {
+  int resolution = 256;  ///< B: lines per side of the grid (B² lines per bundle); docs/bundle.md for the default
+  BundleDirections directions = BundleDirections::Random;
+  /// Find a line's surfaces with one all-hits query (EmbreeScene::allHits) instead of successive
+  /// closest hits (the default; measured faster, docs/bundle.md). The same state either way up to
+  /// hits closer together than the successive-hit offset.
+  bool allHits = false;
+};
+
+class BundleTransfer {
+ public:
+  /// Prepares the elements, the lights and the first-shot sums of @p scene (which must outlive this).
+  void build(const RenderScene& scene, const BundleSettings& settings);
+  /// Forgets all iterations (the state of "iteration −1": no incoming radiance).
+  void reset();
+  /// Runs the next iteration (number iterations()) with random numbers keyed by @p seed.
+  void iterate(uint64_t seed);
+  /// Iterations run since the last reset.
+  uint64_t iterations() const { return done_; }
+
+  const BundleElements& elements() const { return elements_; }
+  /// ω_k of the last iteration (unit).
+  const Vec3& direction() const { return dir_; }
+  /// The direction (unit, away from the surface) light of the last iteration came from on side
+  /// @p side of a surface with front normal @p n: +ω_k or −ω_k, whichever lies on that side.
+  Vec3 incomingDirection(const Vec3& n, int side) const {
+    const bool onFront = glm::dot(n, dir_) > 0.0f;
+    return (onFront == (side == 0)) ? dir_ : -dir_;
+  }
+  /// I_k(e, side): what the bundle of the last iteration brought from the other surfaces, W/(m² sr).
+  const Color& incoming(uint32_t e, int side) const { return incoming_[2 * size_t(e) + side]; }
+  /// P_k(e, side): the same from the kept point and spot lights' own lines, W/(m² sr).
+  const Color& incomingPoint(uint32_t e, int side) const { return point_[2 * size_t(e) + side]; }
+  /// Kept directional lights (LightSet indices) and their per-element irradiance D_k, W/m².
+  const std::vector<uint32_t>& directionalLights() const { return directional_; }
+  const Color& directionalIrradiance(size_t d, uint32_t e) const { return dirIrradiance_[d * elements_.size() + e]; }
+  /// Outgoing radiance of the last iteration of element @p e on side @p side towards ±ω_k, W/(m² sr).
+  const Color& outgoing(uint32_t e, int side) const { return outgoing_[2 * size_t(e) + side]; }
+  /// Lines traced by the last iteration (rays, including successive-hit continuations).
+  uint64_t lastRays() const { return rays_; }
+
+ private:
+  struct Deposit {
+    uint32_t slot;  ///< 2·element + side
+    Color value;
+  };
+  void traceDirectional(uint64_t seed);
+  void computeOutgoing();
+  /// Outgoing radiance of element @p e on side @p side towards @p w.
+  Color outgoingOf(uint32_t e, int side, const Vec3& w) const;
+  void traceBundle(uint64_t seed);
+  /// Sums the chunks' deposits in chunk order into @p target, times @p scale / A_element.
+  void gather(std::vector<Color>& target, float scale, bool pointLines);
+
+  const RenderScene* scene_ = nullptr;
+  BundleSettings settings_;
+  BundleElements elements_;
+  std::vector<Color> sideIrradiance_;  ///< first-shot, 2 per patch (FirstShotTable::sideIrradiance)
+  std::vector<uint32_t> points_;       ///< kept point and spot lights (LightSet indices)
+  std::vector<uint32_t> directional_;  ///< kept directional lights
+  std::vector<Color> incoming_, point_, prevIncoming_, prevPoint_, outgoing_, dirIrradiance_;
+  Vec3 dir_{0.0f, 0.0f, 1.0f}, prevDir_{0.0f, 0.0f, 1.0f};
+  uint64_t done_ = 0, rays_ = 0;
+  std::vector<std::vector<Deposit>> chunks_;  ///< per grid row: transfer deposits
+  std::vector<Deposit> pointDeposits_;        ///< the point lights' lines
+};
+
+}  // namespace fs
