@@ -37,3 +37,21 @@ TEST(Bdpt, SierpinskiGlossyImageAgreesWithPathTracing) { expectImagesAgree("sier
 // Delta surfaces seen by the camera and met by both subpaths: no connection through them, their
 // densities cancel in the MIS weights; the glass's caustic comes from the t = 1 and s = 0 strategies.
 TEST(Bdpt, MirrorAndGlassAgreeWithPathTracing) { expectImagesAgree("mirror-glass", test::mirrorGlassScene(), 200, 300); }
+
+// Every kind of light at once, on an open scene: a directional light (s = 1 and light subpaths
+// from its disk), a spot, a point light and an area light, over diffuse and glossy surfaces.
+TEST(Bdpt, MixedLightsAgreeWithPathTracing) {
+  expectImagesAgree("mixed-lights", test::sceneFromJson(R"({"materials": {
+      "white": {"type": "diffuse", "albedo": 0.6}, "gloss": {"type": "glossy", "albedo": 0.2, "specular": 0.5, "exponent": 10},
+      "lamp": {"type": "diffuse", "emission": [4, 3, 2]}},
+    "shapes": [{"type": "quad", "material": "white", "vertices": [[-3,0,-3],[-3,0,3],[1,0,3],[1,0,-3]]},
+               {"type": "quad", "material": "gloss", "vertices": [[1,0,-3],[1,4,-3],[1,4,3],[1,0,3]]},
+               {"type": "box", "material": "white", "min": [-0.5,0,-0.3], "max": [0.1,0.7,0.3]},
+               {"type": "quad", "material": "lamp", "vertices": [[-1.2,1.5,-0.3],[-0.6,1.5,-0.3],[-0.6,1.5,0.3],[-1.2,1.5,0.3]]}],
+    "lights": [{"type": "directional", "direction": [0.3, -1, 0.2], "irradiance": 1.5},
+               {"type": "spot", "position": [0.5, 1.8, 0.5], "direction": [0, -1, 0], "power": 20,
+                "inner_angle": 20, "outer_angle": 35},
+               {"type": "point", "position": [-1, 1, 1], "power": 10}],
+    "camera": {"position": [-1.2, 3.2, -2.2], "look_at": [0.2, 0, 0.3], "fov_y": 55, "resolution": [32, 24]},
+    "settings": {"patch_size": 0.5, "max_depth": 6}})"), 200, 300);
+}

@@ -1,5 +1,5 @@
 // Bidirectional path tracing: the MIS weights of one path over all its strategies sum to 1, the
-// image is bit-identical for any thread count, and the command line and preview run it.
+// image is bit-identical for any thread count, and the command line runs it (the preview: test_preview.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -116,4 +116,24 @@ TEST(BdptMis, BitIdenticalForOneAndTwoThreadsAndByPasses) {
     }
   EXPECT_GT(sum, 0.0);
   EXPECT_EQ(one.stats.spp, 3);
+}
+
+TEST(BdptMis, CommandLine) {
+  const std::string exe = FIRSTSHOT_RENDER_EXE, scene = test::source("scenes/cornell.json"), dir = test::tempDir();
+  const auto ok = test::run(exe + " " + scene + " --integrator bdpt --spp 2 --width 24 --height 20 --aov -o " + dir +
+                            "/b.exr -o " + dir + "/b.png");
+  ASSERT_EQ(ok.exitCode, 0) << ok.output;
+  int w = 0, h = 0;
+  std::vector<std::string> channels;
+  Film::read(dir + "/b.exr", w, h, channels);
+  EXPECT_EQ(channels.size(), 9u);
+  EXPECT_EQ(w, 24);
+  const auto timed =
+      test::run(exe + " " + scene + " --integrator bdpt --time 0.2 --width 24 --height 20 -q -o " + dir + "/t.exr");
+  EXPECT_EQ(timed.exitCode, 0) << timed.output;
+  for (const std::string bad : {" --integrator bdpt --spp 0", " --integrator bdpt --accuracy 0.2",
+                                " --integrator bdpt --max-depth -1", " --integrator bdtp"}) {
+    const auto r = test::run(exe + " " + scene + bad + " -q -o " + dir + "/bad.exr");
+    EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
+  }
 }
