@@ -2,6 +2,7 @@
 // the shipped scenes and on a mirror-and-glass scene (σ from the per-pass block means).
 #include <gtest/gtest.h>
 
+#include "preprocess/preprocessor.h"
 #include "render/integrators/bdpt/integrator.h"
 #include "tests/block_compare.h"
 #include "tests/test_util.h"
@@ -54,4 +55,20 @@ TEST(Bdpt, MixedLightsAgreeWithPathTracing) {
                {"type": "point", "position": [-1, 1, 1], "power": 10}],
     "camera": {"position": [-1.2, 3.2, -2.2], "look_at": [0.2, 0, 0.3], "fov_y": 55, "resolution": [32, 24]},
     "settings": {"patch_size": 0.5, "max_depth": 6}})"), 200, 300);
+}
+
+// With a first-shot table BDPT shoots and samples the table's small lights like all others (the
+// table is ignored): the same image as without a table.
+TEST(Bdpt, FirstShotTableLeavesTheImageUnchanged) {
+  SceneDesc d = loadScene(test::source("scenes/many-lights.json"));
+  d.camera.width = 32, d.camera.height = 24;
+  PreprocessOptions po = defaultOptions(d);
+  po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+  const RenderScene plain(d, d.settings.patchSize), withTable(d, preprocessScene(d, po));
+  ASSERT_FALSE(withTable.firstShot()->replacedLights.empty());
+  BdptIntegrator a{IntegratorOptions()}, b{IntegratorOptions()};
+  a.preprocess(withTable);
+  b.preprocess(plain);
+  test::expectBlocksAgree("many-lights with and without a table", test::blockMeans(a, withTable, 150, 2),
+                          test::blockMeans(b, plain, 150));
 }
