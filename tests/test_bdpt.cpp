@@ -72,3 +72,10 @@ TEST(Bdpt, FirstShotTableLeavesTheImageUnchanged) {
   test::expectBlocksAgree("many-lights with and without a table", test::blockMeans(a, withTable, 150, 2),
                           test::blockMeans(b, plain, 150));
 }
+
+// --max-depth counts bounces as the path tracer does (s + t − 2 ≤ D over every strategy).
+TEST(Bdpt, MaxDepthCountsBouncesLikePathTracing) {
+  SceneDesc d = loadScene(test::source("scenes/cornell.json"));
+  d.settings.maxDepth = 2;
+  expectImagesAgree("cornell, max depth 2", d, 200, 300);
+}
