@@ -35,6 +35,7 @@ METHODS = [
     # a pair of runs with different seeds has different records, so record noise is in the measure.
     ("irradiance cache", False, ["--integrator", "irradiance-cache", "--spp", "4"]),
     ("light tracing (one particle per pixel per pass)", False, ["--integrator", "light"]),
+    ("bidirectional path tracing (one sample per pixel per pass)", False, ["--integrator", "bdpt"]),
     ("irradiance cache + first-shot, no patch NEE in gathers", True,
      ["--integrator", "irradiance-cache", "--spp", "4", "--ic-patch-nee", "0"]),
     ("irradiance cache + first-shot, patch NEE in gathers (0.5)", True,

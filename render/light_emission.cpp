@@ -36,10 +36,7 @@ EmissionSampler::EmissionSampler(const LightSet& lights, const SceneDesc& scene)
   if (!cdf_.empty()) cdf_.back() = 1.0;
 }
 
-bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out) const {
-  const double u = sampler.next1Dd();
-  const Vec2 uPos = sampler.next2D();
-  const Vec2 uDir = sampler.next2D();
+bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
   if (!(total_ > 0)) return false;
   const size_t l = std::min(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()), cdf_.size() - 1);
   if (!(power_[l] > 0)) return false;
@@ -47,13 +44,62 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out) const {
   out = EmissionSample();
   out.light = static_cast<uint32_t>(l);
   out.pdfLight = float(power_[l] / total_);
+  out.pdfPos = pdfPosition(light);
+  switch (light.type) {
+    case LightType::Point:
+    case LightType::Spot:
+      out.p = light.position;
+      out.deltaPosition = true;
+      break;
+    case LightType::Directional: {
+      const Frame frame(light.direction);
+      const Vec2 disk = squareToUniformDiskConcentric(uPos) * radius_;
+      out.p = centre_ - radius_ * light.direction + frame.s * disk.x + frame.t * disk.y;
+      out.n = light.direction;
+      out.d = light.direction;
+      out.deltaDirection = true;
+      break;
+    }
+    case LightType::Area:
+      if (!lights_->samplePoint(light, uPos, out.p, out.n)) return false;
+      out.radiance = light.radiance / (out.pdfLight * out.pdfPos);
+      break;
+  }
+  return true;
+}
+
+float EmissionSampler::pdfPosition(const RenderLight& light) const {
+  switch (light.type) {
+    case LightType::Directional: return 1.0f / (kPiF * radius_ * radius_);
+    case LightType::Area: return float(1.0 / light.area);
+    default: return 1.0f;
+  }
+}
+
+float EmissionSampler::pdfDirection(const RenderLight& light, const Vec3& n, const Vec3& d) const {
+  switch (light.type) {
+    case LightType::Point: return squareToUniformSpherePdf();
+    case LightType::Spot: {
+      const SpotCone cone(light.desc);
+      return double(glm::dot(d, light.direction)) >= cone.cosOuter ? float(1.0 / (2.0 * kPi * (1.0 - cone.cosOuter)))
+                                                                   : 0.0f;
+    }
+    case LightType::Area: return std::max(0.0f, glm::dot(n, d)) * kInvPiF;
+    default: return 0.0f;
+  }
+}
+
+bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out) const {
+  const double u = sampler.next1Dd();
+  const Vec2 uPos = sampler.next2D();
+  const Vec2 uDir = sampler.next2D();
+  if (!sampleOrigin(u, uPos, out)) return false;
+  const RenderLight& light = lights_->lights()[out.light];
   switch (light.type) {
     case LightType::Point: {
-      out.p = light.position;
       out.d = squareToUniformSphere(uDir);
       out.pdfDir = squareToUniformSpherePdf();
       out.power = light.intensity / (out.pdfLight * out.pdfDir);
-      out.deltaPosition = true;
       break;
     }
     case LightType::Spot: {
@@ -61,33 +107,21 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out) const {
       const float cosT = float(1.0 - double(uDir.x) * (1.0 - cone.cosOuter));
       const float sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));
       const float phi = 2.0f * kPiF * uDir.y;
-      out.p = light.position;
       out.d = Frame(light.direction).toWorld(Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT));
       out.pdfDir = float(1.0 / (2.0 * kPi * (1.0 - cone.cosOuter)));
       out.power = light.intensity * float(cone.profile(cosT)) / (out.pdfLight * out.pdfDir);
-      out.deltaPosition = true;
       break;
     }
     case LightType::Directional: {
-      const Frame frame(light.direction);
-      const Vec2 disk = squareToUniformDiskConcentric(uPos) * radius_;
-      out.p = centre_ - radius_ * light.direction + frame.s * disk.x + frame.t * disk.y;
-      out.n = light.direction;
-      out.d = light.direction;
-      out.pdfPos = 1.0f / (kPiF * radius_ * radius_);
       out.pdfDir = 1.0f;
       out.power = light.irradiance / (out.pdfLight * out.pdfPos);
-      out.deltaDirection = true;
       break;
     }
     case LightType::Area: {
-      if (!lights_->samplePoint(light, uPos, out.p, out.n)) return false;
       const Vec3 local = squareToCosineHemisphere(uDir);
       out.d = Frame(out.n).toWorld(local);
-      out.pdfPos = float(1.0 / light.area);
       out.pdfDir = squareToCosineHemispherePdf(local);
       if (!(out.pdfDir > 0.0f)) return false;
-      out.radiance = light.radiance / (out.pdfLight * out.pdfPos);
       out.power = out.radiance * (local.z / out.pdfDir);
       break;
     }

@@ -47,6 +47,20 @@ class EmissionSampler {
   /// Draws a particle with 4 dimensions of @p sampler. @return false if nothing was emitted (no
   /// light with power, or a zero-weight direction): the particle is then lost (counts zero).
   bool sample(Sampler& sampler, EmissionSample& out) const;
+  /// The origin part of sample(): a light by power with @p u, a point with @p uPos. Sets light, p,
+  /// n, pdfLight, pdfPos, radiance (area lights) and the delta flags, not d, pdfDir or power (the
+  /// NEE strategy s = 1 of bidirectional path tracing). @return false if no light has power.
+  bool sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const;
+
+  /// Probability of choosing light @p l (its share of the power).
+  float pdfChoice(size_t l) const { return total_ > 0 ? float(power_[l] / total_) : 0.0f; }
+  /// Area density of sampleOrigin()'s point on @p light, 1/m² (1 for point and spot: a delta position;
+  /// directional: over the disk across the beam).
+  float pdfPosition(const RenderLight& light) const;
+  /// Solid-angle density with which sample() emits direction @p d from a point of @p light with
+  /// front normal @p n (area lights), 1/sr; 0 outside a spot's cone, behind an area light, and for
+  /// directional lights (a delta direction).
+  float pdfDirection(const RenderLight& light, const Vec3& n, const Vec3& d) const;
 
   /// Power of light @p l (channel mean), W.
   double power(size_t l) const { return power_[l]; }

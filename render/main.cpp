@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
     app.add_option("--firstshot", fsdPath, "first-shot table from firstshot-preprocess (.fsd)");
     app.add_option("--integrator", integratorName, "integrator: path | irradiance-cache | light (light tracing, "
                                                    "docs/light-tracing.md) | bundle (ray-bundle stochastic iteration, "
-                                                   "docs/bundle.md)")->capture_default_str();
+                                                   "docs/bundle.md) | bdpt (bidirectional path tracing, "
+                                                   "docs/bdpt.md)")->capture_default_str();
     app.add_option("--primary", primary, "with --firstshot, camera-visible surfaces: exact (shadow rays to small lights) "
                                          "or patch (first-shot there too)")
         ->check(CLI::IsMember({"exact", "patch"}))->capture_default_str();

@@ -6,54 +6,17 @@
 
 #include "common/sampling.h"
 #include "preprocess/preprocessor.h"
+#include "tests/block_compare.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
 using namespace fs;
 
+using test::blockMeans;
+using test::expectBlocksAgree;
+
 namespace {
-
-constexpr int kBlock = 8;
-
-/// Per-pass gray means of every kBlock × kBlock block of @p scene rendered by @p integrator:
-/// pass k is render() with firstSample = k and one sample, so the passes are independent samples.
-std::vector<test::Moments> blockMeans(const Integrator& integrator, const RenderScene& scene, int passes, uint64_t seed = 1) {
-  const Camera camera(scene.desc().camera);
-  const int w = camera.width(), h = camera.height(), bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
-  std::vector<test::Moments> blocks(size_t(bw) * bh);
-  for (int k = 0; k < passes; ++k) {
-    Film film(w, h);
-    RenderOptions ro;
-    ro.spp = 1;
-    ro.firstSample = k;
-    ro.seed = seed;
-    render(integrator, camera, film, ro);
-    std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t b = size_t(y / kBlock) * bw + size_t(x / kBlock);
-        const Vec3d m = film.mean(x, y);
-        sum[b] += (m.x + m.y + m.z) / 3.0, count[b] += 1;
-      }
-    for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
-  }
-  return blocks;
-}
-
-/// Two integrators' per-pass block means: every block within 3σ of the difference.
-void expectBlocksAgree(const std::string& name, const std::vector<test::Moments>& a, const std::vector<test::Moments>& b) {
-  double worst = 0, worstRel = 0;
-  for (size_t k = 0; k < a.size(); ++k) {
-    const double se = std::hypot(a[k].se(), b[k].se()), z = std::abs(a[k].mean() - b[k].mean()) / se;
-    worst = std::max(worst, z);
-    worstRel = std::max(worstRel, se / b[k].mean());
-    EXPECT_LT(z, 3.0) << name << " block " << k << ": " << a[k].mean() << " ± " << a[k].se() << " against "
-                      << b[k].mean() << " ± " << b[k].se();
-  }
-  fmt::print("{}: {} blocks, worst {:.2f}σ, largest relative σ {:.2f}%\n", name, a.size(), worst, 100 * worstRel);
-  EXPECT_LT(worstRel, 0.05) << name << ": too noisy to test";
-}
 
 /// Light tracing against path tracing on @p d at 32×24: every block within 3σ of the difference.
 void expectImagesAgree(const std::string& name, SceneDesc d, int ltPasses, int ptPasses) {
@@ -83,17 +46,7 @@ TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) { expectImagesAgr
 // and the glass's caustic on the floor (light tracing carries it through the adjoint refraction;
 // path tracing finds it only when a BSDF sample meets the light).
 TEST(LightTracing, MirrorAndGlassAgreeWithPathTracing) {
-  expectImagesAgree("mirror-glass", test::sceneFromJson(R"({"materials": {
-      "white": {"type": "diffuse", "albedo": 0.7}, "red": {"type": "diffuse", "albedo": [0.7, 0.2, 0.1]},
-      "mirror": {"type": "mirror", "specular": 0.9}, "glass": {"type": "dielectric", "ior": 1.5},
-      "lamp": {"type": "diffuse", "emission": [6, 5, 4]}},
-    "shapes": [{"type": "box", "material": "white", "min": [0,0,0], "max": [2,1.5,2], "flip_normals": true},
-               {"type": "quad", "material": "red", "vertices": [[0.01,0,0.2],[0.01,0,1.8],[0.01,1.5,1.8],[0.01,1.5,0.2]]},
-               {"type": "quad", "material": "mirror", "vertices": [[1.99,0.2,1.8],[1.99,0.2,0.6],[1.99,1.2,0.6],[1.99,1.2,1.8]]},
-               {"type": "box", "material": "glass", "min": [0.7,0.3,0.9], "max": [1.2,0.6,1.4]},
-               {"type": "quad", "material": "lamp", "vertices": [[0.7,1.49,0.8],[1.3,1.49,0.8],[1.3,1.49,1.4],[0.7,1.49,1.4]]}],
-    "camera": {"position": [0.6, 0.9, 0.05], "look_at": [1.3, 0.5, 1.5], "fov_y": 70, "resolution": [32, 24]},
-    "settings": {"patch_size": 0.5, "max_depth": 8}})"), 600, 300);
+  expectImagesAgree("mirror-glass", test::mirrorGlassScene(), 600, 300);
 }
 
 // With a first-shot table the small lights stay lights for shooting: the same image as without.

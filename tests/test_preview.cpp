@@ -234,6 +234,22 @@ TEST(PreviewCli, BundleScriptedRunEqualsTheOfflineRender) {
   EXPECT_GT(std::accumulate(off.v.begin(), off.v.end(), 0.0), 0.0);
 }
 
+/// Bidirectional path tracing in the preview: pass k is sample index k of the splat loop, so N
+/// frames equal an offline render of N spp, bit for bit.
+TEST(PreviewCli, BdptScriptedRunEqualsTheOfflineRender) {
+  if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string dir = test::tempDir();
+  const std::string common = cornell() + " --integrator bdpt --width 32 --height 24";
+  const auto offline = test::run(kRender + " " + common + " --spp 3 -q -o " + dir + "/off.exr");
+  ASSERT_EQ(offline.exitCode, 0) << offline.output;
+  const auto preview = runUnderXvfb(common + " --preview --frames 3 --screenshot " + dir + "/shot.png");
+  ASSERT_EQ(preview.exitCode, 0) << preview.output;
+  const Image off = load(dir + "/off.exr"), shot = load(dir + "/shot.exr");
+  ASSERT_EQ(shot.v.size(), off.v.size());
+  EXPECT_EQ(shot.v, off.v);
+  EXPECT_GT(std::accumulate(off.v.begin(), off.v.end(), 0.0), 0.0);
+}
+
 TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
   const std::string dir = test::tempDir();

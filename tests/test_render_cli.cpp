@@ -115,7 +115,7 @@ TEST(RenderCli, BadOptionsExitWithCode2) {
   const std::string dir = test::tempDir();
   const std::string base = kRender + " " + cornell() + " --width 8 --height 8 -q";
   for (const std::string& bad : std::vector<std::string>{" --spp 0 -o " + dir + "/a.exr", " --spp 2 --time 1 -o " + dir + "/a.exr",
-                                " --integrator bdpt -o " + dir + "/a.exr", " --primary sharp -o " + dir + "/a.exr",
+                                " --integrator mlt -o " + dir + "/a.exr", " --primary sharp -o " + dir + "/a.exr",
                                 " --spp 1 -o " + dir + "/a.jpg", " --spp 1", " --firstshot " + dir + "/none.fsd -o " + dir + "/a.exr"}) {
     const auto r = test::run(base + bad);
     EXPECT_EQ(r.exitCode, kExitBadInput) << bad << "\n" << r.output;

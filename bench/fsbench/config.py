@@ -40,6 +40,9 @@ METHODS = {
                                          "irradiance cache with first-shot"),
     "light": Method("light", [], False, False,
                     "light tracing (shooting, docs/light-tracing.md; not a baseline: shown for comparison)"),
+    "bdpt": Method("bdpt", [], False, False,
+                   "bidirectional path tracing, MIS over all strategies (docs/bdpt.md; not a baseline: shown for "
+                   "comparison)"),
     "bundle": Method("bundle", [], False, False,
                      "ray-bundle stochastic iteration, no first-shot: small lights emit through the bundle, NEE at "
                      "camera-visible surfaces (not a baseline: the paper's plain method, docs/bundle.md)"),

@@ -19,6 +19,7 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   v0.pdfFwd = es.pdfLight * es.pdfPos;
   v0.pdfDir = es.pdfDir;
   v0.delta = es.deltaPosition || es.deltaDirection;
+  v0.light = es.light;
   path.push_back(v0);
 
   Color beta = es.power;

@@ -29,6 +29,7 @@ struct LightVertex {
   /// direction's), 1/sr; the discrete lobe probability after a delta lobe.
   float pdfDir = 0;
   uint32_t material = kNoId;  ///< kNoId at vertex 0
+  uint32_t light = kNoId;     ///< vertex 0: the light's index in LightSet::lights(); kNoId after it
   bool delta = false;         ///< a delta BSDF, or a delta light (position or direction) at vertex 0
 };
 

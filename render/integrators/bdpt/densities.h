@@ -1,0 +1,46 @@
+#pragma once
+/// @file densities.h
+/// The area densities of bidirectional path tracing: with which density a vertex samples the next
+/// one (BSDF, emission or camera directions converted to area), for the forward and reverse
+/// densities of the subpaths and the MIS weights of every strategy (docs/bdpt.md).
+#include <vector>
+
+#include "render/camera.h"
+#include "render/integrators/bdpt/vertex.h"
+#include "render/light_emission.h"
+#include "render/render_scene.h"
+
+namespace fs {
+
+class BdptDensities {
+ public:
+  /// All three must outlive the object.
+  BdptDensities(const RenderScene& scene, const EmissionSampler& emission, const Camera& camera)
+      : scene_(scene), emission_(emission), camera_(camera) {}
+
+  /// Density with which @p cur, reached from @p prev (nullptr when @p cur is a subpath's vertex 0),
+  /// samples @p next, as an area density at @p next (1/m²; per unit solid angle, 1/sr, when @p next is
+  /// a directional light). Camera: the pinhole's direction density over the whole film,
+  /// 1/(A_film·cos³θ); light: the emission direction's (directional: the beam's area density
+  /// p_pos·|cos| at @p next); surface: the BSDF's, 0 for a delta BSDF. Light choice not included.
+  float pdf(const BdptVertex* prev, const BdptVertex& cur, const BdptVertex& next) const;
+  /// Density of @p v as a light subpath's origin, p_light·p_pos (1/m²): a Kind::Light vertex, or a
+  /// surface vertex on an area light (the camera subpath meeting it).
+  float pdfOrigin(const BdptVertex& v) const;
+  /// The light index of a surface vertex on an area light's geometry.
+  uint32_t lightOf(const BdptVertex& v) const;
+  /// Sets pdfFwd (from vertex 1 on) and the pdfRev that the subpath itself determines (vertices
+  /// 0 … n−3) of a traced subpath; vertex 0's pdfFwd is left as it is.
+  void setDensities(std::vector<BdptVertex>& path) const;
+
+  const RenderScene& scene() const { return scene_; }
+  const EmissionSampler& emission() const { return emission_; }
+  const Camera& camera() const { return camera_; }
+
+ private:
+  const RenderScene& scene_;
+  const EmissionSampler& emission_;
+  const Camera& camera_;
+};
+
+}  // namespace fs

@@ -1,0 +1,83 @@
+// Bidirectional path tracing: both subpaths, every strategy, MIS, splatting.
+#include "render/integrators/bdpt/integrator.h"
+
+#include <algorithm>
+
+#include "render/integrators/bdpt/mis.h"
+#include "render/integrators/bdpt/strategies.h"
+#include "render/integrators/bdpt/subpaths.h"
+
+namespace fs {
+
+void BdptIntegrator::preprocess(const RenderScene& scene) {
+  scene_ = &scene;
+  light_.preprocess(scene);
+}
+
+Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
+  if (!info) return Color(0.0f);
+  info->rays = 1;
+  Hit hit;
+  if (!scene_->intersect(ray, hit)) return Color(0.0f);
+  const Vec3 wo = -glm::normalize(ray.d);
+  info->albedo = scene_->bsdf(scene_->material(hit)).albedo();
+  info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
+  return Color(0.0f);
+}
+
+void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
+                                    std::vector<Splat>& out, uint64_t& rays) const {
+  const BdptDensities densities(*scene_, light_.emission(), camera);
+  Workspace ws;
+  for (uint64_t i = begin; i < end; ++i) {
+    Sampler sampler(seed, i, pass, kStream);
+    sample(densities, uint32_t(i), sampler, ws, out, rays);
+  }
+}
+
+void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Sampler& sampler, Workspace& ws,
+                            std::vector<Splat>& out, uint64_t& rays) const {
+  const Camera& camera = densities.camera();
+  const int maxDepth = options_.maxDepth;
+  const Vec2 jitter = sampler.next2D();
+  const Ray ray = camera.generateRay(float(pixel % uint32_t(camera.width())) + jitter.x,
+                                     float(pixel / uint32_t(camera.width())) + jitter.y);
+  traceCameraPath(densities, ray, maxDepth + 1, options_.rrDepth, sampler, ws.camera, rays);
+  if (!traceLightPath(*scene_, light_.emission(), light_.pathOptions(), sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
+  toBdptLightPath(densities, ws.lightRaw, ws.light);
+  const int nt = int(ws.camera.size()), ns = int(ws.light.size());
+  const std::span<const BdptVertex> cameraPath(ws.camera), lightPath(ws.light);
+
+  // t ≥ 2: this pixel's sample.
+  Color L(0.0f);
+  for (int t = 2; t <= nt; ++t) {
+    const BdptVertex& pt = ws.camera[size_t(t - 1)];
+    for (int s = 0; s <= std::max(ns, 1) && s + t - 2 <= maxDepth; ++s) {
+      Color c(0.0f);
+      if (s == 0) {
+        c = connectEmission(densities, pt);
+        if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, 0, t);
+      } else if (s == 1) {
+        BdptVertex sampled;
+        c = connectLightSample(densities, pt, sampler, sampled, rays);
+        if (maxComponent(c) > 0.0f) c *= misWeight(densities, std::span<const BdptVertex>(&sampled, 1), cameraPath, 1, t);
+      } else {
+        c = connectVertices(densities, ws.light[size_t(s - 1)], pt, rays);
+        if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, s, t);
+      }
+      L += c;
+    }
+  }
+  out.push_back(Splat{pixel, L});
+
+  // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.
+  const float invN = 1.0f / float(particlesPerPass(camera));
+  for (int s = 2; s <= ns && s - 1 <= maxDepth; ++s) {
+    Splat splat;
+    if (!light_.connect(ws.lightRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays)) continue;
+    splat.L *= misWeight(densities, lightPath, cameraPath.first(1), s, 1) * invN;
+    out.push_back(splat);
+  }
+}
+
+}  // namespace fs

@@ -1,0 +1,60 @@
+#pragma once
+/// @file integrator.h
+/// Bidirectional path tracing (Veach 1997; Lafortune & Willems 1993), docs/bdpt.md.
+///
+/// A sample of pixel j in pass k is a camera subpath through pixel j and a light subpath (light
+/// tracing's traceLightPath), both keyed by Sampler(seed, j, k, kStream). Every strategy (s, t) of
+/// s light and t camera vertices is evaluated — s = 0 (the camera path meets an area light),
+/// s = 1 (a new light sample), s ≥ 2 with t ≥ 2 (a shadow ray between the subpaths), and t = 1 (a
+/// light vertex joined to the pinhole, splatted where it projects, as light tracing does) — and
+/// weighted by the power heuristic over all strategies of the same path (misWeight). Paths of
+/// more than IntegratorOptions::maxDepth bounces (s + t − 2) are left out.
+///
+/// The whole sample is a particle of the deterministic splat loop (render/splat_renderer.h): the
+/// t ≥ 2 strategies go to pixel j as one splat (one sample per pixel per pass), the t = 1 ones to
+/// the pixels they reach, over N = width·height. Images are bit-identical for any thread count.
+/// Li() gives only the AOVs. A first-shot table is ignored: its lights are shot and sampled like
+/// all others (unbiased, as light tracing).
+#include <vector>
+
+#include "render/integrator.h"
+#include "render/integrators/bdpt/densities.h"
+#include "render/integrators/light/light_tracer.h"
+
+namespace fs {
+
+class BdptIntegrator : public Integrator {
+ public:
+  explicit BdptIntegrator(const IntegratorOptions& options) : options_(options), light_(options) {}
+  void preprocess(const RenderScene& scene) override;
+  /// The AOVs of the camera ray's first hit; radiance 0 (the splats carry it).
+  Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
+  std::string name() const override { return "bdpt"; }
+
+  bool splats() const override { return true; }
+  uint64_t particlesPerPass(const Camera& camera) const override {
+    return uint64_t(camera.width()) * uint64_t(camera.height());
+  }
+  /// Particle i is the sample of pixel i (row-major).
+  void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
+                      std::vector<Splat>& out, uint64_t& rays) const override;
+
+  /// The stream index of the samples' samplers: Sampler(seed, pixel, pass, kStream).
+  static constexpr uint64_t kStream = 0x4250;  // "BP"
+
+ private:
+  /// Subpaths of one sample, reused across the particles of a chunk.
+  struct Workspace {
+    std::vector<BdptVertex> camera, light;
+    std::vector<LightVertex> lightRaw;
+  };
+  /// One sample of pixel @p pixel: appends its splats to @p out.
+  void sample(const BdptDensities& densities, uint32_t pixel, Sampler& sampler, Workspace& ws, std::vector<Splat>& out,
+              uint64_t& rays) const;
+
+  IntegratorOptions options_;
+  const RenderScene* scene_ = nullptr;
+  LightTracingIntegrator light_;  ///< emission, light subpaths and the t = 1 connection
+};
+
+}  // namespace fs

@@ -1,0 +1,89 @@
+// Contributions of the bidirectional strategies with t ≥ 2.
+#include "render/integrators/bdpt/strategies.h"
+
+#include <cmath>
+#include <limits>
+
+#include "common/lights.h"
+#include "render/direct_light.h"
+
+namespace fs {
+
+Color connectEmission(const BdptDensities& densities, const BdptVertex& pt) {
+  if (pt.kind != BdptVertex::Kind::Surface || pt.hit.onPatch()) return Color(0.0f);
+  return pt.beta * densities.scene().lights().emitted(pt.hit.emitter, pt.hit.ng, pt.wi);
+}
+
+Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, Sampler& sampler, BdptVertex& sampled,
+                         uint64_t& rays) {
+  const double u = sampler.next1Dd();
+  const Vec2 uPos = sampler.next2D();
+  EmissionSample es;
+  if (pt.delta || !densities.emission().sampleOrigin(u, uPos, es)) return Color(0.0f);
+  const RenderLight& light = densities.scene().lights().lights()[es.light];
+  sampled = BdptVertex();
+  sampled.kind = BdptVertex::Kind::Light;
+  sampled.light = es.light;
+  sampled.hit.p = es.p;
+  sampled.hit.ng = es.n;
+  sampled.pdfFwd = es.pdfLight * es.pdfPos;
+  sampled.deltaLight = es.deltaPosition || es.deltaDirection;
+  sampled.deltaDirection = es.deltaDirection;
+
+  // Incident radiance-like weight from the light, over p_light (and p_pos): Le·G/p or I/(d²·p) or E/p.
+  Vec3 wi;
+  float distance = std::numeric_limits<float>::infinity();
+  Color incident(0.0f);
+  if (es.deltaDirection) {
+    wi = -light.direction;
+    incident = light.irradiance / es.pdfLight;
+  } else {
+    const Vec3 d = es.p - pt.hit.p;
+    const float dist2 = glm::dot(d, d);
+    if (!(dist2 > 0.0f)) return Color(0.0f);
+    distance = std::sqrt(dist2);
+    wi = d / distance;
+    switch (light.type) {
+      case LightType::Area: {
+        const float cosLight = -glm::dot(es.n, wi);
+        if (!(cosLight > 0.0f)) return Color(0.0f);
+        incident = es.radiance * (cosLight / dist2);
+        break;
+      }
+      case LightType::Spot:
+        incident = light.intensity * float(SpotCone(light.desc).profile(-glm::dot(wi, light.direction))) /
+                   (es.pdfLight * dist2);
+        break;
+      default: incident = light.intensity / (es.pdfLight * dist2); break;
+    }
+  }
+  const Frame frame(pt.hit.ng);
+  const BSDFQuery q(frame.toLocal(wi), frame.toLocal(pt.wi));
+  const Color L = pt.beta * densities.scene().bsdf(pt.material).eval(q) * incident * std::abs(glm::dot(pt.hit.ng, wi));
+  if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
+  ++rays;
+  if (densities.scene().occluded(shadowRay(pt.hit, wi, distance))) return Color(0.0f);
+  return L;
+}
+
+Color connectVertices(const BdptDensities& densities, const BdptVertex& qs, const BdptVertex& pt, uint64_t& rays) {
+  if (qs.delta || pt.delta) return Color(0.0f);
+  const Vec3 d = qs.hit.p - pt.hit.p;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return Color(0.0f);
+  const float distance = std::sqrt(dist2);
+  const Vec3 w = d / distance;  // from pt to qs
+  const RenderScene& scene = densities.scene();
+  const Frame fp(pt.hit.ng), fq(qs.hit.ng);
+  const Color fCamera = scene.bsdf(pt.material).eval(BSDFQuery(fp.toLocal(w), fp.toLocal(pt.wi)));
+  const Color fLight =
+      scene.bsdf(qs.material).eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Importance));
+  const float G = std::abs(glm::dot(pt.hit.ng, w)) * std::abs(glm::dot(qs.hit.ng, w)) / dist2;
+  const Color L = pt.beta * fCamera * fLight * qs.beta * G;
+  if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
+  ++rays;
+  if (scene.occluded(shadowRay(pt.hit, w, distance))) return Color(0.0f);
+  return L;
+}
+
+}  // namespace fs

@@ -1,0 +1,29 @@
+#pragma once
+/// @file strategies.h
+/// The unweighted contributions of the strategies (s, t) with t ≥ 2 (a camera subpath of at
+/// least one hit): s = 0 the camera subpath meets an area light, s = 1 a new light sample is
+/// joined to camera vertex t−1 (next-event estimation), s ≥ 2 light vertex s−1 is joined to camera
+/// vertex t−1 by a shadow ray. t = 1 (light vertices joined to the pinhole) is light tracing's
+/// LightTracingIntegrator::connect. All in W/(m² sr) (camera throughput × radiance).
+#include <span>
+
+#include "common/rng.h"
+#include "render/integrators/bdpt/densities.h"
+
+namespace fs {
+
+/// s = 0: the emitted radiance of camera vertex t−1 towards vertex t−2 (0 unless it lies on an
+/// area light's front side), times its throughput.
+Color connectEmission(const BdptDensities& densities, const BdptVertex& pt);
+
+/// s = 1: samples a light vertex with the emission sampler's light choice and position (3
+/// sampler dimensions, always drawn) into @p sampled and joins it to @p pt. 0 if @p pt is delta,
+/// the light sends nothing towards it, or the segment is blocked. @p rays counts the shadow ray.
+Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, Sampler& sampler, BdptVertex& sampled,
+                         uint64_t& rays);
+
+/// s ≥ 2, t ≥ 2: light vertex @p qs joined to camera vertex @p pt (0 if either is delta or the
+/// segment is blocked). @p rays counts the shadow ray.
+Color connectVertices(const BdptDensities& densities, const BdptVertex& qs, const BdptVertex& pt, uint64_t& rays);
+
+}  // namespace fs
