@@ -11,7 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "common/scene_desc.h"
 #include "render/film.h"
+#include "render/integrator.h"
 #include "render/renderer.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
@@ -58,6 +60,25 @@ inline void expectBlocksAgree(const std::string& name, const std::vector<Moments
   }
   fmt::print("{}: {} blocks, worst {:.2f}σ, largest relative σ {:.2f}%\n", name, a.size(), worst, 100 * worstRel);
   EXPECT_LT(worstRel, 0.05) << name << ": too noisy to test";
+}
+
+/// Integrator @p integrator (a makeIntegrator name) against path tracing on @p d at 32×24, the
+/// scene's max depth: every block within 3σ of the difference (blockMeans, expectBlocksAgree).
+inline void expectAgreesWithPathTracing(const std::string& integrator, const std::string& name, SceneDesc d, int passes,
+                                        int ptPasses) {
+  d.camera.width = 32, d.camera.height = 24;
+  const RenderScene scene(d, d.settings.patchSize);
+  IntegratorOptions io;
+  io.maxDepth = d.settings.maxDepth;
+  auto a = makeIntegrator(integrator, io), pt = makeIntegrator("path", io);
+  a->preprocess(scene);
+  pt->preprocess(scene);
+  expectBlocksAgree(name, blockMeans(*a, scene, passes), blockMeans(*pt, scene, ptPasses));
+}
+
+/// The same on the shipped scene scenes/@p name.json.
+inline void expectAgreesWithPathTracing(const std::string& integrator, const std::string& name, int passes, int ptPasses) {
+  expectAgreesWithPathTracing(integrator, name, loadScene(source("scenes/" + name + ".json")), passes, ptPasses);
 }
 
 /// A mirror and a glass block seen by the camera, and the glass's caustic on the floor (32×24, max depth 8).

@@ -11,22 +11,12 @@ using namespace fs;
 
 namespace {
 
-/// BDPT against path tracing on @p d at 32×24: every block within 3σ of the difference (blocks
-/// showing lights included: strategy (0, 2) draws them).
-void expectImagesAgree(const std::string& name, SceneDesc d, int bdptPasses, int ptPasses) {
-  d.camera.width = 32, d.camera.height = 24;
-  const RenderScene scene(d, d.settings.patchSize);
-  IntegratorOptions io;
-  io.maxDepth = d.settings.maxDepth;
-  BdptIntegrator bdpt(io);
-  auto pt = makeIntegrator("path", io);
-  bdpt.preprocess(scene);
-  pt->preprocess(scene);
-  test::expectBlocksAgree(name, test::blockMeans(bdpt, scene, bdptPasses), test::blockMeans(*pt, scene, ptPasses));
+void expectImagesAgree(const std::string& name, SceneDesc d, int passes, int ptPasses) {
+  test::expectAgreesWithPathTracing("bdpt", name, std::move(d), passes, ptPasses);
 }
 
-void expectImagesAgree(const std::string& name, int bdptPasses, int ptPasses) {
-  expectImagesAgree(name, loadScene(test::source("scenes/" + name + ".json")), bdptPasses, ptPasses);
+void expectImagesAgree(const std::string& name, int passes, int ptPasses) {
+  test::expectAgreesWithPathTracing("bdpt", name, passes, ptPasses);
 }
 
 }  // namespace

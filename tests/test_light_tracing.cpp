@@ -18,20 +18,12 @@ using test::expectBlocksAgree;
 
 namespace {
 
-/// Light tracing against path tracing on @p d at 32×24: every block within 3σ of the difference.
-void expectImagesAgree(const std::string& name, SceneDesc d, int ltPasses, int ptPasses) {
-  d.camera.width = 32, d.camera.height = 24;
-  const RenderScene scene(d, d.settings.patchSize);
-  IntegratorOptions io;
-  io.maxDepth = d.settings.maxDepth;
-  auto lt = makeIntegrator("light", io), pt = makeIntegrator("path", io);
-  lt->preprocess(scene);
-  pt->preprocess(scene);
-  expectBlocksAgree(name, blockMeans(*lt, scene, ltPasses), blockMeans(*pt, scene, ptPasses));
+void expectImagesAgree(const std::string& name, SceneDesc d, int passes, int ptPasses) {
+  test::expectAgreesWithPathTracing("light", name, std::move(d), passes, ptPasses);
 }
 
-void expectImagesAgree(const std::string& name, int ltPasses, int ptPasses) {
-  expectImagesAgree(name, loadScene(test::source("scenes/" + name + ".json")), ltPasses, ptPasses);
+void expectImagesAgree(const std::string& name, int passes, int ptPasses) {
+  test::expectAgreesWithPathTracing("light", name, passes, ptPasses);
 }
 
 }  // namespace
