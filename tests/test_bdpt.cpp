@@ -9,30 +9,18 @@
 
 using namespace fs;
 
-namespace {
-
-void expectImagesAgree(const std::string& name, SceneDesc d, int passes, int ptPasses) {
-  test::expectAgreesWithPathTracing("bdpt", name, std::move(d), passes, ptPasses);
-}
-
-void expectImagesAgree(const std::string& name, int passes, int ptPasses) {
-  test::expectAgreesWithPathTracing("bdpt", name, passes, ptPasses);
-}
-
-}  // namespace
-
-TEST(Bdpt, CornellImageAgreesWithPathTracing) { expectImagesAgree("cornell", 200, 300); }
-TEST(Bdpt, ManyLightsImageAgreesWithPathTracing) { expectImagesAgree("many-lights", 200, 300); }
-TEST(Bdpt, SierpinskiGlossyImageAgreesWithPathTracing) { expectImagesAgree("sierpinski-glossy", 200, 300); }
+TEST(Bdpt, CornellImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "cornell", 200, 300); }
+TEST(Bdpt, ManyLightsImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "many-lights", 200, 300); }
+TEST(Bdpt, SierpinskiGlossyImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "sierpinski-glossy", 200, 300); }
 
 // Delta surfaces seen by the camera and met by both subpaths: no connection through them, their
 // densities cancel in the MIS weights; the glass's caustic comes from the t = 1 and s = 0 strategies.
-TEST(Bdpt, MirrorAndGlassAgreeWithPathTracing) { expectImagesAgree("mirror-glass", test::mirrorGlassScene(), 200, 300); }
+TEST(Bdpt, MirrorAndGlassAgreeWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "mirror-glass", test::mirrorGlassScene(), 200, 300); }
 
 // Every kind of light at once, on an open scene: a directional light (s = 1 and light subpaths
 // from its disk), a spot, a point light and an area light, over diffuse and glossy surfaces.
 TEST(Bdpt, MixedLightsAgreeWithPathTracing) {
-  expectImagesAgree("mixed-lights", test::sceneFromJson(R"({"materials": {
+  test::expectAgreesWithPathTracing("bdpt", "mixed-lights", test::sceneFromJson(R"({"materials": {
       "white": {"type": "diffuse", "albedo": 0.6}, "gloss": {"type": "glossy", "albedo": 0.2, "specular": 0.5, "exponent": 10},
       "lamp": {"type": "diffuse", "emission": [4, 3, 2]}},
     "shapes": [{"type": "quad", "material": "white", "vertices": [[-3,0,-3],[-3,0,3],[1,0,3],[1,0,-3]]},
@@ -67,5 +55,5 @@ TEST(Bdpt, FirstShotTableLeavesTheImageUnchanged) {
 TEST(Bdpt, MaxDepthCountsBouncesLikePathTracing) {
   SceneDesc d = loadScene(test::source("scenes/cornell.json"));
   d.settings.maxDepth = 2;
-  expectImagesAgree("cornell, max depth 2", d, 200, 300);
+  test::expectAgreesWithPathTracing("bdpt", "cornell, max depth 2", d, 200, 300);
 }

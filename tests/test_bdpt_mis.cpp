@@ -8,6 +8,7 @@
 #include "render/integrators/bdpt/integrator.h"
 #include "render/integrators/bdpt/mis.h"
 #include "tests/render_util.h"
+#include "tests/splat_checks.h"
 #include "tests/test_util.h"
 
 using namespace fs;
@@ -92,48 +93,6 @@ TEST(BdptMis, WeightsOfOnePathSumToOne) {
 }
 
 // The image does not depend on the number of threads, and passes one at a time give one render's film.
-TEST(BdptMis, BitIdenticalForOneAndTwoThreadsAndByPasses) {
-  SceneDesc d = loadScene(test::source("scenes/cornell.json"));
-  d.camera.width = 40, d.camera.height = 30;  // 1200 samples a pass: two chunks
-  const RenderScene scene(d, d.settings.patchSize);
-  BdptIntegrator bdpt{IntegratorOptions()};
-  bdpt.preprocess(scene);
-  const auto one = test::renderWith(bdpt, scene, 3, 1, 1), two = test::renderWith(bdpt, scene, 3, 1, 2);
-  const Camera camera(d.camera);
-  Film passes(40, 30);
-  for (int k = 0; k < 3; ++k) {
-    RenderOptions ro;
-    ro.spp = 1, ro.firstSample = k, ro.threads = 2;
-    render(bdpt, camera, passes, ro);
-  }
-  double sum = 0;
-  for (int y = 0; y < 30; ++y)
-    for (int x = 0; x < 40; ++x) {
-      EXPECT_EQ(one.film.mean(x, y), two.film.mean(x, y));
-      EXPECT_EQ(one.film.variance(x, y), two.film.variance(x, y));
-      EXPECT_EQ(one.film.mean(x, y), passes.mean(x, y));
-      sum += one.film.mean(x, y).x;
-    }
-  EXPECT_GT(sum, 0.0);
-  EXPECT_EQ(one.stats.spp, 3);
-}
+TEST(BdptMis, BitIdenticalForOneAndTwoThreadsAndByPasses) { test::expectSameFilmForThreadsAndPasses("bdpt"); }
 
-TEST(BdptMis, CommandLine) {
-  const std::string exe = FIRSTSHOT_RENDER_EXE, scene = test::source("scenes/cornell.json"), dir = test::tempDir();
-  const auto ok = test::run(exe + " " + scene + " --integrator bdpt --spp 2 --width 24 --height 20 --aov -o " + dir +
-                            "/b.exr -o " + dir + "/b.png");
-  ASSERT_EQ(ok.exitCode, 0) << ok.output;
-  int w = 0, h = 0;
-  std::vector<std::string> channels;
-  Film::read(dir + "/b.exr", w, h, channels);
-  EXPECT_EQ(channels.size(), 9u);
-  EXPECT_EQ(w, 24);
-  const auto timed =
-      test::run(exe + " " + scene + " --integrator bdpt --time 0.2 --width 24 --height 20 -q -o " + dir + "/t.exr");
-  EXPECT_EQ(timed.exitCode, 0) << timed.output;
-  for (const std::string bad : {" --integrator bdpt --spp 0", " --integrator bdpt --accuracy 0.2",
-                                " --integrator bdpt --max-depth -1", " --integrator bdtp"}) {
-    const auto r = test::run(exe + " " + scene + bad + " -q -o " + dir + "/bad.exr");
-    EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
-  }
-}
+TEST(BdptMis, CommandLine) { test::expectCommandLine("bdpt", "bdtp"); }

@@ -9,6 +9,7 @@
 #include "tests/block_compare.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
+#include "tests/splat_checks.h"
 #include "tests/test_util.h"
 
 using namespace fs;
@@ -16,29 +17,17 @@ using namespace fs;
 using test::blockMeans;
 using test::expectBlocksAgree;
 
-namespace {
-
-void expectImagesAgree(const std::string& name, SceneDesc d, int passes, int ptPasses) {
-  test::expectAgreesWithPathTracing("light", name, std::move(d), passes, ptPasses);
-}
-
-void expectImagesAgree(const std::string& name, int passes, int ptPasses) {
-  test::expectAgreesWithPathTracing("light", name, passes, ptPasses);
-}
-
-}  // namespace
-
 // The area light of the Cornell box is seen directly: light tracing draws it by connecting the
 // particles' first vertex (on the light) to the camera, so no block is left out.
-TEST(LightTracing, CornellImageAgreesWithPathTracing) { expectImagesAgree("cornell", 600, 300); }
-TEST(LightTracing, ManyLightsImageAgreesWithPathTracing) { expectImagesAgree("many-lights", 600, 300); }
-TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) { expectImagesAgree("sierpinski-glossy", 600, 300); }
+TEST(LightTracing, CornellImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "cornell", 600, 300); }
+TEST(LightTracing, ManyLightsImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "many-lights", 600, 300); }
+TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "sierpinski-glossy", 600, 300); }
 
 // Delta surfaces: a mirror and a glass block seen by the camera (their pixels are path traced)
 // and the glass's caustic on the floor (light tracing carries it through the adjoint refraction;
 // path tracing finds it only when a BSDF sample meets the light).
 TEST(LightTracing, MirrorAndGlassAgreeWithPathTracing) {
-  expectImagesAgree("mirror-glass", test::mirrorGlassScene(), 600, 300);
+  test::expectAgreesWithPathTracing("light", "mirror-glass", test::mirrorGlassScene(), 600, 300);
 }
 
 // With a first-shot table the small lights stay lights for shooting: the same image as without.
@@ -132,51 +121,13 @@ TEST(LightTracing, TransportPathWeighsTheSameBothWays) {
 // The image does not depend on the number of threads, and passes rendered one at a time give
 // the film of one render.
 TEST(LightTracing, BitIdenticalForOneAndTwoThreadsAndByPasses) {
-  SceneDesc d = loadScene(test::source("scenes/cornell.json"));
-  d.camera.width = 40, d.camera.height = 30;  // 1200 particles a pass: two chunks
-  const RenderScene scene(d, d.settings.patchSize);
-  auto lt = makeIntegrator("light", IntegratorOptions());
-  lt->preprocess(scene);
-  const auto one = test::renderWith(*lt, scene, 3, 1, 1), two = test::renderWith(*lt, scene, 3, 1, 2);
-  const Camera camera(d.camera);
-  Film passes(40, 30);
-  for (int k = 0; k < 3; ++k) {
-    RenderOptions ro;
-    ro.spp = 1, ro.firstSample = k, ro.threads = 2;
-    render(*lt, camera, passes, ro);
-  }
-  double sum = 0;
+  const test::RenderRun one = test::expectSameFilmForThreadsAndPasses("light");
   for (int y = 0; y < 30; ++y)
-    for (int x = 0; x < 40; ++x) {
-      EXPECT_EQ(one.film.mean(x, y), two.film.mean(x, y));
-      EXPECT_EQ(one.film.variance(x, y), two.film.variance(x, y));
-      EXPECT_EQ(one.film.mean(x, y), passes.mean(x, y));
-      EXPECT_EQ(one.film.samples(x, y), 3u);
-      sum += one.film.mean(x, y).x;
-    }
-  EXPECT_GT(sum, 0.0);
-  EXPECT_EQ(one.stats.spp, 3);
+    for (int x = 0; x < 40; ++x) EXPECT_EQ(one.film.samples(x, y), 3u);
   EXPECT_GT(one.stats.rays, uint64_t(3 * 1200));
 }
 
-TEST(LightTracing, CommandLine) {
-  const std::string exe = FIRSTSHOT_RENDER_EXE, scene = test::source("scenes/cornell.json"), dir = test::tempDir();
-  const auto ok = test::run(exe + " " + scene + " --integrator light --spp 2 --width 24 --height 20 --aov -o " + dir +
-                            "/l.exr -o " + dir + "/l.png");
-  ASSERT_EQ(ok.exitCode, 0) << ok.output;
-  int w = 0, h = 0;
-  std::vector<std::string> channels;
-  const auto img = Film::read(dir + "/l.exr", w, h, channels);
-  EXPECT_EQ(channels.size(), 9u);
-  EXPECT_EQ(w, 24);
-  const auto timed = test::run(exe + " " + scene + " --integrator light --time 0.2 --width 24 --height 20 -q -o " + dir + "/t.exr");
-  EXPECT_EQ(timed.exitCode, 0) << timed.output;
-  for (const std::string bad : {" --integrator light --spp 0", " --integrator light --accuracy 0.2", " --integrator lite",
-                                " --integrator light --max-depth -1"}) {
-    const auto r = test::run(exe + " " + scene + bad + " -q -o " + dir + "/bad.exr");
-    EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
-  }
-}
+TEST(LightTracing, CommandLine) { test::expectCommandLine("light", "lite"); }
 
 // The preview renders light tracing pass by pass: its scripted run gives the offline film.
 TEST(LightTracing, PreviewEqualsOfflineRender) {
