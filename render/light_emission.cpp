@@ -6,6 +6,8 @@
 
 #include "common/lights.h"
 #include "common/sampling.h"
+#include "render/patch_emitters.h"
+#include "render/render_scene.h"
 
 namespace fs {
 
@@ -16,11 +18,40 @@ float mean(const Color& c) { return (c.x + c.y + c.z) / 3.0f; }
 }  // namespace
 
 EmissionSampler::EmissionSampler(const LightSet& lights, const SceneDesc& scene) : lights_(&lights) {
+  setBounds(scene);
+  addLights(false);
+  finish();
+}
+
+EmissionSampler::EmissionSampler(const RenderScene& scene, const FirstShotLighting& lighting)
+    : lights_(&scene.lights()), scene_(&scene), lighting_(&lighting) {
+  setBounds(scene.desc());
+  addLights(true);
+  const PatchMesh& mesh = scene.mesh();
+  sideEmitter_.assign(2 * size_t(mesh.size()), kNoId);
+  if (const FirstShotTable* table = scene.firstShot()) {
+    const std::vector<Color> side = table->sideIrradiance();
+    for (uint32_t j = 0; j < mesh.size(); ++j)
+      for (uint32_t sd = 0; sd < 2; ++sd) {
+        const float phi = patchSidePower(scene, side, j, sd);
+        if (!(phi > 0.0f)) continue;
+        sideEmitter_[2 * size_t(j) + sd] = uint32_t(power_.size());
+        patchSides_.push_back(2 * j + sd);
+        power_.push_back(phi);
+      }
+  }
+  finish();
+}
+
+void EmissionSampler::setBounds(const SceneDesc& scene) {
   Vec3d lo, hi;
   scene.bounds(lo, hi);
   centre_ = Vec3(0.5 * (lo + hi));
   radius_ = std::max(1e-6f, float(0.5 * glm::length(hi - lo)) * 1.01f);
-  for (const RenderLight& l : lights.lights()) {
+}
+
+void EmissionSampler::addLights(bool skipReplaced) {
+  for (const RenderLight& l : lights_->lights()) {
     double p = 0;
     switch (l.type) {
       case LightType::Point: p = 4.0 * kPi * mean(l.intensity); break;
@@ -28,23 +59,52 @@ EmissionSampler::EmissionSampler(const LightSet& lights, const SceneDesc& scene)
       case LightType::Directional: p = mean(l.irradiance) * kPi * double(radius_) * radius_; break;
       case LightType::Area: p = mean(l.radiance) * l.area * kPi; break;
     }
-    power_.push_back(std::max(0.0, p));
-    total_ += power_.back();
+    power_.push_back(skipReplaced && l.replaced ? 0.0 : std::max(0.0, p));
   }
+  lightCount_ = uint32_t(power_.size());
+}
+
+void EmissionSampler::finish() {
+  total_ = 0;
+  for (double p : power_) total_ += p;
   double sum = 0;
+  cdf_.clear();
   for (double p : power_) cdf_.push_back(total_ > 0 ? (sum += p) / total_ : 1.0);
   if (!cdf_.empty()) cdf_.back() = 1.0;
+}
+
+bool EmissionSampler::isDirectional(uint32_t e) const {
+  return e < lightCount_ && lights_->lights()[e].type == LightType::Directional;
+}
+
+uint32_t EmissionSampler::patchEmitter(uint32_t j, uint32_t side) const {
+  return 2 * size_t(j) + side < sideEmitter_.size() ? sideEmitter_[2 * size_t(j) + side] : kNoId;
+}
+
+Vec3 EmissionSampler::patchNormal(uint32_t e) const {
+  const uint32_t ps = patchSides_[e - lightCount_];
+  return patchSideNormal(scene_->mesh().patches[ps / 2], ps % 2);
+}
+
+Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) const {
+  if (!(glm::dot(patchNormal(e), w) > 0.0f)) return Color(0.0f);
+  return fs::patchRadiance(*scene_, *lighting_, patchOf(e), y, w);
 }
 
 bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
   if (!(total_ > 0)) return false;
   const size_t l = std::min(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()), cdf_.size() - 1);
   if (!(power_[l] > 0)) return false;
-  const RenderLight& light = lights_->lights()[l];
   out = EmissionSample();
   out.light = static_cast<uint32_t>(l);
   out.pdfLight = float(power_[l] / total_);
-  out.pdfPos = pdfPosition(light);
+  out.pdfPos = pdfPosition(out.light);
+  if (isPatch(out.light)) {
+    out.p = samplePatchPoint(scene_->mesh().patches[patchOf(out.light)], uPos);
+    out.n = patchNormal(out.light);
+    return true;
+  }
+  const RenderLight& light = lights_->lights()[l];
   switch (light.type) {
     case LightType::Point:
     case LightType::Spot:
@@ -68,7 +128,9 @@ bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& o
   return true;
 }
 
-float EmissionSampler::pdfPosition(const RenderLight& light) const {
+float EmissionSampler::pdfPosition(uint32_t e) const {
+  if (isPatch(e)) return float(1.0 / scene_->mesh().patches[patchOf(e)].area);
+  const RenderLight& light = lights_->lights()[e];
   switch (light.type) {
     case LightType::Directional: return 1.0f / (kPiF * radius_ * radius_);
     case LightType::Area: return float(1.0 / light.area);
@@ -76,7 +138,9 @@ float EmissionSampler::pdfPosition(const RenderLight& light) const {
   }
 }
 
-float EmissionSampler::pdfDirection(const RenderLight& light, const Vec3& n, const Vec3& d) const {
+float EmissionSampler::pdfDirection(uint32_t e, const Vec3& n, const Vec3& d) const {
+  if (isPatch(e)) return std::max(0.0f, glm::dot(patchNormal(e), d)) * kInvPiF;
+  const RenderLight& light = lights_->lights()[e];
   switch (light.type) {
     case LightType::Point: return squareToUniformSpherePdf();
     case LightType::Spot: {
@@ -94,6 +158,14 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out) const {
   const Vec2 uPos = sampler.next2D();
   const Vec2 uDir = sampler.next2D();
   if (!sampleOrigin(u, uPos, out)) return false;
+  if (isPatch(out.light)) {
+    const Vec3 local = squareToCosineHemisphere(uDir);
+    out.d = Frame(out.n).toWorld(local);
+    out.pdfDir = squareToCosineHemispherePdf(local);
+    if (!(out.pdfDir > 0.0f)) return false;
+    out.power = patchRadiance(out.light, out.p, out.d) * (local.z / (out.pdfLight * out.pdfPos * out.pdfDir));
+    return maxComponent(out.power) > 0.0f;
+  }
   const RenderLight& light = lights_->lights()[out.light];
   switch (light.type) {
     case LightType::Point: {

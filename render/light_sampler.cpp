@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/sampling.h"
+#include "render/patch_emitters.h"
 
 namespace fs {
 
@@ -23,24 +24,6 @@ LightBounds surfaceBounds(const Vec3* v, int count, const Vec3& normal, float ph
   b.cosE = 0.0f;  // a hemisphere around it
   b.phi = phi;
   return b;
-}
-
-/// Uniform point on a planar triangle or convex quad (split along v0–v2 by area).
-Vec3 samplePolygon(const Patch& p, Vec2 u) {
-  const Vec3 *a = &p.v[0], *b = &p.v[1], *c = &p.v[2];
-  if (p.count == 4) {
-    const float a0 = glm::length(glm::cross(p.v[1] - p.v[0], p.v[2] - p.v[0]));
-    const float a1 = glm::length(glm::cross(p.v[2] - p.v[0], p.v[3] - p.v[0]));
-    const float f = a0 / (a0 + a1);
-    if (u.x < f) {
-      u.x = std::min(u.x / f, 0x1.fffffep-1f);
-    } else {
-      u.x = std::min((u.x - f) / (1.0f - f), 0x1.fffffep-1f);
-      b = &p.v[2], c = &p.v[3];
-    }
-  }
-  const Vec3 bary = squareToUniformTriangle(u);
-  return bary.x * *a + bary.y * *b + bary.z * *c;
 }
 
 }  // namespace
@@ -98,10 +81,8 @@ void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bo
   patchSide_.assign(2 * size_t(mesh.size()), kNoId);
   for (uint32_t j = 0; j < mesh.size(); ++j) {
     const Patch& p = mesh.patches[j];
-    const BSDF& bsdf = scene_->bsdf(p.material);
-    if (bsdf.hasDelta()) continue;  // mirrors and glass reflect no first-shot term
     for (uint32_t s = 0; s < 2; ++s) {
-      const float phi = meanOf(bsdf.albedo() * side[2 * size_t(j) + s]) * float(p.area);
+      const float phi = patchSidePower(*scene_, side, j, s);  // 0 for mirrors and glass
       if (!(phi > 0.0f)) continue;
       patchSide_[2 * size_t(j) + s] = static_cast<uint32_t>(g.emitters.size());
       g.emitters.push_back({Emitter::Kind::Patch, j, s, float(p.area)});
@@ -162,7 +143,7 @@ Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
              bary.z * m.vertices[m.indices[3 * e.sub + 2]];
     }
     case Emitter::Kind::Patch:
-      return samplePolygon(scene_->mesh().patches[e.index], u);
+      return samplePatchPoint(scene_->mesh().patches[e.index], u);
   }
   return Vec3(0.0f);
 }
@@ -299,20 +280,15 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
 bool LightSampler::patchPoint(const Emitter& e, float pSelect, const Vec3& x, const Vec2& u, LightRecord& rec,
                               Color& Le) const {
   const Patch& p = scene_->mesh().patches[e.index];
-  Hit y;
-  y.p = emitterPoint(e, u);
-  y.ng = p.normal;
-  y.patch = e.index;
-  const Vec3 d = y.p - x;
+  const Vec3 y = emitterPoint(e, u);
+  const Vec3 d = y - x;
   const float dist2 = glm::dot(d, d);
   if (!(dist2 > 0.0f)) return false;
   rec.distance = std::sqrt(dist2);
   rec.wi = d / rec.distance;
-  const float cosY = -glm::dot(e.sub == 0 ? p.normal : -p.normal, rec.wi);
+  const float cosY = -glm::dot(patchSideNormal(p, e.sub), rec.wi);
   if (!(cosY > 0.0f)) return false;  // x is on the other side: that side is another emitter
-  const BSDF& bsdfY = scene_->bsdf(p.material);
-  const Frame frameY(p.normal);
-  Le = firstShot_->eval(y, frameY, frameY.toLocal(-rec.wi), bsdfY);
+  Le = patchRadiance(*scene_, *firstShot_, e.index, y, -rec.wi);
   if (!(maxComponent(Le) > 0.0f)) return false;
   rec.pdf = pSelect * dist2 / (cosY * e.area);
   rec.value = Le / rec.pdf;

@@ -63,35 +63,54 @@ inline void expectBlocksAgree(const std::string& name, const std::vector<Moments
   EXPECT_LT(worstRel, 0.05) << name << ": too noisy to test";
 }
 
+/// Integrators @p a and @p b (makeIntegrator names, options @p io) on @p scene: every block within
+/// 3σ of the difference (blockMeans, expectBlocksAgree).
+inline void expectIntegratorsAgree(const std::string& name, const RenderScene& scene, const std::string& a, int passesA,
+                                   const std::string& b, int passesB, const IntegratorOptions& io) {
+  auto ia = makeIntegrator(a, io), ib = makeIntegrator(b, io);
+  ia->preprocess(scene);
+  ib->preprocess(scene);
+  expectBlocksAgree(name, blockMeans(*ia, scene, passesA), blockMeans(*ib, scene, passesB));
+}
 /// Integrator @p integrator (a makeIntegrator name) against path tracing on @p d at 32×24, the
-/// scene's max depth: every block within 3σ of the difference (blockMeans, expectBlocksAgree).
+/// scene's max depth.
 inline void expectAgreesWithPathTracing(const std::string& integrator, const std::string& name, SceneDesc d, int passes,
                                         int ptPasses) {
   d.camera.width = 32, d.camera.height = 24;
   const RenderScene scene(d, d.settings.patchSize);
   IntegratorOptions io;
   io.maxDepth = d.settings.maxDepth;
-  auto a = makeIntegrator(integrator, io), pt = makeIntegrator("path", io);
-  a->preprocess(scene);
-  pt->preprocess(scene);
-  expectBlocksAgree(name, blockMeans(*a, scene, passes), blockMeans(*pt, scene, ptPasses));
+  expectIntegratorsAgree(name, scene, integrator, passes, "path", ptPasses, io);
 }
-
+/// The same with a first-shot table of @p d (Embree item buffers, R = 64) in the scene, which both
+/// use: the same path space, so the same expected image, table and all.
+inline void expectAgreesWithPathTracingOnTable(const std::string& integrator, const std::string& name, SceneDesc d,
+                                               int passes, int ptPasses) {
+  d.camera.width = 32, d.camera.height = 24;
+  PreprocessOptions po = defaultOptions(d);
+  po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+  const RenderScene scene(d, preprocessScene(d, po));
+  ASSERT_FALSE(scene.firstShot()->replacedLights.empty());
+  IntegratorOptions io;
+  io.maxDepth = d.settings.maxDepth;
+  expectIntegratorsAgree(name, scene, integrator, passes, "path", ptPasses, io);
+}
 /// The same on the shipped scene scenes/@p name.json.
 inline void expectAgreesWithPathTracing(const std::string& integrator, const std::string& name, int passes, int ptPasses) {
   expectAgreesWithPathTracing(integrator, name, loadScene(source("scenes/" + name + ".json")), passes, ptPasses);
 }
 
-/// A shooting integrator @p integrator shoots the small lights a first-shot table replaces like
-/// all others: many-lights at 32×24 with and without a table give the same blocks (@p passes each).
-inline void expectTableLeavesImageUnchanged(const std::string& integrator, int passes) {
+/// A shooting integrator @p integrator (options @p io) shoots the small lights a first-shot table
+/// replaces like all others: many-lights at 32×24 with and without a table give the same blocks
+/// (@p passes each).
+inline void expectTableLeavesImageUnchanged(const std::string& integrator, int passes, const IntegratorOptions& io = {}) {
   SceneDesc d = loadScene(source("scenes/many-lights.json"));
   d.camera.width = 32, d.camera.height = 24;
   PreprocessOptions po = defaultOptions(d);
   po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
   const RenderScene plain(d, d.settings.patchSize), withTable(d, preprocessScene(d, po));
   ASSERT_FALSE(withTable.firstShot()->replacedLights.empty());
-  auto a = makeIntegrator(integrator, IntegratorOptions()), b = makeIntegrator(integrator, IntegratorOptions());
+  auto a = makeIntegrator(integrator, io), b = makeIntegrator(integrator, io);
   a->preprocess(withTable);
   b->preprocess(plain);
   expectBlocksAgree("many-lights with and without a table", blockMeans(*a, withTable, passes, 2), blockMeans(*b, plain, passes));
@@ -112,4 +131,21 @@ inline SceneDesc mirrorGlassScene() {
     "settings": {"patch_size": 0.5, "max_depth": 8}})");
 }
 
+/// Every kind of light at once, on an open scene: a directional light, a spot, a point light and an
+/// area light, over diffuse and glossy surfaces (32×24, max depth 6).
+inline SceneDesc mixedLightsScene() {
+  return test::sceneFromJson(R"({"materials": {
+        "white": {"type": "diffuse", "albedo": 0.6}, "gloss": {"type": "glossy", "albedo": 0.2, "specular": 0.5, "exponent": 10},
+        "lamp": {"type": "diffuse", "emission": [4, 3, 2]}},
+      "shapes": [{"type": "quad", "material": "white", "vertices": [[-3,0,-3],[-3,0,3],[1,0,3],[1,0,-3]]},
+                 {"type": "quad", "material": "gloss", "vertices": [[1,0,-3],[1,4,-3],[1,4,3],[1,0,3]]},
+                 {"type": "box", "material": "white", "min": [-0.5,0,-0.3], "max": [0.1,0.7,0.3]},
+                 {"type": "quad", "material": "lamp", "vertices": [[-1.2,1.5,-0.3],[-0.6,1.5,-0.3],[-0.6,1.5,0.3],[-1.2,1.5,0.3]]}],
+      "lights": [{"type": "directional", "direction": [0.3, -1, 0.2], "irradiance": 1.5},
+                 {"type": "spot", "position": [0.5, 1.8, 0.5], "direction": [0, -1, 0], "power": 20,
+                  "inner_angle": 20, "outer_angle": 35},
+                 {"type": "point", "position": [-1, 1, 1], "power": 10}],
+      "camera": {"position": [-1.2, 3.2, -2.2], "look_at": [0.2, 0, 0.3], "fov_y": 55, "resolution": [32, 24]},
+      "settings": {"patch_size": 0.5, "max_depth": 6}})");
+}
 }  // namespace fs::test

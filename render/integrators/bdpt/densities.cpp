@@ -31,10 +31,9 @@ float BdptDensities::pdf(const BdptVertex* prev, const BdptVertex& cur, const Bd
       return c.importance / (float(camera_.width()) * float(camera_.height())) * cosNext;
     }
     case Kind::Light: {
-      const RenderLight& light = scene_.lights().lights()[cur.light];
       if (cur.deltaDirection)
-        return emission_.pdfPosition(light) * (next.onSurface() ? std::abs(glm::dot(next.hit.ng, light.direction)) : 1.0f);
-      const float pdfDir = emission_.pdfDirection(light, cur.hit.ng, w);
+        return emission_.pdfPosition(cur.light) * (next.onSurface() ? std::abs(glm::dot(next.hit.ng, cur.hit.ng)) : 1.0f);
+      const float pdfDir = emission_.pdfDirection(cur.light, cur.hit.ng, w);
       return toDirectional ? pdfDir : pdfDir * cosNext / dist2;
     }
     case Kind::Surface: {
@@ -49,13 +48,17 @@ float BdptDensities::pdf(const BdptVertex* prev, const BdptVertex& cur, const Bd
 }
 
 uint32_t BdptDensities::lightOf(const BdptVertex& v) const {
+  if (v.hit.onPatch()) {
+    const uint32_t side = glm::dot(v.wi, scene_.mesh().patches[v.hit.patch].normal) >= 0.0f ? 0 : 1;
+    return emission_.patchEmitter(v.hit.patch, side);
+  }
   const LightSet& lights = scene_.lights();
   return uint32_t(&lights.emitterLight(v.hit.emitter) - lights.lights().data());
 }
 
 float BdptDensities::pdfOrigin(const BdptVertex& v) const {
-  const uint32_t l = v.kind == BdptVertex::Kind::Light ? v.light : lightOf(v);
-  return emission_.pdfChoice(l) * emission_.pdfPosition(scene_.lights().lights()[l]);
+  const uint32_t e = v.kind == BdptVertex::Kind::Light ? v.light : lightOf(v);
+  return e == kNoId ? 0.0f : emission_.pdfChoice(e) * emission_.pdfPosition(e);
 }
 
 void BdptDensities::setDensities(std::vector<BdptVertex>& path) const {

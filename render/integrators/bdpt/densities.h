@@ -25,9 +25,10 @@ class BdptDensities {
   /// p_pos·|cos| at @p next); surface: the BSDF's, 0 for a delta BSDF. Light choice not included.
   float pdf(const BdptVertex* prev, const BdptVertex& cur, const BdptVertex& next) const;
   /// Density of @p v as a light subpath's origin, p_light·p_pos (1/m²): a Kind::Light vertex, or a
-  /// surface vertex on an area light (the camera subpath meeting it).
+  /// surface vertex on an emitter (the camera subpath meeting it); 0 if it is none.
   float pdfOrigin(const BdptVertex& v) const;
-  /// The light index of a surface vertex on an area light's geometry.
+  /// The emitter index (EmissionSampler) of a surface vertex on an area light's geometry, or on a
+  /// lit patch in table mode (the side facing v.wi; kNoId if that side does not emit).
   uint32_t lightOf(const BdptVertex& v) const;
   /// Sets pdfFwd (from vertex 1 on) and the pdfRev that the subpath itself determines (vertices
   /// 0 … n−3) of a traced subpath; vertex 0's pdfFwd is left as it is.

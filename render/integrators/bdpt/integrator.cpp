@@ -12,6 +12,11 @@ namespace fs {
 void BdptIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   light_.preprocess(scene);
+  table_ = options_.bdptFirstShot && scene.firstShot() != nullptr;
+  if (!table_) return;
+  lighting_.build(scene);
+  tableEmission_ = EmissionSampler(scene, lighting_);
+  small_.build(scene, lighting_, options_);
 }
 
 Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
@@ -27,7 +32,7 @@ Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
 
 void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
                                     std::vector<Splat>& out, uint64_t& rays) const {
-  const BdptDensities densities(*scene_, light_.emission(), camera);
+  const BdptDensities densities(*scene_, emission(), camera);
   Workspace ws;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler(seed, i, pass, kStream);
@@ -43,10 +48,13 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   const Ray ray = camera.generateRay(float(pixel % uint32_t(camera.width())) + jitter.x,
                                      float(pixel / uint32_t(camera.width())) + jitter.y);
   traceCameraPath(densities, ray, maxDepth + 1, options_.rrDepth, sampler, ws.camera, rays);
-  if (!traceLightPath(*scene_, light_.emission(), light_.pathOptions(), sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
+  if (!traceLightPath(*scene_, emission(), light_.pathOptions(), sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
   toBdptLightPath(densities, ws.lightRaw, ws.light);
   const int nt = int(ws.camera.size()), ns = int(ws.light.size());
   const std::span<const BdptVertex> cameraPath(ws.camera), lightPath(ws.light);
+  // x_m, the first non-delta camera vertex: in table mode, lit patches emit only after it.
+  size_t m = 1;
+  while (m < ws.camera.size() && ws.camera[m].delta) ++m;
 
   // t ≥ 2: this pixel's sample.
   Color L(0.0f);
@@ -55,7 +63,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
     for (int s = 0; s <= std::max(ns, 1) && s + t - 2 <= maxDepth; ++s) {
       Color c(0.0f);
       if (s == 0) {
-        c = connectEmission(densities, pt);
+        c = connectEmission(densities, pt, table_ && size_t(t - 1) > m);
         if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, 0, t);
       } else if (s == 1) {
         BdptVertex sampled;
@@ -68,6 +76,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
       L += c;
     }
   }
+  if (table_) L += small_.estimate(cameraPath, m, sampler, rays);
   out.push_back(Splat{pixel, L});
 
   // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.

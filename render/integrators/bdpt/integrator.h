@@ -13,12 +13,21 @@
 /// The whole sample is a particle of the deterministic splat loop (render/splat_renderer.h): the
 /// t ≥ 2 strategies go to pixel j as one splat (one sample per pixel per pass), the t = 1 ones to
 /// the pixels they reach, over N = width·height. Images are bit-identical for any thread count.
-/// Li() gives only the AOVs. A first-shot table is ignored: its lights are shot and sampled like
-/// all others (unbiased, as light tracing).
+/// Li() gives only the AOVs.
+///
+/// With a first-shot table and IntegratorOptions::bdptFirstShot (table mode): the small lights'
+/// light subpaths start from the patches the table lights — the table is their first bounce. The
+/// emitters are the kept lights and the lit patch sides (EmissionSampler's table mode): light
+/// subpaths leave them, s = 1 samples them, and a camera vertex after x_m (the first non-delta one)
+/// on a lit patch meets its first-shot radiance (s = 0). The small lights themselves add their
+/// direct light at x_m and what no table can hold (SmallLightsExact). Without the option the table
+/// is ignored: the small lights are shot and sampled like all others (unbiased, as light tracing).
 #include <vector>
 
+#include "render/direct_light.h"
 #include "render/integrator.h"
 #include "render/integrators/bdpt/densities.h"
+#include "render/integrators/bdpt/small_lights.h"
 #include "render/integrators/light/light_tracer.h"
 
 namespace fs {
@@ -52,9 +61,16 @@ class BdptIntegrator : public Integrator {
   void sample(const BdptDensities& densities, uint32_t pixel, Sampler& sampler, Workspace& ws, std::vector<Splat>& out,
               uint64_t& rays) const;
 
+  /// The emitters light subpaths leave and s = 1 samples.
+  const EmissionSampler& emission() const { return table_ ? tableEmission_ : light_.emission(); }
+
   IntegratorOptions options_;
   const RenderScene* scene_ = nullptr;
   LightTracingIntegrator light_;  ///< emission, light subpaths and the t = 1 connection
+  bool table_ = false;            ///< table mode
+  FirstShotLighting lighting_;    ///< table mode: the lit patches' radiance
+  EmissionSampler tableEmission_; ///< table mode: kept lights and lit patch sides
+  SmallLightsExact small_;        ///< table mode: the small lights' own part
 };
 
 }  // namespace fs

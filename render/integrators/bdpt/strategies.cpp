@@ -9,8 +9,15 @@
 
 namespace fs {
 
-Color connectEmission(const BdptDensities& densities, const BdptVertex& pt) {
-  if (pt.kind != BdptVertex::Kind::Surface || pt.hit.onPatch()) return Color(0.0f);
+Color connectEmission(const BdptDensities& densities, const BdptVertex& pt, bool patchEmits) {
+  if (pt.kind != BdptVertex::Kind::Surface) return Color(0.0f);
+  const EmissionSampler& emission = densities.emission();
+  if (pt.hit.onPatch()) {
+    if (!patchEmits) return Color(0.0f);
+    const uint32_t e = densities.lightOf(pt);
+    return e == kNoId ? Color(0.0f) : pt.beta * emission.patchRadiance(e, pt.hit.p, pt.wi);
+  }
+  if (!(emission.power(densities.lightOf(pt)) > 0.0)) return Color(0.0f);  // a replaced light in table mode
   return pt.beta * densities.scene().lights().emitted(pt.hit.emitter, pt.hit.ng, pt.wi);
 }
 
@@ -19,8 +26,8 @@ Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, S
   const double u = sampler.next1Dd();
   const Vec2 uPos = sampler.next2D();
   EmissionSample es;
-  if (pt.delta || !densities.emission().sampleOrigin(u, uPos, es)) return Color(0.0f);
-  const RenderLight& light = densities.scene().lights().lights()[es.light];
+  const EmissionSampler& emission = densities.emission();
+  if (pt.delta || !emission.sampleOrigin(u, uPos, es)) return Color(0.0f);
   sampled = BdptVertex();
   sampled.kind = BdptVertex::Kind::Light;
   sampled.light = es.light;
@@ -34,10 +41,21 @@ Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, S
   Vec3 wi;
   float distance = std::numeric_limits<float>::infinity();
   Color incident(0.0f);
-  if (es.deltaDirection) {
+  if (emission.isPatch(es.light)) {
+    const Vec3 d = es.p - pt.hit.p;
+    const float dist2 = glm::dot(d, d);
+    if (!(dist2 > 0.0f)) return Color(0.0f);
+    distance = std::sqrt(dist2);
+    wi = d / distance;
+    const float cosLight = -glm::dot(es.n, wi);
+    if (!(cosLight > 0.0f)) return Color(0.0f);
+    incident = emission.patchRadiance(es.light, es.p, -wi) * (cosLight / (dist2 * es.pdfLight * es.pdfPos));
+  } else if (es.deltaDirection) {
+    const RenderLight& light = densities.scene().lights().lights()[es.light];
     wi = -light.direction;
     incident = light.irradiance / es.pdfLight;
   } else {
+    const RenderLight& light = densities.scene().lights().lights()[es.light];
     const Vec3 d = es.p - pt.hit.p;
     const float dist2 = glm::dot(d, d);
     if (!(dist2 > 0.0f)) return Color(0.0f);

@@ -12,9 +12,10 @@
 
 namespace fs {
 
-/// s = 0: the emitted radiance of camera vertex t−1 towards vertex t−2 (0 unless it lies on an
-/// area light's front side), times its throughput.
-Color connectEmission(const BdptDensities& densities, const BdptVertex& pt);
+/// s = 0: the emitted radiance of camera vertex t−1 towards vertex t−2, times its throughput: an
+/// area light's front side that the emission sampler emits from, or (table mode, if @p patchEmits)
+/// a lit patch's first-shot radiance; 0 otherwise.
+Color connectEmission(const BdptDensities& densities, const BdptVertex& pt, bool patchEmits);
 
 /// s = 1: samples a light vertex with the emission sampler's light choice and position (3
 /// sampler dimensions, always drawn) into @p sampled and joins it to @p pt. 0 if @p pt is delta,

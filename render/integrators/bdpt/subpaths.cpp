@@ -61,7 +61,7 @@ void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVert
       v.kind = BdptVertex::Kind::Light;
       v.light = lv.light;
       v.deltaLight = lv.delta;
-      v.deltaDirection = densities.scene().lights().lights()[lv.light].type == LightType::Directional;
+      v.deltaDirection = densities.emission().isDirectional(lv.light);
     } else {
       v.delta = lv.delta;
     }

@@ -1,0 +1,43 @@
+// Table mode of bidirectional path tracing: the small lights' own part of a sample.
+#include "render/integrators/bdpt/small_lights.h"
+
+namespace fs {
+
+void SmallLightsExact::build(const RenderScene& scene, const FirstShotLighting& lighting,
+                             const IntegratorOptions& options) {
+  scene_ = &scene;
+  lights_.build(scene, lighting, options.lightSampler, false, options.lightVisibility);
+}
+
+Color SmallLightsExact::estimate(std::span<const BdptVertex> camera, size_t m, Sampler& sampler,
+                                 uint64_t& rays) const {
+  const LightSet& lights = scene_->lights();
+  Color L(0.0f);
+  for (size_t i = 1; i < camera.size(); ++i) {
+    const BdptVertex& v = camera[i];
+    if (v.hit.onPatch() || !lights.emitterLight(v.hit.emitter).replaced) continue;
+    const Color Le = lights.emitted(v.hit.emitter, v.hit.ng, v.wi);
+    if (!(maxComponent(Le) > 0.0f)) continue;
+    float weight = 1.0f;
+    if (i == m + 1) {  // the BSDF sample of x_m against its next-event estimation
+      const BdptVertex& x = camera[m];
+      const Frame frame(x.hit.ng);
+      const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
+      const float pdfBsdf = scene_->bsdf(x.material).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
+      const Vec3 n = glm::dot(x.wi, x.hit.ng) >= 0.0f ? x.hit.ng : -x.hit.ng;
+      const float pdfLight = lights_.pdf(x.hit.p, n, kRequest, v.hit);
+      weight = pdfLight > 0.0f ? powerHeuristic(pdfBsdf, pdfLight) : 1.0f;
+    } else if (i > m + 1 && !camera[i - 1].delta) {
+      continue;  // the table holds it
+    }
+    L += v.beta * Le * weight;
+  }
+  if (m < camera.size()) {
+    const BdptVertex& x = camera[m];
+    const Frame frame(x.hit.ng);
+    L += x.beta * lights_.sample(x.hit, frame, frame.toLocal(x.wi), scene_->bsdf(x.material), kRequest, sampler, rays);
+  }
+  return L;
+}
+
+}  // namespace fs

@@ -1,0 +1,39 @@
+#pragma once
+/// @file small_lights.h
+/// Bidirectional path tracing with a first-shot table (table mode, docs/bdpt.md): the part of a
+/// sample that the small (replaced) lights still contribute as themselves.
+///
+/// In table mode the small lights leave the emission sampler; their first reflection comes from
+/// the lit patches, which emit it at camera vertices after x_m, the first non-delta vertex of the
+/// camera subpath (render/patch_emitters.h). What is left for the lights themselves is, as in the
+/// path tracer's exact primary mode (PrimaryMode::Exact):
+///   - a small area light met by the camera subpath up to x_m (through mirrors and glass): weight 1;
+///   - the direct light at x_m: next-event estimation to the small lights (LightSampler), and a
+///     small area light met by the subpath's BSDF sample from x_m, weighted against it by the
+///     power heuristic;
+///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1.
+#include <span>
+
+#include "common/rng.h"
+#include "render/integrator.h"
+#include "render/integrators/bdpt/vertex.h"
+#include "render/light_sampler.h"
+
+namespace fs {
+
+class SmallLightsExact {
+ public:
+  /// @p lighting must be built for @p scene; both must outlive the object.
+  void build(const RenderScene& scene, const FirstShotLighting& lighting, const IntegratorOptions& options);
+  /// The small lights' contribution to the camera subpath @p camera (vertex 0 the pinhole) whose
+  /// first non-delta vertex is @p m (camera.size() if none), W/(m² sr). Draws the NEE sample's
+  /// dimensions from @p sampler; @p rays counts the shadow rays.
+  Color estimate(std::span<const BdptVertex> camera, size_t m, Sampler& sampler, uint64_t& rays) const;
+
+ private:
+  const RenderScene* scene_ = nullptr;
+  LightSampler lights_;
+  static constexpr NeeRequest kRequest{false, true, false, true};  ///< the replaced lights, with MIS
+};
+
+}  // namespace fs

@@ -1,0 +1,47 @@
+// The lit first-shot patches as light sources (patch_emitters.h).
+#include "render/patch_emitters.h"
+
+#include <algorithm>
+
+#include "common/sampling.h"
+
+namespace fs {
+
+Vec3 samplePatchPoint(const Patch& p, Vec2 u) {
+  // Quads are split along v0–v2 and one of the two triangles chosen by area.
+  const Vec3 *a = &p.v[0], *b = &p.v[1], *c = &p.v[2];
+  if (p.count == 4) {
+    const float a0 = glm::length(glm::cross(p.v[1] - p.v[0], p.v[2] - p.v[0]));
+    const float a1 = glm::length(glm::cross(p.v[2] - p.v[0], p.v[3] - p.v[0]));
+    const float f = a0 / (a0 + a1);
+    if (u.x < f) {
+      u.x = std::min(u.x / f, 0x1.fffffep-1f);
+    } else {
+      u.x = std::min((u.x - f) / (1.0f - f), 0x1.fffffep-1f);
+      b = &p.v[2], c = &p.v[3];
+    }
+  }
+  const Vec3 bary = squareToUniformTriangle(u);
+  return bary.x * *a + bary.y * *b + bary.z * *c;
+}
+
+float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrradiance, uint32_t j, uint32_t side) {
+  const Patch& p = scene.mesh().patches[j];
+  const BSDF& bsdf = scene.bsdf(p.material);
+  if (bsdf.hasDelta()) return 0.0f;
+  const Color phi = bsdf.albedo() * sideIrradiance[2 * size_t(j) + side] * float(p.area);
+  return (phi.x + phi.y + phi.z) * (1.0f / 3.0f);
+}
+
+Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting, uint32_t j, const Vec3& y,
+                    const Vec3& w) {
+  const Patch& p = scene.mesh().patches[j];
+  Hit hit;
+  hit.p = y;
+  hit.ng = p.normal;
+  hit.patch = j;
+  const Frame frame(p.normal);
+  return lighting.eval(hit, frame, frame.toLocal(w), scene.bsdf(p.material));
+}
+
+}  // namespace fs

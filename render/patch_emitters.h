@@ -1,0 +1,33 @@
+#pragma once
+/// @file patch_emitters.h
+/// The lit first-shot patches as light sources: what every user of them (next-event estimation in
+/// LightSampler, the light subpaths of bidirectional path tracing in EmissionSampler) needs to
+/// know about one patch side as an emitter.
+///
+/// Side s of patch j (s = 0: the side its normal faces) sends the first-shot radiance
+/// Σ_i e_i r_ij f_r(ω'_i, y, ω) of FirstShotLighting into its half-space; its power is about
+/// albedo · E_js · A_j, the weight with which emitters are chosen (any positive weight keeps the
+/// estimators unbiased: they divide by the probability they used).
+#include "common/patches.h"
+#include "render/direct_light.h"
+#include "render/render_scene.h"
+
+namespace fs {
+
+/// A uniform point (by area) of a planar triangle or convex quad patch, from @p u ∈ [0,1)².
+Vec3 samplePatchPoint(const Patch& p, Vec2 u);
+
+/// Power that side @p side of patch @p j re-emits, channel mean, W: albedo · E · A with E the
+/// side's first-shot irradiance (@p sideIrradiance = FirstShotTable::sideIrradiance()). 0 for
+/// delta BSDFs (mirrors and glass reflect no first-shot term).
+float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrradiance, uint32_t j, uint32_t side);
+
+/// Unit normal of side @p side of patch @p p (the direction it emits into).
+inline Vec3 patchSideNormal(const Patch& p, uint32_t side) { return side == 0 ? p.normal : -p.normal; }
+
+/// First-shot radiance leaving the point @p y of patch @p j in the unit direction @p w, W/(m² sr)
+/// (0 where that side sends nothing). @p lighting must be built for @p scene.
+Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting, uint32_t j, const Vec3& y,
+                    const Vec3& w);
+
+}  // namespace fs
