@@ -4,10 +4,12 @@
 /// signal only set a flag (async-signal-safe: one lock-free atomic store); the long loops poll it
 /// (interrupted(), or interruptFlag() as RenderOptions::cancel) and stop by throwing Interrupted,
 /// which runTool (common/cli.h) turns into one line on stderr and exit code 128 + signal
-/// (130 for SIGINT, 143 for SIGTERM). The handler is installed with SA_RESETHAND: a second signal
-/// terminates the process at once with the default action. Outputs written through
+/// (130 for SIGINT, 143 for SIGTERM). A second signal at least 0.5 s after the first terminates
+/// the process at once with the default action (an earlier one is taken for the same signal
+/// delivered twice, as timeout(1) does: to the process, then to its group). Outputs written through
 /// writeAtomically (common/atomic_file.h) are not renamed into place once the flag is set.
 #include <atomic>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
