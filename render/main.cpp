@@ -6,8 +6,8 @@
 #include <optional>
 
 #include "common/cli.h"
-#include "common/interrupt.h"
 #include "common/firstshot.h"
+#include "common/interrupt.h"
 #include "common/scene_desc.h"
 #include "render/camera.h"
 #include "render/checkpoint_cli.h"
