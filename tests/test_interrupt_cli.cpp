@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <regex>
 
 #include "render/film.h"
@@ -129,6 +130,21 @@ TEST(InterruptCli, SigintWithPeriodicCheckpointsResumesExactly) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/state"));
 }
 
+/// With --time the passes count: the resumed image equals the --spp render of the total printed.
+TEST(InterruptCli, ResumeWithTimeLimitEqualsTheRenderOfItsPassCount) {
+  const std::string dir = test::tempDir();
+  const std::string base = kRender + " " + kCornell + " --width 32 --height 24 --threads 2";
+  const auto stopped = test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base + " --time 100 -q --checkpoint 1000 -o " + dir + "/a.exr");
+  ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
+  const auto resumed = test::run(base + " --time 0.2 --resume -o " + dir + "/a.exr");
+  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(resumed.output, m, std::regex("32x24 at ([0-9]+) spp"))) << resumed.output;
+  EXPECT_GT(std::stoi(m[1]), 2);
+  ASSERT_EQ(test::run(base + " -q --spp " + std::string(m[1]) + " -o " + dir + "/full.exr").exitCode, 0);
+  EXPECT_EQ(pixels(dir + "/a.exr"), pixels(dir + "/full.exr"));
+}
+
 TEST(InterruptCli, ResumeRefusesACheckpointOfAnotherRenderWithCode2) {
   const std::string dir = test::tempDir();
   const std::string base = kRender + " " + kCornell + " --spp 4 --height 24 -q";
@@ -143,6 +159,15 @@ TEST(InterruptCli, ResumeRefusesACheckpointOfAnotherRenderWithCode2) {
     EXPECT_EQ(r.exitCode, 2) << change << ": " << r.output;
     EXPECT_THAT(r.output, HasSubstr(checkpoint + ": key: made for a different render: " + what)) << change;
   }
+  // The same scene with the light moved by 1 mm.
+  std::ifstream in(kCornell);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_NE(text.find("0.343"), std::string::npos);
+  text.replace(text.find("0.343"), 5, "0.344");
+  test::writeText(dir + "/moved.json", text);
+  const auto moved = test::run(kRender + " " + dir + "/moved.json --spp 4 --height 24 -q --width 32 --resume -o " + dir + "/a.exr");
+  EXPECT_EQ(moved.exitCode, 2) << moved.output;
+  EXPECT_THAT(moved.output, HasSubstr(checkpoint + ": key: made for a different render: scene-file is"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/a.exr"));
   // The checkpoint survives the failed attempts and still resumes.
   EXPECT_EQ(test::run(base + " --width 32 --resume -o " + dir + "/a.exr").exitCode, 0);
