@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "common/cli.h"
+#include "common/interrupt.h"
 #include "common/firstshot.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
@@ -45,6 +46,7 @@ void dumpCsv(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fs::installInterruptHandlers();  // SIGINT/SIGTERM: stop, write nothing, exit 130/143 (common/interrupt.h)
   return fs::runTool("firstshot-preprocess", [&] {
     CLI::App app{"firstshot-preprocess: computes the first-shot factors of a scene's small lights (.fsd)"};
     std::string scenePath, out, dump, window, backend = "gl", gl = "osmesa", estimator = "analytic";

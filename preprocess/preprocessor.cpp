@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "common/firstshot_groups.h"
+#include "common/interrupt.h"
 #include "common/lights.h"
 #include "common/patches.h"
 #include "common/progress.h"
@@ -134,6 +135,7 @@ struct Shooter {
             used[backend == "gl" ? 0 : 1] = 1;
             if (options.settings.backend != "auto" && worker == 0 && rendererName.empty()) rendererName = renderer->name();
           }
+          throwIfInterrupted();  // SIGINT/SIGTERM: stop between light samples, write nothing
           if (std::chrono::steady_clock::now() > deadline)
             throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached (" + label +
                                      ", " + std::to_string(k) + " of " + std::to_string(tasks.size()) +

@@ -16,33 +16,41 @@ namespace fs {
 Film::Film(int width, int height)
     : width_(width), height_(height) {
   const size_t n = size_t(width) * size_t(height);
-  sum_.assign(n, Vec3d(0.0));
-  sumSq_.assign(n, Vec3d(0.0));
-  albedo_.assign(n, Vec3d(0.0));
-  normal_.assign(n, Vec3d(0.0));
-  count_.assign(n, 0);
+  s_.sum.assign(n, Vec3d(0.0));
+  s_.sumSq.assign(n, Vec3d(0.0));
+  s_.albedo.assign(n, Vec3d(0.0));
+  s_.normal.assign(n, Vec3d(0.0));
+  s_.count.assign(n, 0);
+}
+
+void Film::setSums(Sums sums) {
+  const size_t n = size_t(width_) * size_t(height_);
+  if (sums.sum.size() != n || sums.sumSq.size() != n || sums.albedo.size() != n || sums.normal.size() != n ||
+      sums.count.size() != n)
+    throw std::invalid_argument("Film::setSums: the sums are not width x height");
+  s_ = std::move(sums);
 }
 
 Vec3d Film::mean(int x, int y) const {
   const size_t i = index(x, y);
-  return count_[i] ? sum_[i] / double(count_[i]) : Vec3d(0.0);
+  return s_.count[i] ? s_.sum[i] / double(s_.count[i]) : Vec3d(0.0);
 }
 
 Vec3d Film::variance(int x, int y) const {
   const size_t i = index(x, y);
-  const double n = count_[i];
+  const double n = s_.count[i];
   if (n < 2) return Vec3d(0.0);
-  const Vec3d m = sum_[i] / n;
-  return glm::max(Vec3d(0.0), (sumSq_[i] - n * m * m) / (n - 1));
+  const Vec3d m = s_.sum[i] / n;
+  return glm::max(Vec3d(0.0), (s_.sumSq[i] - n * m * m) / (n - 1));
 }
 
 Vec3d Film::albedo(int x, int y) const {
   const size_t i = index(x, y);
-  return count_[i] ? albedo_[i] / double(count_[i]) : Vec3d(0.0);
+  return s_.count[i] ? s_.albedo[i] / double(s_.count[i]) : Vec3d(0.0);
 }
 
 Vec3d Film::normal(int x, int y) const {
-  const Vec3d n = normal_[index(x, y)];
+  const Vec3d n = s_.normal[index(x, y)];
   const double len = glm::length(n);
   return len > 0 ? n / len : Vec3d(0.0);
 }

@@ -23,18 +23,29 @@ class Film {
   void add(int x, int y, const Color& L, const Color& albedo, const Vec3& normal) {
     const size_t i = index(x, y);
     const Vec3d l(L);
-    sum_[i] += l;
-    sumSq_[i] += l * l;
-    albedo_[i] += Vec3d(albedo);
-    normal_[i] += Vec3d(normal);
-    ++count_[i];
+    s_.sum[i] += l;
+    s_.sumSq[i] += l * l;
+    s_.albedo[i] += Vec3d(albedo);
+    s_.normal[i] += Vec3d(normal);
+    ++s_.count[i];
   }
+
+  /// The raw per-pixel accumulators, exactly as add() sums them (row-major, width·height each).
+  struct Sums {
+    std::vector<Vec3d> sum, sumSq, albedo, normal;  ///< Σ L, Σ L², Σ albedo, Σ normal
+    std::vector<uint32_t> count;                    ///< samples added
+  };
+  /// For checkpoints (render/checkpoint.h): restoring the sums with setSums() and adding the
+  /// remaining samples in order gives the same film, bit for bit, as an uninterrupted render.
+  const Sums& sums() const { return s_; }
+  /// @throws std::invalid_argument if a vector's size is not width·height.
+  void setSums(Sums sums);
 
   /// Mean radiance of pixel (x, y) (0 with no sample).
   Vec3d mean(int x, int y) const;
   /// Unbiased sample variance of pixel (x, y)'s samples, per channel (0 with fewer than 2).
   Vec3d variance(int x, int y) const;
-  uint32_t samples(int x, int y) const { return count_[index(x, y)]; }
+  uint32_t samples(int x, int y) const { return s_.count[index(x, y)]; }
   /// Mean first-hit albedo and (renormalised) normal of pixel (x, y).
   Vec3d albedo(int x, int y) const;
   Vec3d normal(int x, int y) const;
@@ -55,8 +66,7 @@ class Film {
   void writePng(const std::string& path, float exposure) const;
 
   int width_, height_;
-  std::vector<Vec3d> sum_, sumSq_, albedo_, normal_;
-  std::vector<uint32_t> count_;
+  Sums s_;
 };
 
 /// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].

@@ -7,8 +7,10 @@
 
 #include "common/cli.h"
 #include "common/firstshot.h"
+#include "common/interrupt.h"
 #include "common/scene_desc.h"
 #include "render/camera.h"
+#include "render/checkpoint_cli.h"
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/integrators/bundle/cli.h"
@@ -86,11 +88,15 @@ int main(int argc, char** argv) {
     irradianceCache.add(app);
     fs::BundleCli bundle;  // --iterations, --bundle-resolution, --bundle-directions (render/integrators/bundle/cli.h)
     bundle.add(app);
+    fs::CheckpointCli checkpoint;  // --checkpoint, --checkpoint-file, --resume (render/checkpoint_cli.h)
+    checkpoint.add(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
       return app.exit(e) == 0 ? 0 : fs::kExitBadInput;
     }
+    // SIGINT/SIGTERM: stop, write no image (a checkpoint with --checkpoint), exit 130/143 (docs/robustness.md).
+    if (!preview) fs::installInterruptHandlers();
 
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
@@ -115,6 +121,7 @@ int main(int argc, char** argv) {
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);
     bundle.configure(*integrator, spp, app);
+    checkpoint.configure(app, outputs, *integrator);
     for (const auto& out : outputs) {  // reject a bad output name before the render, not after
       const auto dot = out.rfind('.');
       const std::string ext = dot == std::string::npos ? "" : out.substr(dot);
@@ -150,19 +157,28 @@ int main(int argc, char** argv) {
       po.quiet = quiet;
       return fs::runPreview(*rs, po);
     }
-    integrator->preprocess(*rs);
-
     fs::RenderOptions ro;
     ro.spp = spp > 0 ? spp : scene.settings.spp;
     ro.timeLimit = timeLimit;
     ro.seed = app.count("--seed") ? seed : scene.settings.seed;
     ro.threads = threads;
     ro.quiet = quiet;
+    if (checkpoint.active())
+      checkpoint.makeKey(app, scenePath, scene, fsdPath, integratorName, ro.seed, io.maxDepth, irradianceCache.settings.cacheFile);
+    integrator->preprocess(*rs);
+
     const fs::Camera camera(scene.camera);
     fs::Film film(camera.width(), camera.height());
-    const fs::RenderStats st = fs::render(*integrator, camera, film, ro);
-    for (const auto& out : outputs) film.write(out, aov, exposure);
-    irradianceCache.finish(*integrator, film, exposure, st.seconds, quiet);
+    fs::RenderStats st;
+    try {
+      st = checkpoint.render(*integrator, camera, film, ro);
+      fs::throwIfInterrupted("no output written");
+      for (const auto& out : outputs) film.write(out, aov, exposure);
+      irradianceCache.finish(*integrator, film, exposure, st.seconds, quiet);
+    } catch (const fs::Interrupted& e) {
+      throw checkpoint.saveAfterInterrupt(e, film);
+    }
+    checkpoint.finished();
 
     if (st.nonFinite > 0)
       fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);

@@ -31,12 +31,16 @@ std::vector<Tile> makeTiles(int width, int height, int size) {
 }
 
 /// Samples [s0, s1) of every pixel of a tile, in sample order per pixel.
-void renderTile(const Integrator& integrator, const Camera& camera, Film& film, const Tile& tile, int s0, int s1,
-                uint64_t seed, uint64_t& rays, uint64_t& nonFinite) {
+/// With @p skipTaken, only the samples a pixel does not hold yet. Stops between two samples once
+/// @p cancel is set (a pixel then holds its first samples, in order): @return false if it did.
+bool renderTile(const Integrator& integrator, const Camera& camera, Film& film, const Tile& tile, int s0, int s1,
+                uint64_t seed, bool skipTaken, const std::atomic<bool>* cancel, uint64_t& rays, uint64_t& nonFinite) {
   for (int y = tile.y0; y < tile.y1; ++y)
     for (int x = tile.x0; x < tile.x1; ++x) {
       const uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
-      for (int s = s0; s < s1; ++s) {
+      const int first = skipTaken ? std::max<int64_t>(s0, film.samples(x, y)) : s0;
+      for (int s = first; s < s1; ++s) {
+        if (cancel && cancel->load(std::memory_order_relaxed)) return false;
         Sampler sampler(seed, pixel, uint64_t(s));
         const Vec2 jitter = sampler.next2D();
         const Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
@@ -50,6 +54,7 @@ void renderTile(const Integrator& integrator, const Camera& camera, Film& film, 
         film.add(x, y, L, info.albedo, info.normal);
       }
     }
+  return true;
 }
 
 }  // namespace
@@ -77,7 +82,9 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
             continue;
           }
           uint64_t tileRays = 0, tileBad = 0;
-          renderTile(integrator, camera, film, tiles[t], s0, s1, options.seed, tileRays, tileBad);
+          if (!renderTile(integrator, camera, film, tiles[t], s0, s1, options.seed, options.skipTaken, options.cancel,
+                          tileRays, tileBad))
+            cancelled = true;
           rays += tileRays;
           nonFinite += tileBad;
           const Tile& tl = tiles[t];
@@ -91,6 +98,10 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
     if (!integrator.perPass()) return tilePass(s0, s1, progress);
     for (int s = s0; s < s1 && !cancelled; ++s) {
       arena.execute([&] { integrator.beginPass(s, options.seed); });
+      if (options.cancel && options.cancel->load()) {  // beginPass may have stopped early
+        cancelled = true;
+        break;
+      }
       tilePass(s, s + 1, progress);
     }
   };
@@ -103,7 +114,9 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
     uint64_t shownMs = 0;  // the bar shows elapsed time against the budget
     do {
       pass(s, s + 1, progress);
+      if (cancelled) break;
       ++s;
+      if (options.afterPass) options.afterPass(s);
       const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
       progress.advance(nowMs - shownMs);
       shownMs = nowMs;
@@ -113,7 +126,14 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
   } else {
     const int spp = std::max(1, options.spp);
     Progress progress("render", pixels * uint64_t(spp), options.quiet);
-    pass(options.firstSample, options.firstSample + spp, progress);
+    if (options.afterPass) {
+      for (int s = options.firstSample; s < options.firstSample + spp && !cancelled; ++s) {
+        pass(s, s + 1, progress);
+        if (!cancelled) options.afterPass(s + 1);
+      }
+    } else {
+      pass(options.firstSample, options.firstSample + spp, progress);
+    }
     progress.finish();
     stats.spp = spp;
   }

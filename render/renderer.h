@@ -5,6 +5,7 @@
 /// image is bit-identical for any number of threads.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 
 #include "render/camera.h"
 #include "render/film.h"
@@ -23,9 +24,18 @@ struct RenderOptions {
   /// Progressive rendering (the preview) renders pass k as {firstSample = k, spp = 1}; the passes
   /// 0..n-1 then give the same film, bit for bit, as one render with spp = n.
   int firstSample = 0;
-  /// If set, checked before each tile: once true, the remaining tiles are skipped, the film holds a
-  /// partial pass and RenderStats::cancelled is set.
+  /// If set, checked before each tile and each sample: once true, the render stops, every pixel
+  /// holding its first samples in order (a partial pass), and RenderStats::cancelled is set.
+  /// Splatting integrators check it per particle chunk and leave the film at a pass boundary.
   const std::atomic<bool>* cancel = nullptr;
+  /// Resuming a film restored from a checkpoint (render/checkpoint.h): pixel (x, y) takes only the
+  /// sample indices it does not hold yet (s >= film.samples(x, y)), so a film saved in the middle
+  /// of a pass continues exactly. Splatting integrators need every pixel to hold firstSample samples.
+  bool skipTaken = false;
+  /// If set, called between passes with the number of sample indices done (firstSample + passes
+  /// so far); the film then holds whole passes (for checkpoints). The render then goes pass by
+  /// pass (one sample index over the whole image at a time), which gives the same image.
+  std::function<void(int samplesDone)> afterPass;
 };
 
 struct RenderStats {

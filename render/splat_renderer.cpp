@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <stdexcept>
 
 #include "common/progress.h"
 #include "common/rng.h"
@@ -85,6 +86,10 @@ RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, 
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
 
+  if (options.skipTaken)  // a splat pass adds to every pixel: the film must hold whole passes
+    for (const uint32_t c : film.sums().count)
+      if (c != uint32_t(options.firstSample))
+        throw std::invalid_argument("renderSplatting: resuming a film that does not hold firstSample samples everywhere");
   RenderStats stats;
   const bool timed = options.timeLimit > 0;
   const int spp = std::max(1, options.spp);
@@ -98,6 +103,7 @@ RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, 
       break;
     }
     ++s;
+    if (options.afterPass) options.afterPass(s);
     if (timed) {
       const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
       progress.advance(nowMs - shownMs);

@@ -1,6 +1,8 @@
 // Ray-bundle stochastic iteration: the image estimate per camera sample.
 #include "render/integrators/bundle/integrator.h"
 
+#include "common/interrupt.h"
+
 namespace fs {
 
 void BundleIntegrator::preprocess(const RenderScene& scene) {
@@ -23,7 +25,9 @@ void BundleIntegrator::beginPass(int sampleIndex, uint64_t seed) const {
     transfer_.reset();
     seed_ = seed;
   }
-  while (transfer_.iterations() <= k) transfer_.iterate(seed);
+  // Resuming at a late index replays every iteration; SIGINT/SIGTERM stops the replay (render()
+  // then stops too, and a later call continues from where it stopped).
+  while (transfer_.iterations() <= k && !interrupted()) transfer_.iterate(seed);
 }
 
 Color BundleIntegrator::surface(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,

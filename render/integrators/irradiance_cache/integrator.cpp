@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/interrupt.h"
 #include "common/sampling.h"
 #include "render/integrators/irradiance_cache/hemisphere_samples.h"
 #include "render/integrators/irradiance_cache/context.h"
@@ -248,6 +249,9 @@ IrradianceRecord IrradianceCacheIntegrator::computeRecord(const Hit& hit, const 
 
 IrradianceRecord IrradianceCacheIntegrator::gather(const Hit& hit, const Vec3& n, int level, float pathLength,
                                                    Sampler& sampler, Context& ctx) const {
+  // SIGINT/SIGTERM: a record can take long (its rays make deeper records); stop before each. The
+  // camera sample in progress is dropped whole (the film holds only finished samples).
+  throwIfInterrupted();
   const int M = strata(level), N = 2 * M;
   const Frame frame(n);
   HemisphereSamples hs(M, N);

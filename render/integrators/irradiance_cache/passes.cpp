@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/error.h"
+#include "common/interrupt.h"
 #include "common/small_lights.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
 #include "render/camera.h"
@@ -103,6 +104,7 @@ void IrradianceCacheIntegrator::fill() {
     size_t added = 0;
     size_t batch = 1;
     for (size_t pos = 0; pos < order.size(); pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
+      throwIfInterrupted();  // SIGINT/SIGTERM: the fill stops between batches (common/interrupt.h)
       const size_t count = std::min(batch, order.size() - pos);
       // Each task traces its pixel against the cache as it was at the start of the batch,
       // keeping the records it has to make to itself...
@@ -111,6 +113,7 @@ void IrradianceCacheIntegrator::fill() {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& r) {
           enableFlushToZero();
           for (size_t i = r.begin(); i < r.end(); ++i) {
+            if (interrupted()) break;  // thrown below, before the merge
             // The render's own camera samples 0 .. fillSamples−1 of the pixel (renderer.cpp), so
             // that the render finds every record those samples need.
             const uint32_t pixel = order[pos + i];
@@ -125,6 +128,7 @@ void IrradianceCacheIntegrator::fill() {
           }
         });
       });
+      throwIfInterrupted();
       // ...then the records are merged in task order, each unless an earlier one covers it.
       for (const auto& m : made) {
         if (!m) continue;
