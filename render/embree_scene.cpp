@@ -161,7 +161,7 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     hit.ng = impl_->emitterNormals[hit.emitter][hit.triangle];
   }
   // The hit point's rounding error grows with its coordinates and with the distance travelled.
-  hit.eps = 1e-5f * (1.0f + maxAbs(hit.p)) + 2e-6f * hit.t * glm::length(ray.d);
+  hit.eps = 1e-5f * maxAbs(hit.p) + 2e-6f * hit.t * glm::length(ray.d);
   return true;
 }
 
@@ -216,7 +216,7 @@ void EmbreeScene::allHits(const Ray& ray, std::vector<Hit>& out) const {
       hit.triangle = primID;
       hit.ng = impl_->emitterNormals[hit.emitter][primID];
     }
-    hit.eps = 1e-5f * (1.0f + maxAbs(hit.p)) + 2e-6f * hit.t * glm::length(ray.d);
+    hit.eps = 1e-5f * maxAbs(hit.p) + 2e-6f * hit.t * glm::length(ray.d);
     out.push_back(hit);
   }
 }
