@@ -78,7 +78,7 @@ double subdivisionCount(const Vec3d* v, int count, double maxEdge) {
 void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std::vector<Vec3d>>& out) {
   double cn, cm;
   polygonCells(v, count, maxEdge, cn, cm);
-  if (cn * cm > double(std::numeric_limits<uint32_t>::max()))
+  if (cn * cm > double(std::numeric_limits<uint32_t>::max()) || std::max(cn, cm) > double(std::numeric_limits<int>::max()))
     throw std::length_error("subdividePolygon: more than 2^32-1 pieces (check subdivisionCount first)");
   if (count == 4) {
     const int n = static_cast<int>(cn), m = static_cast<int>(cm);
