@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/analytic.h"
+#include "tests/bundle_util.h"
 #include "tests/hard_cases.h"
 
 using namespace fs;
@@ -182,6 +183,14 @@ TEST(HardCases, AlbedoOneBoxStopsAtMaxDepth) {
     const auto run = test::renderNamed(name, scene, unbounded, 2);
     test::expectFiniteImage(run);
     EXPECT_GT(test::channelMean(run.film, 0).mean, expected) << "more bounces, more light";
+  }
+  // Stochastic iteration has no depth limit: with albedo 1 its estimate grows with the iterations
+  // (the mean of K iterations' estimates ≈ Le·(K+1)/2), but every iteration ends and stays finite.
+  const auto bundle = test::makeBundle(scene, io, 32);
+  for (int K : {8, 32}) {
+    const auto run = test::renderWith(*bundle, scene, K);
+    test::expectFiniteImage(run);
+    fmt::print("albedo-1 box, bundle, {} iterations: {:.3f}\n", K, test::channelMean(run.film, 0).mean);
   }
 }
 
