@@ -4,9 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+
+#include <fmt/core.h>
 
 #include "common/error.h"
 #include "common/hash.h"
+#include "common/memory_limit.h"
 #include "common/scene_shapes.h"
 
 namespace fs {
@@ -48,11 +52,36 @@ void computePatchGeometry(Patch& p) {
   polygonGeometry(p, v);
 }
 
-void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std::vector<Vec3d>>& out) {
-  auto cells = [maxEdge](double len) { return std::max(1, static_cast<int>(std::ceil(len / maxEdge * (1 - 1e-12)))); };
+namespace {
+
+/// Pieces an edge of @p len is cut into (in double: no overflow for any input).
+double edgeCells(double len, double maxEdge) { return std::max(1.0, std::ceil(len / maxEdge * (1 - 1e-12))); }
+
+/// Cells along the two directions of a quad (n along v0→v1, m along v0→v3), or k along a triangle's edges.
+void polygonCells(const Vec3d* v, int count, double maxEdge, double& n, double& m) {
   if (count == 4) {
-    const int n = cells(std::max(glm::length(v[1] - v[0]), glm::length(v[2] - v[3])));
-    const int m = cells(std::max(glm::length(v[3] - v[0]), glm::length(v[2] - v[1])));
+    n = edgeCells(std::max(glm::length(v[1] - v[0]), glm::length(v[2] - v[3])), maxEdge);
+    m = edgeCells(std::max(glm::length(v[3] - v[0]), glm::length(v[2] - v[1])), maxEdge);
+  } else {
+    n = m = edgeCells(std::max({glm::length(v[1] - v[0]), glm::length(v[2] - v[1]), glm::length(v[0] - v[2])}), maxEdge);
+  }
+}
+
+}  // namespace
+
+double subdivisionCount(const Vec3d* v, int count, double maxEdge) {
+  double n, m;
+  polygonCells(v, count, maxEdge, n, m);
+  return n * m;  // a quad's n×m grid, a triangle's k² similar triangles
+}
+
+void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std::vector<Vec3d>>& out) {
+  double cn, cm;
+  polygonCells(v, count, maxEdge, cn, cm);
+  if (cn * cm > double(std::numeric_limits<uint32_t>::max()) || std::max(cn, cm) > double(std::numeric_limits<int>::max()))
+    throw std::length_error("subdividePolygon: more than 2^32-1 pieces (check subdivisionCount first)");
+  if (count == 4) {
+    const int n = static_cast<int>(cn), m = static_cast<int>(cm);
     auto at = [&](int i, int k) {
       const double s = double(i) / n, t = double(k) / m;
       return (1 - t) * ((1 - s) * v[0] + s * v[1]) + t * ((1 - s) * v[3] + s * v[2]);
@@ -61,7 +90,7 @@ void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std
       for (int i = 0; i < n; ++i) out.push_back({at(i, k), at(i + 1, k), at(i + 1, k + 1), at(i, k + 1)});
     return;
   }
-  const int k = cells(std::max({glm::length(v[1] - v[0]), glm::length(v[2] - v[1]), glm::length(v[0] - v[2])}));
+  const int k = static_cast<int>(cn);
   auto at = [&](int i, int j) { return v[0] + (double(i) / k) * (v[1] - v[0]) + (double(j) / k) * (v[2] - v[0]); };
   for (int j = 0; j < k; ++j)
     for (int i = 0; i + j < k; ++i) {
@@ -72,8 +101,14 @@ void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std
 
 void forEachPatchPolygon(const SceneDesc& scene, double patchSize,
                          const std::function<void(uint32_t, const std::vector<Vec3d>&)>& visit) {
+  // Count first (arithmetic only), so that a patch size far too small is an error, not an allocation.
+  const double total = countPatchPolygons(scene, patchSize);
+  if (total > double(std::numeric_limits<uint32_t>::max()))
+    throw InputError(scene.file, "settings.patch_size",
+                     fmt::format("{:.3g} patches, more than the 2^32-1 patch IDs allow: raise it", total));
+  requireMemory(total * double(sizeof(Patch)), scene.file, "settings.patch_size",
+                fmt::format("{:.3g} patches", total), "raise it");
   std::vector<std::vector<Vec3d>> polys;
-  uint64_t total = 0;
   for (size_t si = 0; si < scene.shapes.size(); ++si) {
     const ShapeDesc& s = scene.shapes[si];
     if (scene.materials[s.material].isEmissive()) continue;
@@ -82,12 +117,22 @@ void forEachPatchPolygon(const SceneDesc& scene, double patchSize,
       for (int i = 0; i < f.count; ++i) v[i] = s.vertices[f.v[i]];
       polys.clear();
       subdividePolygon(v, f.count, patchSize, polys);
-      total += polys.size();
-      if (total > std::numeric_limits<uint32_t>::max())
-        throw InputError(scene.file, s.name, "more than 2^32-1 patches: raise settings.patch_size");
       for (const auto& poly : polys) visit(static_cast<uint32_t>(si), poly);
     }
   }
+}
+
+double countPatchPolygons(const SceneDesc& scene, double patchSize) {
+  double total = 0;
+  for (const ShapeDesc& s : scene.shapes) {
+    if (scene.materials[s.material].isEmissive()) continue;
+    for (const Face& f : s.faces) {
+      Vec3d v[4];
+      for (int i = 0; i < f.count; ++i) v[i] = s.vertices[f.v[i]];
+      total += subdivisionCount(v, f.count, patchSize);
+    }
+  }
+  return total;
 }
 
 PatchMesh buildPatches(const SceneDesc& scene, double patchSize) {

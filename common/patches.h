@@ -43,14 +43,21 @@ void computePatchGeometry(Patch& p, const Vec3d* exact);
 /// Appends world-space polygons to @p out; vertices are shared exactly between neighbours.
 void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std::vector<Vec3d>>& out);
 
+/// How many pieces subdividePolygon() cuts the polygon into (a double: never overflows).
+double subdivisionCount(const Vec3d* v, int count, double maxEdge);
+
+/// Patches of the uniform mesh of @p patchSize over the non-emissive shapes, counted without building them.
+double countPatchPolygons(const SceneDesc& scene, double patchSize);
+
 /// Calls @p visit(shape index, polygon) for every polygon of the uniform mesh of @p patchSize over
 /// the non-emissive shapes, in shape order then face order (what buildPatches() makes patches of).
-/// @throws InputError if the count exceeds 2^32-1.
+/// @throws InputError if the count exceeds 2^32-1 or the patches cannot fit in physical memory
+/// (common/memory_limit.h), before any is made.
 void forEachPatchPolygon(const SceneDesc& scene, double patchSize,
                          const std::function<void(uint32_t, const std::vector<Vec3d>&)>& visit);
 
 /// Builds the patch mesh of all non-emissive shapes, in shape order then face order, so the same
-/// scene gives the same patches byte for byte. @throws InputError if the count exceeds 2^32-1.
+/// scene gives the same patches byte for byte. @throws InputError as forEachPatchPolygon().
 PatchMesh buildPatches(const SceneDesc& scene, double patchSize);
 
 /// Area of a shape's polygons, computed in double from its own vertices.

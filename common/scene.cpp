@@ -53,7 +53,8 @@ namespace {
 void validateShape(const SceneDesc& scene, const ShapeDesc& s) {
   for (size_t i = 0; i < s.vertices.size(); ++i)
     if (!isFinite(s.vertices[i]))
-      throw InputError(scene.file, s.name, "vertex " + std::to_string(i) + " is not finite (NaN or Inf)");
+      throw InputError(scene.file, s.name, "vertex " + std::to_string(i) + (s.sourceFile.empty() ? "" : " of " + s.sourceFile) +
+                                               " is not finite (NaN or Inf)");
   if (scene.materials[s.material].isEmissive()) {
     double area = 0;
     for (const Face& f : s.faces)

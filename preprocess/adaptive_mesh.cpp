@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <limits>
+#include <string>
 
 #include "common/error.h"
+#include "common/memory_limit.h"
 
 namespace fs {
 
@@ -66,6 +68,8 @@ std::vector<uint32_t> AdaptiveMesh::split(const std::vector<uint8_t>& flags) {
   for (size_t j = 0; j < leaves_.size(); ++j) count += flags[j] ? 4 : 1;
   if (count > std::numeric_limits<uint32_t>::max())
     throw InputError(file_, "settings.min_patch_size", "refinement would make more than 2^32-1 patches: raise it");
+  requireMemory(double(count) * double(sizeof(Leaf) + sizeof(Patch)), file_, "settings.min_patch_size",
+                std::to_string(count) + " refined patches", "raise it");
   std::vector<uint32_t> first(leaves_.size() + 1);
   std::vector<Leaf> next;
   next.reserve(count);

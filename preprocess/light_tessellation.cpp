@@ -6,6 +6,9 @@
 #include <map>
 
 #include "common/analytic.h"
+#include "common/error.h"
+#include "common/firstshot.h"
+#include "common/memory_limit.h"
 #include "common/patches.h"
 
 namespace fs {
@@ -207,6 +210,18 @@ LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, do
   const ShapeDesc& shape = scene.shapes[shapeIndex];
   SampleBuilder out;
   std::vector<std::vector<Vec3d>> polys;
+  if (lightPatchSize > 0) {  // a light_patch_size far too small is an error, not an allocation
+    double cells = 0;
+    for (const Face& f : shape.faces) {
+      Vec3d v[4];
+      for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
+      cells += subdivisionCount(v, f.count, lightPatchSize);
+    }
+    if (cells > double(std::numeric_limits<uint32_t>::max()))
+      throw InputError(scene.file, "settings.light_patch_size", shape.name + " would be cut into more than 2^32-1 cells: raise it");
+    requireMemory(cells * double(sizeof(LightSample)), scene.file, "settings.light_patch_size",
+                  "the light samples of " + shape.name, "raise it");
+  }
   for (const Face& f : shape.faces) {
     Vec3d v[4];
     for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];

@@ -9,9 +9,13 @@
 #include <optional>
 #include <thread>
 
+#include <fmt/core.h>
+
+#include "common/error.h"
 #include "common/firstshot_groups.h"
 #include "common/interrupt.h"
 #include "common/lights.h"
+#include "common/memory_limit.h"
 #include "common/patches.h"
 #include "common/progress.h"
 #include "common/rng.h"
@@ -228,9 +232,24 @@ void carryOver(const PatchMesh& mesh, const std::vector<SampleSetup>& setups, co
   }
 }
 
+/// Rejects an item-buffer resolution out of the windows' range, or whose windows and item buffers
+/// cannot fit in memory: weights (8 bytes a pixel) of a cube (6R²) and of a cubic tetrahedron (4
+/// faces of (√2R)², the largest area-light window) or hemicube (3R²), plus one view's IDs (4 bytes a
+/// pixel, at most 2R²) per worker — a lower bound of what the run allocates.
+void checkItemBufferSize(const SceneDesc& scene, const PreprocessOptions& options) {
+  const double R = options.settings.resolution;
+  const char* element = "settings.item_buffer_resolution (--resolution)";
+  if (R < 2 || R > 16384) throw InputError(scene.file, element, fmt::format("R = {} is outside [2, 16384]", R));
+  const bool tetra = parseWindowKind(options.settings.window) == WindowKind::Tetrahedron;
+  const double workers = options.threads > 0 ? options.threads : std::max(1u, std::thread::hardware_concurrency());
+  const double bytes = 8.0 * (6.0 + (tetra ? 8.0 : 3.0)) * R * R + workers * 4.0 * 2.0 * R * R;
+  requireMemory(bytes, scene.file, element, fmt::format("item buffers of R = {}", R), "lower it");
+}
+
 }  // namespace
 
 FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& options, PreprocessStats* stats) {
+  checkItemBufferSize(scene, options);
   Progress timer("", 0, true);
   FirstShotTable t;
   t.sceneHash = hashScene(scene);

@@ -66,6 +66,13 @@ struct EmbreeScene::Impl {
   std::string lastError;
   std::vector<Vec3> patchNormals;                ///< by patch ID
   std::vector<std::vector<Vec3>> emitterNormals; ///< by emitter, by triangle
+  /// Smallest ray offset, m: 16 float ulps of the largest vertex coordinate (a point interpolated
+  /// from the vertices is that accurate), so that offsets scale with the scene.
+  float epsFloor = 0.0f;
+
+  /// Offset for a hit at @p p, @p travelled metres along its ray: the hit point's rounding error
+  /// grows with its coordinates, the scene's and the distance travelled.
+  float eps(const Vec3& p, float travelled) const { return 1e-5f * maxAbs(p) + epsFloor + 2e-6f * travelled; }
 
   ~Impl() {
     if (scene) rtcReleaseScene(scene);
@@ -105,6 +112,7 @@ EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh
       const unsigned b = static_cast<unsigned>(4 * j);
       ib[4 * j + 0] = b, ib[4 * j + 1] = b + 1, ib[4 * j + 2] = b + 2, ib[4 * j + 3] = p.count == 4 ? b + 3 : b + 2;
       m.patchNormals[j] = p.normal;
+      for (uint32_t k = 0; k < p.count; ++k) m.epsFloor = std::max(m.epsFloor, 1e-6f * maxAbs(p.v[k]));
     }
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(m.scene, g, kPatchGeometry);
@@ -129,8 +137,10 @@ EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), e.vertices.size()));
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), tris));
     m.check("creating an emitter geometry");
-    for (size_t i = 0; i < e.vertices.size(); ++i)
+    for (size_t i = 0; i < e.vertices.size(); ++i) {
       vb[3 * i] = e.vertices[i].x, vb[3 * i + 1] = e.vertices[i].y, vb[3 * i + 2] = e.vertices[i].z;
+      m.epsFloor = std::max(m.epsFloor, 1e-6f * maxAbs(e.vertices[i]));
+    }
     std::copy(e.indices.begin(), e.indices.begin() + 3 * tris, ib);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(m.scene, g, static_cast<unsigned>(1 + k));
@@ -160,8 +170,7 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     hit.triangle = rh.hit.primID;
     hit.ng = impl_->emitterNormals[hit.emitter][hit.triangle];
   }
-  // The hit point's rounding error grows with its coordinates and with the distance travelled.
-  hit.eps = 1e-5f * (1.0f + maxAbs(hit.p)) + 2e-6f * hit.t * glm::length(ray.d);
+  hit.eps = impl_->eps(hit.p, hit.t * glm::length(ray.d));
   return true;
 }
 
@@ -216,7 +225,7 @@ void EmbreeScene::allHits(const Ray& ray, std::vector<Hit>& out) const {
       hit.triangle = primID;
       hit.ng = impl_->emitterNormals[hit.emitter][primID];
     }
-    hit.eps = 1e-5f * (1.0f + maxAbs(hit.p)) + 2e-6f * hit.t * glm::length(ray.d);
+    hit.eps = impl_->eps(hit.p, hit.t * glm::length(ray.d));
     out.push_back(hit);
   }
 }

@@ -10,11 +10,20 @@
 
 #include "common/atomic_file.h"
 #include "common/error.h"
+#include "common/memory_limit.h"
 
 namespace fs {
 
+void Film::requireFits(int width, int height, const std::string& file) {
+  const std::string size = std::to_string(width) + "×" + std::to_string(height) + " pixels";
+  if (width < 1 || height < 1) throw InputError(file, "image size", size + ": both must be at least 1");
+  const double bytes = double(width) * double(height) * (4.0 * sizeof(Vec3d) + sizeof(uint32_t));
+  requireMemory(bytes, file, "image size", size, "lower camera.resolution (--width, --height)");
+}
+
 Film::Film(int width, int height)
     : width_(width), height_(height) {
+  requireFits(width, height);
   const size_t n = size_t(width) * size_t(height);
   s_.sum.assign(n, Vec3d(0.0));
   s_.sumSq.assign(n, Vec3d(0.0));

@@ -13,7 +13,13 @@ namespace fs {
 
 class Film {
  public:
+  /// @throws InputError if a size is below 1 or the film (100 bytes a pixel) cannot fit in physical
+  /// memory (common/memory_limit.h), before anything is allocated.
   Film(int width, int height);
+
+  /// @throws InputError naming @p file (the scene) and "image size" if a film of @p width × @p height
+  /// pixels cannot be made (a size below 1, or 100 bytes a pixel more than the physical memory).
+  static void requireFits(int width, int height, const std::string& file = "");
 
   int width() const { return width_; }
   int height() const { return height_; }

@@ -111,6 +111,7 @@ int main(int argc, char** argv) {
     fs::SceneDesc scene = fs::loadScene(scenePath);
     if (width > 0) scene.camera.width = width;
     if (height > 0) scene.camera.height = height;
+    if (!preview) fs::Film::requireFits(scene.camera.width, scene.camera.height, scene.file);  // before any other work
     fs::IntegratorOptions io;
     io.maxDepth = maxDepth >= 0 ? maxDepth : scene.settings.maxDepth;
     io.primary = primary == "patch" ? fs::PrimaryMode::Patch : fs::PrimaryMode::Exact;
