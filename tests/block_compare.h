@@ -83,15 +83,15 @@ inline void expectAgreesWithPathTracing(const std::string& integrator, const std
   expectIntegratorsAgree(name, scene, integrator, passes, "path", ptPasses, io);
 }
 /// The same with a first-shot table of @p d (Embree item buffers, R = 64) in the scene, which both
-/// use: the same path space, so the same expected image, table and all.
+/// use (@p io: how; its maxDepth is the scene's): the same path space, so the same expected image,
+/// table and all.
 inline void expectAgreesWithPathTracingOnTable(const std::string& integrator, const std::string& name, SceneDesc d,
-                                               int passes, int ptPasses) {
+                                               int passes, int ptPasses, IntegratorOptions io) {
   d.camera.width = 32, d.camera.height = 24;
   PreprocessOptions po = defaultOptions(d);
   po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
   const RenderScene scene(d, preprocessScene(d, po));
   ASSERT_FALSE(scene.firstShot()->replacedLights.empty());
-  IntegratorOptions io;
   io.maxDepth = d.settings.maxDepth;
   expectIntegratorsAgree(name, scene, integrator, passes, "path", ptPasses, io);
 }

@@ -17,21 +17,28 @@ namespace {
 
 SceneDesc shipped(const std::string& name) { return loadScene(test::source("scenes/" + name + ".json")); }
 
+/// Table mode, --bdpt-firstshot patches.
+IntegratorOptions tableMode() {
+  IntegratorOptions io;
+  io.bdptFirstShot = true;
+  return io;
+}
+
 }  // namespace
 
 TEST(BdptFirstShot, CornellAgreesWithPathTracingOnTheSameTable) {
-  test::expectAgreesWithPathTracingOnTable("bdpt", "cornell, table", shipped("cornell"), 200, 300);
+  test::expectAgreesWithPathTracingOnTable("bdpt", "cornell, table", shipped("cornell"), 200, 300, tableMode());
 }
 TEST(BdptFirstShot, ManyLightsAgreesWithPathTracingOnTheSameTable) {
-  test::expectAgreesWithPathTracingOnTable("bdpt", "many-lights, table", shipped("many-lights"), 200, 300);
+  test::expectAgreesWithPathTracingOnTable("bdpt", "many-lights, table", shipped("many-lights"), 200, 300, tableMode());
 }
 // Kept (directional) and replaced lights of every kind, over diffuse and glossy patches.
 TEST(BdptFirstShot, MixedLightsAgreeWithPathTracingOnTheSameTable) {
-  test::expectAgreesWithPathTracingOnTable("bdpt", "mixed-lights, table", test::mixedLightsScene(), 200, 300);
+  test::expectAgreesWithPathTracingOnTable("bdpt", "mixed-lights, table", test::mixedLightsScene(), 200, 300, tableMode());
 }
 // Mirrors and glass: x_m lies behind them, and a small light met right after a delta bounce counts.
 TEST(BdptFirstShot, MirrorAndGlassAgreeWithPathTracingOnTheSameTable) {
-  test::expectAgreesWithPathTracingOnTable("bdpt", "mirror-glass, table", test::mirrorGlassScene(), 200, 300);
+  test::expectAgreesWithPathTracingOnTable("bdpt", "mirror-glass, table", test::mirrorGlassScene(), 200, 300, tableMode());
 }
 
 // Table mode's emitters: the replaced lights leave, every lit patch side joins with a power of
