@@ -15,6 +15,7 @@
 
 #include "common/error.h"
 #include "common/hash.h"
+#include "common/ply_header.h"
 
 namespace fs {
 namespace {
@@ -40,9 +41,14 @@ Vec3d vector(const Mat4d& m, const aiVector3D& v) { return Mat3d(m) * Vec3d(v.x,
 Vec3d unit(const Vec3d& v) { return glm::length(v) > 0.0 ? glm::normalize(v) : v; }
 Color color(const aiColor3D& c) { return {c.r, c.g, c.b}; }
 
-bool isGltf(const std::string& path) {
+std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+bool isGltf(const std::string& path) {
+  const std::string ext = lowerExtension(path);
   return ext == ".gltf" || ext == ".glb";
 }
 
@@ -119,6 +125,15 @@ const aiScene* readAsset(Assimp::Importer& importer, const std::string& path, co
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(sceneFile, element, "mesh file not found: " + path);
+  // Only the documented types: assimp's other importers are not part of firstshot (nor fuzzed).
+  const std::string ext = lowerExtension(path);
+  if (ext != ".obj" && ext != ".ply" && !isGltf(path))
+    throw InputError(sceneFile, element, "mesh file " + path + ": unsupported type \"" + ext + "\" (expected .obj, .gltf, .glb or .ply)");
+  if (ext == ".ply") {
+    std::ifstream in(path, std::ios::binary);
+    if (const std::string defect = plyHeaderDefect(in); !defect.empty())
+      throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
+  }
   // No aiProcess_ValidateDataStructure: it rejects meshes without faces, which we report as "no triangles".
   // Triangulation runs only once the indices are checked (ReadFile(path, flags) is this, unchecked).
   const aiScene* scene = importer.ReadFile(path, 0);

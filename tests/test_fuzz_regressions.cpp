@@ -1,6 +1,8 @@
 // The fuzz targets' inputs replayed in the normal build, through the same entry points
 // (tests/fuzz/entry_points.h; docs/robustness.md, "Fuzzing"):
-//  - every saved finding (tests/fuzz/regressions/<target>/*) ends in a clean fs::InputError, not a crash;
+//  - every saved finding (tests/fuzz/regressions/<target>/*) ends in a clean fs::InputError, not a crash,
+//    or loads if its name says ".loads." (a file the reader cannot tell from a valid one: the crash was
+//    in how it was read; e.g. a light index that only the scene can refute);
 //  - every seed (tests/fuzz/corpus/<target>/*) still loads, so the corpora keep starting from valid files.
 #include <gtest/gtest.h>
 
@@ -20,6 +22,8 @@ struct FuzzInput {
   std::string target;  ///< the folder name: scene_json, mesh_import, fsd, cache_file
   std::string path;
 };
+
+void PrintTo(const FuzzInput& in, std::ostream* os) { *os << in.path; }
 
 /// Every file under @p folder/<target>/, sorted.
 std::vector<FuzzInput> inputsUnder(const std::string& folder) {
@@ -45,10 +49,13 @@ std::string testName(const testing::TestParamInfo<FuzzInput>& info) {
 class FuzzFinding : public testing::TestWithParam<FuzzInput> {};
 class FuzzSeed : public testing::TestWithParam<FuzzInput> {};
 
-TEST_P(FuzzFinding, EndsInAnInputError) {
+TEST_P(FuzzFinding, EndsInAnInputErrorOrLoads) {
   const fuzz::EntryPoint f = fuzz::entryPoint(GetParam().target);
   ASSERT_NE(f, nullptr) << "unknown fuzz target folder " << GetParam().target;
-  EXPECT_THROW(f(readBytes(GetParam().path)), InputError);
+  if (GetParam().path.find(".loads.") != std::string::npos)
+    EXPECT_NO_THROW(f(readBytes(GetParam().path)));
+  else
+    EXPECT_THROW(f(readBytes(GetParam().path)), InputError);
 }
 
 TEST_P(FuzzSeed, Loads) {
