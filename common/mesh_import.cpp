@@ -15,7 +15,7 @@
 
 #include "common/error.h"
 #include "common/hash.h"
-#include "common/ply_header.h"
+#include "common/asset_checks.h"
 
 namespace fs {
 namespace {
@@ -129,10 +129,10 @@ const aiScene* readAsset(Assimp::Importer& importer, const std::string& path, co
   const std::string ext = lowerExtension(path);
   if (ext != ".obj" && ext != ".ply" && !isGltf(path))
     throw InputError(sceneFile, element, "mesh file " + path + ": unsupported type \"" + ext + "\" (expected .obj, .gltf, .glb or .ply)");
-  if (ext == ".ply") {
+  if (ext == ".ply" || ext == ".glb") {
     std::ifstream in(path, std::ios::binary);
-    if (const std::string defect = plyHeaderDefect(in); !defect.empty())
-      throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
+    const std::string defect = ext == ".ply" ? plyHeaderDefect(in) : glbHeaderDefect(in, std::filesystem::file_size(path, ec));
+    if (!defect.empty()) throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
   }
   // No aiProcess_ValidateDataStructure: it rejects meshes without faces, which we report as "no triangles".
   // Triangulation runs only once the indices are checked (ReadFile(path, flags) is this, unchecked).

@@ -15,14 +15,15 @@ build=${FUZZ_BUILD:-$root/build/fuzz}
 
 # The largest input each target tries (bytes): the seeds fit.
 declare -A max_len=([scene_json]=32768 [mesh_import]=16384 [fsd]=16384 [cache_file]=4096)
+# assimp 5.2 leaks parts of a half-read scene on some malformed files (not firstshot's memory); checking
+# for leaks after every such input would also make fuzz_mesh_import 3-4 times slower.
+declare -A asan_options=([mesh_import]=detect_leaks=0)
 
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -G Ninja -DFIRSTSHOT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -gline-tables-only" >/dev/null
 cmake --build "$build" -j "${JOBS:-$(nproc)}" --target $(printf 'fuzz_%s ' "${targets[@]}")
 
-export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
-export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/tests/lsan.supp}
 # The targets write each input to a scratch file: in memory if possible (several times faster).
 if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
 failed=()
@@ -33,13 +34,14 @@ for t in "${targets[@]}"; do
   cp "$root/tests/fuzz/corpus/$t/"* "$work/corpus/"
   echo "fuzz: fuzz_$t for $seconds s (log: $work/log.txt)"
   rc=0
-  "$build/tests/fuzz/fuzz_$t" "$work/corpus" -max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 \
-    -rss_limit_mb=2048 -malloc_limit_mb=1024 -artifact_prefix="$work/" -print_final_stats=1 >"$work/log.txt" 2>&1 || rc=$?
+  ASAN_OPTIONS=${ASAN_OPTIONS:-${asan_options[$t]:-detect_leaks=1}} "$build/tests/fuzz/fuzz_$t" "$work/corpus" -max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 \
+    -rss_limit_mb=2048 -malloc_limit_mb=1024 -artifact_prefix="$work/" -print_final_stats=1 \
+    >"$work/log.txt" 2>&1 || rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/log.txt")
   echo "fuzz: fuzz_$t: ${execs:-?} runs, corpus $(ls "$work/corpus" | wc -l) inputs, exit $rc"
   if [ "$rc" -ne 0 ]; then
     failed+=("$t")
-    grep -E "^(==[0-9]+==ERROR|SUMMARY|.*runtime error)" "$work/log.txt" | head -5 || true
+    grep -aE "^(==[0-9]+==ERROR|SUMMARY|.*runtime error)" "$work/log.txt" | head -5 || true
     ls "$work"/crash-* "$work"/timeout-* "$work"/oom-* "$work"/leak-* 2>/dev/null || true
   fi
 done

@@ -1,8 +1,9 @@
-// The strict PLY header check (common/ply_header.h).
-#include "common/ply_header.h"
+// Checks of PLY and GLB headers before assimp reads the files (common/asset_checks.h).
+#include "common/asset_checks.h"
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <sstream>
 #include <vector>
 
@@ -66,6 +67,28 @@ std::string plyHeaderDefect(std::istream& in) {
     }
   }
   return "the header has more than " + std::to_string(kMaxLines) + " lines";
+}
+
+std::string glbHeaderDefect(std::istream& in, uint64_t size) {
+  auto u32 = [&](uint32_t& v) { return bool(in.read(reinterpret_cast<char*>(&v), 4)); };
+  uint32_t magic = 0, version = 0, length = 0;
+  if (!u32(magic) || !u32(version) || !u32(length)) return "truncated GLB header";
+  if (std::memcmp(&magic, "glTF", 4) != 0) return "not a binary glTF file (wrong magic)";
+  if (length > size || length < 12) return "the GLB header's length (" + std::to_string(length) + " bytes) does not match the file";
+  if (version == 1) {  // content length u32, content format u32, then the JSON content
+    uint32_t content = 0, format = 0;
+    if (!u32(content) || !u32(format) || content > length - 12) return "the GLB content length does not fit the file";
+    return "";
+  }
+  if (version != 2) return "GLB version " + std::to_string(version) + " (expected 1 or 2)";
+  for (uint64_t at = 12; at < length;) {
+    uint32_t chunk = 0, type = 0;
+    if (length - at < 8 || !u32(chunk) || !u32(type)) return "truncated GLB chunk header at byte " + std::to_string(at);
+    if (chunk > length - at - 8) return "a GLB chunk's length (" + std::to_string(chunk) + " bytes) does not fit the file";
+    in.seekg(std::streamoff(chunk), std::ios::cur);
+    at += 8 + uint64_t(chunk);
+  }
+  return "";
 }
 
 }  // namespace fs
