@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 #include <unordered_map>
 
+#include "common/asset_checks.h"
 #include "common/error.h"
 #include "common/hash.h"
-#include "common/asset_checks.h"
 
 namespace fs {
 namespace {
@@ -128,10 +128,12 @@ const aiScene* readAsset(Assimp::Importer& importer, const std::string& path, co
   // Only the documented types: assimp's other importers are not part of firstshot (nor fuzzed).
   const std::string ext = lowerExtension(path);
   if (ext != ".obj" && ext != ".ply" && !isGltf(path))
-    throw InputError(sceneFile, element, "mesh file " + path + ": unsupported type \"" + ext + "\" (expected .obj, .gltf, .glb or .ply)");
+    throw InputError(sceneFile, element,
+                     "mesh file " + path + ": unsupported type \"" + ext + "\" (expected .obj, .gltf, .glb or .ply)");
   if (ext == ".ply" || ext == ".glb") {
     std::ifstream in(path, std::ios::binary);
-    const std::string defect = ext == ".ply" ? plyHeaderDefect(in) : glbHeaderDefect(in, std::filesystem::file_size(path, ec));
+    const std::string defect =
+        ext == ".ply" ? plyHeaderDefect(in) : glbHeaderDefect(in, std::filesystem::file_size(path, ec));
     if (!defect.empty()) throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
   }
   // No aiProcess_ValidateDataStructure: it rejects meshes without faces, which we report as "no triangles".
