@@ -34,9 +34,11 @@ for t in "${targets[@]}"; do
   cp "$root/tests/fuzz/corpus/$t/"* "$work/corpus/"
   echo "fuzz: fuzz_$t for $seconds s (log: $work/log.txt)"
   rc=0
+  dict=()  # the target's dictionary of format words, if any (tests/fuzz/<target>.dict)
+  [ -f "$root/tests/fuzz/$t.dict" ] && dict=(-dict="$root/tests/fuzz/$t.dict")
   ASAN_OPTIONS=${ASAN_OPTIONS:-${asan_options[$t]:-detect_leaks=1}} "$build/tests/fuzz/fuzz_$t" "$work/corpus" \
     -max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
-    -artifact_prefix="$work/" -print_final_stats=1 >"$work/log.txt" 2>&1 || rc=$?
+    -artifact_prefix="$work/" -print_final_stats=1 "${dict[@]}" >"$work/log.txt" 2>&1 || rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/log.txt")
   echo "fuzz: fuzz_$t: ${execs:-?} runs, corpus $(ls "$work/corpus" | wc -l) inputs, exit $rc"
   if [ "$rc" -ne 0 ]; then
