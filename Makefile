@@ -2,9 +2,12 @@
 JOBS   ?= $(shell nproc)
 BUILD  ?= build/release
 ASAN   ?= build/asan
+FUZZ   ?= build/fuzz
+FUZZ_SECONDS ?= 120
+FUZZ_SMOKE_SECONDS ?= 12
 SCENE  ?= scenes/cornell.json
 
-.PHONY: deps build build-asan demo test test-release test-asan bench bench-report bench-quick clean
+.PHONY: deps build build-asan demo test test-release test-asan fuzz fuzz-smoke bench bench-report bench-quick clean
 
 deps:
 	bash scripts/install-deps.sh
@@ -21,8 +24,8 @@ build-asan: deps
 demo: build
 	bash scripts/demo.sh $(BUILD) $(SCENE)
 
-## Every test, in the Release build and again under ASan+UBSan.
-test: test-release test-asan
+## Every test, in the Release build and again under ASan+UBSan, and each fuzz target for a few seconds.
+test: test-release test-asan fuzz-smoke
 
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
@@ -31,6 +34,15 @@ test-asan: build-asan
 	cd $(ASAN) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp \
 	  ctest --output-on-failure -j $(JOBS)
+
+## The libFuzzer targets (clang, ASan+UBSan, tests/fuzz/), each for FUZZ_SECONDS on a scratch copy of its seed
+## corpus; fails if one finds a crash, a hang or a huge allocation (docs/robustness.md).
+fuzz: deps
+	FUZZ_BUILD=$(CURDIR)/$(FUZZ) JOBS=$(JOBS) bash scripts/fuzz.sh $(FUZZ_SECONDS)
+
+## The same for FUZZ_SMOKE_SECONDS per target (4 targets: under a minute in all), as part of `make test`.
+fuzz-smoke: deps
+	FUZZ_BUILD=$(CURDIR)/$(FUZZ) JOBS=$(JOBS) bash scripts/fuzz.sh $(FUZZ_SMOKE_SECONDS)
 
 bench: build
 	bash bench/run.sh $(BUILD)

@@ -10,33 +10,40 @@
 #include <bit>
 #include <cmath>
 #include <mutex>
+#include <span>
 
 #include "common/analytic.h"
 
 namespace fs {
 namespace {
 
-/// The area-vertex samples of each light, ascending: CSR over SceneDesc light indices.
+/// The area-vertex samples of each light that has some: CSR over those lights.
 struct LightVertices {
-  std::vector<uint32_t> start;   ///< size lights+1 (lights = 1 + the largest light index of an area vertex)
-  std::vector<uint32_t> sample;  ///< sample indices
-  uint32_t lights() const { return uint32_t(start.size() - 1); }
-  bool has(uint32_t light) const { return light < lights() && start[light] < start[light + 1]; }
+  std::vector<uint32_t> light;   ///< the lights that have area vertices, ascending (sparse: indices come from files)
+  std::vector<uint32_t> start;   ///< size light.size()+1: light[k]'s vertices are sample[start[k], start[k+1])
+  std::vector<uint32_t> sample;  ///< sample indices, ascending within one light
+  uint32_t lights() const { return uint32_t(light.size()); }
+  /// The sample indices of the area vertices of SceneDesc light @p l (empty if it has none).
+  std::span<const uint32_t> vertices(uint32_t l) const {
+    const auto it = std::lower_bound(light.begin(), light.end(), l);
+    if (it == light.end() || *it != l) return {};
+    const size_t k = size_t(it - light.begin());
+    return {sample.data() + start[k], sample.data() + start[k + 1]};
+  }
+  bool has(uint32_t l) const { return !vertices(l).empty(); }
 };
 
 LightVertices lightVertices(const std::vector<LightSample>& samples) {
-  LightVertices lv;
-  uint32_t lights = 0;
-  for (const LightSample& s : samples)
-    if (s.kind == LightSampleKind::AreaVertex) lights = std::max(lights, s.light + 1);
-  lv.start.assign(size_t(lights) + 1, 0);
-  for (const LightSample& s : samples)
-    if (s.kind == LightSampleKind::AreaVertex) ++lv.start[s.light + 1];
-  for (uint32_t l = 0; l < lights; ++l) lv.start[l + 1] += lv.start[l];
-  lv.sample.resize(lv.start[lights]);
-  std::vector<uint32_t> cursor(lv.start.begin(), lv.start.end() - 1);
+  std::vector<std::pair<uint32_t, uint32_t>> byLight;  // (light, sample)
   for (uint32_t i = 0; i < samples.size(); ++i)
-    if (samples[i].kind == LightSampleKind::AreaVertex) lv.sample[cursor[samples[i].light]++] = i;
+    if (samples[i].kind == LightSampleKind::AreaVertex) byLight.push_back({samples[i].light, i});
+  std::sort(byLight.begin(), byLight.end());
+  LightVertices lv;
+  for (const auto& [l, i] : byLight) {
+    if (lv.light.empty() || lv.light.back() != l) lv.light.push_back(l), lv.start.push_back(uint32_t(lv.sample.size()));
+    lv.sample.push_back(i);
+  }
+  lv.start.push_back(uint32_t(lv.sample.size()));
   return lv;
 }
 
@@ -124,13 +131,13 @@ GroupedFactors groupFactors(const FirstShotTable& t) {
           // The row must hold exactly the light's vertices that see the patch (U > 0).
           members.clear();
           bool ok = true;
-          for (uint32_t v = lv.start[s.light]; v < lv.start[s.light + 1] && ok; ++v) {
-            const uint32_t i = lv.sample[v];
+          for (const uint32_t i : lv.vertices(s.light)) {
             const double U = analyticIntegral(t.samples[i], t.areaEyeOffset, p);
             if (!(U > 0)) continue;
             const auto it = std::lower_bound(first, last, i);
             ok = it != last && *it == i;
-            if (ok) members.push_back({uint64_t(it - t.sampleIndex.begin()), analyticScale(t.samples[i]), U});
+            if (!ok) break;
+            members.push_back({uint64_t(it - t.sampleIndex.begin()), analyticScale(t.samples[i]), U});
           }
           size_t inRow = 0;
           for (uint64_t q = b; q < e; ++q)
@@ -183,6 +190,19 @@ void expandFactors(const GroupedFactors& g, uint64_t nonZeros, FirstShotTable& t
     if (!(g.groupVisible[k] > 0.0f) || !(g.groupVisible[k] <= 1.0f))
       fail("group " + std::to_string(k) + ": visible fraction outside (0, 1] (corrupt file)");
   }
+  // A row holds at most its singles and the vertices of its groups' lights (each light once, ascending):
+  // a larger count is corrupt and must not size the arrays below.
+  for (uint32_t j = 0; j < n; ++j) {
+    uint64_t most = g.singleCount[j];
+    for (uint64_t q = groupStart[j]; q < groupStart[j + 1]; ++q) {
+      if (q > groupStart[j] && g.groupLight[q] <= g.groupLight[q - 1])
+        fail("row " + std::to_string(j) + ": group lights not ascending or listed twice (corrupt file)");
+      most += lv.vertices(g.groupLight[q]).size();
+    }
+    if (g.rowCount[j] > most)
+      fail("row " + std::to_string(j) + ": its entries expand to at most " + std::to_string(most) + " factors, not " +
+           std::to_string(g.rowCount[j]) + " (corrupt file)");
+  }
   // Rows in parallel; the first bad row (lowest index) is reported.
   t.sampleIndex.resize(t.rowStart[n]);
   t.factor.resize(t.rowStart[n]);
@@ -212,13 +232,13 @@ void expandFactors(const GroupedFactors& g, uint64_t nonZeros, FirstShotTable& t
         for (uint64_t q = groupStart[j]; q < groupStart[j + 1]; ++q) {
           const uint32_t light = g.groupLight[q];
           const double v = double(g.groupVisible[q]);
-          for (uint32_t m = lv.start[light]; m < lv.start[light + 1]; ++m) {
-            const LightSample& s = t.samples[lv.sample[m]];
+          for (const uint32_t i : lv.vertices(light)) {
+            const LightSample& s = t.samples[i];
             const double U = analyticIntegral(s, t.areaEyeOffset, p);
             if (!(U > 0)) continue;
             const double scale = analyticScale(s);
             const float r = analyticFactor(scale, v, U, p.area);
-            row.push_back({lv.sample[m], r, recoveredVisible(r, scale, U, p.area)});
+            row.push_back({i, r, recoveredVisible(r, scale, U, p.area)});
           }
         }
         std::sort(row.begin(), row.end(), [](const Entry& a, const Entry& b) { return a.sample < b.sample; });

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <unordered_map>
 
+#include "common/asset_checks.h"
 #include "common/error.h"
 #include "common/hash.h"
 
@@ -40,9 +41,14 @@ Vec3d vector(const Mat4d& m, const aiVector3D& v) { return Mat3d(m) * Vec3d(v.x,
 Vec3d unit(const Vec3d& v) { return glm::length(v) > 0.0 ? glm::normalize(v) : v; }
 Color color(const aiColor3D& c) { return {c.r, c.g, c.b}; }
 
-bool isGltf(const std::string& path) {
+std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+bool isGltf(const std::string& path) {
+  const std::string ext = lowerExtension(path);
   return ext == ".gltf" || ext == ".glb";
 }
 
@@ -73,20 +79,77 @@ float emissiveStrength(const nlohmann::json& gltf, unsigned k) {
   }
 }
 
+/// What is wrong with the structure of an imported scene, or "": a node naming a mesh that does not exist,
+/// a face without vertices or indexing past its mesh's vertices. assimp's importers do not all check (the
+/// PLY one does not), and its triangulation reads what the faces index.
+std::string structureDefect(const aiScene& scene, const aiNode& node) {
+  for (unsigned i = 0; i < node.mNumMeshes; ++i)
+    if (node.mMeshes[i] >= scene.mNumMeshes || !scene.mMeshes[node.mMeshes[i]]) return "a node refers to a missing mesh";
+  for (unsigned i = 0; i < node.mNumChildren; ++i)
+    if (const std::string d = node.mChildren[i] ? structureDefect(scene, *node.mChildren[i]) : "a node is missing"; !d.empty())
+      return d;
+  return "";
+}
+std::string structureDefect(const aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* mesh = scene.mMeshes[m];
+    for (unsigned f = 0; mesh && f < mesh->mNumFaces; ++f) {
+      if (mesh->mFaces[f].mNumIndices == 0) return "a face without vertices";
+      for (unsigned k = 0; k < mesh->mFaces[f].mNumIndices; ++k)
+        if (mesh->mFaces[f].mIndices[k] >= mesh->mNumVertices) return "vertex index out of range";
+    }
+  }
+  return structureDefect(scene, *scene.mRootNode);
+}
+
+/// Sets every mesh's primitive types from its faces (each with at least one vertex: structureDefect).
+/// Importers may claim polygons where no face has more than three vertices (the PLY one, on some
+/// malformed files), and assimp's triangulation then aborts on an assertion instead of reporting an error.
+void setPrimitiveTypes(const aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    aiMesh* mesh = scene.mMeshes[m];  // the scene is read-only to us, its meshes are not
+    if (!mesh) continue;
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const unsigned n = mesh->mFaces[f].mNumIndices;
+      types |= n == 1 ? aiPrimitiveType_POINT : n == 2 ? aiPrimitiveType_LINE : n == 3 ? aiPrimitiveType_TRIANGLE
+                                                                                 : aiPrimitiveType_POLYGON;
+    }
+    mesh->mPrimitiveTypes = types;
+  }
+}
+
 /// Reads @p path with assimp (triangulated, nothing else changed). The importer owns the scene.
 const aiScene* readAsset(Assimp::Importer& importer, const std::string& path, const std::string& sceneFile,
                          const std::string& element) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(sceneFile, element, "mesh file not found: " + path);
+  // Only the documented types: assimp's other importers are not part of firstshot (nor fuzzed).
+  const std::string ext = lowerExtension(path);
+  if (ext != ".obj" && ext != ".ply" && !isGltf(path))
+    throw InputError(sceneFile, element,
+                     "mesh file " + path + ": unsupported type \"" + ext + "\" (expected .obj, .gltf, .glb or .ply)");
+  if (ext == ".ply" || ext == ".glb") {
+    std::ifstream in(path, std::ios::binary);
+    const std::string defect =
+        ext == ".ply" ? plyHeaderDefect(in) : glbHeaderDefect(in, std::filesystem::file_size(path, ec));
+    if (!defect.empty()) throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
+  }
   // No aiProcess_ValidateDataStructure: it rejects meshes without faces, which we report as "no triangles".
-  const aiScene* scene = importer.ReadFile(path, aiProcess_Triangulate);
+  // Triangulation runs only once the indices are checked (ReadFile(path, flags) is this, unchecked).
+  const aiScene* scene = importer.ReadFile(path, 0);
   if (!scene || !scene->mRootNode) {
     std::string why = importer.GetErrorString();
     std::string jsonError;  // assimp only says "no suitable reader" for a .gltf with broken JSON
     if (isGltf(path) && readGltfJson(path, &jsonError).is_null() && !jsonError.empty()) why = jsonError;
     throw InputError(sceneFile, element, "cannot read mesh file " + path + ": " + why);
   }
+  if (const std::string defect = structureDefect(*scene); !defect.empty())
+    throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
+  setPrimitiveTypes(*scene);
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate);
+  if (!scene) throw InputError(sceneFile, element, "cannot read mesh file " + path + ": " + importer.GetErrorString());
   return scene;
 }
 

@@ -1,0 +1,6 @@
+// libFuzzer target fuzz_cache_file: an irradiance cache file (.fsic), as the tools load it (tests/fuzz/entry_points.h).
+#include "tests/fuzz/entry_points.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  return fs::fuzz::runOne(fs::fuzz::cacheFile, data, size);
+}
