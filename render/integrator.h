@@ -49,9 +49,8 @@ struct IntegratorOptions {
   /// Weight the light trees by the visibility of their emitters, estimated per grid cell.
   bool lightVisibility = true;
   /// Bidirectional path tracing with a first-shot table: the small lights' light subpaths start
-  /// from the patches the table lights (render/integrators/bdpt/integrator.h); false (the default,
-  /// which measured more efficient, docs/bdpt.md): the table is ignored.
-  bool bdptFirstShot = false;
+  /// from the patches the table lights (render/integrators/bdpt/integrator.h); false: the table is ignored.
+  bool bdptFirstShot = true;
 };
 
 /// A point an integrator has stored (an irradiance-cache record), for the preview's overlay.

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
     std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "off",
-                lightVisibility = "on", bdptFirstShot = "off";
+                lightVisibility = "on", bdptFirstShot = "patches";
     std::vector<std::string> outputs;
     int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;
     double timeLimit = 0, patchSize = 0;
@@ -52,9 +52,9 @@ int main(int argc, char** argv) {
     app.add_option("--light-visibility", lightVisibility, "light tree: weight its choices by the visibility of the "
                                                           "lights from each region, estimated with a few rays per region")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
-    app.add_option("--bdpt-firstshot", bdptFirstShot, "bdpt with --firstshot: the table is ignored (off, "
-                                                      "measured faster) or the small lights' light subpaths start "
-                                                      "from the patches it lights (patches; docs/bdpt.md)")
+    app.add_option("--bdpt-firstshot", bdptFirstShot, "bdpt with --firstshot: the small lights' light subpaths start "
+                                                      "from the patches the table lights (patches) or the table is "
+                                                      "ignored (off; docs/bdpt.md says when each pays)")
         ->check(CLI::IsMember({"patches", "off"}))->capture_default_str();
     auto* sppOpt = app.add_option("--spp", spp, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
     app.add_option("--time", timeLimit, "render passes of 1 spp until this many seconds have passed (the image then "
