@@ -33,15 +33,15 @@ METHODS = [
     ("first-shot, all small lights at camera hits", True, ["--light-sampler", "all", "--patch-nee", "off"]),
     # The irradiance cache at 4 spp (its records, not the camera samples, carry the indirect light);
     # a pair of runs with different seeds has different records, so record noise is in the measure.
-    ("irradiance cache", False, ["--integrator", "irradiance-cache", "--spp", "4"]),
+    ("irradiance cache", False, ["--integrator", "irradiance-cache", "--one-pass", "--spp", "4"]),
     ("light tracing (one particle per pixel per pass)", False, ["--integrator", "light"]),
     ("bidirectional path tracing (one sample per pixel per pass)", False, ["--integrator", "bdpt"]),
     ("bidirectional path tracing + first-shot, light subpaths from the lit patches", True,
      ["--integrator", "bdpt", "--bdpt-firstshot", "patches"]),
     ("irradiance cache + first-shot, no patch NEE in gathers", True,
-     ["--integrator", "irradiance-cache", "--spp", "4", "--ic-patch-nee", "0"]),
+     ["--integrator", "irradiance-cache", "--one-pass", "--spp", "4", "--ic-patch-nee", "0"]),
     ("irradiance cache + first-shot, patch NEE in gathers (0.5)", True,
-     ["--integrator", "irradiance-cache", "--spp", "4", "--ic-patch-nee", "0.5"]),
+     ["--integrator", "irradiance-cache", "--one-pass", "--spp", "4", "--ic-patch-nee", "0.5"]),
 ]
 
 

@@ -46,7 +46,7 @@ struct CheckpointCli {
     if (app.count("--preview")) throw InputError("", "--checkpoint", "not available with --preview");
     if (const auto* ic = dynamic_cast<const IrradianceCacheIntegrator*>(&integrator); ic && !ic->settings().twoPass)
       throw InputError("", every > 0 ? "--checkpoint" : "--resume",
-                       "the one-pass irradiance cache depends on the thread schedule and cannot resume exactly: add --two-pass");
+                       "the one-pass irradiance cache depends on the thread schedule and cannot resume exactly: drop --one-pass");
     if (file.empty()) file = outputs.empty() ? std::string() : outputs.front() + ".checkpoint";
     const auto dir = std::filesystem::path(file).parent_path();
     if (!dir.empty() && !std::filesystem::is_directory(dir)) throw InputError(file, "--checkpoint-file", "the folder does not exist");

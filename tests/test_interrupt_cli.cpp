@@ -179,7 +179,7 @@ TEST(InterruptCli, CheckpointOptionsRefusedWhereTheyCannotWork) {
   using Case = std::pair<std::string, std::string>;  // options, message
   for (const auto& [bad, message] :
        {Case{" --resume", dir + "/b.exr.checkpoint: cannot open the checkpoint file"},
-        Case{" --integrator irradiance-cache --checkpoint 1", "cannot resume exactly: add --two-pass"},
+        Case{" --integrator irradiance-cache --one-pass --checkpoint 1", "cannot resume exactly: drop --one-pass"},
         Case{" --checkpoint-file " + dir + "/x", "--checkpoint-file: only with --checkpoint or --resume"}}) {
     const auto r = test::run(base + bad);
     EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;

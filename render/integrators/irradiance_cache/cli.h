@@ -19,6 +19,7 @@ namespace fs {
 struct IrradianceCacheCli {
   IrradianceCacheSettings settings;
   std::string ambient = "0", gradients = "on", clampFootprint = "1.5,100", neighbourClamp = "on", showRecords;
+  bool twoPass = false, onePass = false;
   std::vector<CLI::Option*> options;
   CLI::Option* ambientOption = nullptr;
 
@@ -47,8 +48,10 @@ struct IrradianceCacheCli {
         app.add_option("--ic-patch-nee", settings.patchNee, "irradiance cache with --firstshot: patch NEE samples per "
                                                             "hemisphere ray of a record, MIS-combined with the rays (0: off)")
             ->check(CLI::Range(0.0, 64.0))->capture_default_str(),
-        app.add_flag("--two-pass", settings.twoPass, "irradiance cache: fill the cache through every pixel first, then "
-                                                     "render read-only (image independent of --threads)"),
+        app.add_flag("--two-pass", twoPass, "irradiance cache: fill the cache through every pixel first, then render "
+                                            "read-only, so the image does not depend on --threads (the default)"),
+        app.add_flag("--one-pass", onePass, "irradiance cache: make records while rendering (25-30% less CPU; the "
+                                            "image then depends on the order threads make them, and --resume is refused)"),
         app.add_option("--cache-file", settings.cacheFile, "irradiance cache: records read from F if it exists, written "
                                                            "to F after the render"),
         app.add_option("--show-records", showRecords, "irradiance cache: also write the image with the camera-visible "
@@ -66,6 +69,8 @@ struct IrradianceCacheCli {
           throw InputError("", o->get_name(), "only with --integrator irradiance-cache");
       return;
     }
+    if (twoPass && onePass) throw InputError("", "--one-pass", "not with --two-pass");
+    settings.twoPass = !onePass;
     settings.ambient = parseColor(ambient, "--ambient");
     settings.pathContinuation = ambientOption->count() == 0;  // --ambient given: Ward's ambient term instead
     settings.gradients = gradients == "on";

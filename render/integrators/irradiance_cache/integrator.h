@@ -70,7 +70,7 @@ struct IrradianceCacheSettings {
   float footprintMin = 1.5f;
   float footprintMax = 100.0f;
   bool neighbourClamp = true;   ///< R_i ≤ R_j + |P_i − P_j| (Křivánek et al. 2006) [--neighbour-clamp]
-  bool twoPass = false;         ///< fill the cache in preprocess(), then render read-only [--two-pass]
+  bool twoPass = true;          ///< fill the cache in preprocess(), then render read-only [default; --one-pass: false]
   int fillSamples = 1;          ///< two-pass: camera samples per pixel of the fill (the render's first ones)
   std::string cacheFile;        ///< records read in preprocess() if the file exists [--cache-file]
   uint64_t seed = 1;            ///< the render's seed (the fill traces the render's own camera samples)
