@@ -69,8 +69,10 @@ Color sampleIrradiance(const Integrator& integrator, const RenderScene& scene, c
 }  // namespace
 
 void requireSensorIntegrator(const Integrator& integrator) {
-  if (integrator.splats() || integrator.perPass())
-    throw InputError("", "--integrator", fmt::format("{} cannot estimate sensors (use path or irradiance-cache)",
+  // The irradiance cache estimates radiance per ray too, but its records are filled from the camera's pixels;
+  // on cornell-metre a 9×9 grid at 256 samples did not finish in 10 min with it (0.7 s with path).
+  if (integrator.name() != "path" || integrator.splats() || integrator.perPass())
+    throw InputError("", "--integrator", fmt::format("{}: sensors support only --integrator path so far",
                                                      integrator.name()));
 }
 

@@ -10,8 +10,9 @@
 /// camera-visible point; MIS off, so the second term leaves out the emission it meets directly),
 /// the second one cosine-distributed direction ω (pdf cos θ/π) whose radiance arriving at x is the
 /// integrator's Li() along the ray minus the emission of a light it meets first (counted by NEE).
-/// Any integrator that estimates radiance along a ray per sample works (path, irradiance-cache);
-/// splatting and per-pass ones (light, bdpt, bundle) do not.
+/// The integrator is the path tracer (requireSensorIntegrator); the estimator itself needs only
+/// Li() per ray, but the irradiance cache fills its records from the camera's pixels (and was far too
+/// slow at sensors), and the splatting and per-pass ones have no per-ray Li().
 ///
 /// Sample s of sensor i is keyed by (seed, i, s), the samples of a sensor are summed in sample
 /// order: results never depend on the thread count.
@@ -83,8 +84,7 @@ struct SensorStats {
   double seconds = 0;
 };
 
-/// @throws InputError if @p integrator cannot estimate radiance per ray (splats() or perPass():
-/// light, bdpt, bundle).
+/// @throws InputError unless @p integrator is the path tracer.
 void requireSensorIntegrator(const Integrator& integrator);
 
 /// Estimates the irradiance at @p sensors. @p integrator must be preprocessed for @p scene and

@@ -229,6 +229,7 @@ TEST(Sensors, BadInputExits2) {
       {"--grid 0,0,1,1,0.75", "--grid"},
       {"--grid 1,0,0,1,0.75,0.25", "--grid"},
       {"--grid 0,0,1,1,0.75,0.25 --integrator light", "--integrator"},
+      {"--grid 0,0,1,1,0.75,0.25 --integrator irradiance-cache", "only --integrator path"},
       {"--grid 0,0,1,1,0.75,0.25 --spp 4", "--spp"},
   };
   for (const auto& [args, expected] : cases) {
