@@ -135,6 +135,47 @@ TEST(Sensors, IndirectFromLitFloor) {
   }
 }
 
+// Integrating sphere (tests/render_util.h) with the light replaced by an exact first-shot table: at a sensor
+// on the wall, facing inwards, E − (the light's direct E) = ρΦ/(A(1−ρ)), A the tessellated area (uniform on the
+// wall of a true sphere; not at interior points, which weight the unevenly lit wall differently).
+TEST(Sensors, IntegratingSphereIndirect) {
+  const double rho = 0.6, phi = 50.0;
+  const SceneDesc desc = test::sceneFromJson(test::integratingSphereScene(rho, phi));
+  PatchMesh mesh = buildPatches(desc, desc.settings.patchSize);
+  const double area = mesh.totalArea();
+  std::vector<Sensor> sensors;
+  for (size_t j = 0; j < mesh.patches.size(); j += mesh.patches.size() / 5) {
+    const Patch& pj = mesh.patches[j];
+    sensors.push_back({pj.centroid, glm::dot(pj.normal, pj.centroid) < 0 ? pj.normal : -pj.normal});
+  }
+  const RenderScene scene(desc, test::pointLightTable(desc, std::move(mesh), 0));
+  ASSERT_NE(scene.firstShot(), nullptr);
+  const double expected = rho * phi / (area * (1.0 - rho));
+  IntegratorOptions io;
+  io.maxDepth = 100000;  // Russian roulette ends the paths
+  auto integrator = makeIntegrator("path", io);
+  integrator->preprocess(scene);
+  const Vec3d light(0.3, 0.25, -0.1);
+  SensorOptions so;
+  so.samples = 2048;
+  const auto res = estimateSensors(*integrator, scene, sensors, so);
+  double sum = 0, var = 0;
+  for (size_t i = 0; i < sensors.size(); ++i) {
+    const Vec3d d = light - Vec3d(sensors[i].p);
+    const double cosine = std::max(0.0, glm::dot(glm::normalize(d), Vec3d(sensors[i].n)));
+    const double direct = phi * cosine / (4 * kPi * glm::dot(d, d));
+    const double indirect = res[i].irradiance.x - direct, se = res[i].stderrLux / 179.0;
+    fmt::print("sensor {}: indirect {:.5f} ± {:.5f} (expected {:.5f})\n", i, indirect, se, expected);
+    EXPECT_GT(se, 0.0);
+    EXPECT_LE(std::abs(indirect - expected), 4 * se + 1e-5 * direct) << i;
+    sum += indirect;
+    var += se * se;
+  }
+  const double mean = sum / double(sensors.size()), seMean = std::sqrt(var) / double(sensors.size());
+  EXPECT_LE(std::abs(mean - expected), 3 * seMean);
+  EXPECT_LT(seMean, 0.02 * expected);  // sharp enough to catch a missing or doubled bounce
+}
+
 namespace {
 
 /// The cornell-metre grid 4 m above the floor (over the blocks), 3 × 3 points.
