@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <optional>
 
@@ -18,6 +19,7 @@
 #include "render/preview/preview_app.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
+#include "render/sensors_cli.h"
 
 int main(int argc, char** argv) {
   return fs::runTool("firstshot-render", [&] {
@@ -90,6 +92,8 @@ int main(int argc, char** argv) {
     bundle.add(app);
     fs::CheckpointCli checkpoint;  // --checkpoint, --checkpoint-file, --resume (render/checkpoint_cli.h)
     checkpoint.add(app);
+    fs::SensorsCli sensors;  // --sensors, --grid, --samples, --efficacy (render/sensors_cli.h)
+    sensors.add(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -98,6 +102,8 @@ int main(int argc, char** argv) {
     // SIGINT/SIGTERM: stop, write no image (a checkpoint with --checkpoint), exit 130/143 (docs/robustness.md).
     if (!preview) fs::installInterruptHandlers();
 
+    sensors.checkOptions(app, outputs);
+    const std::vector<fs::SensorSet> sensorSets = sensors.sets();
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
     for (const std::string* png : {&screenshot, &windowGrab}) {
@@ -111,9 +117,11 @@ int main(int argc, char** argv) {
     fs::SceneDesc scene = fs::loadScene(scenePath);
     if (width > 0) scene.camera.width = width;
     if (height > 0) scene.camera.height = height;
-    if (!preview) fs::Film::requireFits(scene.camera.width, scene.camera.height, scene.file);  // before any other work
+    if (!preview && !sensors.active()) fs::Film::requireFits(scene.camera.width, scene.camera.height, scene.file);  // before any other work
     fs::IntegratorOptions io;
     io.maxDepth = maxDepth >= 0 ? maxDepth : scene.settings.maxDepth;
+    // A sensor is a camera-visible point (vertex 0): its cosine rays' first hits are bounce 1.
+    if (sensors.active()) io.maxDepth = std::max(0, io.maxDepth - 1);
     io.primary = primary == "patch" ? fs::PrimaryMode::Patch : fs::PrimaryMode::Exact;
     io.lightSampler = lightSampler == "all" ? fs::LightStrategy::All : fs::LightStrategy::Tree;
     io.patchNee = patchNee == "off" ? fs::PatchNee::Off : patchNee == "first" ? fs::PatchNee::First : fs::PatchNee::Every;
@@ -123,7 +131,8 @@ int main(int argc, char** argv) {
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);
     bundle.configure(*integrator, spp, app);
     checkpoint.configure(app, outputs, *integrator);
-    for (const auto& out : outputs) {  // reject a bad output name before the render, not after
+    if (sensors.active()) fs::requireSensorIntegrator(*integrator);
+    for (const auto& out : sensors.active() ? std::vector<std::string>() : outputs) {  // reject a bad output name before the render, not after
       const auto dot = out.rfind('.');
       const std::string ext = dot == std::string::npos ? "" : out.substr(dot);
       if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
@@ -137,6 +146,16 @@ int main(int argc, char** argv) {
       rs.emplace(scene, fs::readFirstShot(fsdPath, fs::hashScene(scene)), fsdPath);
     else
       rs.emplace(scene, patchSize);
+    if (sensors.active()) {
+      integrator->preprocess(*rs);
+      fs::SensorOptions so;
+      so.timeLimit = timeLimit;
+      so.seed = app.count("--seed") ? seed : scene.settings.seed;
+      so.threads = threads;
+      so.quiet = quiet;
+      so.lightSampler = io.lightSampler;
+      return sensors.run(*integrator, *rs, sensorSets, outputs, so);
+    }
     if (preview) {
       fs::PreviewOptions po;
       po.integrator = integratorName;

@@ -3,6 +3,7 @@
 /// Helpers for the renderer tests: scenes from JSON text, rendering into a Film, analytic
 /// first-shot tables for a point light that sees every patch whole, and statistical comparison of
 /// an image against per-pixel expectations with standard errors computed from the samples.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
 
@@ -55,6 +56,17 @@ inline RenderRun renderPath(const RenderScene& scene, const IntegratorOptions& i
   auto integrator = makeIntegrator("path", io);
   integrator->preprocess(scene);
   return renderWith(*integrator, scene, spp, seed, threads);
+}
+
+/// An integrating sphere: a point light of power @p phi (W) at (0.3, 0.25, −0.1) inside a closed,
+/// tessellated unit sphere of albedo @p rho (inward normals), patch size 0.3; camera at the centre.
+inline std::string integratingSphereScene(double rho, double phi) {
+  return fmt::format(R"({{
+    "camera": {{"position": [0, 0, 0], "look_at": [0.3, -0.2, -1], "fov_y": 80, "resolution": [32, 32]}},
+    "materials": {{"wall": {{"type": "diffuse", "albedo": {}}}}},
+    "shapes": [{{"type": "sphere", "material": "wall", "center": [0, 0, 0], "radius": 1, "subdivisions": 3, "flip_normals": true}}],
+    "lights": [{{"type": "point", "position": [0.3, 0.25, -0.1], "power": {}}}],
+    "settings": {{"patch_size": 0.3}}}})", rho, phi);
 }
 
 /// A first-shot table for point light @p light of @p scene over @p mesh, with the exact factors

@@ -59,13 +59,7 @@ INSTANTIATE_TEST_SUITE_P(Shapes, WhiteFurnace, ::testing::Values("box", "sphere"
 /// enclosure; exactly uniform for a true sphere, nearly so for this one).
 TEST(FirstShotFurnace, IntegratingSphereIndirectIrradiance) {
   const double rho = 0.6, phi = 50.0;
-  const std::string text = fmt::format(R"({{
-    "camera": {{"position": [0, 0, 0], "look_at": [0.3, -0.2, -1], "fov_y": 80, "resolution": [32, 32]}},
-    "materials": {{"wall": {{"type": "diffuse", "albedo": {}}}}},
-    "shapes": [{{"type": "sphere", "material": "wall", "center": [0, 0, 0], "radius": 1, "subdivisions": 3, "flip_normals": true}}],
-    "lights": [{{"type": "point", "position": [0.3, 0.25, -0.1], "power": {}}}],
-    "settings": {{"patch_size": 0.3}}}})", rho, phi);
-  const SceneDesc desc = test::sceneFromJson(text);
+  const SceneDesc desc = test::sceneFromJson(test::integratingSphereScene(rho, phi));
   PatchMesh mesh = buildPatches(desc, desc.settings.patchSize);
   const double area = mesh.totalArea();
   ASSERT_NEAR(area, 4 * kPi, 0.02 * 4 * kPi);

@@ -1,0 +1,141 @@
+#pragma once
+/// @file sensors_cli.h
+/// firstshot-render's sensor mode (header-only, included by render/main.cpp, which links CLI11):
+/// --sensors FILE and --grid SPEC choose the points, --samples/--time the effort, -o OUT.csv or
+/// OUT.json receives one row per sensor; the summary per set (E_min, E_avg, E_max, U0) goes to
+/// stdout and into the JSON (README.md, "Illuminance at sensors"; docs/photometry.md).
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "common/atomic_file.h"
+#include "common/error.h"
+#include "common/photometry.h"
+#include "render/sensors.h"
+
+namespace fs {
+
+struct SensorsCli {
+  std::string pointsFile;
+  std::vector<std::string> grids;
+  int samples = 256;
+  double efficacy = photometry::kEfficacy;
+  CLI::Option* pointsOption = nullptr;
+  CLI::Option* gridOption = nullptr;
+
+  void add(CLI::App& app) {
+    pointsOption = app.add_option("--sensors", pointsFile, "sensor mode: points file, one sensor per line "
+                                                            "\"x y z nx ny nz\" (like rtrace -I); -o gets .csv or .json");
+    gridOption = app.add_option("--grid", grids, "sensor mode: grid x0,z0,x1,z1,height,spacing on the plane y = height "
+                                                 "(normal +y), one sensor per cell centre; may be repeated");
+    app.add_option("--samples", samples, "sensor mode: samples per sensor")->check(CLI::Range(1, 1 << 30))
+        ->capture_default_str();
+    app.add_option("--efficacy", efficacy, "sensor mode: luminous efficacy in lm/W turning W/m² into lux "
+                                           "(docs/photometry.md)")
+        ->check(CLI::Range(1e-6, 1e6))->capture_default_str();
+  }
+  bool active() const { return pointsOption->count() > 0 || gridOption->count() > 0; }
+
+  /// Checks the options that do not mix with the sensor mode and the outputs (.csv or .json).
+  void checkOptions(const CLI::App& app, const std::vector<std::string>& outputs) const {
+    if (!active()) {
+      for (const char* o : {"--samples", "--efficacy"})
+        if (app.count(o)) throw InputError("", o, "only with --sensors or --grid");
+      return;
+    }
+    for (const char* o : {"--spp", "--preview", "--checkpoint", "--resume", "--aov", "--exposure"})
+      if (app.get_option_no_throw(o) && app.count(o)) throw InputError("", o, "not available with --sensors/--grid");
+    if (app.count("--time") && app.count("--samples")) throw InputError("", "--samples", "give --samples or --time");
+    if (outputs.empty()) throw InputError("", "--output", "sensor mode needs -o OUT.csv or OUT.json");
+    for (const auto& out : outputs) {
+      const std::string ext = std::filesystem::path(out).extension().string();
+      if (ext != ".csv" && ext != ".json") throw InputError(out, "", "sensor output must be .csv or .json");
+      const auto dir = std::filesystem::path(out).parent_path();
+      if (!dir.empty() && !std::filesystem::is_directory(dir)) throw InputError(out, "", "the output folder does not exist");
+    }
+  }
+
+  /// Reads the points and grids (before the scene is built, so bad input fails fast).
+  std::vector<SensorSet> sets() const {
+    std::vector<SensorSet> s;
+    if (!pointsFile.empty()) s.push_back(readSensorFile(pointsFile));
+    for (const auto& g : grids) s.push_back(parseGrid(g));
+    return s;
+  }
+
+  /// Estimates every set and writes @p outputs; prints the summaries on stdout.
+  int run(const Integrator& integrator, const RenderScene& scene, const std::vector<SensorSet>& sets,
+          const std::vector<std::string>& outputs, SensorOptions options) const {
+    options.samples = samples;
+    options.efficacy = efficacy;
+    std::vector<Sensor> all;
+    for (const auto& s : sets) all.insert(all.end(), s.sensors.begin(), s.sensors.end());
+    SensorStats st;
+    const std::vector<SensorResult> results = estimateSensors(integrator, scene, all, options, &st);
+    std::vector<SensorSummary> summaries;
+    size_t at = 0;
+    for (const auto& s : sets) {
+      summaries.push_back(summarize({results.begin() + long(at), results.begin() + long(at + s.sensors.size())}));
+      at += s.sensors.size();
+    }
+    for (const auto& out : outputs)
+      writeAtomically(out, [&](const std::string& tmp) {
+        std::ofstream f(tmp);
+        if (out.ends_with(".json")) writeJson(f, sets, results, summaries, st);
+        else writeCsv(f, all, results);
+        if (!f) throw std::runtime_error(out + ": write failed");
+      });
+    for (size_t k = 0; k < sets.size(); ++k)
+      fmt::print("{}: {} sensors, E_min {:.6g} lx, E_avg {:.6g} lx, E_max {:.6g} lx, U0 {:.4f}\n", sets[k].name,
+                 sets[k].sensors.size(), summaries[k].minLux, summaries[k].avgLux, summaries[k].maxLux,
+                 summaries[k].uniformity);
+    if (st.nonFinite > 0)
+      fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
+    if (!options.quiet)
+      fmt::print(stderr, "{} sensors at {} samples in {:.2f} s: {:.2f} Mrays/s\n", all.size(), st.samples, st.seconds,
+                 st.seconds > 0 ? double(st.rays) / st.seconds * 1e-6 : 0.0);
+    return 0;
+  }
+
+  static void writeRow(std::ostream& f, const Sensor& s, const SensorResult& r, const char* sep) {
+    f << fmt::format("{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}", s.p.x, sep,
+                     s.p.y, sep, s.p.z, sep, s.n.x, sep, s.n.y, sep, s.n.z, sep, r.irradiance.x, sep, r.irradiance.y,
+                     sep, r.irradiance.z, sep, r.lux, sep, r.stderrLux);
+  }
+  static void writeCsv(std::ostream& f, const std::vector<Sensor>& sensors, const std::vector<SensorResult>& results) {
+    f << "x,y,z,nx,ny,nz,irradiance_r,irradiance_g,irradiance_b,illuminance_lux,stderr_lux\n";
+    for (size_t i = 0; i < sensors.size(); ++i) {
+      writeRow(f, sensors[i], results[i], ",");
+      f << '\n';
+    }
+  }
+  static void writeJson(std::ostream& f, const std::vector<SensorSet>& sets, const std::vector<SensorResult>& results,
+                        const std::vector<SensorSummary>& summaries, const SensorStats& st) {
+    f << "{\n  \"columns\": [\"x\", \"y\", \"z\", \"nx\", \"ny\", \"nz\", \"irradiance_r\", \"irradiance_g\", "
+         "\"irradiance_b\", \"illuminance_lux\", \"stderr_lux\"],\n";
+    f << fmt::format("  \"samples\": {},\n  \"sets\": [", st.samples);
+    size_t at = 0;
+    for (size_t k = 0; k < sets.size(); ++k) {
+      const SensorSummary& m = summaries[k];
+      std::string name;
+      for (char c : sets[k].name) name += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+      f << fmt::format("{}\n    {{\"name\": \"{}\", \"E_min\": {:.9g}, \"E_avg\": {:.9g}, \"E_max\": {:.9g}, "
+                       "\"U0\": {:.9g},\n     \"rows\": [",
+                       k ? "," : "", name, m.minLux, m.avgLux, m.maxLux, m.uniformity);
+      for (size_t i = 0; i < sets[k].sensors.size(); ++i, ++at) {
+        f << (i ? ",\n       [" : "\n       [");
+        writeRow(f, sets[k].sensors[i], results[at], ", ");
+        f << "]";
+      }
+      f << "]}";
+    }
+    f << "\n  ]\n}\n";
+  }
+};
+
+}  // namespace fs
