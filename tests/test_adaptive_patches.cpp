@@ -162,6 +162,7 @@ double directError(const RenderScene& table, const RenderScene& exact, int spp, 
 // patches against 0.21% with 32,880; the coarse 0.8 m mesh alone 0.85% (1,932), tolerance 0.05
 // 0.56% (3,567), 0.005 0.22% (11,637).
 TEST(AdaptivePatches, ManyLightsMatchesTheUniformFineMeshWithFiveTimesFewerPatches) {
+  FIRSTSHOT_STATISTICS_ONLY("AdaptivePatches.FluxMatchesTheUniformMesh");
   SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));
   desc.camera.width = 80, desc.camera.height = 60;
   auto table = [&](double coarse) {

@@ -10,8 +10,14 @@
 using namespace fs;
 
 TEST(Bdpt, CornellImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "cornell", 200, 300); }
-TEST(Bdpt, ManyLightsImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "many-lights", 200, 300); }
-TEST(Bdpt, SierpinskiGlossyImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "sierpinski-glossy", 200, 300); }
+TEST(Bdpt, ManyLightsImageAgreesWithPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("Bdpt.MixedLightsAgreeWithPathTracing");
+  test::expectAgreesWithPathTracing("bdpt", "many-lights", 200, 300);
+}
+TEST(Bdpt, SierpinskiGlossyImageAgreesWithPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("Bdpt.MixedLightsAgreeWithPathTracing");
+  test::expectAgreesWithPathTracing("bdpt", "sierpinski-glossy", 200, 300);
+}
 
 // Delta surfaces seen by the camera and met by both subpaths: no connection through them, their
 // densities cancel in the MIS weights; the glass's caustic comes from the t = 1 and s = 0 strategies.

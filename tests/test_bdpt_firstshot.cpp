@@ -30,6 +30,7 @@ TEST(BdptFirstShot, CornellAgreesWithPathTracingOnTheSameTable) {
   test::expectAgreesWithPathTracingOnTable("bdpt", "cornell, table", shipped("cornell"), 200, 300, tableMode());
 }
 TEST(BdptFirstShot, ManyLightsAgreesWithPathTracingOnTheSameTable) {
+  FIRSTSHOT_STATISTICS_ONLY("BdptFirstShot.MixedLightsAgreeWithPathTracingOnTheSameTable");
   test::expectAgreesWithPathTracingOnTable("bdpt", "many-lights, table", shipped("many-lights"), 200, 300, tableMode());
 }
 // Kept (directional) and replaced lights of every kind, over diffuse and glossy patches.

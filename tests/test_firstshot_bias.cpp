@@ -14,6 +14,7 @@
 #include "common/sampling.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
+#include "tests/test_util.h"
 
 using namespace fs;
 
@@ -96,6 +97,7 @@ TEST(FirstShotBias, MetreCornellImageMeanAgreesWithNee) {
 // The same box with the scene's own 0.025 m patches (457,188 of them, most narrower than a pixel
 // seen from the light, occluders included). Was −0.95% ± 0.07%.
 TEST(FirstShotBias, MetreCornellFinePatchesImageMeanAgreesWithNee) {
+  FIRSTSHOT_STATISTICS_ONLY("FirstShotBias.MetreCornellImageMeanAgreesWithNee");
   SceneDesc desc = test::cornellMetre();
   desc.settings.patchSize = desc.settings.minPatchSize = 0.025;  // uniform
   desc.camera.width = desc.camera.height = 48;
@@ -105,6 +107,7 @@ TEST(FirstShotBias, MetreCornellFinePatchesImageMeanAgreesWithNee) {
 // 64 point lights 0.2 m under the ceiling: the far ceiling is seen edge-on from every light. Was
 // −0.49% ± 0.03% (grazing patches narrower than a pixel got nothing), now 0.000% ± 0.001%.
 TEST(FirstShotBias, ManyLightsImageMeanAgreesWithNee) {
+  FIRSTSHOT_STATISTICS_ONLY("FirstShotBias.CornellImageMeanAgreesWithNee");
   SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));
   desc.camera.width = 40, desc.camera.height = 30;
   expectUnbiased("many-lights", imageBias(desc, 8));

@@ -77,6 +77,7 @@ void report(const std::string& what, const CacheBias& b) {
 
 // Was −12% with ambient 0 past the last bounce (64 point lights, most light after 3+ bounces).
 TEST(IrradianceCacheBias, ManyLightsDefaultsMatchPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("every default irradiance-cache test (they continue paths past the cache)");
   const RenderScene scene(small("many-lights", 16));
   const CacheBias b = measure(scene, 6, 2, 512);
   report("many-lights, no first-shot", b);

@@ -20,7 +20,10 @@ using test::expectBlocksAgree;
 // The area light of the Cornell box is seen directly: light tracing draws it by connecting the
 // particles' first vertex (on the light) to the camera, so no block is left out.
 TEST(LightTracing, CornellImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "cornell", 600, 300); }
-TEST(LightTracing, ManyLightsImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "many-lights", 600, 300); }
+TEST(LightTracing, ManyLightsImageAgreesWithPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("LightTracing.CornellImageAgreesWithPathTracing");
+  test::expectAgreesWithPathTracing("light", "many-lights", 600, 300);
+}
 TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "sierpinski-glossy", 600, 300); }
 
 // Delta surfaces: a mirror and a glass block seen by the camera (their pixels are path traced)

@@ -152,6 +152,7 @@ TEST(PatchNee, ImageDoesNotDependOnThreads) {
 /// The Cornell box framed without the light (pixels that show the light are noise at 4 spp);
 /// the cache's σ comes from independent caches (seeds), since its records correlate pixels.
 TEST(IrradianceCacheContinuation, DefaultsMatchPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("every default irradiance-cache test (they continue paths past the cache)");
   SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
   desc.camera.lookAt = Vec3d(0.278, 0.17, 0.0);
   desc.camera.fovYDeg = 28;

@@ -3,6 +3,25 @@
 /// Helpers shared by the tests: running the command-line tools, temporary files.
 #include <string>
 
+/// True in the ASan+UBSan build (gcc and clang).
+#if defined(__SANITIZE_ADDRESS__)
+#define FIRSTSHOT_UNDER_SANITIZERS 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define FIRSTSHOT_UNDER_SANITIZERS 1
+#endif
+#endif
+
+/// Marks a statistical test on a large scene that runs in the optimised build only. Under ASan+UBSan such a test
+/// takes minutes and checks an estimator's accuracy, not memory or UB; the sanitizers still run the code it uses
+/// through the smaller test named in @p coveredBy. The skip is reported by ctest, with that name.
+#ifdef FIRSTSHOT_UNDER_SANITIZERS
+#define FIRSTSHOT_STATISTICS_ONLY(coveredBy) \
+  GTEST_SKIP() << "statistics only, run in the Release build; under the sanitizers the code runs in " coveredBy
+#else
+#define FIRSTSHOT_STATISTICS_ONLY(coveredBy) static_cast<void>(0)
+#endif
+
 namespace fs::test {
 
 struct CommandResult {
