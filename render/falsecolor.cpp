@@ -71,15 +71,27 @@ Range autoRange(const std::vector<double>& values, Scale scale) {
   return {std::floor(lo / step + 1e-9) * step, std::ceil(hi / step - 1e-9) * step};
 }
 
+namespace {
+
+/// Adds the ends of @p range to sorted ticks @p t unless a tick is already there.
+std::vector<double> withEnds(std::vector<double> t, const Range& range, double eps) {
+  auto near = [eps](double a, double b) { return std::abs(a - b) <= eps * std::max(std::abs(a), std::abs(b)); };
+  if (t.empty() || !near(t.front(), range.min)) t.insert(t.begin(), range.min);
+  if (!near(t.back(), range.max)) t.push_back(range.max);
+  return t;
+}
+
+}  // namespace
+
 std::vector<double> ticks(const Range& range, Scale scale, int count) {
   count = std::max(count, 2);
   std::vector<double> t;
   const double eps = 1e-9;
   if (scale == Scale::Linear) {
     const double step = niceNumber((range.max - range.min) / double(count - 1), true);
-    for (double k = std::ceil(range.min / step - eps); k * step <= range.max * (1 + eps) + eps * step; ++k)
-      t.push_back(std::abs(k) < 0.5 ? 0.0 : k * step);
-    return t;
+    for (double k = std::ceil(range.min / step - eps); k * step <= range.max - eps * step; ++k)
+      if (k * step >= range.min + eps * step) t.push_back(std::abs(k) < 0.5 ? 0.0 : k * step);
+    return withEnds(t, range, eps);
   }
   const double d0 = std::ceil(std::log10(range.min) - eps), d1 = std::floor(std::log10(range.max) + eps);
   const int decades = int(d1 - d0) + 1;
@@ -93,7 +105,7 @@ std::vector<double> ticks(const Range& range, Scale scale, int count) {
       }
     std::sort(t.begin(), t.end());
   }
-  return t;
+  return withEnds(t, range, eps);
 }
 
 std::string label(double value) {

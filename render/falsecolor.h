@@ -45,9 +45,9 @@ Range autoRange(const std::vector<double>& values, Scale scale);
 /// true); @p x > 0.
 double niceNumber(double x, bool up);
 
-/// Tick values in @p range (ends included when they fall on a tick), about @p count of them: on a
-/// linear scale multiples of a nice step of about span/(count − 1); on a log scale the powers of
-/// ten (every n-th one when there are more than @p count), with 2 and 5 × 10^k added when there
+/// Tick values in @p range, ascending, about @p count of them: its two ends, and in between on a
+/// linear scale the multiples of a nice step of about span/(count − 1), on a log scale the powers
+/// of ten (every n-th one when there are more than @p count), with 2 and 5 × 10^k added when there
 /// are fewer than three.
 std::vector<double> ticks(const Range& range, Scale scale, int count = 6);
 
@@ -78,7 +78,7 @@ struct Layout {
   int barTop = 0, barBottom = 0;         ///< rows [barTop, barBottom): top = max, bottom − 1 = min
   int labelX = 0;                        ///< tick labels start at this column
   Range range;                           ///< the range used
-  std::vector<double> ticks;             ///< labelled values
+  std::vector<double> ticks;             ///< tick values (labelled unless too close to the ends' labels or each other)
   std::vector<double> contourLevels;     ///< iso-line values (ticks strictly inside the range)
 };
 

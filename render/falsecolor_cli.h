@@ -40,7 +40,8 @@ struct FalseColorCli {
 
   /// Checks the options before any work: the picture's name and folder, the scale, the range, the
   /// font, and which options go with the sensor mode (@p sensorMode, @p sets: its sensor sets).
-  void checkOptions(const CLI::App& app, bool sensorMode, const std::vector<SensorSet>& sets) const {
+  void checkOptions(const CLI::App& app, bool sensorMode, const std::vector<SensorSet>& sets,
+                    const std::vector<std::string>& outputs) const {
     if (!active())
       for (const char* o : {"--falsecolor-scale", "--falsecolor-range", "--falsecolor-contours"})
         if (app.count(o)) throw InputError("", o, "only with --falsecolor");
@@ -54,6 +55,9 @@ struct FalseColorCli {
       throw InputError(output, "--falsecolor", "the false-colour picture must be a .png file");
     if (!out.parent_path().empty() && !std::filesystem::is_directory(out.parent_path()))
       throw InputError(output, "--falsecolor", "the output folder does not exist");
+    for (const auto& o : outputs)
+      if (std::filesystem::weakly_canonical(o) == std::filesystem::weakly_canonical(out))
+        throw InputError(output, "--falsecolor", "the false-colour picture would overwrite the -o output");
     if (sensorMode && !gridSet(sets)) throw InputError("", "--falsecolor", "in sensor mode it needs a --grid");
     if (!scale.empty() && scale != "log" && scale != "linear")
       throw InputError("", "--falsecolor-scale", "expected log or linear, got \"" + scale + "\"");

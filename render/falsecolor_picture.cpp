@@ -66,7 +66,7 @@ Picture draw(const Field& field, const Options& options) {
   l.ticks = ticks(l.range, options.scale, options.contours > 0 ? options.contours + 2 : 6);
   if (options.contours > 0)
     for (double t : l.ticks)
-      if (t > l.range.min * (1 + 1e-9) && t < l.range.max * (1 - 1e-9)) l.contourLevels.push_back(t);
+      if (t > l.range.min && t < l.range.max) l.contourLevels.push_back(t);  // the ends are exact ticks
   const int longer = std::max(field.width, field.height);
   l.scale = std::max(1, (options.minSide + longer - 1) / longer);
   l.mapWidth = field.width * l.scale, l.mapHeight = field.height * l.scale;
@@ -99,14 +99,16 @@ Picture draw(const Field& field, const Options& options) {
   const int rows = l.barBottom - l.barTop;
   for (int y = l.barTop; y < l.barBottom; ++y)
     fill(p, l.barX, y, l.barX + kBarWidth, y + 1, colorMap(double(l.barBottom - 1 - y) / double(rows - 1)));
-  int lastLabel = 1 << 20;  // with many ticks, labels that would overlap the one below are left out
-  for (double t : l.ticks) {
+  std::vector<int> labelled;  // rows of the labels drawn: the ends first, then ticks that do not overlap them
+  std::vector<double> order = l.ticks;
+  if (order.size() > 1) std::swap(order[1], order.back());  // min, max, then the rest
+  for (double t : order) {
     const int y = l.barBottom - 1 - int(std::lround(position(t, l.range, options.scale) * double(rows - 1)));
     fill(p, l.barX + kBarWidth, y, l.barX + kBarWidth + kTickLength, y + 1, kInk);
-    if (options.contours > 0) fill(p, l.barX, y, l.barX + kBarWidth, y + 1, kInk);
-    if (lastLabel - y < kFontSize + 1) continue;
+    if (options.contours > 0 && t > l.range.min && t < l.range.max) fill(p, l.barX, y, l.barX + kBarWidth, y + 1, kInk);
+    if (std::any_of(labelled.begin(), labelled.end(), [y](int z) { return std::abs(z - y) < kFontSize + 1; })) continue;
     text(p, l.labelX, y + kFontSize / 2 - 1, label(t), kFontSize);
-    lastLabel = y;
+    labelled.push_back(y);
   }
   return p;
 }

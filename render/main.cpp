@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
 
     sensors.checkOptions(app, outputs);
     const std::vector<fs::SensorSet> sensorSets = sensors.sets();
-    photometric.checkOptions(app, sensors.active(), sensorSets);
+    photometric.checkOptions(app, sensors.active(), sensorSets, outputs);
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
     for (const std::string* png : {&screenshot, &windowGrab}) {

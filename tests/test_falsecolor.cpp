@@ -98,8 +98,10 @@ TEST(FalseColor, NiceNumbersAndAutoRange) {
 
 TEST(FalseColor, Ticks) {
   EXPECT_EQ(ticks({0, 1000}, Scale::Linear), (std::vector<double>{0, 200, 400, 600, 800, 1000}));
-  EXPECT_EQ(ticks({0, 1200}, Scale::Linear, 4), (std::vector<double>{0, 500, 1000}));
+  EXPECT_EQ(ticks({0, 1200}, Scale::Linear, 4), (std::vector<double>{0, 500, 1000, 1200}));  // ends always
+  EXPECT_EQ(ticks({3, 97}, Scale::Linear), (std::vector<double>{3, 20, 40, 60, 80, 97}));
   EXPECT_EQ(ticks({1, 1000}, Scale::Log), (std::vector<double>{1, 10, 100, 1000}));
+  EXPECT_EQ(ticks({0.2, 100}, Scale::Log), (std::vector<double>{0.2, 1, 10, 100}));
   const auto few = ticks({2, 50}, Scale::Log);
   ASSERT_EQ(few.size(), 5u);
   const double expected[] = {2, 5, 10, 20, 50};

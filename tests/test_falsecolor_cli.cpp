@@ -175,6 +175,7 @@ TEST(FalseColorCli, BadOptionsExit2) {
   expectBadValues(dir, {
       {img + " --falsecolor " + dir + "/fc.jpg", ".png"},
       {img + " --falsecolor " + dir + "/missing/fc.png", "folder"},
+      {" -o " + dir + "/fc.png --falsecolor " + dir + "/fc.png", "overwrite"},
       {img + " --falsecolor-scale log", "only with --falsecolor"},
       {img + " --units lumens", "--units"},
       {img + " --efficacy 683", "--efficacy"},
