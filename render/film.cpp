@@ -11,6 +11,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/memory_limit.h"
+#include "common/photometry.h"
 
 namespace fs {
 
@@ -91,32 +92,49 @@ void writeImage(const std::string& path, const OIIO::ImageSpec& spec, const void
 
 }  // namespace
 
-void Film::write(const std::string& path, bool aov, float exposure) const {
+void writeRgb8(const std::string& path, int width, int height, const unsigned char* rgb) {
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("Software", "firstshot-render");
+  writeImage(path, spec, rgb);
+}
+
+std::vector<double> Film::luminance(double efficacy) const {
+  std::vector<double> y(size_t(width_) * height_);
+  for (int j = 0; j < height_; ++j)
+    for (int i = 0; i < width_; ++i) y[index(i, j)] = efficacy * photometry::luminance(Color(mean(i, j)));
+  return y;
+}
+
+void Film::write(const std::string& path, bool aov, float exposure, double efficacy) const {
   const std::string ext = lowerExtension(path);
   if (ext == ".exr")
-    writeExr(path, aov);
+    writeExr(path, aov, efficacy);
   else if (ext == ".png")
     writePng(path, exposure);
   else
     throw InputError(path, "", "unsupported image type \"" + ext + "\" (expected .exr or .png)");
 }
 
-void Film::writeExr(const std::string& path, bool aov) const {
-  const int channels = aov ? 9 : 3;
+void Film::writeExr(const std::string& path, bool aov, double efficacy) const {
+  const int base = efficacy > 0 ? 1 : 3;  // Y in cd/m², or R, G, B radiance
+  const int channels = base + (aov ? 6 : 0);
   std::vector<float> data(size_t(width_) * height_ * channels);
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x) {
       float* p = &data[(size_t(y) * width_ + x) * channels];
       const Vec3d m = mean(x, y);
-      p[0] = float(m.x), p[1] = float(m.y), p[2] = float(m.z);
+      if (base == 1)
+        p[0] = float(efficacy * photometry::luminance(Color(m)));
+      else
+        p[0] = float(m.x), p[1] = float(m.y), p[2] = float(m.z);
       if (aov) {
         const Vec3d a = albedo(x, y), n = normal(x, y);
-        p[3] = float(a.x), p[4] = float(a.y), p[5] = float(a.z);
-        p[6] = float(n.x), p[7] = float(n.y), p[8] = float(n.z);
+        p[base + 0] = float(a.x), p[base + 1] = float(a.y), p[base + 2] = float(a.z);
+        p[base + 3] = float(n.x), p[base + 4] = float(n.y), p[base + 5] = float(n.z);
       }
     }
   OIIO::ImageSpec spec(width_, height_, channels, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = {"R", "G", "B"};
+  spec.channelnames = base == 1 ? std::vector<std::string>{"Y"} : std::vector<std::string>{"R", "G", "B"};
   if (aov) spec.channelnames.insert(spec.channelnames.end(), {"albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z"});
   spec.attribute("compression", "zip");
   spec.attribute("Software", "firstshot-render");
@@ -134,9 +152,7 @@ void Film::writePng(const std::string& path, float exposure) const {
         data[(size_t(y) * width_ + x) * 3 + c] = static_cast<unsigned char>(std::lround(255.0f * linearToSrgb(v)));
       }
     }
-  OIIO::ImageSpec spec(width_, height_, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("Software", "firstshot-render");
-  writeImage(path, spec, data.data());
+  writeRgb8(path, width_, height_, data.data());
 }
 
 std::vector<float> Film::read(const std::string& path, int& width, int& height, std::vector<std::string>& channelNames) {

@@ -58,9 +58,15 @@ class Film {
 
   /// Writes the image; the format follows the extension of @p path: .exr (float; with @p aov also
   /// the layers albedo.{R,G,B} and normal.{X,Y,Z}) or .png (8-bit sRGB after scaling by
-  /// 2^@p exposure). Written atomically (temporary file, then rename).
+  /// 2^@p exposure). With @p efficacy > 0 (lm/W) an EXR holds, instead of R, G, B, one channel Y:
+  /// the luminance in cd/m² (luminance(efficacy)); a PNG is unaffected. Written atomically
+  /// (temporary file, then rename).
   /// @throws InputError for an unsupported extension, std::runtime_error for I/O failures.
-  void write(const std::string& path, bool aov, float exposure = 0.0f) const;
+  void write(const std::string& path, bool aov, float exposure = 0.0f, double efficacy = 0.0) const;
+
+  /// Luminance of every pixel in cd/m²: @p efficacy (lm/W) · Y(mean radiance), Y with the Rec. 709
+  /// weights (common/photometry.h); row-major, width·height values.
+  std::vector<double> luminance(double efficacy) const;
 
   /// Reads an image written by write() (or any RGB image OpenImageIO knows) into linear floats,
   /// width·height·channels values; @p channelNames receives the channel names. For tests and tools.
@@ -68,12 +74,16 @@ class Film {
 
  private:
   size_t index(int x, int y) const { return size_t(y) * size_t(width_) + size_t(x); }
-  void writeExr(const std::string& path, bool aov) const;
+  void writeExr(const std::string& path, bool aov, double efficacy) const;
   void writePng(const std::string& path, float exposure) const;
 
   int width_, height_;
   Sums s_;
 };
+
+/// Writes an 8-bit sRGB picture (@p rgb: width·height·3 bytes, row-major from the top left) in the
+/// format of @p path's extension (.png), atomically. @throws std::runtime_error for I/O failures.
+void writeRgb8(const std::string& path, int width, int height, const unsigned char* rgb);
 
 /// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
 float linearToSrgb(float v);

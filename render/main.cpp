@@ -12,6 +12,7 @@
 #include "common/scene_desc.h"
 #include "render/camera.h"
 #include "render/checkpoint_cli.h"
+#include "render/falsecolor_cli.h"
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/integrators/bundle/cli.h"
@@ -94,6 +95,8 @@ int main(int argc, char** argv) {
     checkpoint.add(app);
     fs::SensorsCli sensors;  // --sensors, --grid, --samples, --efficacy (render/sensors_cli.h)
     sensors.add(app);
+    fs::FalseColorCli photometric;  // --units, --falsecolor, --falsecolor-* (render/falsecolor_cli.h)
+    photometric.add(app);
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -104,6 +107,7 @@ int main(int argc, char** argv) {
 
     sensors.checkOptions(app, outputs);
     const std::vector<fs::SensorSet> sensorSets = sensors.sets();
+    photometric.checkOptions(app, sensors.active(), sensorSets, outputs);
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
     for (const std::string* png : {&screenshot, &windowGrab}) {
@@ -154,6 +158,8 @@ int main(int argc, char** argv) {
       so.threads = threads;
       so.quiet = quiet;
       so.lightSampler = io.lightSampler;
+      if (photometric.active())
+        sensors.onResults = [&](const auto& sets, const auto& lux) { photometric.writeGrid(sets, lux); };
       return sensors.run(*integrator, *rs, sensorSets, outputs, so);
     }
     if (preview) {
@@ -193,7 +199,9 @@ int main(int argc, char** argv) {
     try {
       st = checkpoint.render(*integrator, camera, film, ro);
       fs::throwIfInterrupted("no output written");
-      for (const auto& out : outputs) film.write(out, aov, exposure);
+      const double cdPerW = photometric.units == "luminance" ? sensors.efficacy : 0.0;  // cd/m² per W/(m² sr)
+      for (const auto& out : outputs) film.write(out, aov, exposure, cdPerW);
+      if (photometric.active()) photometric.writeImage(film, sensors.efficacy);
       irradianceCache.finish(*integrator, film, exposure, st.seconds, quiet);
     } catch (const fs::Interrupted& e) {
       throw checkpoint.saveAfterInterrupt(e, film);

@@ -58,6 +58,7 @@ SensorSet parseGrid(const std::string& spec) {
   if (nx * nz > 1e7) throw InputError("", "--grid", fmt::format("{} × {} points is more than 10⁷", nx, nz));
   SensorSet set;
   set.name = "grid " + spec;
+  set.columns = int(nx), set.rows = int(nz);
   const double dx = (x1 - x0) / nx, dz = (z1 - z0) / nz;
   for (int j = 0; j < int(nz); ++j)
     for (int i = 0; i < int(nx); ++i)

@@ -38,6 +38,7 @@ struct Sensor {
 struct SensorSet {
   std::string name;  ///< the points file or the grid's specification
   std::vector<Sensor> sensors;
+  int columns = 0, rows = 0;  ///< a grid's cells along x and along z (sensors row by row); 0 for a points file
 };
 
 /// Reads a points file: one sensor per line "x y z nx ny nz" (like rtrace -I); blank lines and

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct SensorsCli {
   double efficacy = photometry::kEfficacy;
   CLI::Option* pointsOption = nullptr;
   CLI::Option* gridOption = nullptr;
+  /// Called by run() with the sets and every sensor's illuminance (lx, in the sets' order) before
+  /// the outputs are written (the false-colour picture of a grid, render/falsecolor_cli.h).
+  std::function<void(const std::vector<SensorSet>&, const std::vector<double>&)> onResults;
 
   void add(CLI::App& app) {
     pointsOption = app.add_option("--sensors", pointsFile, "sensor mode: points file, one sensor per line "
@@ -44,8 +48,8 @@ struct SensorsCli {
   /// Checks the options that do not mix with the sensor mode and the outputs (.csv or .json).
   void checkOptions(const CLI::App& app, const std::vector<std::string>& outputs) const {
     if (!active()) {
-      for (const char* o : {"--samples", "--efficacy"})
-        if (app.count(o)) throw InputError("", o, "only with --sensors or --grid");
+      if (app.count("--samples")) throw InputError("", "--samples", "only with --sensors or --grid");
+      // --efficacy also serves --units luminance and --falsecolor: checked in render/falsecolor_cli.h
       return;
     }
     for (const char* o : {"--spp", "--preview", "--checkpoint", "--resume", "--aov", "--exposure"})
@@ -82,6 +86,11 @@ struct SensorsCli {
     for (const auto& s : sets) {
       summaries.push_back(summarize({results.begin() + long(at), results.begin() + long(at + s.sensors.size())}));
       at += s.sensors.size();
+    }
+    if (onResults) {
+      std::vector<double> lux;
+      for (const auto& r : results) lux.push_back(r.lux);
+      onResults(sets, lux);
     }
     for (const auto& out : outputs)
       writeAtomically(out, [&](const std::string& tmp) {
