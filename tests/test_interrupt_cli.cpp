@@ -23,9 +23,11 @@ const std::string kPreprocess = FIRSTSHOT_PREPROCESS_EXE;
 const std::string kCornell = test::source("scenes/cornell.json");
 const std::string kSmall = " --width 32 --height 24 -q";
 
-/// @p command with signal @p sig (INT, TERM) sent after @p seconds (SIGKILL 60 s later if it hangs).
-std::string after(double seconds, const std::string& sig, const std::string& command) {
-  return "timeout -k 60 --preserve-status -s " + sig + " " + std::to_string(seconds) + " " + command;
+/// @p command with signal @p sig (INT, TERM) sent @p seconds after it has installed its handlers
+/// and, if @p waitFile is given, that file exists (tests/signal_when_ready.sh).
+std::string after(double seconds, const std::string& sig, const std::string& command, const std::string& waitFile = "") {
+  return test::source("tests/signal_when_ready.sh") + " " + sig + " " + std::to_string(seconds) +
+         (waitFile.empty() ? "" : " --wait-file " + waitFile) + " " + command;
 }
 
 /// The files in @p dir (names).
@@ -117,7 +119,7 @@ INSTANTIATE_TEST_SUITE_P(EveryIntegrator, InterruptResume,
 TEST(InterruptCli, SigintWithPeriodicCheckpointsResumesExactly) {
   const std::string dir = test::tempDir();
   const std::string base = kRender + " " + kCornell + " --threads 2 --checkpoint-file " + dir + "/state" + kSmall;
-  const auto stopped = test::run(after(1, "INT", base + " --spp 1000000 --checkpoint 0.1 -o " + dir + "/a.exr"));
+  const auto stopped = test::run(after(0.5, "INT", base + " --spp 1000000 --checkpoint 0.1 -o " + dir + "/a.exr", dir + "/state"));
   ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
   std::smatch m;
   ASSERT_TRUE(std::regex_search(stopped.output, m, std::regex("checkpoint of ([0-9]+) passes saved to " + dir + "/state")))
