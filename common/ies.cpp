@@ -15,7 +15,7 @@ namespace {
 
 constexpr double kDeg = kPi / 180.0;
 constexpr size_t kMaxAngles = 100000;         ///< per direction
-constexpr size_t kMaxValues = size_t(4) << 20;  ///< candela values in the file
+constexpr size_t kMaxValues = size_t(1) << 20;  ///< candela values in the file (real files: ~65,000 at most)
 
 struct Token {
   std::string_view text;

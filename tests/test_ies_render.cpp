@@ -146,9 +146,15 @@ TEST(IesRender, FirstShotAgreesWithNee) {
   test::expectBlocksAgree("IES room: first-shot vs NEE", test::blockMeans(*a, withTable, 200, 2), test::blockMeans(*b, plain, 200));
 }
 
-// Light tracing and BDPT emit from the table's sampled distribution: their images agree with path tracing.
+// Light tracing and BDPT emit from the table's sampled distribution: their images agree with path tracing
+// (a type C table, and for light tracing also a type B floodlight aimed down at the box).
 TEST(IesRender, LightTracingAgreesWithPathTracing) {
   test::expectAgreesWithPathTracing("light", "IES room", iesRoomScene(test::writeIes("room.ies", roomTable())), 400, 200);
+  const std::string flood = test::writeIes("flood.ies", test::iesText(2, test::angleRange(-90, 90, 15), test::angleRange(0, 90, 15),
+                                                                      [](double v, double h) {
+                                                                        return 800 * std::pow(std::cos(v * kDeg) * std::cos(h * kDeg), 3) + 20;
+                                                                      }));
+  test::expectAgreesWithPathTracing("light", "IES room, type B", iesRoomScene(flood), 400, 200);
 }
 TEST(IesRender, BdptAgreesWithPathTracing) {
   test::expectAgreesWithPathTracing("bdpt", "IES room", iesRoomScene(test::writeIes("room.ies", roomTable())), 150, 200);
