@@ -273,6 +273,7 @@ IesData parseIes(const std::string& text, const std::string& file) {
       const double x = in.next("candela value " + std::to_string(j * nv + v + 1));
       if (x < 0) in.fail(at, "negative candela value");
       values[j * nv + v] = x * multiplier * ballast;
+      if (!std::isfinite(values[j * nv + v]) || values[j * nv + v] > 1e15) in.fail(at, "candela value too large");
       d.maxCandela = std::max(d.maxCandela, values[j * nv + v]);
     }
   if (!in.done()) in.fail(in.line(), "unexpected data after the candela values (wrong angle counts?)");

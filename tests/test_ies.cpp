@@ -210,3 +210,23 @@ TEST(LightUnits, WattsLumensCandelaAgree) {
   EXPECT_THROW(onlyLight(R"({"type": "ies", "position": [0,1,0], "ies_reference": [0,2,0], "file": ")" + file + "\"}"),
                InputError);  // parallel to the default axis
 }
+
+// Limits and unsupported layouts are input errors (the malformed files through the tools: test_ies_render).
+TEST(Ies, RejectsOversizedFilesAndUnsupportedLayouts) {
+  auto one = [](double, double) { return 10.0; };
+  EXPECT_THROW(parseIes(std::string(kMaxIesBytes + 1, ' '), "big.ies"), InputError);
+  EXPECT_THROW(parseIes(test::iesText(1, {0, 90}, {0, 120}, one), "c.ies"), InputError);       // C range 0–120
+  EXPECT_THROW(parseIes(test::iesText(2, {0, 90}, {0}, one), "b.ies"), InputError);            // B with one H
+  EXPECT_THROW(parseIes(test::iesText(1, {0, 200}, {0}, one), "v.ies"), InputError);           // V beyond 180
+  EXPECT_THROW(parseIes(test::iesText(1, {0, 90}, {0}, [](double, double) { return 0.0; }), "z.ies"), InputError);
+  EXPECT_THROW(parseIes(test::iesText(1, {0, 90}, {0}, [](double, double) { return 1e300; }), "h.ies"), InputError);
+  try {
+    const std::string text = test::iesText(1, {0, 45, 90}, {0}, one);
+    parseIes(text.substr(0, text.size() - 6), "cut.ies");
+    ADD_FAILURE() << "a truncated file parsed";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "cut.ies");
+    EXPECT_EQ(e.element().rfind("line ", 0), 0u) << e.what();
+  }
+  EXPECT_THROW(loadIes("/nonexistent/x.ies"), InputError);
+}
