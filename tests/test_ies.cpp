@@ -169,6 +169,24 @@ TEST(Ies, OrientationFollowsDirectionAndReference) {
   EXPECT_NEAR(candela(R"(, "direction": [1, 0, 0])", {c, 0, s}), 2000, 0.01);
 }
 
+// Types A and B: axis = forward, reference = up, +H to the right (axis × up), +V up. Type B: planes through the
+// right–left axis (w = cos H (cos V f + sin V u) + sin H r); type A: planes through the up–down axis
+// (w = cos V (cos H f + sin H r) + sin V u).
+TEST(Ies, TypesAAndBFollowTheirAngleConventions) {
+  auto I = [](double v, double h) { return 1000 + 5 * h + 2 * v; };
+  const Vec3d f(0, 0, -1), u(0, 1, 0), r(1, 0, 0);  // forward −z, up +y: right = (−z) × y = +x
+  const double V = 30 * kDeg, H = 20 * kDeg;
+  for (int type : {2, 3}) {
+    const std::string file = test::writeIes("ab.ies", test::iesText(type, test::angleRange(-90, 90, 10), test::angleRange(-90, 90, 10), I));
+    const LightDesc l = onlyLight(R"({"type": "ies", "position": [0, 1, 0], "direction": [0, 0, -1], "file": ")" + file + "\"}");
+    const EmissionProfile p(l);
+    const Vec3d w = type == 2 ? std::cos(H) * (std::cos(V) * f + std::sin(V) * u) + std::sin(H) * r
+                              : std::cos(V) * (std::cos(H) * f + std::sin(H) * r) + std::sin(V) * u;
+    EXPECT_NEAR(p.intensity(l, w).x * photometry::kEfficacy, I(30, 20), 1e-3) << type;
+    EXPECT_NEAR(p.intensity(l, -f).x, 0.0, 1e-12) << type;  // behind the luminaire
+  }
+}
+
 // power, lumens and candela describe the same light: the same LightDesc::power (W) for a point and a spot;
 // colours are chromaticities (Y = 1); an IES light takes its file's flux or the given lumens.
 TEST(LightUnits, WattsLumensCandelaAgree) {
