@@ -1,7 +1,8 @@
 #pragma once
 /// @file lights.h
 /// Emission profiles of the positional lights, shared by the preprocessor and the renderer so that
-/// both stages see exactly the same light.
+/// both stages see exactly the same light. Code that evaluates a light uses EmissionProfile
+/// (common/emission_profile.h), which also covers IES tables; this file holds the closed forms.
 ///
 /// - Point light: isotropic, intensity I = Φ/(4π) in every direction.
 /// - Spot light: I(θ) = I0 · spotProfile(cos θ), θ the angle to the axis. The profile is 1 inside

@@ -8,6 +8,7 @@
 #include "common/hash.h"
 #include "common/mesh_import.h"
 #include "common/scene_desc.h"
+#include "common/ies.h"
 #include "common/scene_shapes.h"
 
 namespace fs {
@@ -132,7 +133,10 @@ void validateScene(SceneDesc& scene) {
       if (!(glm::length(l.direction) > 0)) throw InputError(file, l.name + ".direction", "direction is zero");
       l.direction = glm::normalize(l.direction);
     }
-    if (l.type == LightType::Spot && !(l.innerAngleDeg <= l.outerAngleDeg && l.outerAngleDeg <= 180))
+    if (l.ies && glm::length(glm::cross(glm::normalize(l.iesReference), l.direction)) < 1e-6 &&
+        glm::length(l.iesReference) > 0)
+      throw InputError(file, l.name + ".ies_reference", "the reference vector is parallel to the direction");
+    if (l.type == LightType::Spot && !l.ies && !(l.innerAngleDeg <= l.outerAngleDeg && l.outerAngleDeg <= 180))
       throw InputError(file, l.name, "spot angles need 0 < inner_angle <= outer_angle <= 180");
   }
   // Area lights: one per emissive shape (added once).
@@ -179,6 +183,12 @@ uint64_t hashScene(const SceneDesc& scene) {
   for (const auto& l : scene.lights) {
     h.add(l.type).add(l.position).add(l.direction).add(l.power).add(l.irradiance);
     h.add(l.innerAngleDeg).add(l.outerAngleDeg).add(l.shape).add(l.small);
+    if (l.ies) {  // the table itself (not its file name)
+      h.add(int(l.ies->type)).add(l.iesReference).add<uint64_t>(l.ies->candela.size());
+      h.bytes(l.ies->vertical.data(), l.ies->vertical.size() * sizeof(double));
+      h.bytes(l.ies->horizontal.data(), l.ies->horizontal.size() * sizeof(double));
+      h.bytes(l.ies->candela.data(), l.ies->candela.size() * sizeof(double));
+    }
   }
   return h.value();
 }

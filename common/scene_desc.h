@@ -4,6 +4,7 @@
 /// resolved to world-space polygons (metres, right-handed, y up); names keep the place in the input
 /// file so that later stages can still report errors precisely.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,16 +33,22 @@ enum class SmallOverride : uint8_t { Auto, Small, Large };
 
 enum class LightType : uint8_t { Point, Spot, Directional, Area };
 
+struct IesData;  // common/ies.h
+
 /// A light. Area lights point at the emissive shape they come from.
 struct LightDesc {
   std::string name;          ///< where it was defined, e.g. "lights[2]" or "shapes[5]"
   LightType type = LightType::Point;
   Vec3d position{0.0};       ///< point, spot
-  Vec3d direction{0, -1, 0}; ///< spot: axis; directional: direction light travels in (unit)
-  Color power{0.0f};         ///< point, spot: total emitted power, W
+  Vec3d direction{0, -1, 0}; ///< spot: axis (IES: photometric axis); directional: direction light travels in (unit)
+  Color power{0.0f};         ///< point, spot: total emitted power, W (whatever unit the scene gave)
   Color irradiance{0.0f};    ///< directional: irradiance on a plane facing the light, W/m²
   double innerAngleDeg = 30; ///< spot: full intensity inside this half-angle
   double outerAngleDeg = 45; ///< spot: zero intensity outside this half-angle (smoothstep between)
+  /// An IES light ("type": "ies") is a spot whose profile is this photometric table instead of the
+  /// cone (common/emission_profile.h); the angles above are then unused.
+  std::shared_ptr<const IesData> ies;
+  Vec3d iesReference{0.0};   ///< IES: C0 half-plane (type C) or up (types A, B); zero: the default
   int shape = -1;            ///< area: index into SceneDesc::shapes
   SmallOverride small = SmallOverride::Auto;
 };

@@ -8,6 +8,9 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/ies.h"
+#include "common/lights.h"
+#include "common/photometry.h"
 #include "common/mesh_import.h"
 #include "common/scene_desc.h"
 #include "common/scene_shapes.h"
@@ -215,31 +218,75 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
   return s;
 }
 
+/// The unit keys of a point, spot or IES light → LightDesc::power in W (docs/photometry.md, "Light units"):
+/// exactly one of power (RGB W), lumens or candela (with a chromaticity "color" normalised to Y = 1);
+/// an IES light may give none (its file's absolute candela).
+void parseLightUnits(const Reader& r, const Json& j, const std::string& where, LightDesc& l) {
+  const int given = int(j.contains("power")) + int(j.contains("lumens")) + int(j.contains("candela"));
+  if (given > 1) r.fail(where, "give only one of \"power\", \"lumens\", \"candela\"");
+  if (given == 0 && !l.ies) r.fail(where, "missing key \"power\" (or \"lumens\" or \"candela\")");
+  if (j.contains("color") && j.contains("power"))
+    r.fail(where + ".color", "\"color\" goes with \"lumens\" or \"candela\" (\"power\" is already RGB)");
+  Color color(1.0f);
+  if (j.contains("color")) {
+    color = r.color(j["color"], where + ".color");
+    const double y = photometry::luminance(color);
+    if (!(y > 0)) r.fail(where + ".color", "the colour has zero luminance");
+    color *= float(1.0 / y);
+  }
+  const double K = photometry::kEfficacy;
+  if (j.contains("power")) {
+    l.power = r.color(j["power"], where + ".power");
+  } else if (j.contains("lumens")) {
+    l.power = color * float(r.nonNegative(j["lumens"], where + ".lumens") / K);
+  } else if (j.contains("candela")) {
+    if (l.ies) r.fail(where + ".candela", "an IES light's candela come from its file (rescale with \"lumens\")");
+    const double I = r.nonNegative(j["candela"], where + ".candela");
+    const double solidAngle = l.type == LightType::Point ? 4.0 * kPi : SpotCone(l).integral();  // Φ = I·∫profile dω
+    l.power = color * float(I * solidAngle / K);
+  } else {
+    l.power = color * float(l.ies->flux / K);
+  }
+}
+
 LightDesc parseLight(const Reader& r, const Json& j, const std::string& where) {
   LightDesc l;
   l.name = where;
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
   if (type == "point") {
-    r.keys(j, where, {"type", "name", "small", "position", "power"});
+    r.keys(j, where, {"type", "name", "small", "position", "power", "lumens", "candela", "color"});
     l.type = LightType::Point;
   } else if (type == "spot") {
-    r.keys(j, where, {"type", "name", "small", "position", "power", "direction", "inner_angle", "outer_angle"});
+    r.keys(j, where, {"type", "name", "small", "position", "power", "lumens", "candela", "color", "direction",
+                      "inner_angle", "outer_angle"});
     l.type = LightType::Spot;
     l.direction = r.vec3(r.need(j, where, "direction"), where + ".direction");
     if (j.contains("inner_angle")) l.innerAngleDeg = r.positive(j["inner_angle"], where + ".inner_angle");
     if (j.contains("outer_angle")) l.outerAngleDeg = r.positive(j["outer_angle"], where + ".outer_angle");
+  } else if (type == "ies") {
+    r.keys(j, where, {"type", "name", "small", "position", "power", "lumens", "color", "direction", "file", "ies_reference"});
+    l.type = LightType::Spot;  // a spot whose profile is the table (LightDesc::ies)
+    if (j.contains("direction")) l.direction = r.vec3(j["direction"], where + ".direction");
+    if (j.contains("ies_reference")) {
+      l.iesReference = r.vec3(j["ies_reference"], where + ".ies_reference");
+      if (!(glm::length(l.iesReference) > 0)) r.fail(where + ".ies_reference", "the reference vector is zero");
+    }
+    std::filesystem::path p(r.string(r.need(j, where, "file"), where + ".file"));
+    if (p.is_relative()) p = std::filesystem::path(r.file()).parent_path() / p;
+    if (!std::filesystem::is_regular_file(p)) r.fail(where + ".file", "cannot open the IES file \"" + p.string() + "\"");
+    l.ies = loadIes(p.string());
   } else if (type == "directional") {
     r.keys(j, where, {"type", "name", "small", "direction", "irradiance"});
     l.type = LightType::Directional;
     l.direction = r.vec3(r.need(j, where, "direction"), where + ".direction");
     l.irradiance = r.color(r.need(j, where, "irradiance"), where + ".irradiance");
   } else {
-    r.fail(where + ".type", "unknown light type \"" + type + "\" (point, spot, directional; area lights are emissive shapes)");
+    r.fail(where + ".type", "unknown light type \"" + type + "\" (point, spot, ies, directional; area lights are emissive shapes)");
   }
   if (j.contains("name")) l.name = where + " (\"" + r.string(j["name"], where + ".name") + "\")";
   if (l.type != LightType::Directional) {
     l.position = r.vec3(r.need(j, where, "position"), where + ".position");
-    l.power = r.color(r.need(j, where, "power"), where + ".power");
+    parseLightUnits(r, j, where, l);
   }
   if (j.contains("small")) l.small = r.small(j["small"], where + ".small");
   return l;

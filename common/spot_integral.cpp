@@ -6,13 +6,13 @@
 
 namespace fs {
 
-double spotPatchIntegral(const LightSample& s, const SpotCone& cone, const Patch& p, int side) {
+double spotPatchIntegral(const LightSample& s, const EmissionProfile& profile, const Patch& p, int side) {
   Vec3d poly[4];
   for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
   double diameter = 0;
   for (uint32_t k = 0; k < p.count; ++k)
     for (uint32_t l = k + 1; l < p.count; ++l) diameter = std::max(diameter, glm::length(poly[l] - poly[k]));
-  const Vec3d light(s.position), axis(s.normal);
+  const Vec3d light(s.position);
   const Vec3d n = glm::normalize(Vec3d(p.normal)) * (side == 0 ? 1.0 : -1.0);
   const double dist = glm::length(light - Vec3d(p.centroid));
   const int m = dist < 2.0 * diameter ? 32 : dist < 8.0 * diameter ? 12 : 4;
@@ -31,7 +31,7 @@ double spotPatchIntegral(const LightSample& s, const SpotCone& cone, const Patch
         if (!(d2 > 0)) continue;
         const double inv = 1.0 / std::sqrt(d2), cosX = glm::dot(r, n) * inv;
         if (!(cosX > 0)) continue;
-        tri += cosX / d2 * cone.profile(-glm::dot(r, axis) * inv);
+        tri += cosX / d2 * profile(-r * inv);
       }
     sum += area * tri / double(m * m);
   }

@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
     app.add_option("--light-tolerance", lightTolerance, "automatic area-light tessellation: relative error at the nearest receiver (default: settings.light_tolerance)")
         ->check(CLI::PositiveNumber);
     app.add_option("--threads", threads, "workers, one GL context each (default: one per core)")->check(CLI::NonNegativeNumber);
-    app.add_option("--seed", seed, "0: windows aligned with each light's frame; else rotate each sample's window randomly about its axis");
+    app.add_option("--seed", seed, "0: windows aligned with each light's frame; else rotate each sample's window randomly about its axis (not an IES light's: its table fixes the frame)");
     app.add_option("--time", timeLimit, "give up (writing nothing) after this many seconds")->check(CLI::NonNegativeNumber);
     app.add_option("--estimator", estimator, "analytic: closed form times the visible fraction (default) | pixels: plain pixel sums")
         ->check(CLI::IsMember({"analytic", "pixels"}));

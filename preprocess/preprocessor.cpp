@@ -14,7 +14,7 @@
 #include "common/error.h"
 #include "common/firstshot_groups.h"
 #include "common/interrupt.h"
-#include "common/lights.h"
+#include "common/emission_profile.h"
 #include "common/memory_limit.h"
 #include "common/patches.h"
 #include "common/progress.h"
@@ -295,19 +295,21 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
         s.window = &cube(), s.weights = &cube().weights, s.scale = analyticScale(ls);
         break;
       case LightSampleKind::Spot: {
-        if (!perLight[ls.light]) {  // cube weights times the spot profile, in the spot's frame (z = axis)
+        s.profile = EmissionProfile(light);
+        if (!perLight[ls.light]) {  // cube weights times the profile, the window in the frame Framed(axis) (renderSample)
           auto w = std::make_unique<Window>(cube());
+          const Framed frame(light.direction);
           for (size_t v = 0; v < w->views.size(); ++v)
             for (int y = 0; y < w->views[v].height; ++y)
               for (int x = 0; x < w->views[v].width; ++x) {
                 const View& view = w->views[v];
                 const Vec3d d = glm::normalize(view.pixelDirection(x, y));
-                w->weights[v][size_t(y) * view.width + x] *= spotProfile(light, static_cast<float>(d.z));
+                w->weights[v][size_t(y) * view.width + x] *= s.profile(frame.s * d.x + frame.t * d.y + frame.n * d.z);
               }
           perLight[ls.light] = std::move(w);
         }
         s.window = perLight[ls.light].get(), s.weights = &perLight[ls.light]->weights;
-        s.axis = light.direction, s.scale = 1.0 / spotProfileIntegral(light), s.cone = SpotCone(light);
+        s.axis = light.direction, s.scale = 1.0 / s.profile.integral();
         break;
       }
       case LightSampleKind::Directional:
@@ -320,7 +322,8 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
         s.eyeOffset = t.areaEyeOffset, s.scale = analyticScale(ls);
         break;
     }
-    if (options.settings.rotationSeed != 0 && ls.kind != LightSampleKind::Directional)
+    // (Not an IES light's window: its weights are tabulated in the unrotated frame.)
+    if (options.settings.rotationSeed != 0 && ls.kind != LightSampleKind::Directional && !light.ies)
       s.rotation = 2.0 * kPi * bitsToUnitDouble(hashKeys(options.settings.rotationSeed, i));
   }
 

@@ -35,7 +35,7 @@ double unoccludedIntegral(const SampleSetup& s, const Patch& p) {
       for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
       return unoccludedProjectedArea(s.axis, poly, int(p.count));
     }
-    case LightSampleKind::Spot: return spotPatchIntegral(*s.sample, s.cone, p, litSide(s, p));  // numerical
+    case LightSampleKind::Spot: return spotPatchIntegral(*s.sample, s.profile, p, litSide(s, p));  // numerical
   }
   return 0.0;
 }

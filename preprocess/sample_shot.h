@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "common/firstshot.h"
-#include "common/lights.h"
+#include "common/emission_profile.h"
 #include "common/math.h"
 #include "common/patches.h"
 #include "preprocess/exposure.h"
@@ -28,7 +28,7 @@ struct SampleSetup {
   double rotation = 0;  ///< radians about the axis (settings.rotationSeed)
   double eyeOffset = 0;
   double scale = 1;
-  SpotCone cone;  ///< a spot's cone (its profile), for its numerical U_ij (common/spot_integral.h)
+  EmissionProfile profile;  ///< a spot's profile (cone or IES table), for its numerical U_ij (common/spot_integral.h)
   LightSampleKind kind = LightSampleKind::Point;
   bool analytic = true;  ///< closed form × visible fraction (preprocess/coverage.h)
 };

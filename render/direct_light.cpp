@@ -33,8 +33,8 @@ inline float sampleKernel(const LightSample& s, const SpotKernel& spot, const Ve
   const float cosX = sign * glm::dot(wi, n);
   if (!(cosX > 0.0f)) return 0.0f;
   if (s.kind == LightSampleKind::Point) return cosX * inv * inv * (1.0f / (4.0f * kPiF));
+  if (s.kind == LightSampleKind::Spot) return cosX * inv * inv * spot(-wi);
   const float cosL = -glm::dot(wi, s.normal);
-  if (s.kind == LightSampleKind::Spot) return cosX * inv * inv * spot(cosL);
   return cosL > 0.0f ? s.weight * cosX * cosL * inv * inv : 0.0f;
 }
 
@@ -64,7 +64,7 @@ Vec3d spotKernelGradient(const LightSample& s, const SpotKernel& spot, const Vec
     const double rho2 = glm::dot(r, r), cosN = glm::dot(n, r);
     if (!(rho2 > 0) || !(cosN > 0)) return 0.0;
     const double rho = std::sqrt(rho2);
-    return cosN / (rho2 * rho) * spot.cone.profile(-glm::dot(Vec3d(s.normal), r) / rho) * spot.invIntegral;
+    return cosN / (rho2 * rho) * spot.profile(-r / rho) * spot.invIntegral;
   };
   const double h = 1e-4 * glm::length(Vec3d(s.position) - x);
   if (!(h > 0) || !(k(x) > 0)) return Vec3d(0.0);
@@ -104,8 +104,8 @@ void FirstShotLighting::build(const RenderScene& scene) {
   for (size_t i = 0; i < t->samples.size(); ++i)
     if (t->samples[i].kind == LightSampleKind::Spot) {
       SpotKernel& k = spots_[i];
-      k.cone = SpotCone(scene.desc().lights[t->samples[i].light]);
-      k.invIntegral = k.cone.integral() > 0 ? float(1.0 / k.cone.integral()) : 0.0f;
+      k.profile = EmissionProfile(scene.desc().lights[t->samples[i].light]);
+      k.invIntegral = k.profile.integral() > 0 ? float(1.0 / k.profile.integral()) : 0.0f;
     }
   std::vector<uint8_t> near(t->factor.size(), 0);
   const bool haveVisible = t->visible.size() == t->factor.size();
@@ -127,7 +127,7 @@ void FirstShotLighting::build(const RenderScene& scene) {
       double v = -1.0;
       if (s.kind == LightSampleKind::Spot) {
         const SpotKernel& spot = spots_[t->sampleIndex[k]];
-        const double scaledU = spotPatchIntegral(s, spot.cone, p, side) * spot.invIntegral;
+        const double scaledU = spotPatchIntegral(s, spot.profile, p, side) * spot.invIntegral;
         v = scaledU > 0 ? double(t->factor[k]) * p.area / scaledU : -1.0;
       } else if (s.kind != LightSampleKind::Directional) {
         v = haveVisible ? t->visible[k] : recoveredVisible(t->factor[k], s, t->areaEyeOffset, p);

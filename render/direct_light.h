@@ -29,12 +29,12 @@ inline float powerHeuristic(float a, float b) {
 /// stops short of the light, which may be emitter geometry itself.
 Ray shadowRay(const Hit& hit, const Vec3& wi, float distance);
 
-/// A spot sample's normalised intensity profile I(ω)/Φ = profile(cos θ)/∫profile, in 1/sr, for
-/// cos θ between the emitted direction and the spot's axis.
+/// A spot sample's normalised intensity profile I(ω)/Φ = profile(ω)/∫profile, in 1/sr, for the
+/// world direction ω emitted (cone or IES table, common/emission_profile.h).
 struct SpotKernel {
-  SpotCone cone;
+  EmissionProfile profile;
   float invIntegral = 0.0f;  ///< 1/∫profile dω, 1/sr
-  float operator()(float cosAxis) const { return float(cone.profile(cosAxis)) * invIntegral; }
+  float operator()(const Vec3& w) const { return profile(w) * invIntegral; }
 };
 
 /// The first-shot term of a scene's table, evaluated at the hit point.

@@ -54,8 +54,8 @@ void EmissionSampler::addLights(bool skipReplaced) {
   for (const RenderLight& l : lights_->lights()) {
     double p = 0;
     switch (l.type) {
-      case LightType::Point: p = 4.0 * kPi * mean(l.intensity); break;
-      case LightType::Spot: p = mean(l.intensity) * spotProfileIntegral(l.desc); break;
+      case LightType::Point:
+      case LightType::Spot: p = mean(l.intensity) * l.profile.integral(); break;
       case LightType::Directional: p = mean(l.irradiance) * kPi * double(radius_) * radius_; break;
       case LightType::Area: p = mean(l.radiance) * l.area * kPi; break;
     }
@@ -143,11 +143,7 @@ float EmissionSampler::pdfDirection(uint32_t e, const Vec3& n, const Vec3& d) co
   const RenderLight& light = lights_->lights()[e];
   switch (light.type) {
     case LightType::Point: return squareToUniformSpherePdf();
-    case LightType::Spot: {
-      const SpotCone cone(light.desc);
-      return double(glm::dot(d, light.direction)) >= cone.cosOuter ? float(1.0 / (2.0 * kPi * (1.0 - cone.cosOuter)))
-                                                                   : 0.0f;
-    }
+    case LightType::Spot: return float(light.profile.pdf(Vec3d(d)));
     case LightType::Area: return std::max(0.0f, glm::dot(n, d)) * kInvPiF;
     default: return 0.0f;
   }
@@ -174,14 +170,13 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out) const {
       out.power = light.intensity / (out.pdfLight * out.pdfDir);
       break;
     }
-    case LightType::Spot: {
-      const SpotCone cone(light.desc);
-      const float cosT = float(1.0 - double(uDir.x) * (1.0 - cone.cosOuter));
-      const float sinT = std::sqrt(std::max(0.0f, 1.0f - cosT * cosT));
-      const float phi = 2.0f * kPiF * uDir.y;
-      out.d = Frame(light.direction).toWorld(Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT));
-      out.pdfDir = float(1.0 / (2.0 * kPi * (1.0 - cone.cosOuter)));
-      out.power = light.intensity * float(cone.profile(cosT)) / (out.pdfLight * out.pdfDir);
+    case LightType::Spot: {  // the profile's own distribution (cone or IES table), common/emission_profile.h
+      double pdf = 0;
+      const Vec3d d = light.profile.sample(uDir.x, uDir.y, pdf);
+      if (!(pdf > 0)) return false;
+      out.d = Vec3(d);
+      out.pdfDir = float(pdf);
+      out.power = light.intensity * float(light.profile(d) / pdf) / out.pdfLight;
       break;
     }
     case LightType::Directional: {

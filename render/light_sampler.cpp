@@ -47,7 +47,7 @@ void LightSampler::addLight(Group& g, GroupId id, uint32_t l, std::vector<LightB
     case LightType::Spot:
       b.lo = b.hi = light.position;
       b.phi = meanOf(light.intensity) * 4.0f * kPiF;
-      if (light.type == LightType::Spot) {
+      if (light.type == LightType::Spot && !light.desc.ies) {  // IES tables: the whole sphere
         const float inner = float(glm::radians(light.desc.innerAngleDeg));
         const float outer = float(glm::radians(light.desc.outerAngleDeg));
         b.w = light.direction;

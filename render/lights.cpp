@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include "common/lights.h"
 #include "common/sampling.h"
 
 namespace fs {
@@ -37,8 +36,11 @@ LightSet::LightSet(const SceneDesc& scene, const std::vector<uint32_t>& replaced
     l.position = Vec3(d.position);
     l.direction = Vec3(d.direction);
     switch (d.type) {
-      case LightType::Point: l.intensity = pointIntensity(d); break;
-      case LightType::Spot: l.intensity = spotIntensity0(d); break;
+      case LightType::Point:
+      case LightType::Spot:
+        l.profile = EmissionProfile(d);
+        l.intensity = l.profile.peakIntensity(d);
+        break;
       case LightType::Directional: l.irradiance = d.irradiance; break;
       case LightType::Area: {
         const ShapeDesc& shape = scene.shapes[size_t(d.shape)];
@@ -80,7 +82,7 @@ bool LightSet::sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightR
       out.wi = d / out.distance;
       out.pdf = 0.0f;
       Color intensity = l.intensity;
-      if (l.type == LightType::Spot) intensity *= spotProfile(l.desc, glm::dot(-out.wi, l.direction));
+      if (l.type == LightType::Spot) intensity *= l.profile(-out.wi);
       out.value = intensity / dist2;
       return maxComponent(out.value) > 0.0f;
     }

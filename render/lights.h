@@ -2,10 +2,11 @@
 /// @file lights.h
 /// The renderer's lights: next-event estimation samples for point, spot, directional and area
 /// lights, and the emission of area-light geometry met by a path. Emission profiles come from
-/// common/lights.h so that the preprocessor and the renderer agree.
+/// common/emission_profile.h so that the preprocessor and the renderer agree.
 #include <cstdint>
 #include <vector>
 
+#include "common/emission_profile.h"
 #include "common/math.h"
 #include "common/scene_desc.h"
 #include "render/embree_scene.h"
@@ -20,7 +21,8 @@ struct RenderLight {
   LightDesc desc;           ///< the scene's definition (spot profile, names for messages)
   Vec3 position{0.0f};      ///< point, spot
   Vec3 direction{0, -1, 0}; ///< spot: axis; directional: direction the light travels in
-  Color intensity{0.0f};    ///< point: Φ/(4π); spot: on-axis I0 (W/sr)
+  Color intensity{0.0f};    ///< point, spot: Φ/∫profile dω, the intensity where the profile is 1 (W/sr)
+  EmissionProfile profile;  ///< point, spot: relative intensity per world direction (common/emission_profile.h)
   Color irradiance{0.0f};   ///< directional: E⊥ (W/m²)
   // Area lights.
   uint32_t emitter = 0;     ///< index of its EmitterMesh (Hit::emitter)

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "common/firstshot.h"
-#include "common/lights.h"
+#include "common/emission_profile.h"
 #include "preprocess/preprocessor.h"
 #include "render/camera.h"
 #include "render/direct_light.h"
@@ -109,8 +109,8 @@ inline Color unoccludedSampleIrradiance(const LightSample& s, const Vec3& x, con
   if (!(cosX > 0.0f)) return Color(0.0f);
   if (s.kind == LightSampleKind::Point) return s.emission * (cosX / (4.0f * float(kPi) * d2));
   if (s.kind == LightSampleKind::Spot && light) {
-    const SpotCone cone(*light);
-    return s.emission * float(cosX * cone.profile(-glm::dot(wi, s.normal)) / (cone.integral() * d2));
+    const EmissionProfile profile(*light);
+    return s.emission * float(cosX * profile(-wi) / (profile.integral() * d2));
   }
   if (s.kind == LightSampleKind::AreaVertex) {
     const float cosL = -glm::dot(wi, s.normal);

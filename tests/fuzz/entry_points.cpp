@@ -14,6 +14,7 @@
 #include "common/error.h"
 #include "common/firstshot.h"
 #include "common/hash.h"
+#include "common/ies.h"
 #include "common/mesh_import.h"
 #include "common/scene_desc.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
@@ -101,11 +102,21 @@ int runOne(EntryPoint f, const uint8_t* data, size_t size) {
   return 0;
 }
 
+void iesFile(std::string_view bytes) {
+  const IesData d = parseIes(std::string(bytes), "fuzz.ies");
+  for (int k = 0; k < 16; ++k) {
+    double pdf = 0;
+    const Vec3d w = d.sampleLocal((k + 0.5) / 16, (k * 7 % 16 + 0.5) / 16, pdf);
+    if (!(d.valueLocal(w) >= 0) || !(pdf >= 0) || !(d.pdfLocal(w) >= 0)) throw std::logic_error("bad IES table value");
+  }
+}
+
 EntryPoint entryPoint(std::string_view target) {
   if (target == "scene_json") return sceneJson;
   if (target == "mesh_import") return meshImport;
   if (target == "fsd") return firstShotFile;
   if (target == "cache_file") return cacheFile;
+  if (target == "ies") return iesFile;
   return nullptr;
 }
 

@@ -30,7 +30,11 @@ void firstShotFile(std::string_view bytes);
 /// the scene hash and settings text the file itself names, so that the records are parsed.
 void cacheFile(std::string_view bytes);
 
-/// The target of each name ("scene_json", "mesh_import", "fsd", "cache_file"), or nullptr.
+/// An IES LM-63 photometric file through parseIes, then its table evaluated, integrated and sampled
+/// in a few directions (common/ies.h).
+void iesFile(std::string_view bytes);
+
+/// The target of each name ("scene_json", "mesh_import", "fsd", "cache_file", "ies"), or nullptr.
 using EntryPoint = void (*)(std::string_view);
 EntryPoint entryPoint(std::string_view target);
 

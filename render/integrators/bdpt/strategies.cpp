@@ -69,8 +69,7 @@ Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, S
         break;
       }
       case LightType::Spot:
-        incident = light.intensity * float(SpotCone(light.desc).profile(-glm::dot(wi, light.direction))) /
-                   (es.pdfLight * dist2);
+        incident = light.intensity * light.profile(-wi) / (es.pdfLight * dist2);
         break;
       default: incident = light.intensity / (es.pdfLight * dist2); break;
     }

@@ -222,7 +222,7 @@ void BundleTransfer::traceBundle(uint64_t seed) {
       const int side = sideFacing(elements_[e].normal, w);  // light arrives on the other side, facing −w
       if (side < 0) continue;
       Color I = light.intensity;
-      if (light.type == LightType::Spot) I *= float(SpotCone(light.desc).profile(glm::dot(w, glm::normalize(light.direction))));
+      if (light.type == LightType::Spot) I *= light.profile(w);
       if (maxComponent(I) > 0.0f) pointDeposits_.push_back({2 * e + uint32_t(1 - side), I});
     }
   }
