@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
     if (!preview) fs::installInterruptHandlers();
 
     sensors.checkOptions(app, outputs);
-    const std::vector<fs::SensorSet> sensorSets = sensors.sets();
+    std::vector<fs::SensorSet> sensorSets = sensors.sets();
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
     for (const std::string* png : {&screenshot, &windowGrab}) {
@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
     }
 
     fs::SceneDesc scene = fs::loadScene(scenePath);
+    sensors.addQuadGrids(scene, sensorSets);  // --grid-quad: on the scene's quads
     if (width > 0) scene.camera.width = width;
     if (height > 0) scene.camera.height = height;
     if (!preview && !sensors.active()) fs::Film::requireFits(scene.camera.width, scene.camera.height, scene.file);  // before any other work
@@ -146,15 +147,16 @@ int main(int argc, char** argv) {
       rs.emplace(scene, fs::readFirstShot(fsdPath, fs::hashScene(scene)), fsdPath);
     else
       rs.emplace(scene, patchSize);
-    if (sensors.active()) {
-      integrator->preprocess(*rs);
+    if (sensors.active()) {  // sensors.run preprocesses the integrator for the sensors' rays
       fs::SensorOptions so;
       so.timeLimit = timeLimit;
       so.seed = app.count("--seed") ? seed : scene.settings.seed;
       so.threads = threads;
       so.quiet = quiet;
       so.lightSampler = io.lightSampler;
-      return sensors.run(*integrator, *rs, sensorSets, outputs, so);
+      const int rc = sensors.run(*integrator, *rs, sensorSets, outputs, so);
+      irradianceCache.finish(*integrator, nullptr, 0.0f, 0.0, quiet);  // --cache-file, the record counts
+      return rc;
     }
     if (preview) {
       fs::PreviewOptions po;
@@ -194,7 +196,7 @@ int main(int argc, char** argv) {
       st = checkpoint.render(*integrator, camera, film, ro);
       fs::throwIfInterrupted("no output written");
       for (const auto& out : outputs) film.write(out, aov, exposure);
-      irradianceCache.finish(*integrator, film, exposure, st.seconds, quiet);
+      irradianceCache.finish(*integrator, &film, exposure, st.seconds, quiet);
     } catch (const fs::Interrupted& e) {
       throw checkpoint.saveAfterInterrupt(e, film);
     }
