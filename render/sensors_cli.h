@@ -111,9 +111,9 @@ struct SensorsCli {
     if (st.nonFinite > 0)
       fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
     if (!options.quiet && integrator.name() != "path")
-      fmt::print(stderr, "{} preprocess for the sensors: {:.2f} s\n", integrator.name(), prepSeconds);
+      fmt::print(stderr, "{} preprocess for the sensors: {:.3f} s\n", integrator.name(), prepSeconds);
     if (!options.quiet)
-      fmt::print(stderr, "{} sensors at {} samples in {:.2f} s: {:.2f} Mrays/s\n", all.size(), st.samples, st.seconds,
+      fmt::print(stderr, "{} sensors at {} samples in {:.3f} s: {:.2f} Mrays/s\n", all.size(), st.samples, st.seconds,
                  st.seconds > 0 ? double(st.rays) / st.seconds * 1e-6 : 0.0);
     return 0;
   }
