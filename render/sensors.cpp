@@ -8,8 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <functional>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "common/bsdf.h"
@@ -87,14 +87,15 @@ void preprocessSensors(Integrator& integrator, const RenderScene& scene, const s
   lights.build(scene, firstShot, options.lightSampler, false);
   const uint64_t fill = uint64_t(std::max(1, options.fillSamples));
   // Task i: sensor i's samples 0 .. fill−1, exactly as estimateSensors() draws them.
-  integrator.preprocessRays(scene, sensors.size(), [&](size_t i, const std::function<Color(const Ray&, Sampler&)>& li) {
+  const RayTask task = [&](size_t i, const std::function<Color(const Ray&, Sampler&)>& li) {
     uint64_t rays = 0;
     auto trace = [&](const Ray& ray, Sampler& sampler, SampleInfo*) { return li(ray, sampler); };
     for (uint64_t s = 0; s < fill; ++s) {
       Sampler sampler(options.seed, i, s, kSensorStream);
       sampleIrradiance(trace, scene, lights, sensors[i], sampler, rays);
     }
-  }, float(options.rayAngle));
+  };
+  integrator.preprocessRays(scene, sensors.size(), task, float(options.rayAngle));
 }
 
 SensorSummary summarize(const std::vector<SensorResult>& results) {

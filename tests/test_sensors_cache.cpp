@@ -66,7 +66,13 @@ TEST(SensorsCache, FillCoversItsSamplesAndThreadCountDoesNotMatter) {
   const auto b = cacheEstimate(g, so, 2, &two);
   EXPECT_GT(one.records, 0u);
   EXPECT_EQ(one.records, two.records);
-  EXPECT_EQ(one.privateRecords, 0u) << "a fill sample missed its records";
+  EXPECT_EQ(one.privateRecords, 0u);
+  EXPECT_EQ(one.missPaths, 0u) << "a fill sample missed its records";
+  so.samples = 16;  // later samples meet points the fill did not: one path each, still the same for any thread count
+  const auto c = cacheEstimate(g, so, 1, &one), d = cacheEstimate(g, so, 2, &two);
+  EXPECT_GT(one.missPaths, 0u);
+  EXPECT_EQ(one.missPaths, two.missPaths);
+  for (size_t i = 0; i < c.size(); ++i) EXPECT_EQ(c[i].lux, d[i].lux) << i;
   for (size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(a[i].lux, b[i].lux) << i;
     EXPECT_EQ(a[i].irradiance, b[i].irradiance) << i;

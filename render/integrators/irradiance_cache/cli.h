@@ -118,6 +118,7 @@ struct IrradianceCacheCli {
     if (settings.twoPass)
       fmt::print(stderr, "; fill {:.2f} s in {} sweep(s), {} private records in the {}", s.fillSeconds, s.fillRounds,
                  s.privateRecords, film ? "render" : "sensor estimate");
+    if (!film) fmt::print(stderr, ", {} lookups without a record took a path", s.missPaths);
     fmt::print(stderr, "\n");
   }
 

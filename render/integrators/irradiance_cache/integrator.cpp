@@ -78,6 +78,7 @@ IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
   if (cache_)
     for (int l = 0; l < cache_->levels(); ++l) s.perLevel.push_back(cache_->size(l)), s.records += s.perLevel.back();
   s.privateRecords = privateRecords_.load();
+  s.missPaths = missPaths_.load();
   s.fillSeconds = fillSeconds_;
   s.fillRounds = fillRounds_;
   return s;
@@ -229,7 +230,12 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     if (est.count > 0) return est.value();
     // Filled from rays (sensors): one path instead of a private record, whose hundreds of rays (and
     // deeper private records) served only this sample; unbiased, as past the last level.
-    if (pathOnMiss_ && settings_.pathContinuation) return pathIrradiance();
+    if (pathOnMiss_ && settings_.pathContinuation) {
+      ++missPaths_;
+      return pathIrradiance();
+    }
+  } else if (pathOnMiss_ && taskRayBudget_ > 0 && ctx.rays > taskRayBudget_ && settings_.pathContinuation) {
+    return pathIrradiance();  // a fill task over its budget
   }
 
   Sampler rs = Sampler::fromKey(key);

@@ -86,6 +86,7 @@ struct IrradianceCacheStats {
   size_t records = 0;           ///< records in the cache now (all levels)
   std::vector<size_t> perLevel; ///< records per level
   uint64_t privateRecords = 0;  ///< two-pass render: records made for one camera sample only
+  uint64_t missPaths = 0;       ///< after preprocessRays: lookups that found no record and took one path
   double fillSeconds = 0;       ///< two-pass fill
   int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
 };
@@ -109,7 +110,9 @@ class IrradianceCacheIntegrator : public Integrator {
   /// Li()'s camera rays (level 0; the footprint clamp measures path length from their origins
   /// and takes @p rayAngle as the pixel angle). Afterwards a lookup that finds no record, not even
   /// in the doubled domains, estimates the irradiance by one path (as past the last level: no
-  /// bias) instead of making a record private to that ray (with path continuation on).
+  /// bias) instead of making a record private to that ray (with path continuation on); in the
+  /// fill, so does a task's lookup once the task has traced 2^20 rays (a deterministic bound on
+  /// the records one task makes, e.g. inside a closed object).
   void preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task, float rayAngle) override;
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "irradiance-cache"; }
@@ -181,11 +184,13 @@ class IrradianceCacheIntegrator : public Integrator {
   float pixelAngle_ = 0.0f;               ///< footprint of one pixel per metre of distance
   std::unique_ptr<IrradianceCache> cache_;
   bool frozen_ = false;                   ///< two-pass render: the shared cache is read-only
-  bool pathOnMiss_ = false;               ///< frozen after preprocessRays: a miss takes one path, no record
+  bool pathOnMiss_ = false;               ///< after preprocessRays: a miss takes one path (frozen, or over budget)
+  uint64_t taskRayBudget_ = 0;            ///< preprocessRays' fill: rays per task before misses take paths (0: none)
   size_t loaded_ = 0;
   double fillSeconds_ = 0;
   int fillRounds_ = 0;
   mutable std::atomic<uint64_t> privateRecords_{0};
+  mutable std::atomic<uint64_t> missPaths_{0};
 };
 
 }  // namespace fs
