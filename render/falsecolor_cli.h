@@ -58,7 +58,8 @@ struct FalseColorCli {
     for (const auto& o : outputs)
       if (std::filesystem::weakly_canonical(o) == std::filesystem::weakly_canonical(out))
         throw InputError(output, "--falsecolor", "the false-colour picture would overwrite the -o output");
-    if (sensorMode && !gridSet(sets)) throw InputError("", "--falsecolor", "in sensor mode it needs a --grid");
+    if (sensorMode && !gridSet(sets) && !app.count("--grid-quad"))  // quad grids join once the scene is loaded
+      throw InputError("", "--falsecolor", "in sensor mode it needs a --grid or --grid-quad");
     if (!scale.empty() && scale != "log" && scale != "linear")
       throw InputError("", "--falsecolor-scale", "expected log or linear, got \"" + scale + "\"");
     options(sensorMode);  // checks the range

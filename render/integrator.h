@@ -2,7 +2,9 @@
 /// @file integrator.h
 /// The integrator interface (Nori / pbrt style): preprocess() once per scene, then a const,
 /// thread-safe radiance estimate per camera sample.
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -66,11 +68,24 @@ struct Splat {
   Color L{0.0f};       ///< added to the pixel's estimate of the pass, W/(m² sr)
 };
 
+/// The rays of task @p task of a cache fill (RayTask): it calls @p li for each ray, with the
+/// sampler that ray's later Li() call will be given, and li returns the radiance.
+using RayTask = std::function<void(size_t task, const std::function<Color(const Ray&, Sampler&)>& li)>;
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
   /// Called once before rendering; @p scene must outlive the integrator's use.
   virtual void preprocess(const RenderScene& scene) = 0;
+  /// Instead of preprocess() when the rays do not start at the scene's camera (sensors): an
+  /// integrator that caches what the rays meet (the irradiance cache in two-pass mode) fills its
+  /// cache from the rays of tasks 0 .. @p tasks − 1 instead of the camera's pixels, so that Li()
+  /// then finds its records for those rays (and, nearby, for others). @p rayAngle (rad) is the
+  /// angular footprint of one ray, the camera's pixel angle for such rays (the irradiance cache's
+  /// footprint clamp). Default: preprocess().
+  virtual void preprocessRays(const RenderScene& scene, size_t /*tasks*/, const RayTask& /*task*/, float /*rayAngle*/) {
+    preprocess(scene);
+  }
   /// Radiance arriving at the camera along @p ray (d unit length), estimated with @p sampler.
   /// Thread-safe. @p info, if given, receives the AOVs and the ray count.
   virtual Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const = 0;

@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     if (!preview) fs::installInterruptHandlers();
 
     sensors.checkOptions(app, outputs);
-    const std::vector<fs::SensorSet> sensorSets = sensors.sets();
+    std::vector<fs::SensorSet> sensorSets = sensors.sets();  // --grid-quad sets join once the scene is loaded
     photometric.checkOptions(app, sensors.active(), sensorSets, outputs);
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
@@ -119,6 +119,7 @@ int main(int argc, char** argv) {
     }
 
     fs::SceneDesc scene = fs::loadScene(scenePath);
+    sensors.addQuadGrids(scene, sensorSets);  // --grid-quad: on the scene's quads
     if (width > 0) scene.camera.width = width;
     if (height > 0) scene.camera.height = height;
     if (!preview && !sensors.active()) fs::Film::requireFits(scene.camera.width, scene.camera.height, scene.file);  // before any other work
@@ -150,8 +151,7 @@ int main(int argc, char** argv) {
       rs.emplace(scene, fs::readFirstShot(fsdPath, fs::hashScene(scene)), fsdPath);
     else
       rs.emplace(scene, patchSize);
-    if (sensors.active()) {
-      integrator->preprocess(*rs);
+    if (sensors.active()) {  // sensors.run preprocesses the integrator for the sensors' rays
       fs::SensorOptions so;
       so.timeLimit = timeLimit;
       so.seed = app.count("--seed") ? seed : scene.settings.seed;
@@ -160,7 +160,9 @@ int main(int argc, char** argv) {
       so.lightSampler = io.lightSampler;
       if (photometric.active())
         sensors.onResults = [&](const auto& sets, const auto& lux) { photometric.writeGrid(sets, lux); };
-      return sensors.run(*integrator, *rs, sensorSets, outputs, so);
+      const int rc = sensors.run(*integrator, *rs, sensorSets, outputs, so);
+      irradianceCache.finish(*integrator, nullptr, 0.0f, 0.0, quiet);  // --cache-file, the record counts
+      return rc;
     }
     if (preview) {
       fs::PreviewOptions po;
@@ -202,7 +204,7 @@ int main(int argc, char** argv) {
       const double cdPerW = photometric.units == "luminance" ? sensors.efficacy : 0.0;  // cd/m² per W/(m² sr)
       for (const auto& out : outputs) film.write(out, aov, exposure, cdPerW);
       if (photometric.active()) photometric.writeImage(film, sensors.efficacy);
-      irradianceCache.finish(*integrator, film, exposure, st.seconds, quiet);
+      irradianceCache.finish(*integrator, &film, exposure, st.seconds, quiet);
     } catch (const fs::Interrupted& e) {
       throw checkpoint.saveAfterInterrupt(e, film);
     }

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "common/bsdf.h"
@@ -35,9 +36,10 @@ struct Sums {
   uint64_t n = 0;
 };
 
-/// One sample of E(x, n), W/m² per channel.
-Color sampleIrradiance(const Integrator& integrator, const RenderScene& scene, const LightSampler& lights,
-                       const Sensor& sensor, Sampler& sampler, uint64_t& rays) {
+/// One sample of E(x, n), W/m² per channel; @p li(ray, sampler, info) is the integrator's Li().
+template <class LiFn>
+Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSampler& lights, const Sensor& sensor,
+                       Sampler& sampler, uint64_t& rays) {
   Hit hit;
   hit.p = sensor.p;
   hit.ng = sensor.n;
@@ -60,7 +62,7 @@ Color sampleIrradiance(const Integrator& integrator, const RenderScene& scene, c
   ++rays;
   if (scene.intersect(ray, first) && !first.onPatch()) Le = scene.lights().emitted(first.emitter, first.ng, -wi);
   SampleInfo info;
-  const Color L = integrator.Li(ray, sampler, &info);
+  const Color L = li(ray, sampler, &info);
   rays += info.rays;
   E += kPiF * glm::max(L - Le, Color(0.0f));  // cos θ/pdf = π
   return E;
@@ -69,11 +71,31 @@ Color sampleIrradiance(const Integrator& integrator, const RenderScene& scene, c
 }  // namespace
 
 void requireSensorIntegrator(const Integrator& integrator) {
-  // The irradiance cache estimates radiance per ray too, but its records are filled from the camera's pixels;
-  // on cornell-metre a 9×9 grid at 256 samples did not finish in 10 min with it (0.7 s with path).
-  if (integrator.name() != "path" || integrator.splats() || integrator.perPass())
-    throw InputError("", "--integrator", fmt::format("{}: sensors support only --integrator path so far",
+  // Light tracing and BDPT splat, the ray bundles need per-pass state: none has a per-ray Li().
+  if ((integrator.name() != "path" && integrator.name() != "irradiance-cache") || integrator.splats() ||
+      integrator.perPass())
+    throw InputError("", "--integrator", fmt::format("{}: sensors support --integrator path or irradiance-cache",
                                                      integrator.name()));
+}
+
+void preprocessSensors(Integrator& integrator, const RenderScene& scene, const std::vector<Sensor>& sensors,
+                       const SensorOptions& options) {
+  requireSensorIntegrator(integrator);
+  FirstShotLighting firstShot;
+  firstShot.build(scene);
+  LightSampler lights;
+  lights.build(scene, firstShot, options.lightSampler, false);
+  const uint64_t fill = uint64_t(std::max(1, options.fillSamples));
+  // Task i: sensor i's samples 0 .. fill−1, exactly as estimateSensors() draws them.
+  const RayTask task = [&](size_t i, const std::function<Color(const Ray&, Sampler&)>& li) {
+    uint64_t rays = 0;
+    auto trace = [&](const Ray& ray, Sampler& sampler, SampleInfo*) { return li(ray, sampler); };
+    for (uint64_t s = 0; s < fill; ++s) {
+      Sampler sampler(options.seed, i, s, kSensorStream);
+      sampleIrradiance(trace, scene, lights, sensors[i], sampler, rays);
+    }
+  };
+  integrator.preprocessRays(scene, sensors.size(), task, float(options.rayAngle));
 }
 
 SensorSummary summarize(const std::vector<SensorResult>& results) {
@@ -101,6 +123,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
   LightSampler lights;
   lights.build(scene, firstShot, options.lightSampler, false);
 
+  auto li = [&](const Ray& ray, Sampler& sampler, SampleInfo* info) { return integrator.Li(ray, sampler, info); };
   std::vector<Sums> sums(sensors.size());
   std::atomic<uint64_t> rays{0}, nonFinite{0};
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
@@ -118,7 +141,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
           Sums& acc = sums[i];
           for (uint64_t s = s0; s < s1; ++s) {
             Sampler sampler(options.seed, i, s, kSensorStream);
-            Color E = sampleIrradiance(integrator, scene, lights, sensors[i], sampler, localRays);
+            Color E = sampleIrradiance(li, scene, lights, sensors[i], sampler, localRays);
             if (!isFinite(E)) {
               ++bad;
               E = Color(0.0f);

@@ -10,9 +10,9 @@
 /// camera-visible point; MIS off, so the second term leaves out the emission it meets directly),
 /// the second one cosine-distributed direction ω (pdf cos θ/π) whose radiance arriving at x is the
 /// integrator's Li() along the ray minus the emission of a light it meets first (counted by NEE).
-/// The integrator is the path tracer (requireSensorIntegrator); the estimator itself needs only
-/// Li() per ray, but the irradiance cache fills its records from the camera's pixels (and was far too
-/// slow at sensors), and the splatting and per-pass ones have no per-ray Li().
+/// The integrator is the path tracer or the irradiance cache (requireSensorIntegrator): the
+/// estimator needs Li() per ray, which the splatting and per-pass ones do not have. The irradiance
+/// cache is filled from the sensors' own rays (preprocessSensors), not from the camera's pixels.
 ///
 /// Sample s of sensor i is keyed by (seed, i, s), the samples of a sensor are summed in sample
 /// order: results never depend on the thread count.
@@ -23,6 +23,7 @@
 
 #include "common/error.h"
 #include "common/math.h"
+#include "common/scene_desc.h"
 #include "render/integrator.h"
 #include "render/render_scene.h"
 
@@ -38,7 +39,9 @@ struct Sensor {
 struct SensorSet {
   std::string name;  ///< the points file or the grid's specification
   std::vector<Sensor> sensors;
-  int columns = 0, rows = 0;  ///< a grid's cells along x and along z (sensors row by row); 0 for a points file
+  /// A grid's cells along x and z (--grid), or along the quad's edges v0→v1 and v0→v3 (--grid-quad);
+  /// the sensors are stored row by row. 0 for a points file.
+  int columns = 0, rows = 0;
 };
 
 /// Reads a points file: one sensor per line "x y z nx ny nz" (like rtrace -I); blank lines and
@@ -52,6 +55,17 @@ SensorSet readSensorFile(const std::string& path);
 /// each cell's centre. @p spec is the text "x0,z0,x1,z1,height,spacing".
 /// @throws InputError for a malformed spec, x1 <= x0, z1 <= z0, spacing <= 0 or more than 10⁷ points.
 SensorSet parseGrid(const std::string& spec);
+
+/// A grid on a named quad of the scene (a work plane given by a shape): @p spec is
+/// "NAME,offset,spacing" (NAME may hold commas; the last two fields are numbers). NAME is a quad
+/// shape's `name` key or its place "shapes[i]". The quad's edges v0→v1 and v0→v3 are cut into
+/// about |edge|/spacing cells (the mean of opposite edges, rounded, at least 1); one sensor at
+/// each cell's centre (bilinear in the quad's corners), moved @p offset m along the quad's
+/// normal (the front side, right-hand rule; after the shape's transform and flip_normals),
+/// which is every sensor's normal. Any orientation.
+/// @throws InputError (naming --grid-quad) for a malformed spec, spacing <= 0, an unknown or
+/// ambiguous name, a shape that is not one planar convex quad, or more than 10⁷ points.
+SensorSet gridOnQuad(const SceneDesc& scene, const std::string& spec);
 
 /// Estimated irradiance at one sensor.
 struct SensorResult {
@@ -76,6 +90,12 @@ struct SensorOptions {
   bool quiet = true;        ///< no progress bar
   double efficacy = 179.0;  ///< lm/W (common/photometry.h)
   LightStrategy lightSampler = LightStrategy::Tree;
+  /// preprocessSensors: samples per sensor whose rays fill a caching integrator's records
+  /// (the estimate's own first samples, so they find their records).
+  int fillSamples = 4;
+  /// preprocessSensors: the angular footprint of a sensor ray (rad), for a caching integrator's
+  /// footprint clamp (as the camera's pixel angle for camera rays).
+  double rayAngle = 0.05;
 };
 
 struct SensorStats {
@@ -85,10 +105,18 @@ struct SensorStats {
   double seconds = 0;
 };
 
-/// @throws InputError unless @p integrator is the path tracer.
+/// @throws InputError unless @p integrator is the path tracer or the irradiance cache.
 void requireSensorIntegrator(const Integrator& integrator);
 
-/// Estimates the irradiance at @p sensors. @p integrator must be preprocessed for @p scene and
+/// Prepares @p integrator for estimateSensors() at @p sensors (instead of preprocess()):
+/// Integrator::preprocessRays with one task per sensor, its samples 0 .. fillSamples − 1 keyed
+/// as estimateSensors() keys them. The irradiance cache (two-pass) fills its records from those
+/// rays, deterministically; the path tracer only preprocesses.
+void preprocessSensors(Integrator& integrator, const RenderScene& scene, const std::vector<Sensor>& sensors,
+                       const SensorOptions& options);
+
+/// Estimates the irradiance at @p sensors. @p integrator must be preprocessed for @p scene (by
+/// preprocessSensors for these sensors, or preprocess() for a path tracer) and
 /// estimate radiance per ray (not splats() or perPass()). Polls the interrupt flag between passes.
 std::vector<SensorResult> estimateSensors(const Integrator& integrator, const RenderScene& scene,
                                           const std::vector<Sensor>& sensors, const SensorOptions& options,

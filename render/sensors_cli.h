@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,10 +25,12 @@ namespace fs {
 struct SensorsCli {
   std::string pointsFile;
   std::vector<std::string> grids;
+  std::vector<std::string> quadGrids;
   int samples = 256;
   double efficacy = photometry::kEfficacy;
   CLI::Option* pointsOption = nullptr;
   CLI::Option* gridOption = nullptr;
+  CLI::Option* quadOption = nullptr;
   /// Called by run() with the sets and every sensor's illuminance (lx, in the sets' order) before
   /// the outputs are written (the false-colour picture of a grid, render/falsecolor_cli.h).
   std::function<void(const std::vector<SensorSet>&, const std::vector<double>&)> onResults;
@@ -37,22 +40,25 @@ struct SensorsCli {
                                                             "\"x y z nx ny nz\" (like rtrace -I); -o gets .csv or .json");
     gridOption = app.add_option("--grid", grids, "sensor mode: grid x0,z0,x1,z1,height,spacing on the plane y = height "
                                                  "(normal +y), one sensor per cell centre; may be repeated");
+    quadOption = app.add_option("--grid-quad", quadGrids, "sensor mode: grid NAME,offset,spacing on the scene's quad shape "
+                                                          "NAME (its name key or shapes[i]), offset m along its normal, "
+                                                          "one sensor per cell centre with the quad's normal; may be repeated");
     app.add_option("--samples", samples, "sensor mode: samples per sensor")->check(CLI::Range(1, 1 << 30))
         ->capture_default_str();
     app.add_option("--efficacy", efficacy, "sensor mode: luminous efficacy in lm/W turning W/m² into lux "
                                            "(docs/photometry.md)")
         ->check(CLI::Range(1e-6, 1e6))->capture_default_str();
   }
-  bool active() const { return pointsOption->count() > 0 || gridOption->count() > 0; }
+  bool active() const { return pointsOption->count() > 0 || gridOption->count() > 0 || quadOption->count() > 0; }
 
   /// Checks the options that do not mix with the sensor mode and the outputs (.csv or .json).
   void checkOptions(const CLI::App& app, const std::vector<std::string>& outputs) const {
     if (!active()) {
-      if (app.count("--samples")) throw InputError("", "--samples", "only with --sensors or --grid");
+      if (app.count("--samples")) throw InputError("", "--samples", "only with --sensors, --grid or --grid-quad");
       // --efficacy also serves --units luminance and --falsecolor: checked in render/falsecolor_cli.h
       return;
     }
-    for (const char* o : {"--spp", "--preview", "--checkpoint", "--resume", "--aov", "--exposure"})
+    for (const char* o : {"--spp", "--preview", "--checkpoint", "--resume", "--aov", "--exposure", "--show-records"})
       if (app.get_option_no_throw(o) && app.count(o)) throw InputError("", o, "not available with --sensors/--grid");
     if (app.count("--time") && app.count("--samples")) throw InputError("", "--samples", "give --samples or --time");
     if (outputs.empty()) throw InputError("", "--output", "sensor mode needs -o OUT.csv or OUT.json");
@@ -71,14 +77,22 @@ struct SensorsCli {
     for (const auto& g : grids) s.push_back(parseGrid(g));
     return s;
   }
+  /// Appends the --grid-quad sets to @p s (they need the scene's shapes).
+  void addQuadGrids(const SceneDesc& scene, std::vector<SensorSet>& s) const {
+    for (const auto& g : quadGrids) s.push_back(gridOnQuad(scene, g));
+  }
 
-  /// Estimates every set and writes @p outputs; prints the summaries on stdout.
-  int run(const Integrator& integrator, const RenderScene& scene, const std::vector<SensorSet>& sets,
+  /// Preprocesses @p integrator for the sensors, estimates every set and writes @p outputs; prints
+  /// the summaries on stdout.
+  int run(Integrator& integrator, const RenderScene& scene, const std::vector<SensorSet>& sets,
           const std::vector<std::string>& outputs, SensorOptions options) const {
     options.samples = samples;
     options.efficacy = efficacy;
     std::vector<Sensor> all;
     for (const auto& s : sets) all.insert(all.end(), s.sensors.begin(), s.sensors.end());
+    const auto start = std::chrono::steady_clock::now();
+    preprocessSensors(integrator, scene, all, options);
+    const double prepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     SensorStats st;
     const std::vector<SensorResult> results = estimateSensors(integrator, scene, all, options, &st);
     std::vector<SensorSummary> summaries;
@@ -105,8 +119,10 @@ struct SensorsCli {
                  summaries[k].uniformity);
     if (st.nonFinite > 0)
       fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
+    if (!options.quiet && integrator.name() != "path")
+      fmt::print(stderr, "{} preprocess for the sensors: {:.3f} s\n", integrator.name(), prepSeconds);
     if (!options.quiet)
-      fmt::print(stderr, "{} sensors at {} samples in {:.2f} s: {:.2f} Mrays/s\n", all.size(), st.samples, st.seconds,
+      fmt::print(stderr, "{} sensors at {} samples in {:.3f} s: {:.2f} Mrays/s\n", all.size(), st.samples, st.seconds,
                  st.seconds > 0 ? double(st.rays) / st.seconds * 1e-6 : 0.0);
     return 0;
   }

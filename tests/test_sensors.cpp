@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "common/photometry.h"
 #include "common/sampling.h"
@@ -270,7 +271,10 @@ TEST(Sensors, BadInputExits2) {
       {"--grid 0,0,1,1,0.75", "--grid"},
       {"--grid 1,0,0,1,0.75,0.25", "--grid"},
       {"--grid 0,0,1,1,0.75,0.25 --integrator light", "--integrator"},
-      {"--grid 0,0,1,1,0.75,0.25 --integrator irradiance-cache", "only --integrator path"},
+      {"--grid 0,0,1,1,0.75,0.25 --integrator bundle", "path or irradiance-cache"},
+      {"--grid-quad nothing,0,0.25", "no shape named \"nothing\""},
+      {"--grid-quad floor,0", "NAME,offset,spacing"},
+      {"--grid-quad floor,0,-1", "spacing must be positive"},
       {"--grid 0,0,1,1,0.75,0.25 --spp 4", "--spp"},
   };
   for (const auto& [args, expected] : cases) {
@@ -281,4 +285,74 @@ TEST(Sensors, BadInputExits2) {
   }
   const auto r = test::run(kRender + " " + scene + " --grid 0,0,1,1,0.75,0.25 -q -o " + dir + "/out.png");
   EXPECT_EQ(r.exitCode, 2) << r.output;
+}
+
+// --grid-quad: a 2 m × 1 m rectangle tilted to the normal (0, 0.6, 0.8), moved and turned by a transform,
+// and its flipped twin. Cell centres bilinear in the corners, offset along the normal, the normal per sensor.
+TEST(Sensors, GridOnNamedQuad) {
+  const std::string quad = R"("vertices": [[0,0,0],[2,0,0],[2,0.8,-0.6],[0,0.8,-0.6]])";
+  const SceneDesc desc = test::sceneFromJson(fmt::format(R"({{
+    "materials": {{"m": {{"type": "diffuse", "albedo": 0.5}}}},
+    "shapes": [{{"type": "quad", "name": "desk", "material": "m", {q}, "transform": {{"translate": [1, 2, 3]}}}},
+               {{"type": "quad", "name": "under", "material": "m", {q}, "flip_normals": true}},
+               {{"type": "box", "name": "crate", "material": "m", "min": [5, 5, 5], "max": [6, 6, 6]}},
+               {{"type": "quad", "name": "twin", "material": "m", {q}}},
+               {{"type": "quad", "name": "twin", "material": "m", {q}}}],
+    "lights": [{{"type": "point", "position": [0, 5, 0], "power": 10}}]}})", fmt::arg("q", quad)));
+  const Vec3d e1(2, 0, 0), e2(0, 0.8, -0.6), n(0, 0.6, 0.8);
+  for (const auto& [spec, origin, normal] : {std::tuple{std::string("desk,0.1,0.5"), Vec3d(1, 2, 3), n},
+                                             std::tuple{std::string("shapes[0],0.1,0.5"), Vec3d(1, 2, 3), n},
+                                             std::tuple{std::string("under,-0.2,0.5"), Vec3d(0), -n}}) {
+    SCOPED_TRACE(spec);
+    const SensorSet set = gridOnQuad(desc, spec);
+    ASSERT_EQ(set.sensors.size(), 8u);  // 2 m / 0.5 m × 1 m / 0.5 m
+    const double offset = spec.starts_with("under") ? -0.2 : 0.1;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const Sensor& s = set.sensors[size_t(j * 4 + i)];
+        // Flipped, the corners run the other way round: the same centres in another order.
+        const double u = (i + 0.5) / 4, v = (j + 0.5) / 2;
+        const Vec3d local = Vec3d(s.p) - origin - offset * normal;
+        EXPECT_NEAR(glm::dot(local, normal), 0.0, 1e-6);  // in the quad's plane, offset along the normal
+        const double a = glm::dot(local, e1) / 4.0, b = glm::dot(local, e2) / 1.0;  // e1·e1 = 4, e2·e2 = 1
+        if (!spec.starts_with("under")) {
+          EXPECT_NEAR(a, u, 1e-6);
+          EXPECT_NEAR(b, v, 1e-6);
+        }
+        EXPECT_NEAR(a * 4 - 0.5, std::round(a * 4 - 0.5), 1e-5);  // a cell centre
+        EXPECT_NEAR(b * 2 - 0.5, std::round(b * 2 - 0.5), 1e-5);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(s.n[k], normal[k], 1e-6);
+      }
+  }
+  EXPECT_EQ(gridOnQuad(desc, "desk,0,0.3").sensors.size(), 7u * 3u);  // 2/0.3 → 7, 1/0.3 → 3
+  for (const auto& [spec, message] : {std::pair{"crate,0,0.5", "not a quad"}, std::pair{"twin,0,0.5", "names both"},
+                                      std::pair{"desk,0,0", "positive"}, std::pair{"desk,x,0.5", "NAME,offset,spacing"},
+                                      std::pair{"nobody,0,0.5", "no shape named"}}) {
+    try {
+      gridOnQuad(desc, spec);
+      ADD_FAILURE() << spec << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--grid-quad"), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The CLI's --grid-quad on point-over-plane's floor: the rows are its cells, facing up.
+TEST(Sensors, GridQuadCli) {
+  const std::string dir = test::tempDir();
+  const auto r = test::run(kRender + " " + test::source("scenes/point-over-plane.json") +
+                           " --grid-quad floor,0.5,1 --grid 0,0,1,1,0.5,1 --samples 4 -q -o " + dir + "/out.json");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  std::ifstream js(dir + "/out.json");
+  const auto j = nlohmann::json::parse(js);
+  ASSERT_EQ(j["sets"].size(), 2u);
+  EXPECT_EQ(j["sets"][1]["name"], "grid-quad floor,0.5,1");
+  const SensorSet expected = gridOnQuad(loadScene(test::source("scenes/point-over-plane.json")), "floor,0.5,1");
+  ASSERT_EQ(j["sets"][1]["rows"].size(), expected.sensors.size());
+  for (size_t i = 0; i < expected.sensors.size(); ++i) {
+    const auto& row = j["sets"][1]["rows"][i];
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(row[k].get<double>(), expected.sensors[i].p[k], 1e-6);
+    EXPECT_NEAR(row[4].get<double>(), 1.0, 1e-6);  // the floor faces up
+  }
 }

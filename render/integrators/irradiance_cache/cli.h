@@ -100,12 +100,13 @@ struct IrradianceCacheCli {
     ic->setSettings(settings);
   }
 
-  /// After the render: writes the cache file and the record image, and prints a summary.
-  void finish(const Integrator& integrator, const Film& film, float exposure, double renderSeconds, bool quiet) const {
+  /// After the render: writes the cache file and the record image (unless @p film is null: sensors),
+  /// and prints a summary.
+  void finish(const Integrator& integrator, const Film* film, float exposure, double renderSeconds, bool quiet) const {
     const auto* ic = dynamic_cast<const IrradianceCacheIntegrator*>(&integrator);
     if (!ic) return;
     if (!settings.cacheFile.empty()) ic->saveCache(settings.cacheFile);
-    if (!showRecords.empty()) ic->writeRecordImage(film, showRecords, exposure);
+    if (!showRecords.empty() && film) ic->writeRecordImage(*film, showRecords, exposure);
     if (quiet) return;
     const IrradianceCacheStats s = ic->stats();
     std::string levels;
@@ -115,8 +116,9 @@ struct IrradianceCacheCli {
     fmt::print(stderr, "irradiance cache: {} records ({} by level), {} loaded, {} new ({:.0f} records/s)", s.records,
                levels.empty() ? "0" : levels, s.loaded, made, seconds > 0 ? double(made) / seconds : 0.0);
     if (settings.twoPass)
-      fmt::print(stderr, "; fill {:.2f} s in {} sweep(s), {} private records in the render", s.fillSeconds, s.fillRounds,
-                 s.privateRecords);
+      fmt::print(stderr, "; fill {:.2f} s in {} sweep(s), {} private records in the {}", s.fillSeconds, s.fillRounds,
+                 s.privateRecords, film ? "render" : "sensor estimate");
+    if (!film) fmt::print(stderr, ", {} lookups without a record took a path", s.missPaths);
     fmt::print(stderr, "\n");
   }
 

@@ -78,6 +78,7 @@ IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
   if (cache_)
     for (int l = 0; l < cache_->levels(); ++l) s.perLevel.push_back(cache_->size(l)), s.records += s.perLevel.back();
   s.privateRecords = privateRecords_.load();
+  s.missPaths = missPaths_.load();
   s.fillSeconds = fillSeconds_;
   s.fillRounds = fillRounds_;
   return s;
@@ -205,10 +206,9 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
 
 Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int level, float pathLength,
                                             Sampler& sampler, Context& ctx) const {
-  if (level >= settings_.bounces) {
-    if (!settings_.pathContinuation) return kPiF * settings_.ambient;
-    // E = π·L(ω) for ω distributed as cosθ/π: one path, with every light this vertex counted
-    // (direct_) weighted 0 where the path meets it, everything else counted from the next hit on.
+  // E = π·L(ω) for ω distributed as cosθ/π: one path, with every light this vertex counted
+  // (direct_) weighted 0 where the path meets it, everything else counted from the next hit on.
+  auto pathIrradiance = [&] {
     const Vec3 w = Frame(n).toWorld(squareToCosineHemisphere(sampler.next2D()));
     PathVertex prev;
     prev.delta = false;
@@ -217,7 +217,8 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     prev.pdf = squareToCosineHemispherePdf(Vec3(0.0f, 0.0f, glm::dot(w, n)));
     prev.counted = &direct_;
     return kPiF * continuation_->trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, sampler, ctx.rays);
-  }
+  };
+  if (level >= settings_.bounces) return settings_.pathContinuation ? pathIrradiance() : kPiF * settings_.ambient;
   // Drawn whether or not a record is made, so that the path does not depend on the cache.
   const uint64_t key = sampler.nextBits();
   IrradianceEstimate est;
@@ -227,6 +228,14 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
   if (frozen_) {  // two-pass render: a point the fill did not reach; first try the doubled domains
     cache_->lookup(level, hit.p, n, settings_.gradients, est, 2.0f);
     if (est.count > 0) return est.value();
+    // Filled from rays (sensors): one path instead of a private record, whose hundreds of rays (and
+    // deeper private records) served only this sample; unbiased, as past the last level.
+    if (pathOnMiss_ && settings_.pathContinuation) {
+      ++missPaths_;
+      return pathIrradiance();
+    }
+  } else if (pathOnMiss_ && taskRayBudget_ > 0 && ctx.rays > taskRayBudget_ && settings_.pathContinuation) {
+    return pathIrradiance();  // a fill task over its budget
   }
 
   Sampler rs = Sampler::fromKey(key);

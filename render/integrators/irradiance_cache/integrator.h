@@ -86,6 +86,7 @@ struct IrradianceCacheStats {
   size_t records = 0;           ///< records in the cache now (all levels)
   std::vector<size_t> perLevel; ///< records per level
   uint64_t privateRecords = 0;  ///< two-pass render: records made for one camera sample only
+  uint64_t missPaths = 0;       ///< after preprocessRays: lookups that found no record and took one path
   double fillSeconds = 0;       ///< two-pass fill
   int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
 };
@@ -103,6 +104,16 @@ class IrradianceCacheIntegrator : public Integrator {
   /// it with InputError if it does not match), and in two-pass mode fills the cache for the
   /// scene's camera.
   void preprocess(const RenderScene& scene) override;
+  /// As preprocess(), but a two-pass cache is filled from the rays of @p task (0 .. @p tasks − 1,
+  /// e.g. the first samples of every sensor) instead of the camera's pixels, with the same
+  /// batches and ordered merge: the records do not depend on the thread count. Those rays are
+  /// Li()'s camera rays (level 0; the footprint clamp measures path length from their origins
+  /// and takes @p rayAngle as the pixel angle). Afterwards a lookup that finds no record, not even
+  /// in the doubled domains, estimates the irradiance by one path (as past the last level: no
+  /// bias) instead of making a record private to that ray (with path continuation on); in the
+  /// fill, so does a task's lookup once the task has traced 2^20 rays (a deterministic bound on
+  /// the records one task makes, e.g. inside a closed object).
+  void preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task, float rayAngle) override;
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "irradiance-cache"; }
   bool hasRecords() const override { return true; }
@@ -155,7 +166,10 @@ class IrradianceCacheIntegrator : public Integrator {
   /// from the record at @p x with normal @p n, against patchNeeIrradiance()'s samples.
   float hemisphereWeight(const Vec3& x, const Vec3& n, int cells, const Hit& y, float cosTheta) const;
   std::unique_ptr<IrradianceCache> makeCache() const;
-  void fill();
+  /// preprocess() without the fill: lights, the empty cache, the cache file.
+  void setup(const RenderScene& scene);
+  /// Two-pass fill from the rays of tasks 0 .. @p tasks − 1, in that order.
+  void fill(size_t tasks, const RayTask& task);
 
   IntegratorOptions options_;
   IrradianceCacheSettings settings_;
@@ -170,10 +184,13 @@ class IrradianceCacheIntegrator : public Integrator {
   float pixelAngle_ = 0.0f;               ///< footprint of one pixel per metre of distance
   std::unique_ptr<IrradianceCache> cache_;
   bool frozen_ = false;                   ///< two-pass render: the shared cache is read-only
+  bool pathOnMiss_ = false;               ///< after preprocessRays: a miss takes one path (frozen, or over budget)
+  uint64_t taskRayBudget_ = 0;            ///< preprocessRays' fill: rays per task before misses take paths (0: none)
   size_t loaded_ = 0;
   double fillSeconds_ = 0;
   int fillRounds_ = 0;
   mutable std::atomic<uint64_t> privateRecords_{0};
+  mutable std::atomic<uint64_t> missPaths_{0};
 };
 
 }  // namespace fs

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 
 #include "common/error.h"
@@ -21,6 +22,10 @@ namespace fs {
 
 namespace {
 
+/// preprocessRays: rays a fill task may trace before its misses take paths instead of making records. A
+/// sensor inside a closed object (a grid crossing furniture) filled the inside with small records, 5 M
+/// rays per task on many-lights where a task in the open took under 0.7 M.
+constexpr uint64_t kRayTaskBudget = uint64_t(1) << 20;
 constexpr size_t kMaxBatch = 256;           ///< fill tasks merged at once (batches grow 1, 2, 4, ... to this)
 
 /// Pixel indices coarse to fine: every 16th pixel of every 16th row, then the new pixels of the
@@ -38,15 +43,49 @@ std::vector<uint32_t> fillOrder(int width, int height) {
 }  // namespace
 
 void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
+  setup(scene);
+  if (!settings_.twoPass) return;
+  const Camera camera(scene.desc().camera);
+  const uint32_t width = uint32_t(camera.width());
+  const std::vector<uint32_t> order = fillOrder(camera.width(), camera.height());
+  // The render's own camera samples 0 .. fillSamples−1 of the pixel (renderer.cpp), so that the
+  // render finds every record those samples need.
+  fill(order.size(), [&](size_t i, const std::function<Color(const Ray&, Sampler&)>& li) {
+    const uint32_t pixel = order[i];
+    for (int k = 0; k < std::max(1, settings_.fillSamples); ++k) {
+      Sampler sampler(settings_.seed, pixel, uint64_t(k));
+      const Vec2 jitter = sampler.next2D();
+      li(camera.generateRay(float(pixel % width) + jitter.x, float(pixel / width) + jitter.y), sampler);
+    }
+  });
+  frozen_ = true;
+}
+
+void IrradianceCacheIntegrator::preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task,
+                                               float rayAngle) {
+  setup(scene);
+  pixelAngle_ = rayAngle;
+  if (!settings_.twoPass) return;
+  pathOnMiss_ = true;
+  taskRayBudget_ = kRayTaskBudget;
+  fill(tasks, task);
+  taskRayBudget_ = 0;
+  frozen_ = true;
+}
+
+void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   if (!(settings_.accuracy > 0.0f) || settings_.samples < 1 || settings_.bounces < 0 || !(settings_.footprintMin >= 0.0f) ||
       !(settings_.footprintMax >= settings_.footprintMin))
     throw std::invalid_argument("irradiance cache: invalid settings");
   scene_ = &scene;
   frozen_ = false;
+  pathOnMiss_ = false;
+  taskRayBudget_ = 0;
   loaded_ = 0;
   fillSeconds_ = 0;
   fillRounds_ = 0;
   privateRecords_ = 0;
+  missPaths_ = 0;
   firstShot_.build(scene);
   continuation_ = std::make_unique<PathIntegrator>(options_);
   continuation_->preprocess(scene);
@@ -86,26 +125,19 @@ void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
       for (const IrradianceRecord& r : d.levels[size_t(l)]) cache_->insert(l, r, false);
     loaded_ = cache_->size();
   }
-  if (settings_.twoPass) {
-    fill();
-    frozen_ = true;
-  }
 }
 
-void IrradianceCacheIntegrator::fill() {
+void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
   const auto start = std::chrono::steady_clock::now();
-  const Camera camera(scene_->desc().camera);
-  const int width = camera.width();
-  const std::vector<uint32_t> order = fillOrder(width, camera.height());
   tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
 
   // One sweep over the pixels; returns the number of records added.
   auto sweep = [&](bool shrinkNeighbours) {
     size_t added = 0;
     size_t batch = 1;
-    for (size_t pos = 0; pos < order.size(); pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
+    for (size_t pos = 0; pos < tasks; pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
       throwIfInterrupted();  // SIGINT/SIGTERM: the fill stops between batches (common/interrupt.h)
-      const size_t count = std::min(batch, order.size() - pos);
+      const size_t count = std::min(batch, tasks - pos);
       // Each task traces its pixel against the cache as it was at the start of the batch,
       // keeping the records it has to make to itself...
       std::vector<std::unique_ptr<IrradianceCache>> made(count);
@@ -114,16 +146,10 @@ void IrradianceCacheIntegrator::fill() {
           enableFlushToZero();
           for (size_t i = r.begin(); i < r.end(); ++i) {
             if (interrupted()) break;  // thrown below, before the merge
-            // The render's own camera samples 0 .. fillSamples−1 of the pixel (renderer.cpp), so
-            // that the render finds every record those samples need.
-            const uint32_t pixel = order[pos + i];
             Context ctx(Context::Mode::Private);
-            for (int k = 0; k < std::max(1, settings_.fillSamples); ++k) {
-              Sampler sampler(settings_.seed, pixel, uint64_t(k));
-              const Vec2 jitter = sampler.next2D();
-              const Ray ray = camera.generateRay(float(pixel % uint32_t(width)) + jitter.x, float(pixel / uint32_t(width)) + jitter.y);
-              radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, nullptr);
-            }
+            task(pos + i, [&](const Ray& ray, Sampler& sampler) {
+              return radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, nullptr);
+            });
             made[i] = std::move(ctx.overlay);
           }
         });
