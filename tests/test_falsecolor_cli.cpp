@@ -131,6 +131,20 @@ TEST(FalseColorCli, GridPicture) {
     }
 }
 
+// A grid on a named quad (--grid-quad, which joins after the scene is loaded) has a raster too: 4 × 4
+// cells of the many-lights room's 8 m floor, scaled up by 80 to the 320 px minimum.
+TEST(FalseColorCli, GridOnANamedQuadHasAPicture) {
+  const std::string dir = test::tempDir();
+  const auto r = test::run(kRender + " " + test::source("scenes/many-lights.json") + " -q --grid-quad floor,0.75,2 --samples 2 -o " +
+                           dir + "/grid.csv --falsecolor " + dir + "/grid.png");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  int w = 0, h = 0;
+  std::vector<std::string> ch;
+  readImage(dir + "/grid.png", w, h, ch);
+  EXPECT_EQ(w, 320 + 124);
+  EXPECT_GE(h, 320);
+}
+
 namespace {
 
 /// Runs firstshot-render on a small scene with each of @p cases (arguments, expected text in the
