@@ -39,6 +39,7 @@ TEST(BdptFirstShot, MixedLightsAgreeWithPathTracingOnTheSameTable) {
 }
 // Mirrors and glass: x_m lies behind them, and a small light met right after a delta bounce counts.
 TEST(BdptFirstShot, MirrorAndGlassAgreeWithPathTracingOnTheSameTable) {
+  FIRSTSHOT_STATISTICS_ONLY("Bdpt.MirrorAndGlassAgreeWithPathTracing and BdptFirstShot.MixedLightsAgreeWithPathTracingOnTheSameTable");
   test::expectAgreesWithPathTracingOnTable("bdpt", "mirror-glass, table", test::mirrorGlassScene(), 200, 300, tableMode());
 }
 

@@ -319,7 +319,7 @@ TEST(Dielectric, SamplingFrequenciesAndEnergy) {
     const int count = 200000;
     int refl = 0;
     RunningStats radiance;
-    Sampler rng(kSeed, 8, uint64_t(c.wo.z * 1e6f) + 7);
+    Sampler rng(kSeed, 8, uint64_t(std::abs(c.wo.z) * 1e6f) + 7);
     for (int i = 0; i < count; ++i) {
       const Vec2 u = rng.next2D();
       BSDFQuery q(c.wo, TransportMode::Importance);

@@ -56,6 +56,7 @@ SceneDesc small(const char* file) {
 /// image mean agrees within 4σ(K) + 2% at K and 4K iterations and σ falls with K. (The patch
 /// discretisation of the indirect light is below the noise here: see the next test for it.)
 TEST(BundleScenes, CornellAgreesWithPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("BundleScenes.SierpinskiGlossyAgreesWithPathTracing");
   const SceneDesc desc = small("scenes/cornell.json");
   IntegratorOptions io;
   io.maxDepth = 100000;

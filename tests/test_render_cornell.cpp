@@ -65,6 +65,7 @@ TEST(CornellFirstShot, ImageMeanAgreesWithNee) {
 /// patch-constant shading and blurred shadows at the camera hit; under --primary exact only
 /// indirect light is patch-averaged, so its bias is smaller.
 TEST(CornellFirstShot, PerPixelDifferenceShrinksWithPatches) {
+  FIRSTSHOT_STATISTICS_ONLY("CornellFirstShot.ImageMeanAgreesWithNee");
   const SceneDesc desc = cornell();
   const RenderScene neeScene(desc, 0.025);  // the finest mesh below: paths pair best on the same triangles
   // Pairing needs both integrators to draw the same random numbers: one sample of every light

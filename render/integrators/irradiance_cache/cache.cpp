@@ -152,7 +152,8 @@ void IrradianceCache::insert(int level, IrradianceRecord r, bool neighbourClamp,
     std::vector<std::pair<Vec3, float>> work;
     if (shrinkNeighbours) work.emplace_back(r.p, r.R);
     for (size_t w = 0; w < work.size() && w < 4096; ++w) {
-      const auto [p, R] = work[w];
+      const Vec3 p = work[w].first;
+      const float R = work[w].second;  // not a structured binding: clang 14 cannot capture those
       visitNeighbours(level, p, R, [&](const Stored& s, float d, float Rj) {
         if (Rj > R + d * 1.0001f) {
           s.R.store(R + d, std::memory_order_relaxed);
