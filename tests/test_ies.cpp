@@ -60,6 +60,12 @@ TEST(Ies, ConstantTableFluxIsExact) {
   for (double v : {0.0, 10.0, 91.0, 180.0})
     for (double h : {0.0, 33.0, 200.0, 359.9}) EXPECT_NEAR(d.value(v, h), 1000, 1e-9);
   EXPECT_NEAR(sphereIntegral(d, 200), d.flux, 1e-9 * d.flux);
+
+  // A file that rates its lamp at the luminaire's flux (efficiency 1): the table's flux is the file's lumens.
+  const double rated = 4 * kPi * 1000;
+  const IesData r = parseIes(test::iesText(1, {0, 45, 90, 135, 180}, {0}, [](double, double) { return 1000.0; }, 1, rated), "r.ies");
+  EXPECT_NEAR(r.lamps * r.lumensPerLamp, rated, 1e-9 * rated);
+  EXPECT_NEAR(r.flux, r.lamps * r.lumensPerLamp, 1e-9 * rated);
 }
 
 // I = 1000 cos V in the lower hemisphere (zero above): the interpolated table's flux is exact (against a fine
