@@ -37,6 +37,14 @@ std::vector<float> readImage(const std::string& path, int& w, int& h, std::vecto
   return Film::read(path, w, h, channels);
 }
 
+/// Width and height of the picture at @p path.
+std::pair<int, int> pictureSize(const std::string& path) {
+  int w = 0, h = 0;
+  std::vector<std::string> ch;
+  readImage(path, w, h, ch);
+  return {w, h};
+}
+
 }  // namespace
 
 // --units luminance: one channel Y = K · Y(R, G, B) of the radiance image, for K = 179 and --efficacy 683.
@@ -91,9 +99,7 @@ TEST(FalseColorCli, ImagePicture) {
   const auto r = test::run(kRender + " " + dir + "/scene.json -q -o " + dir + "/img.png --falsecolor " + dir +
                            "/fc.png --falsecolor-contours 3");
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  int w = 0, h = 0;
-  std::vector<std::string> ch;
-  readImage(dir + "/fc.png", w, h, ch);
+  const auto [w, h] = pictureSize(dir + "/fc.png");
   EXPECT_EQ(w, 320 + 124);
   EXPECT_EQ(h, 240);
 }
@@ -138,9 +144,7 @@ TEST(FalseColorCli, GridOnANamedQuadHasAPicture) {
   const auto r = test::run(kRender + " " + test::source("scenes/many-lights.json") + " -q --grid-quad floor,0.75,2 --samples 2 -o " +
                            dir + "/grid.csv --falsecolor " + dir + "/grid.png");
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  int w = 0, h = 0;
-  std::vector<std::string> ch;
-  readImage(dir + "/grid.png", w, h, ch);
+  const auto [w, h] = pictureSize(dir + "/grid.png");
   EXPECT_EQ(w, 320 + 124);
   EXPECT_GE(h, 320);
 }
