@@ -4,30 +4,66 @@
 /// exit code 2, an interruption (common/interrupt.h) into one line and exit code 128 + signal
 /// (130 for SIGINT, 143 for SIGTERM), other failures into exit code 1, and never let an exception
 /// escape as a crash.
+#include <chrono>
 #include <cstdio>
 #include <exception>
 #include <functional>
+#include <string>
+#include <thread>
 
+#include "common/comm.h"
 #include "common/error.h"
 #include "common/interrupt.h"
+#ifdef FIRSTSHOT_WITH_MPI
+#include "common/mpi/mpi_comm.h"
+#endif
+
+/// Declares `fs::Comm& NAME`, the ranks of this process's run: in a `-mpi` tool (FIRSTSHOT_WITH_MPI)
+/// MPI_COMM_WORLD, started here (first thing in main) and finalized at the end of main's scope;
+/// otherwise the run of one process.
+#ifdef FIRSTSHOT_WITH_MPI
+#define FIRSTSHOT_TOOL_COMM(argc, argv, NAME) \
+  fs::MpiSession NAME##Session(argc, argv);   \
+  fs::Comm& NAME = NAME##Session.comm()
+#else
+#define FIRSTSHOT_TOOL_COMM(argc, argv, NAME) fs::Comm& NAME = fs::serialComm()
+#endif
 
 namespace fs {
 
 /// Runs @p body and maps exceptions to exit codes: InputError -> 2, Interrupted -> 128 + signal,
 /// anything else -> 1.
-inline int runTool(const char* tool, const std::function<int()>& body) {
+///
+/// In a run of several ranks (@p comm, docs/mpi.md) a failing rank stops the whole job with its exit
+/// code (Comm::abort) instead of leaving the others waiting. Rank 0 prints its message at once;
+/// another rank waits a second first, so that a failure every rank meets alike (bad input) is
+/// printed once, by rank 0, and one only that rank meets is printed with its rank.
+inline int runTool(const char* tool, Comm& comm, const std::function<int()>& body) {
+  int code = 0;
+  std::string message;
   try {
     return body();
   } catch (const InputError& e) {
-    std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
-    return kExitBadInput;
+    message = std::string("error: ") + e.what(), code = kExitBadInput;
   } catch (const Interrupted& e) {
-    std::fprintf(stderr, "%s: %s\n", tool, e.what());
-    return e.exitCode();
+    message = e.what(), code = e.exitCode();
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "%s: error: %s\n", tool, e.what());
-    return 1;
+    message = std::string("error: ") + e.what(), code = 1;
   }
+  if (comm.size() > 1 && !comm.root()) {
+    std::this_thread::sleep_for(std::chrono::seconds(1));
+    std::fprintf(stderr, "%s (rank %d of %d): %s\n", tool, comm.rank(), comm.size(), message.c_str());
+  } else {
+    std::fprintf(stderr, "%s: %s\n", tool, message.c_str());
+  }
+  if (comm.size() > 1) {
+    std::fflush(stderr);
+    comm.abort(code);
+  }
+  return code;
 }
+
+/// runTool for a run of one process.
+inline int runTool(const char* tool, const std::function<int()>& body) { return runTool(tool, serialComm(), body); }
 
 }  // namespace fs

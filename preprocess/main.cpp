@@ -46,8 +46,9 @@ void dumpCsv(const std::string& path) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  FIRSTSHOT_TOOL_COMM(argc, argv, comm);  // MPI_COMM_WORLD in firstshot-preprocess-mpi (docs/mpi.md)
   fs::installInterruptHandlers();  // SIGINT/SIGTERM: stop, write nothing, exit 130/143 (common/interrupt.h)
-  return fs::runTool("firstshot-preprocess", [&] {
+  return fs::runTool("firstshot-preprocess", comm, [&] {
     CLI::App app{"firstshot-preprocess: computes the first-shot factors of a scene's small lights (.fsd)"};
     std::string scenePath, out, dump, window, backend = "gl", gl = "osmesa", estimator = "analytic";
     double patchSize = 0, minPatchSize = 0, refineTolerance = 0, lightPatchSize = 0, lightTolerance = 0, timeLimit = 0;
@@ -86,7 +87,7 @@ int main(int argc, char** argv) {
       return app.exit(e) == 0 ? 0 : fs::kExitBadInput;
     }
     if (!dump.empty()) {
-      dumpCsv(dump);
+      if (comm.root()) dumpCsv(dump);
       return 0;
     }
     if (scenePath.empty()) throw fs::InputError("", "command line", "no scene file given (see --help)");
@@ -104,22 +105,27 @@ int main(int argc, char** argv) {
     o.settings.backend = backend;
     o.settings.rotationSeed = seed;
     o.settings.estimator = estimator;
-    o.gl = gl, o.threads = threads, o.quiet = quiet, o.timeLimit = timeLimit;
+    o.gl = gl, o.threads = threads, o.quiet = quiet || !comm.root(), o.timeLimit = timeLimit;
+    o.comm = &comm;
     if (stats) {
-      printStats(scene, scenePath, o.settings.patchSize);
+      if (comm.root()) printStats(scene, scenePath, o.settings.patchSize);
       return 0;
     }
     if (out.empty()) throw fs::InputError("", "command line", "no output file given (-o OUT.fsd)");
     fs::PreprocessStats st;
     const fs::FirstShotTable table = fs::preprocessScene(scene, o, &st);
+    if (!comm.root()) return 0;  // every rank holds the table; rank 0 writes it
     {
       fs::profile::Scope writeTime(fs::profile::Write);
       fs::writeFirstShot(out, table);
     }
     if (fs::profile::enabled()) fs::profile::report(stderr);
-    fmt::print("{}: {} light samples ({} small lights, {} large), {} patches, {} non-zero factors, {:.2f} s, {:.1f} samples/s [{}; R = {}]\n",
+    const std::string ranks = comm.size() == 1 ? std::string()
+                                               : fmt::format("; {} ranks, rank 0 sent {:.2f} MB in {:.2f} s of exchanges", comm.size(),
+                                                             st.bytesSent / 1e6, st.exchangeSeconds);
+    fmt::print("{}: {} light samples ({} small lights, {} large), {} patches, {} non-zero factors, {:.2f} s, {:.1f} samples/s [{}; R = {}{}]\n",
                out, st.lightSamples, st.smallLights, st.largeLights, st.patches, st.nonZeros, st.seconds,
-               st.seconds > 0 ? st.lightSamples / st.seconds : 0.0, st.renderer, o.settings.resolution);
+               st.seconds > 0 ? st.lightSamples / st.seconds : 0.0, st.renderer, o.settings.resolution, ranks);
     return 0;
   });
 }

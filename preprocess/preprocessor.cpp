@@ -77,25 +77,33 @@ const char* autoBackend(size_t triangles, const Window& w) {
 
 /// One shooting pass over a fixed mesh: workers with their own renderer (GL context) take tasks in
 /// any order; results are stored by sample index, so the table does not depend on the thread count.
+/// With several ranks (PreprocessOptions::comm), each shoots the tasks dealt to it and the results
+/// are exchanged after the pass (exchange()).
 struct Shooter {
   const SceneDesc& scene;
   const PreprocessOptions& options;
   const std::vector<SampleSetup>& setups;
   const Bounds3d& bounds;
+  Comm& comm;
   bool quiet = false;
   std::string rendererName;
   std::chrono::steady_clock::time_point deadline;  ///< past it the run fails (nothing is written)
+  double exchangeSeconds = 0;
+  uint64_t bytesSent = 0;
 
   /// Runs @p tasks over @p mesh; each task's factors are added to results[task.sample], which ends
   /// sorted by patch.
   void run(const PatchMesh& mesh, const std::vector<Task>& tasks, bool needVisible, const std::string& label,
            std::vector<std::vector<Entry>>& results) {
     if (tasks.empty()) return;
+    std::vector<size_t> mine;  // this rank's tasks
+    for (size_t k = 0; k < tasks.size(); ++k)
+      if (comm.mine(k)) mine.push_back(k);
     profile::Scope meshTime(profile::Mesh);
     const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
     meshTime.stop();
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    threads = std::max(1, std::min<int>(threads, static_cast<int>(tasks.size())));
+    threads = std::max(1, std::min<int>(threads, static_cast<int>(mine.size())));
     // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
     std::unique_ptr<EmbreeItemBuffer> probe;
     std::unique_ptr<ExposureCache> exposure;
@@ -115,7 +123,7 @@ struct Shooter {
     std::atomic<int> used[2] = {0, 0};  // which back ends "auto" chose
     std::mutex errorMutex;
     std::exception_ptr error;
-    Progress progress(label, tasks.size(), quiet);
+    Progress progress(label, mine.size(), quiet);
     auto work = [&](int worker) {
       try {
         std::unique_ptr<ItemBufferRenderer> renderers[2];  // gl, embree
@@ -123,7 +131,8 @@ struct Shooter {
         std::vector<uint32_t> touched;
         std::vector<std::vector<uint32_t>> ids;
         std::vector<uint32_t> candidates;
-        for (size_t k; (k = next++) < tasks.size();) {
+        for (size_t m; (m = next++) < mine.size();) {
+          const size_t k = mine[m];
           const Task& task = tasks[k];
           if (acc.empty()) acc.assign(mesh.size(), 0.0);
           ItemBufferRenderer* renderer = nullptr;
@@ -158,7 +167,7 @@ struct Shooter {
       } catch (...) {
         std::lock_guard lock(errorMutex);
         if (!error) error = std::current_exception();
-        next = tasks.size();
+        next = mine.size();
       }
     };
     std::vector<std::thread> pool;
@@ -169,6 +178,33 @@ struct Shooter {
     if (error) std::rethrow_exception(error);
     if (options.settings.backend == "auto" && (used[0] || used[1]) && rendererName.empty())
       rendererName = used[0] && used[1] ? "auto: gl+embree" : used[0] ? "auto: gl" : "auto: embree";
+    exchange(tasks, mine, results);
+  }
+
+  /// Every rank's results of its tasks to every rank: afterwards each rank holds, for every task's
+  /// sample, what the rank that shot it holds (the same bytes as one process shooting them all).
+  void exchange(const std::vector<Task>& tasks, const std::vector<size_t>& mine, std::vector<std::vector<Entry>>& results) {
+    if (comm.size() == 1) return;
+    const auto start = std::chrono::steady_clock::now();
+    ByteWriter out;
+    out.put<uint64_t>(mine.size());
+    for (const size_t k : mine) {
+      out.put<uint32_t>(tasks[k].sample);
+      out.putVector(results[tasks[k].sample]);
+    }
+    const uint64_t before = comm.bytesSent();
+    const std::vector<Bytes> all = comm.allGather(out.bytes());
+    bytesSent += comm.bytesSent() - before;
+    for (int r = 0; r < comm.size(); ++r) {
+      if (r == comm.rank()) continue;
+      ByteReader in(all[size_t(r)]);
+      for (uint64_t n = in.get<uint64_t>(); n > 0; --n) {
+        const uint32_t sample = in.get<uint32_t>();
+        if (sample >= results.size()) throw std::runtime_error("exchange between ranks: unknown light sample");
+        results[sample] = in.getVector<Entry>();
+      }
+    }
+    exchangeSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 };
 
@@ -332,7 +368,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   profile::Scope meshTime(profile::Mesh);
   AdaptiveMesh adaptive(scene, options.settings.patchSize);
   meshTime.stop();
-  Shooter shooter{scene, options, setups, bounds, options.quiet, {},
+  Shooter shooter{scene, options, setups, bounds, options.comm ? *options.comm : serialComm(), options.quiet, {},
                   std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                          std::chrono::duration<double>(options.timeLimit > 0 ? options.timeLimit : 1e9))};
   std::vector<Task> tasks(t.samples.size());
@@ -374,6 +410,8 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     stats->largeLights = scene.lights.size() - t.replacedLights.size();
     stats->seconds = timer.elapsed();
     stats->renderer = rendererName.empty() ? options.settings.backend : rendererName;
+    stats->exchangeSeconds = shooter.exchangeSeconds;
+    stats->bytesSent = shooter.bytesSent;
   }
   return t;
 }

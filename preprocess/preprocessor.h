@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/comm.h"
 #include "common/firstshot.h"
 #include "common/scene_desc.h"
 
@@ -16,12 +17,18 @@ struct PreprocessOptions {
   int threads = 0;                ///< workers (0 = one per core); each has its own GL context
   bool quiet = false;             ///< no progress bar
   double timeLimit = 0;           ///< seconds; 0 = none. Past it the run fails (nothing is written).
+  /// The ranks sharing the work (common/comm.h; null: this process alone). Each rank shoots the
+  /// light-sample tasks dealt to it; the factors are exchanged after every shooting pass, so every
+  /// rank ends with the same table, byte for byte the one a single process makes.
+  Comm* comm = nullptr;
 };
 
 struct PreprocessStats {
   size_t lightSamples = 0, patches = 0, nonZeros = 0;
   size_t smallLights = 0, largeLights = 0;
   double seconds = 0;
+  double exchangeSeconds = 0;     ///< of them, spent exchanging factors between ranks
+  uint64_t bytesSent = 0;         ///< factor bytes this rank sent to the others
   std::string renderer;           ///< e.g. "gl/osmesa (llvmpipe ...)" or "embree"
 };
 

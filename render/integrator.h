@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/comm.h"
 #include "common/math.h"
 #include "common/rng.h"
 #include "render/camera.h"
@@ -53,6 +54,11 @@ struct IntegratorOptions {
   /// Bidirectional path tracing with a first-shot table: the small lights' light subpaths start
   /// from the patches the table lights (render/integrators/bdpt/integrator.h); false: the table is ignored.
   bool bdptFirstShot = true;
+  /// The ranks of an MPI run sharing the work (common/comm.h; null: this process alone). Integrators
+  /// with a global state (the irradiance cache's two-pass fill, the bundle's transfer) split its
+  /// computation over the ranks and exchange the results, so that every rank holds the state one
+  /// process would make, bit for bit.
+  Comm* comm = nullptr;
 };
 
 /// A point an integrator has stored (an irradiance-cache record), for the preview's overlay.

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "common/comm.h"
 #include "render/camera.h"
 #include "render/film.h"
 #include "render/integrator.h"
@@ -36,6 +37,12 @@ struct RenderOptions {
   /// so far); the film then holds whole passes (for checkpoints). The render then goes pass by
   /// pass (one sample index over the whole image at a time), which gives the same image.
   std::function<void(int samplesDone)> afterPass;
+  /// The ranks of an MPI run (common/comm.h; null: this process alone): each renders the image
+  /// tiles dealt to it (splatting integrators: its share of each pass's particles, whose splats are
+  /// exchanged), and rank 0's film receives the other ranks' pixels before afterPass and at the
+  /// end, so that it is bit-identical for any number of ranks. With a time limit rank 0's clock
+  /// decides when to stop. The other ranks' films hold only their own pixels.
+  Comm* comm = nullptr;
 };
 
 struct RenderStats {
