@@ -12,8 +12,10 @@ SCENE  ?= scenes/cornell.json
 deps:
 	bash scripts/install-deps.sh
 
+## The Release build also makes the MPI tools (firstshot-*-mpi, docs/mpi.md), tested under mpirun against the MPI-free
+## ones; the sanitizer build below is the default, MPI-free configuration.
 build: deps
-	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release -DFIRSTSHOT_MPI=ON
 	cmake --build $(BUILD) -j $(JOBS)
 
 ## The sanitizer build: clang (a second compiler beside the Release build's gcc; its UBSan also checks float-to-int

@@ -6,6 +6,7 @@
 /// escape as a crash.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <functional>
 #include <string>
@@ -36,8 +37,9 @@ namespace fs {
 ///
 /// In a run of several ranks (@p comm, docs/mpi.md) a failing rank stops the whole job with its exit
 /// code (Comm::abort) instead of leaving the others waiting. Rank 0 prints its message at once;
-/// another rank waits a second first, so that a failure every rank meets alike (bad input) is
-/// printed once, by rank 0, and one only that rank meets is printed with its rank.
+/// another rank waits a second first (leaving silently if the job is ended meanwhile), so that a
+/// failure every rank meets alike (bad input) is printed once, by rank 0, and one only that rank
+/// meets is printed with its rank.
 inline int runTool(const char* tool, Comm& comm, const std::function<int()>& body) {
   int code = 0;
   std::string message;
@@ -51,7 +53,10 @@ inline int runTool(const char* tool, Comm& comm, const std::function<int()>& bod
     message = std::string("error: ") + e.what(), code = 1;
   }
   if (comm.size() > 1 && !comm.root()) {
-    std::this_thread::sleep_for(std::chrono::seconds(1));
+    for (int i = 0; i < 20; ++i) {  // Open MPI ends the other ranks of an aborted job with SIGTERM
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (interrupted()) std::_Exit(code);
+    }
     std::fprintf(stderr, "%s (rank %d of %d): %s\n", tool, comm.rank(), comm.size(), message.c_str());
   } else {
     std::fprintf(stderr, "%s: %s\n", tool, message.c_str());

@@ -46,6 +46,19 @@ class Film {
   const Sums& sums() const { return s_; }
   /// @throws std::invalid_argument if a vector's size is not width·height.
   void setSums(Sums sums);
+  /// One pixel's accumulators, for moving pixels between the films of MPI ranks (render/film_exchange.h).
+  struct PixelSums {
+    Vec3d sum, sumSq, albedo, normal;
+    uint32_t count;
+  };
+  PixelSums pixelSums(int x, int y) const {
+    const size_t i = index(x, y);
+    return {s_.sum[i], s_.sumSq[i], s_.albedo[i], s_.normal[i], s_.count[i]};
+  }
+  void setPixelSums(int x, int y, const PixelSums& p) {
+    const size_t i = index(x, y);
+    s_.sum[i] = p.sum, s_.sumSq[i] = p.sumSq, s_.albedo[i] = p.albedo, s_.normal[i] = p.normal, s_.count[i] = p.count;
+  }
 
   /// Mean radiance of pixel (x, y) (0 with no sample).
   Vec3d mean(int x, int y) const;

@@ -23,7 +23,8 @@
 #include "render/sensors_cli.h"
 
 int main(int argc, char** argv) {
-  return fs::runTool("firstshot-render", [&] {
+  FIRSTSHOT_TOOL_COMM(argc, argv, comm);  // MPI_COMM_WORLD in firstshot-render-mpi (docs/mpi.md)
+  return fs::runTool("firstshot-render", comm, [&] {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
     std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "off",
@@ -109,6 +110,11 @@ int main(int argc, char** argv) {
     std::vector<fs::SensorSet> sensorSets = sensors.sets();  // --grid-quad sets join once the scene is loaded
     photometric.checkOptions(app, sensors.active(), sensorSets, outputs);
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
+    if (comm.size() > 1)  // docs/mpi.md: what is split over ranks
+      for (const char* option : {"--preview", "--sensors", "--grid", "--grid-quad", "--checkpoint", "--resume"})
+        if (app.count(option))
+          throw fs::InputError("", option, fmt::format("not available in an MPI run of {} ranks (run it with one)", comm.size()));
+    quiet = quiet || !comm.root();  // rank 0 shows progress and prints the results
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
     for (const std::string* png : {&screenshot, &windowGrab}) {
       if (png->empty()) continue;
@@ -132,6 +138,7 @@ int main(int argc, char** argv) {
     io.patchNee = patchNee == "off" ? fs::PatchNee::Off : patchNee == "first" ? fs::PatchNee::First : fs::PatchNee::Every;
     io.lightVisibility = lightVisibility == "on";
     io.bdptFirstShot = bdptFirstShot == "patches";
+    io.comm = &comm;
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);
     bundle.configure(*integrator, spp, app);
@@ -191,6 +198,7 @@ int main(int argc, char** argv) {
     ro.seed = app.count("--seed") ? seed : scene.settings.seed;
     ro.threads = threads;
     ro.quiet = quiet;
+    ro.comm = &comm;
     if (checkpoint.active())
       checkpoint.makeKey(app, scenePath, scene, fsdPath, integratorName, ro.seed, io.maxDepth, irradianceCache.settings.cacheFile);
     integrator->preprocess(*rs);
@@ -201,6 +209,7 @@ int main(int argc, char** argv) {
     try {
       st = checkpoint.render(*integrator, camera, film, ro);
       fs::throwIfInterrupted("no output written");
+      if (!comm.root()) return 0;  // rank 0's film holds every rank's pixels; it alone writes
       const double cdPerW = photometric.units == "luminance" ? sensors.efficacy : 0.0;  // cd/m² per W/(m² sr)
       for (const auto& out : outputs) film.write(out, aov, exposure, cdPerW);
       if (photometric.active()) photometric.writeImage(film, sensors.efficacy);
@@ -214,9 +223,10 @@ int main(int argc, char** argv) {
       fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
     if (!quiet) {
       const auto* t = rs->firstShot();
-      fmt::print(stderr, "{}x{} at {} spp in {:.2f} s: {:.2f} Mrays/s; {} patches, {} lights ({} replaced by first-shot)\n",
+      fmt::print(stderr, "{}x{} at {} spp in {:.2f} s: {:.2f} Mrays/s; {} patches, {} lights ({} replaced by first-shot){}\n",
                  camera.width(), camera.height(), st.spp, st.seconds, st.seconds > 0 ? st.rays / st.seconds * 1e-6 : 0.0,
-                 rs->mesh().size(), scene.lights.size(), t ? t->replacedLights.size() : 0);
+                 rs->mesh().size(), scene.lights.size(), t ? t->replacedLights.size() : 0,
+                 comm.size() > 1 ? fmt::format("; {} ranks, rank 0 sent {:.2f} MB", comm.size(), comm.bytesSent() / 1e6) : "");
     }
     return 0;
   });

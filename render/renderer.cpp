@@ -13,6 +13,7 @@
 #include "common/progress.h"
 #include "common/rng.h"
 #include "render/embree_scene.h"
+#include "render/film_exchange.h"
 #include "render/splat_renderer.h"
 
 namespace fs {
@@ -63,7 +64,13 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
   if (film.width() != camera.width() || film.height() != camera.height())
     throw std::invalid_argument("render: film and camera sizes differ");
   if (integrator.splats()) return renderSplatting(integrator, camera, film, options);
-  const std::vector<Tile> tiles = makeTiles(camera.width(), camera.height(), std::max(1, options.tileSize));
+  Comm& comm = options.comm ? *options.comm : serialComm();
+  // This rank's tiles (dealt round-robin over the ranks; all of them with one rank).
+  std::vector<Tile> tiles = makeTiles(camera.width(), camera.height(), std::max(1, options.tileSize));
+  std::vector<PixelRect> mine;
+  for (size_t t = 0, kept = 0; t < tiles.size(); ++t)
+    if (comm.mine(t)) tiles[kept++] = tiles[t], mine.push_back({tiles[t].x0, tiles[t].y0, tiles[t].x1, tiles[t].y1});
+  tiles.resize(mine.size());
   const uint64_t pixels = uint64_t(camera.width()) * uint64_t(camera.height());
   std::atomic<uint64_t> rays{0}, nonFinite{0};
   std::atomic<bool> cancelled{false};
@@ -96,15 +103,23 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
   // Integrators with a per-pass state: one sample index at a time, each after its beginPass().
   auto pass = [&](int s0, int s1, Progress& progress) {
     if (!integrator.perPass()) return tilePass(s0, s1, progress);
-    for (int s = s0; s < s1 && !cancelled; ++s) {
+    for (int s = s0; s < s1; ++s) {
+      // Every rank runs each beginPass (the integrator's exchanges are collective), so all stop together.
+      if (comm.any(cancelled)) {
+        cancelled = true;
+        break;
+      }
       arena.execute([&] { integrator.beginPass(s, options.seed); });
-      if (options.cancel && options.cancel->load()) {  // beginPass may have stopped early
+      if (options.cancel && options.cancel->load()) cancelled = true;  // beginPass may have stopped early
+      if (comm.any(cancelled)) {
         cancelled = true;
         break;
       }
       tilePass(s, s + 1, progress);
     }
   };
+  // Rank 0's film receives the other ranks' pixels.
+  auto collect = [&] { collectFilm(comm, film, mine); };
 
   RenderStats stats;
   if (options.timeLimit > 0) {
@@ -112,24 +127,33 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
     Progress progress("render", budgetMs, options.quiet);
     int s = options.firstSample;
     uint64_t shownMs = 0;  // the bar shows elapsed time against the budget
-    do {
+    while (true) {
       pass(s, s + 1, progress);
-      if (cancelled) break;
+      if (comm.any(cancelled)) {  // rank 0's partial pass is what one process leaves
+        cancelled = true;
+        break;
+      }
       ++s;
-      if (options.afterPass) options.afterPass(s);
+      if (options.afterPass) collect(), options.afterPass(s);
       const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
       progress.advance(nowMs - shownMs);
       shownMs = nowMs;
-    } while (seconds() < options.timeLimit && !cancelled);
+      if (comm.any(comm.root() && seconds() >= options.timeLimit)) break;  // rank 0's clock decides
+    }
     progress.finish();
     stats.spp = s - options.firstSample;
   } else {
     const int spp = std::max(1, options.spp);
     Progress progress("render", pixels * uint64_t(spp), options.quiet);
     if (options.afterPass) {
-      for (int s = options.firstSample; s < options.firstSample + spp && !cancelled; ++s) {
+      for (int s = options.firstSample; s < options.firstSample + spp; ++s) {
         pass(s, s + 1, progress);
-        if (!cancelled) options.afterPass(s + 1);
+        if (comm.any(cancelled)) {
+          cancelled = true;
+          break;
+        }
+        collect();
+        options.afterPass(s + 1);
       }
     } else {
       pass(options.firstSample, options.firstSample + spp, progress);
@@ -137,6 +161,8 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
     progress.finish();
     stats.spp = spp;
   }
+  collect();
+  rays = comm.sum(rays), nonFinite = comm.sum(nonFinite);
   stats.seconds = seconds();
   stats.rays = rays;
   stats.nonFinite = nonFinite;

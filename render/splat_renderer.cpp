@@ -13,15 +13,33 @@
 #include "common/progress.h"
 #include "common/rng.h"
 #include "render/embree_scene.h"
+#include "render/film_exchange.h"
 
 namespace fs {
 
 namespace {
 
-/// One pass: the particles' splats summed in particle order, then one film sample per pixel.
-/// @return false if cancelled (the film is then untouched).
+/// Every rank's chunks of splats to every rank (@p splats holds this rank's chunks on entry, all on exit).
+void exchangeSplats(Comm& comm, std::vector<std::vector<Splat>>& splats) {
+  if (comm.size() == 1) return;
+  ByteWriter out;
+  for (size_t c = 0; c < splats.size(); ++c)
+    if (comm.mine(c)) out.putVector(splats[c]);
+  const std::vector<Bytes> all = comm.allGather(out.bytes());
+  for (int r = 0; r < comm.size(); ++r) {
+    if (r == comm.rank()) continue;
+    ByteReader in(all[size_t(r)]);
+    for (size_t c = size_t(r); c < splats.size(); c += size_t(comm.size())) splats[c] = in.getVector<Splat>();
+  }
+}
+
+/// One pass: the particles' splats summed in particle order, then one film sample per pixel. With
+/// several ranks, each traces the particle chunks and renders the image rows dealt to it; the
+/// splats are exchanged, so every rank sums all of them in the same order.
+/// @return false if cancelled on any rank (the film is then untouched).
 bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options,
-               uint64_t pass, tbb::task_arena& arena, std::atomic<uint64_t>& rays, std::atomic<uint64_t>& nonFinite) {
+               uint64_t pass, tbb::task_arena& arena, std::atomic<uint64_t>& rays, std::atomic<uint64_t>& nonFinite,
+               Comm& comm) {
   const int w = camera.width(), h = camera.height();
   const uint64_t n = integrator.particlesPerPass(camera);
   const size_t chunks = size_t((n + kSplatChunk - 1) / kSplatChunk);
@@ -32,6 +50,7 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
     tbb::parallel_for(tbb::blocked_range<size_t>(0, chunks, 1), [&](const tbb::blocked_range<size_t>& r) {
       enableFlushToZero();
       for (size_t c = r.begin(); c < r.end(); ++c) {
+        if (!comm.mine(c)) continue;
         if (stop()) {
           cancelled = true;
           continue;
@@ -43,7 +62,8 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
       }
     });
   });
-  if (cancelled) return false;
+  if (comm.any(cancelled)) return false;
+  exchangeSplats(comm, splats);
 
   std::vector<Vec3d> image(size_t(w) * size_t(h), Vec3d(0.0));
   uint64_t badSplats = 0;
@@ -52,7 +72,7 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
       if (isFinite(s.L)) image[s.pixel] += Vec3d(s.L);
       else ++badSplats;
     }
-  nonFinite += badSplats;
+  if (comm.root()) nonFinite += badSplats;  // every rank sums every splat
   splats.clear();
 
   arena.execute([&] {
@@ -60,7 +80,7 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
       enableFlushToZero();
       uint64_t rowRays = 0, rowBad = 0;
       for (int y = r.begin(); y < r.end(); ++y)
-        for (int x = 0; x < w; ++x) {
+        for (int x = 0; x < w && comm.mine(uint64_t(y)); ++x) {
           const uint64_t pixel = uint64_t(y) * uint64_t(w) + uint64_t(x);
           Sampler sampler(options.seed, pixel, pass);
           const Vec2 jitter = sampler.next2D();
@@ -80,6 +100,10 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
 }  // namespace
 
 RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options) {
+  Comm& comm = options.comm ? *options.comm : serialComm();
+  std::vector<PixelRect> mine;  // this rank's image rows
+  for (int y = 0; y < camera.height(); ++y)
+    if (comm.mine(uint64_t(y))) mine.push_back({0, y, camera.width(), y + 1});
   const uint64_t pixels = uint64_t(camera.width()) * uint64_t(camera.height());
   std::atomic<uint64_t> rays{0}, nonFinite{0};
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
@@ -98,23 +122,25 @@ RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, 
   uint64_t shownMs = 0;
   int s = options.firstSample;
   while (true) {
-    if (!splatPass(integrator, camera, film, options, uint64_t(s), arena, rays, nonFinite)) {
+    if (!splatPass(integrator, camera, film, options, uint64_t(s), arena, rays, nonFinite, comm)) {
       stats.cancelled = true;
       break;
     }
     ++s;
-    if (options.afterPass) options.afterPass(s);
+    if (options.afterPass) collectFilm(comm, film, mine), options.afterPass(s);
     if (timed) {
       const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
       progress.advance(nowMs - shownMs);
       shownMs = nowMs;
-      if (seconds() >= options.timeLimit) break;
+      if (comm.any(comm.root() && seconds() >= options.timeLimit)) break;  // rank 0's clock decides
     } else {
       progress.advance(pixels);
       if (s - options.firstSample >= spp) break;
     }
   }
   progress.finish();
+  collectFilm(comm, film, mine);
+  rays = comm.sum(rays), nonFinite = comm.sum(nonFinite);
   stats.spp = s - options.firstSample;
   stats.seconds = seconds();
   stats.rays = rays;
