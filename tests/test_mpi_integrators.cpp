@@ -1,7 +1,8 @@
 // The integrators' rank-split preprocessing (common/comm.h), simulated by threads: with 2 and 3
 // ranks every rank ends with exactly the state of one process, bit for bit.
 // - Irradiance cache: the two-pass fill's records, every level, in order, with their radii.
-// - Ray bundles: I_k, P_k and the outgoing radiance of every element side after each iteration.
+// - Ray bundles: I_k, P_k, D_k and the outgoing radiance of every element side after each
+//   iteration, and the rays counted.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -11,6 +12,7 @@
 #include "common/error.h"
 #include "common/interrupt.h"
 #include "render/camera.h"
+#include "render/integrators/bundle/integrator.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/irradiance_cache_util.h"
 #include "tests/thread_comm.h"
@@ -145,6 +147,89 @@ TEST(MpiIrradianceCache, OnePassIsRefusedWithSeveralRanks) {
     s.twoPass = false;
     IrradianceCacheIntegrator ic(io, s);
     EXPECT_NO_THROW(ic.preprocess(scene));
+  });
+}
+
+// ---- Ray bundles ------------------------------------------------------------------------------
+
+/// The Cornell box with its area light, plus a point light (P_k) and a directional light falling on
+/// the box from above (D_k, on the outside of the ceiling), at 16² pixels.
+SceneDesc bundleScene() {
+  SceneDesc desc = test::cornellWithPointLight(16);
+  const SceneDesc original = loadScene(test::source("scenes/cornell.json"));
+  desc.materials = original.materials;  // the area light emits again
+  desc.lights = original.lights;
+  desc.lights.push_back(test::cornellWithPointLight(16).lights[0]);
+  LightDesc sun;
+  sun.name = "sun";
+  sun.type = LightType::Directional;
+  sun.direction = glm::normalize(Vec3d(0.3, -1.0, 0.2));
+  sun.irradiance = Color(2.0f);
+  desc.lights.push_back(sun);
+  return desc;
+}
+
+/// I_k, P_k, D_k and the outgoing radiance of every element side after each of 4 iterations, and
+/// the rays, as bytes; @p stats receives the exchange counters.
+std::string bundleStates(const RenderScene& scene, Comm* comm, uint64_t* rays = nullptr, uint64_t* sent = nullptr) {
+  IntegratorOptions io;
+  io.comm = comm;
+  BundleIntegrator b(io);
+  BundleSettings settings;
+  settings.resolution = 48;
+  b.setSettings(settings);
+  b.preprocess(scene);
+  std::string s;
+  for (int k = 0; k < 4; ++k) {
+    b.beginPass(k, 7);
+    const BundleTransfer& t = b.transfer();
+    std::vector<Color> in, point, out, dir;
+    for (uint32_t e = 0; e < t.elements().size(); ++e)
+      for (int side = 0; side < 2; ++side) {
+        in.push_back(t.incoming(e, side));
+        point.push_back(t.incomingPoint(e, side));
+        out.push_back(t.outgoing(e, side));
+      }
+    for (size_t d = 0; d < t.directionalLights().size(); ++d)
+      for (uint32_t e = 0; e < t.elements().size(); ++e) dir.push_back(t.directionalIrradiance(d, e));
+    for (const auto* v : {&in, &point, &out, &dir}) appendBytes(s, *v);
+    s += std::to_string(t.lastRays()) + ";";
+    if (rays) *rays += t.lastRays();
+  }
+  if (sent) *sent = b.transfer().exchangeBytes();
+  return s;
+}
+
+TEST(MpiBundle, IterationsAreTheSameForOneTwoAndThreeRanks) {
+  const SceneDesc desc = bundleScene();
+  uint64_t rays = 0, sent = 0;
+  std::string serial;
+  {
+    const RenderScene scene(desc);
+    serial = bundleStates(scene, nullptr, &rays, &sent);
+    // The states are not trivially equal: every kind of light reached some element.
+    IntegratorOptions io;
+    BundleIntegrator b(io);
+    b.preprocess(scene);
+    b.beginPass(1, 7);
+    double in = 0, point = 0, dir = 0;
+    for (uint32_t e = 0; e < b.transfer().elements().size(); ++e) {
+      in += double(maxComponent(b.transfer().incoming(e, 0) + b.transfer().incoming(e, 1)));
+      point += double(maxComponent(b.transfer().incomingPoint(e, 0) + b.transfer().incomingPoint(e, 1)));
+      dir += double(maxComponent(b.transfer().directionalIrradiance(0, e)));
+    }
+    EXPECT_GT(in, 0.0);
+    EXPECT_GT(point, 0.0);
+    EXPECT_GT(dir, 0.0);
+  }
+  EXPECT_GT(rays, 4u * 48u * 48u);
+  EXPECT_EQ(sent, 0u);
+  expectSameOnEveryRank(serial, [&](Comm& comm) {
+    const RenderScene scene(desc);
+    uint64_t rankSent = 0;
+    std::string s = bundleStates(scene, &comm, nullptr, &rankSent);
+    EXPECT_GT(rankSent, 0u) << "rank " << comm.rank();
+    return s;
   });
 }
 
