@@ -259,5 +259,23 @@ TEST(MpiBundle, IterationsAreTheSameForOneTwoAndThreeRanks) {
   });
 }
 
+// A signal before a pass: no rank starts the iteration (each would wait for the others forever).
+TEST(MpiBundle, InterruptStopsEveryRankBeforeTheIteration) {
+  const SceneDesc desc = bundleScene();
+  std::atomic<int> idle{0};
+  requestInterrupt(SIGTERM);
+  test::runRanks(2, [&](Comm& comm) {
+    const RenderScene scene(desc);
+    IntegratorOptions io;
+    io.comm = &comm;
+    BundleIntegrator b(io);
+    b.preprocess(scene);
+    b.beginPass(3, 7);
+    if (b.transfer().iterations() == 0) ++idle;
+  });
+  clearInterrupt();
+  EXPECT_EQ(idle.load(), 2);
+}
+
 }  // namespace
 }  // namespace fs

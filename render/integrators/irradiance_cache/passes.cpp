@@ -210,9 +210,11 @@ int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std
   const auto start = std::chrono::steady_clock::now();
   // Per rank: its interrupt signal (0: none), then per task of its own, in order: the task's
   // number, its levels, and each level's records in the order the task made them.
+  // The flag is read once: set after the tasks ended, it leaves their records complete.
+  const int32_t mySignal = int32_t(interruptSignal());
   ByteWriter out;
-  out.put<int32_t>(interruptSignal());
-  if (!interrupted())
+  out.put<int32_t>(mySignal);
+  if (mySignal == 0)
     for (const size_t i : mine) {
       out.put<uint64_t>(pos + i);
       out.put<uint32_t>(uint32_t(made[i].size()));
