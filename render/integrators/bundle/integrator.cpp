@@ -8,7 +8,7 @@ namespace fs {
 void BundleIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   firstShot_.build(scene);
-  transfer_.build(scene, settings_);
+  transfer_.build(scene, settings_, options_.comm);
   seed_ = 0;
   const auto& lights = scene.lights().lights();
   neeLights_.assign(lights.size(), 0);
@@ -26,8 +26,11 @@ void BundleIntegrator::beginPass(int sampleIndex, uint64_t seed) const {
     seed_ = seed;
   }
   // Resuming at a late index replays every iteration; SIGINT/SIGTERM stops the replay (render()
-  // then stops too, and a later call continues from where it stopped).
-  while (transfer_.iterations() <= k && !interrupted()) transfer_.iterate(seed);
+  // then stops too, and a later call continues from where it stopped). An iteration is collective
+  // over the MPI ranks: they stop together, when any has the signal.
+  Comm* comm = options_.comm && options_.comm->size() > 1 ? options_.comm : nullptr;
+  auto stop = [&] { return comm ? comm->any(interrupted()) : interrupted(); };
+  while (transfer_.iterations() <= k && !stop()) transfer_.iterate(seed);
 }
 
 Color BundleIntegrator::surface(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,

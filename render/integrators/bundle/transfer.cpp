@@ -5,6 +5,8 @@
 #include <tbb/parallel_for.h>
 
 #include <atomic>
+#include <chrono>
+#include <stdexcept>
 
 #include "common/lights.h"
 #include "common/rng.h"
@@ -24,9 +26,12 @@ int sideFacing(const Vec3& n, const Vec3& w) {
 
 }  // namespace
 
-void BundleTransfer::build(const RenderScene& scene, const BundleSettings& settings) {
+void BundleTransfer::build(const RenderScene& scene, const BundleSettings& settings, Comm* comm) {
   scene_ = &scene;
   settings_ = settings;
+  comm_ = comm && comm->size() > 1 ? comm : nullptr;
+  exchangeBytes_ = 0;
+  exchangeSeconds_ = 0;
   elements_.build(scene);
   sideIrradiance_ = scene.firstShot() ? scene.firstShot()->sideIrradiance() : std::vector<Color>();
   points_.clear();
@@ -134,6 +139,7 @@ void BundleTransfer::traceDirectional(uint64_t seed) {
       enableFlushToZero();
       std::vector<Deposit>& out = chunks_[size_t(a)];
       out.clear();
+      if (comm_ && !comm_->mine(uint64_t(a))) return;  // another rank's row
       uint64_t n = 0;
       Ray ray;
       Hit hit;
@@ -146,7 +152,7 @@ void BundleTransfer::traceDirectional(uint64_t seed) {
       }
       rays += n;
     });
-    rays_ += rays;
+    rays_ += shareChunks(rays);
     Color* D = &dirIrradiance_[d * elements_.size()];
     std::fill(D, D + elements_.size(), Color(0.0f));
     for (const auto& chunk : chunks_)
@@ -167,6 +173,7 @@ void BundleTransfer::traceBundle(uint64_t seed) {
     enableFlushToZero();
     std::vector<Deposit>& out = chunks_[size_t(a)];
     out.clear();
+    if (comm_ && !comm_->mine(uint64_t(a))) return;  // another rank's row
     struct Crossing {
       uint32_t e;
       int side;  ///< the side facing +ω_k
@@ -208,7 +215,7 @@ void BundleTransfer::traceBundle(uint64_t seed) {
     }
     rays += n;
   });
-  rays_ += rays;
+  rays_ += shareChunks(rays);
 
   // The kept point and spot lights: one line each way along ±ω_k from the light.
   pointDeposits_.clear();
@@ -228,6 +235,36 @@ void BundleTransfer::traceBundle(uint64_t seed) {
   }
   gather(incoming_, grid.cellArea(), false);
   gather(point_, 1.0f, true);
+}
+
+uint64_t BundleTransfer::shareChunks(uint64_t rays) {
+  if (!comm_) return rays;
+  const auto start = std::chrono::steady_clock::now();
+  // Per rank: its rays, then per row of its own, in order: the row and its deposits.
+  ByteWriter out;
+  out.put<uint64_t>(rays);
+  for (size_t a = 0; a < chunks_.size(); ++a)
+    if (comm_->mine(a)) {
+      out.put<uint32_t>(uint32_t(a));
+      out.putVector(chunks_[a]);
+    }
+  const uint64_t before = comm_->bytesSent();
+  const std::vector<Bytes> all = comm_->allGather(out.bytes());
+  exchangeBytes_ += comm_->bytesSent() - before;
+  uint64_t total = 0;
+  for (int r = 0; r < comm_->size(); ++r) {
+    ByteReader in(all[size_t(r)]);
+    total += in.get<uint64_t>();
+    if (r == comm_->rank()) continue;
+    while (!in.done()) {
+      const uint32_t a = in.get<uint32_t>();
+      if (a >= chunks_.size() || int(a % uint32_t(comm_->size())) != r)
+        throw std::runtime_error("bundle transfer: exchange between ranks out of order");
+      chunks_[a] = in.getVector<Deposit>();
+    }
+  }
+  exchangeSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return total;
 }
 
 void BundleTransfer::gather(std::vector<Color>& target, float scale, bool pointLines) {

@@ -30,10 +30,13 @@
 ///
 /// Deterministic: lines are traced in parallel in fixed chunks (a grid row each) that record their
 /// deposits; the deposits are then summed chunk by chunk in row order, so the state is bit-identical
-/// for any number of threads.
+/// for any number of threads. With several MPI ranks (build()'s @p comm) each rank traces the rows
+/// comm.mine() deals to it and the rows' deposits are exchanged before the sum, so every rank holds
+/// the state of one process, bit for bit (the point lights' few lines are traced by every rank).
 #include <cstdint>
 #include <vector>
 
+#include "common/comm.h"
 #include "common/math.h"
 #include "render/direct_light.h"
 #include "render/integrators/bundle/bundle_grid.h"
@@ -54,7 +57,9 @@ struct BundleSettings {
 class BundleTransfer {
  public:
   /// Prepares the elements, the lights and the first-shot sums of @p scene (which must outlive this).
-  void build(const RenderScene& scene, const BundleSettings& settings);
+  /// With @p comm (several ranks; null: this process alone) every iterate() is collective: all
+  /// ranks run the same iterations, in the same order.
+  void build(const RenderScene& scene, const BundleSettings& settings, Comm* comm = nullptr);
   /// Forgets all iterations (the state of "iteration −1": no incoming radiance).
   void reset();
   /// Runs the next iteration (number iterations()) with random numbers keyed by @p seed.
@@ -80,8 +85,13 @@ class BundleTransfer {
   const Color& directionalIrradiance(size_t d, uint32_t e) const { return dirIrradiance_[d * elements_.size() + e]; }
   /// Outgoing radiance of the last iteration of element @p e on side @p side towards ±ω_k, W/(m² sr).
   const Color& outgoing(uint32_t e, int side) const { return outgoing_[2 * size_t(e) + side]; }
-  /// Lines traced by the last iteration (rays, including successive-hit continuations).
+  /// Lines traced by the last iteration (rays, including successive-hit continuations), summed
+  /// over the ranks (the point lights' lines, traced by every rank, counted once).
   uint64_t lastRays() const { return rays_; }
+  /// With several ranks: bytes this rank sent in the deposit exchanges since build(), and the
+  /// seconds spent in them (waiting for the other ranks included).
+  uint64_t exchangeBytes() const { return exchangeBytes_; }
+  double exchangeSeconds() const { return exchangeSeconds_; }
 
  private:
   struct Deposit {
@@ -93,11 +103,17 @@ class BundleTransfer {
   /// Outgoing radiance of element @p e on side @p side towards @p w.
   Color outgoingOf(uint32_t e, int side, const Vec3& w) const;
   void traceBundle(uint64_t seed);
+  /// Several ranks: sends this rank's rows of chunks_ and its @p rays to every rank, fills in the
+  /// other ranks' rows; returns the rays of all ranks. One rank: returns @p rays.
+  uint64_t shareChunks(uint64_t rays);
   /// Sums the chunks' deposits in chunk order into @p target, times @p scale / A_element.
   void gather(std::vector<Color>& target, float scale, bool pointLines);
 
   const RenderScene* scene_ = nullptr;
   BundleSettings settings_;
+  Comm* comm_ = nullptr;
+  uint64_t exchangeBytes_ = 0;
+  double exchangeSeconds_ = 0;
   BundleElements elements_;
   std::vector<Color> sideIrradiance_;  ///< first-shot, 2 per patch (FirstShotTable::sideIrradiance)
   std::vector<uint32_t> points_;       ///< kept point and spot lights (LightSet indices)

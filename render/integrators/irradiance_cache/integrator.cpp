@@ -81,6 +81,8 @@ IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
   s.missPaths = missPaths_.load();
   s.fillSeconds = fillSeconds_;
   s.fillRounds = fillRounds_;
+  s.exchangeBytes = exchangeBytes_;
+  s.exchangeSeconds = exchangeSeconds_;
   return s;
 }
 

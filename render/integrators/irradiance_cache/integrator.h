@@ -89,6 +89,10 @@ struct IrradianceCacheStats {
   uint64_t missPaths = 0;       ///< after preprocessRays: lookups that found no record and took one path
   double fillSeconds = 0;       ///< two-pass fill
   int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
+  /// With several MPI ranks (IntegratorOptions::comm): bytes this rank sent in the fill's record
+  /// exchanges, and the seconds it spent in them (waiting for the other ranks included).
+  uint64_t exchangeBytes = 0;
+  double exchangeSeconds = 0;
 };
 
 class IrradianceCacheIntegrator : public Integrator {
@@ -168,8 +172,16 @@ class IrradianceCacheIntegrator : public Integrator {
   std::unique_ptr<IrradianceCache> makeCache() const;
   /// preprocess() without the fill: lights, the empty cache, the cache file.
   void setup(const RenderScene& scene);
-  /// Two-pass fill from the rays of tasks 0 .. @p tasks − 1, in that order.
+  /// Two-pass fill from the rays of tasks 0 .. @p tasks − 1, in that order. With several ranks
+  /// (IntegratorOptions::comm) each rank traces the tasks comm.mine() deals to it and the batch's
+  /// records are exchanged before the merge, so every rank merges the same records in the same order.
   void fill(size_t tasks, const RayTask& task);
+  /// The records of one fill task, per level in the order it made them.
+  using MadeRecords = std::vector<std::vector<IrradianceRecord>>;
+  /// Sends made[i] for the tasks @p mine (batch offsets from task @p pos) to every rank and fills in
+  /// the other ranks' tasks of the batch. Returns the first interrupt signal any rank reported (0:
+  /// none; then @p made is incomplete).
+  int exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine, std::vector<MadeRecords>& made);
 
   IntegratorOptions options_;
   IrradianceCacheSettings settings_;
@@ -189,6 +201,8 @@ class IrradianceCacheIntegrator : public Integrator {
   size_t loaded_ = 0;
   double fillSeconds_ = 0;
   int fillRounds_ = 0;
+  uint64_t exchangeBytes_ = 0;
+  double exchangeSeconds_ = 0;
   mutable std::atomic<uint64_t> privateRecords_{0};
   mutable std::atomic<uint64_t> missPaths_{0};
 };

@@ -9,6 +9,7 @@
 #include <functional>
 #include <stdexcept>
 
+#include "common/comm.h"
 #include "common/error.h"
 #include "common/interrupt.h"
 #include "common/small_lights.h"
@@ -86,6 +87,12 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   fillRounds_ = 0;
   privateRecords_ = 0;
   missPaths_ = 0;
+  exchangeBytes_ = 0;
+  exchangeSeconds_ = 0;
+  if (!settings_.twoPass && options_.comm && options_.comm->size() > 1)
+    throw InputError("", "--one-pass",
+                     "the one-pass irradiance cache depends on the thread schedule and cannot be split over MPI ranks; "
+                     "use the two-pass fill (the default)");
   firstShot_.build(scene);
   continuation_ = std::make_unique<PathIntegrator>(options_);
   continuation_->preprocess(scene);
@@ -130,41 +137,55 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
 void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
   const auto start = std::chrono::steady_clock::now();
   tbb::task_arena arena(settings_.threads > 0 ? settings_.threads : tbb::task_arena::automatic);
+  Comm& comm = options_.comm ? *options_.comm : serialComm();
 
   // One sweep over the pixels; returns the number of records added.
   auto sweep = [&](bool shrinkNeighbours) {
     size_t added = 0;
     size_t batch = 1;
     for (size_t pos = 0; pos < tasks; pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
-      throwIfInterrupted();  // SIGINT/SIGTERM: the fill stops between batches (common/interrupt.h)
+      // SIGINT/SIGTERM: the fill stops between batches (common/interrupt.h). With several ranks
+      // only at the exchange, where every rank learns of it, so that none waits for the others.
+      if (comm.size() == 1) throwIfInterrupted();
       const size_t count = std::min(batch, tasks - pos);
+      std::vector<size_t> mine;  // the batch's tasks dealt to this rank
+      for (size_t i = 0; i < count; ++i)
+        if (comm.mine(pos + i)) mine.push_back(i);
       // Each task traces its pixel against the cache as it was at the start of the batch,
       // keeping the records it has to make to itself...
-      std::vector<std::unique_ptr<IrradianceCache>> made(count);
+      std::vector<MadeRecords> made(count);
       arena.execute([&] {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& r) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, mine.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
           enableFlushToZero();
-          for (size_t i = r.begin(); i < r.end(); ++i) {
+          for (size_t k = r.begin(); k < r.end(); ++k) {
             if (interrupted()) break;  // thrown below, before the merge
+            const size_t i = mine[k];
             Context ctx(Context::Mode::Private);
-            task(pos + i, [&](const Ray& ray, Sampler& sampler) {
-              return radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, nullptr);
-            });
-            made[i] = std::move(ctx.overlay);
+            try {
+              task(pos + i, [&](const Ray& ray, Sampler& sampler) {
+                return radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, nullptr);
+              });
+            } catch (const Interrupted&) {
+              break;  // gather() stopped the task; the flag stays set, so it is thrown below (on every rank)
+            }
+            if (ctx.overlay)
+              for (int l = 0; l < ctx.overlay->levels(); ++l) made[i].push_back(ctx.overlay->records(l));
           }
         });
       });
-      throwIfInterrupted();
+      if (comm.size() == 1) {
+        throwIfInterrupted();
+      } else if (const int signal = exchangeRecords(comm, pos, mine, made)) {
+        throw Interrupted(signal, "no output written");
+      }
       // ...then the records are merged in task order, each unless an earlier one covers it.
-      for (const auto& m : made) {
-        if (!m) continue;
-        for (int l = 0; l < m->levels(); ++l)
-          for (const IrradianceRecord& r : m->records(l))
+      for (const MadeRecords& m : made)
+        for (int l = 0; l < int(m.size()); ++l)
+          for (const IrradianceRecord& r : m[size_t(l)])
             if (!cache_->covers(l, r.p, r.n)) {
               cache_->insert(l, r, settings_.neighbourClamp, shrinkNeighbours);
               ++added;
             }
-      }
     }
     return added;
   };
@@ -182,6 +203,42 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
     for (const IrradianceRecord& r : cache_->records(l)) rebuilt->insert(l, r, false);
   cache_ = std::move(rebuilt);
   fillSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine,
+                                               std::vector<MadeRecords>& made) {
+  const auto start = std::chrono::steady_clock::now();
+  // Per rank: its interrupt signal (0: none), then per task of its own, in order: the task's
+  // number, its levels, and each level's records in the order the task made them.
+  // The flag is read once: set after the tasks ended, it leaves their records complete.
+  const int32_t mySignal = int32_t(interruptSignal());
+  ByteWriter out;
+  out.put<int32_t>(mySignal);
+  if (mySignal == 0)
+    for (const size_t i : mine) {
+      out.put<uint64_t>(pos + i);
+      out.put<uint32_t>(uint32_t(made[i].size()));
+      for (const auto& level : made[i]) out.putVector(level);
+    }
+  const uint64_t before = comm.bytesSent();
+  const std::vector<Bytes> all = comm.allGather(out.bytes());
+  exchangeBytes_ += comm.bytesSent() - before;
+  int signal = 0;
+  for (int r = 0; r < comm.size(); ++r) {
+    ByteReader in(all[size_t(r)]);
+    const int32_t s = in.get<int32_t>();
+    if (s != 0 && signal == 0) signal = s;
+    if (s != 0 || r == comm.rank()) continue;
+    for (size_t i = 0; i < made.size(); ++i) {
+      if (int((pos + i) % uint64_t(comm.size())) != r) continue;  // comm.mine(pos + i) on rank r
+      if (in.get<uint64_t>() != pos + i) throw std::runtime_error("irradiance cache: exchange between ranks out of order");
+      made[i].resize(in.get<uint32_t>());
+      for (auto& level : made[i]) level = in.getVector<IrradianceRecord>();
+    }
+    if (!in.done()) throw std::runtime_error("irradiance cache: exchange between ranks out of order");
+  }
+  exchangeSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return signal;
 }
 
 void IrradianceCacheIntegrator::saveCache(const std::string& path) const {
