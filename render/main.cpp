@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
     photometric.checkOptions(app, sensors.active(), sensorSets, outputs);
     if (!preview && outputs.empty()) throw fs::InputError("", "--output", "an output image is required (or use --preview)");
     if (comm.size() > 1)  // docs/mpi.md: what is split over ranks
-      for (const char* option : {"--preview", "--sensors", "--grid", "--grid-quad", "--checkpoint", "--resume"})
+      for (const char* option : {"--preview", "--checkpoint", "--resume"})
         if (app.count(option))
           throw fs::InputError("", option, fmt::format("not available in an MPI run of {} ranks (run it with one)", comm.size()));
     quiet = quiet || !comm.root();  // rank 0 shows progress and prints the results
@@ -165,10 +165,11 @@ int main(int argc, char** argv) {
       so.threads = threads;
       so.quiet = quiet;
       so.lightSampler = io.lightSampler;
+      so.comm = &comm;
       if (photometric.active())
         sensors.onResults = [&](const auto& sets, const auto& lux) { photometric.writeGrid(sets, lux); };
       const int rc = sensors.run(*integrator, *rs, sensorSets, outputs, so);
-      irradianceCache.finish(*integrator, nullptr, 0.0f, 0.0, quiet);  // --cache-file, the record counts
+      if (comm.root()) irradianceCache.finish(*integrator, nullptr, 0.0f, 0.0, quiet);  // --cache-file, the record counts
       return rc;
     }
     if (preview) {

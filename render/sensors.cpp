@@ -130,6 +130,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
   const int batch = std::max(1, options.batch);
+  Comm& comm = options.comm ? *options.comm : serialComm();
 
   auto pass = [&](uint64_t s0, uint64_t s1, Progress& progress) {
     arena.execute([&] {
@@ -138,6 +139,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
         uint64_t localRays = 0, bad = 0;
         for (size_t i = r.begin(); i < r.end(); ++i) {
           if (interrupted()) break;
+          if (!comm.mine(i)) continue;
           Sums& acc = sums[i];
           for (uint64_t s = s0; s < s1; ++s) {
             Sampler sampler(options.seed, i, s, kSensorStream);
@@ -172,7 +174,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
       const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
       progress.advance(nowMs - shownMs);
       shownMs = nowMs;
-    } while (seconds() < options.timeLimit);
+    } while (!comm.any(comm.root() && seconds() >= options.timeLimit));  // rank 0's clock decides
     progress.finish();
   } else {
     const uint64_t total = uint64_t(std::max(1, options.samples));
@@ -184,6 +186,17 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
     }
     progress.finish();
   }
+
+  // Rank 0 receives the other ranks' sensors.
+  ByteWriter out;
+  for (size_t i = 0; i < sensors.size(); ++i)
+    if (comm.mine(i) && !comm.root()) out.put(sums[i]);
+  const std::vector<Bytes> all = comm.gather(out.bytes());
+  for (size_t r = 1; r < all.size(); ++r) {
+    ByteReader in(all[r]);
+    for (size_t i = r; i < sensors.size(); i += all.size()) sums[i] = in.get<Sums>();
+  }
+  rays = comm.sum(rays), nonFinite = comm.sum(nonFinite);
 
   std::vector<SensorResult> results(sensors.size());
   for (size_t i = 0; i < sensors.size(); ++i) {

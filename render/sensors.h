@@ -24,6 +24,7 @@
 #include "common/error.h"
 #include "common/math.h"
 #include "common/scene_desc.h"
+#include "common/comm.h"
 #include "render/integrator.h"
 #include "render/render_scene.h"
 
@@ -96,6 +97,10 @@ struct SensorOptions {
   /// preprocessSensors: the angular footprint of a sensor ray (rad), for a caching integrator's
   /// footprint clamp (as the camera's pixel angle for camera rays).
   double rayAngle = 0.05;
+  /// The ranks of an MPI run (common/comm.h; null: this process alone): each estimates the sensors
+  /// dealt to it and rank 0 receives every sensor's sums (the other ranks' results hold only their
+  /// own sensors). With a time limit rank 0's clock decides. The results do not depend on the ranks.
+  Comm* comm = nullptr;
 };
 
 struct SensorStats {

@@ -95,6 +95,7 @@ struct SensorsCli {
     const double prepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     SensorStats st;
     const std::vector<SensorResult> results = estimateSensors(integrator, scene, all, options, &st);
+    if (options.comm && !options.comm->root()) return 0;  // rank 0 holds every sensor's result and writes them
     std::vector<SensorSummary> summaries;
     size_t at = 0;
     for (const auto& s : sets) {

@@ -95,9 +95,27 @@ TEST_F(MpiCli, BadInputStopsTheJobWithExitCode2AndOneMessage) {
   EXPECT_FALSE(std::ifstream(out).good());
   // An option that is not split over ranks is refused by name.
   const test::CommandResult s = test::run(kMpirun + "2 " + FIRSTSHOT_RENDER_MPI_EXE + " " + test::source("scenes/cornell.json") +
-                                          " --grid 0,0,1,1,0.5,0.5 -o " + *dir_ + "/s.csv");
+                                          " --checkpoint 10 -o " + *dir_ + "/c.exr");
   EXPECT_EQ(s.exitCode, 2) << s.output;
-  EXPECT_NE(s.output.find("--grid"), std::string::npos) << s.output;
+  EXPECT_NE(s.output.find("--checkpoint"), std::string::npos) << s.output;
+}
+
+// Sensors (a work plane of 36 points) with the path tracer and with the irradiance cache, whose fill
+// from the sensors' rays is split too: the same CSV bytes for 1, 2 and 3 ranks.
+TEST_F(MpiCli, SensorsGiveTheSameResultsForOneTwoAndThreeRanks) {
+  const std::string& dir = *dir_;
+  for (const std::string integrator : {"path", "irradiance-cache"}) {
+    const std::string args = " " + test::source("scenes/cornell.json") + " --firstshot " + dir + "/serial.fsd" +
+                             " -q --grid 0.05,0.05,0.5,0.5,0.2,0.08 --samples 16 --integrator " + integrator +
+                             (integrator == "path" ? "" : " --ic-samples 64");
+    const std::string serial = dir + "/sensors-" + integrator + ".csv";
+    ok(std::string(FIRSTSHOT_RENDER_EXE) + args + " -o " + serial);
+    for (int n : {1, 2, 3}) {
+      const std::string out = dir + "/sensors-" + integrator + "-" + std::to_string(n) + ".csv";
+      ok(kMpirun + std::to_string(n) + " " + FIRSTSHOT_RENDER_MPI_EXE + args + " --threads 1 -o " + out);
+      EXPECT_EQ(fileBytes(out), fileBytes(serial)) << integrator << ", " << n << " ranks";
+    }
+  }
 }
 
 }  // namespace
