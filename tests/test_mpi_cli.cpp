@@ -100,6 +100,18 @@ TEST_F(MpiCli, BadInputStopsTheJobWithExitCode2AndOneMessage) {
   EXPECT_NE(s.output.find("--checkpoint"), std::string::npos) << s.output;
 }
 
+// A failure one rank alone meets (here: its own scene path, through mpirun's MPMD syntax) stops the job
+// with that rank's message and exit code while rank 0 waits in an exchange; nothing is written.
+TEST_F(MpiCli, OneFailingRankStopsTheJobWithItsMessage) {
+  const std::string out = *dir_ + "/one.exr";
+  const std::string args = " --firstshot " + *dir_ + "/serial.fsd -q --width 32 --height 32 --spp 16 --threads 1 -o " + out;
+  const test::CommandResult r = test::run(kMpirun + "1 " + FIRSTSHOT_RENDER_MPI_EXE + " " + test::source("scenes/cornell.json") +
+                                          args + " : -np 1 " + FIRSTSHOT_RENDER_MPI_EXE + " " + *dir_ + "/only-rank-1.json" + args);
+  EXPECT_EQ(r.exitCode, 2) << r.output;
+  EXPECT_NE(r.output.find("(rank 1 of 2): error: " + *dir_ + "/only-rank-1.json"), std::string::npos) << r.output;
+  EXPECT_FALSE(std::ifstream(out).good());
+}
+
 // Sensors (a work plane of 36 points) with the path tracer and with the irradiance cache, whose fill
 // from the sensors' rays is split too: the same CSV bytes for 1, 2 and 3 ranks.
 TEST_F(MpiCli, SensorsGiveTheSameResultsForOneTwoAndThreeRanks) {
