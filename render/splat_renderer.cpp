@@ -79,8 +79,9 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 1), [&](const tbb::blocked_range<int>& r) {
       enableFlushToZero();
       uint64_t rowRays = 0, rowBad = 0;
-      for (int y = r.begin(); y < r.end(); ++y)
-        for (int x = 0; x < w && comm.mine(uint64_t(y)); ++x) {
+      for (int y = r.begin(); y < r.end(); ++y) {
+        if (!comm.mine(uint64_t(y))) continue;  // another rank's row
+        for (int x = 0; x < w; ++x) {
           const uint64_t pixel = uint64_t(y) * uint64_t(w) + uint64_t(x);
           Sampler sampler(options.seed, pixel, pass);
           const Vec2 jitter = sampler.next2D();
@@ -90,6 +91,7 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
           if (!isFinite(L)) ++rowBad, L = Color(0.0f);
           film.add(x, y, Color(image[pixel]) + L, info.albedo, info.normal);
         }
+      }
       rays += rowRays;
       nonFinite += rowBad;
     });
