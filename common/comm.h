@@ -22,8 +22,10 @@ class Comm {
   virtual int size() const = 0;
   /// Rank 0 writes the outputs, shows progress and prints the results.
   bool root() const { return rank() == 0; }
-  /// True if item @p index of a work list belongs to this rank (items dealt round-robin).
-  bool mine(uint64_t index) const { return int(index % uint64_t(size())) == rank(); }
+  /// The rank that item @p index of a work list belongs to: items are dealt round-robin.
+  int owner(uint64_t index) const { return int(index % uint64_t(size())); }
+  /// True if item @p index of a work list belongs to this rank.
+  bool mine(uint64_t index) const { return owner(index) == rank(); }
 
   /// Every rank's @p mine, indexed by rank, on every rank.
   virtual std::vector<Bytes> allGather(const Bytes& mine) = 0;

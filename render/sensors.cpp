@@ -194,7 +194,8 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
   const std::vector<Bytes> all = comm.gather(out.bytes());
   for (size_t r = 1; r < all.size(); ++r) {
     ByteReader in(all[r]);
-    for (size_t i = r; i < sensors.size(); i += all.size()) sums[i] = in.get<Sums>();
+    for (size_t i = 0; i < sensors.size(); ++i)
+      if (comm.owner(i) == int(r)) sums[i] = in.get<Sums>();
   }
   rays = comm.sum(rays), nonFinite = comm.sum(nonFinite);
 

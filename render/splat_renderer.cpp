@@ -29,7 +29,8 @@ void exchangeSplats(Comm& comm, std::vector<std::vector<Splat>>& splats) {
   for (int r = 0; r < comm.size(); ++r) {
     if (r == comm.rank()) continue;
     ByteReader in(all[size_t(r)]);
-    for (size_t c = size_t(r); c < splats.size(); c += size_t(comm.size())) splats[c] = in.getVector<Splat>();
+    for (size_t c = 0; c < splats.size(); ++c)
+      if (comm.owner(c) == r) splats[c] = in.getVector<Splat>();
   }
 }
 

@@ -161,8 +161,7 @@ TEST(CheckpointFile, RefusesMissingDamagedAndMismatchedFiles) {
   EXPECT_THAT(refused(file, {{"integrator", "test"}}, 4, 3), HasSubstr("seed is \"3\" in the checkpoint but not set now"));
   EXPECT_THAT(refused(file, kKey, 5, 3), HasSubstr("4x3"));
 
-  std::ifstream in(file, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = test::readFile(file);
   test::writeText(dir + "/cut.checkpoint", bytes.substr(0, bytes.size() / 2));
   EXPECT_THAT(refused(dir + "/cut.checkpoint", kKey, 4, 3), HasSubstr("truncated"));
   std::string flipped = bytes;

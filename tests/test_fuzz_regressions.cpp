@@ -35,10 +35,7 @@ std::vector<FuzzInput> inputsUnder(const std::string& folder) {
   return inputs;
 }
 
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
+std::string readBytes(const std::string& path) { return test::readFile(path); }
 
 std::string testName(const testing::TestParamInfo<FuzzInput>& info) {
   std::string name = info.param.target + "_" + std::filesystem::path(info.param.path).filename().string();

@@ -162,8 +162,7 @@ TEST(InterruptCli, ResumeRefusesACheckpointOfAnotherRenderWithCode2) {
     EXPECT_THAT(r.output, HasSubstr(checkpoint + ": key: made for a different render: " + what)) << change;
   }
   // The same scene with the light moved by 1 mm.
-  std::ifstream in(kCornell);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text = test::readFile(kCornell);
   ASSERT_NE(text.find("0.343"), std::string::npos);
   text.replace(text.find("0.343"), 5, "0.344");
   test::writeText(dir + "/moved.json", text);

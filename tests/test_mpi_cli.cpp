@@ -16,11 +16,6 @@ namespace {
 const std::string kMpirun = std::string("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 ") + FIRSTSHOT_MPIEXEC +
                             " --oversubscribe --bind-to none -np ";
 
-std::string fileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
 std::vector<float> pixels(const std::string& path) {
   int w = 0, h = 0;
   std::vector<std::string> channels;
@@ -54,7 +49,7 @@ TEST_F(MpiCli, PreprocessWritesTheSameFsdForOneTwoAndThreeRanks) {
     for (int n : {1, 2, 3}) {
       const std::string out = dir + "/mpi" + std::to_string(n) + "-" + backend + ".fsd";
       ok(kMpirun + std::to_string(n) + " " + FIRSTSHOT_PREPROCESS_MPI_EXE + args + " --threads 1 -o " + out);
-      EXPECT_EQ(fileBytes(out), fileBytes(serial)) << backend << ", " << n << " ranks";
+      EXPECT_EQ(test::readFile(out), test::readFile(serial)) << backend << ", " << n << " ranks";
     }
   }
 }
@@ -125,7 +120,7 @@ TEST_F(MpiCli, SensorsGiveTheSameResultsForOneTwoAndThreeRanks) {
     for (int n : {1, 2, 3}) {
       const std::string out = dir + "/sensors-" + integrator + "-" + std::to_string(n) + ".csv";
       ok(kMpirun + std::to_string(n) + " " + FIRSTSHOT_RENDER_MPI_EXE + args + " --threads 1 -o " + out);
-      EXPECT_EQ(fileBytes(out), fileBytes(serial)) << integrator << ", " << n << " ranks";
+      EXPECT_EQ(test::readFile(out), test::readFile(serial)) << integrator << ", " << n << " ranks";
     }
   }
 }

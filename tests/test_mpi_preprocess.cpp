@@ -16,14 +16,13 @@ namespace {
 std::string tableBytes(const FirstShotTable& t) {
   const std::string path = test::tempDir() + "/t.fsd";
   writeFirstShot(path, t);
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  return test::readFile(path);
 }
 
 // Cornell (one area light cut into vertices, adaptive refinement passes re-shooting split patches)
 // at a coarse resolution, with the Embree back end (no GL context per thread rank).
 TEST(MpiPreprocess, TableIsTheSameForOneTwoAndThreeRanks) {
-  const SceneDesc scene = loadScene(std::string(FIRSTSHOT_SOURCE_DIR) + "/scenes/cornell.json");
+  const SceneDesc scene = loadScene(test::source("scenes/cornell.json"));
   PreprocessOptions o = defaultOptions(scene);
   o.settings.resolution = 64;
   o.settings.backend = "embree";

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 namespace fs::test {
@@ -32,6 +33,11 @@ std::string tempDir() {
   auto dir = std::filesystem::temp_directory_path() / ("fs_test_" + name + "_" + std::to_string(rd()));
   std::filesystem::create_directories(dir);
   return dir.string();
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 void writeText(const std::string& path, const std::string& text) {

@@ -35,6 +35,9 @@ CommandResult run(const std::string& command);
 /// A fresh, empty temporary directory for this test (removed at exit of the process is not needed).
 std::string tempDir();
 
+/// The whole content of the file at @p path, byte for byte ("" if it cannot be read).
+std::string readFile(const std::string& path);
+
 /// Writes @p text to @p path (creating parent directories).
 void writeText(const std::string& path, const std::string& text);
 

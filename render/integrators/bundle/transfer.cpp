@@ -258,7 +258,7 @@ uint64_t BundleTransfer::shareChunks(uint64_t rays) {
     if (r == comm_->rank()) continue;
     while (!in.done()) {
       const uint32_t a = in.get<uint32_t>();
-      if (a >= chunks_.size() || int(a % uint32_t(comm_->size())) != r)
+      if (a >= chunks_.size() || comm_->owner(a) != r)
         throw std::runtime_error("bundle transfer: exchange between ranks out of order");
       chunks_[a] = in.getVector<Deposit>();
     }

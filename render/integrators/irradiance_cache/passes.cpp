@@ -230,7 +230,7 @@ int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std
     if (s != 0 && signal == 0) signal = s;
     if (s != 0 || r == comm.rank()) continue;
     for (size_t i = 0; i < made.size(); ++i) {
-      if (int((pos + i) % uint64_t(comm.size())) != r) continue;  // comm.mine(pos + i) on rank r
+      if (comm.owner(pos + i) != r) continue;
       if (in.get<uint64_t>() != pos + i) throw std::runtime_error("irradiance cache: exchange between ranks out of order");
       made[i].resize(in.get<uint32_t>());
       for (auto& level : made[i]) level = in.getVector<IrradianceRecord>();
