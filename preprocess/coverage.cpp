@@ -92,12 +92,12 @@ void forEachCentre(const View& view, const std::vector<double>& weights, const V
     }
     while (i0 > pr.i0 && inside(centre(i0, cy))) --i0;
     while (i1 < pr.i1 && inside(centre(i1, cy))) ++i1;
+    // The run's ends, tested inwards; the test holds for every centre between them.
+    while (i0 <= i1 && !inside(centre(i0, cy))) ++i0;
+    while (i1 > i0 && !inside(centre(i1, cy))) --i1;
     const double* w = weights.data() + size_t(j) * view.width;
-    for (int i = i0; i <= i1; ++i) {
-      const Vec2d c = centre(i, cy);
-      if (!inside(c)) continue;
-      if (w[i] > 0) fn(i, j, w[i], c);
-    }
+    for (int i = i0; i <= i1; ++i)
+      if (w[i] > 0) fn(i, j, w[i], centre(i, cy));
   }
 }
 
@@ -124,25 +124,45 @@ struct ExactPolygon {
   }
 };
 
-/// The exact polygons of the patches one patchCoverage() call meets as candidate occluders, built once
-/// each (a patch's neighbours recur at most of its border pixels).
+/// A candidate occluder of one patchCoverage() call.
+struct Candidate {
+  ExactPolygon polygon;
+  /// False when no vertex lies on the eye's side of the patch's plane: then no point of the candidate
+  /// is in front of the patch along any ray from the eye (the coplanar neighbours of a mesh, the
+  /// surfaces behind it), and the ray test is skipped.
+  bool inFront = true;
+};
+
+/// The candidate occluders one patchCoverage() call meets, built once each (a patch's neighbours
+/// recur at most of its border pixels).
 class PolygonCache {
  public:
-  explicit PolygonCache(const PatchMesh& mesh) : mesh_(mesh) {}
-  const ExactPolygon& get(uint32_t id) {
+  /// @p self: the patch whose coverage is taken, seen from @p view.
+  PolygonCache(const PatchMesh& mesh, const ExactPolygon& self, const View& view) : mesh_(mesh), self_(self) {
+    const double side = view.projection == Projection::Perspective ? glm::dot(view.eye - self.v[0], self.n)
+                                                                    : -glm::dot(view.forward, self.n);
+    eyeSide_ = side > 0 ? 1.0 : side < 0 ? -1.0 : 0.0;
+  }
+  const Candidate& get(uint32_t id) {
     for (int k = 0; k < n_; ++k)
       if (ids_[k] == id) return polys_[k];
     const int k = n_ < kSize ? n_++ : (next_++ % kSize);
     ids_[k] = id;
-    polys_[k] = ExactPolygon(mesh_.patches[id]);
-    return polys_[k];
+    Candidate& c = polys_[k];
+    c.polygon = ExactPolygon(mesh_.patches[id]);
+    c.inFront = eyeSide_ == 0;
+    for (int v = 0; v < c.polygon.count && !c.inFront; ++v)
+      c.inFront = eyeSide_ * glm::dot(c.polygon.v[v] - self_.v[0], self_.n) > 0;
+    return c;
   }
 
  private:
   static constexpr int kSize = 16;
   const PatchMesh& mesh_;
+  const ExactPolygon& self_;
+  double eyeSide_ = 0;  ///< sign of the eye's side of the patch's plane (0: in the plane)
   uint32_t ids_[kSize];
-  ExactPolygon polys_[kSize];
+  Candidate polys_[kSize];
   int n_ = 0, next_ = 0;
 };
 
@@ -163,7 +183,9 @@ bool occludedNear(const View& view, const std::vector<uint32_t>& ids, const Patc
       for (int c = 0; c < nc && !seen; ++c) seen = cand[c] == id;
       if (seen) continue;
       cand[nc++] = id;
-      const ExactPolygon& other = polygons.get(id);
+      const Candidate& c = polygons.get(id);
+      if (!c.inFront) continue;
+      const ExactPolygon& other = c.polygon;
       const double t = other.planeDepth(o, d);
       if (t >= near && t < tMax && other.contains(o + t * d)) return true;
     }
@@ -197,26 +219,35 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
   Vec3d poly[4];
   for (uint32_t k = 0; k < p.count; ++k) poly[k] = Vec3d(p.v[k]);
   const ExactPolygon self(p);
-  PolygonCache polygons(mesh);
+  PolygonCache polygons(mesh, self, view);
   const uint32_t n = mesh.size();
   const bool persp = view.projection == Projection::Perspective;
-  forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w, const Vec2d& uv) {
-    if (!exposure) {
-      // No other patch shows at this pixel or its 8 neighbours: nothing to propose as an occluder,
-      // so the centre is visible (what occludedNear() would find, without computing the ray).
-      bool candidates = false;
-      for (int y = std::max(0, j - 1); y <= std::min(view.height - 1, j + 1) && !candidates; ++y)
-        for (int x = std::max(0, i - 1); x <= std::min(view.width - 1, i + 1); ++x) {
-          const uint32_t id = ids[size_t(y) * view.width + x];
-          if (id != patch && id < n) {
-            candidates = true;
-            break;
-          }
-        }
-      if (!candidates) {
-        r.expected += w, ++r.pixels, r.visible += w;
-        return;
+  // clean(x, j): column x of rows j − 1 … j + 1 shows no other patch; each column once per row
+  // (memoized under a key of this call and the row, so nothing is cleared between calls).
+  thread_local std::vector<uint64_t> columnKey;
+  thread_local std::vector<uint8_t> columnClean;
+  thread_local uint64_t call = 0;
+  ++call;
+  if (columnKey.size() < size_t(view.width)) columnKey.assign(size_t(view.width), 0), columnClean.resize(size_t(view.width));
+  auto clean = [&](int x, int j) {
+    const uint64_t key = (call << 32) | uint32_t(j);
+    if (columnKey[x] != key) {
+      bool c = true;
+      for (int y = std::max(0, j - 1); y <= std::min(view.height - 1, j + 1); ++y) {
+        const uint32_t id = ids[size_t(y) * view.width + x];
+        c = c && (id == patch || id >= n);
       }
+      columnKey[x] = key, columnClean[x] = c;
+    }
+    return columnClean[x] != 0;
+  };
+  forEachCentre(view, weights, poly, int(p.count), near, [&](int i, int j, double w, const Vec2d& uv) {
+    // No other patch shows at this pixel or its 8 neighbours: nothing to propose as an occluder,
+    // so the centre is visible (what occludedNear() would find, without computing the ray).
+    const bool clear = clean(std::max(0, i - 1), j) && clean(i, j) && clean(std::min(view.width - 1, i + 1), j);
+    if (clear && !exposure) {
+      r.expected += w, ++r.pixels, r.visible += w;
+      return;
     }
     // View::pixelOrigin() and pixelDirection() at the centre already computed.
     const Vec3d o = persp ? view.eye : view.eye + uv.x * view.right + uv.y * view.up;
@@ -224,7 +255,7 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
     const double t = self.planeDepth(o, d);
     if (exposure && exposure->buried(o + t * d)) return;
     r.expected += w, ++r.pixels;
-    if (!occludedNear(view, ids, mesh, patch, i, j, o, d, t, near, polygons)) r.visible += w;
+    if (clear || !occludedNear(view, ids, mesh, patch, i, j, o, d, t, near, polygons)) r.visible += w;
   });
   return r;
 }

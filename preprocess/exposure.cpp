@@ -1,5 +1,6 @@
 #include "preprocess/exposure.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -7,14 +8,7 @@ namespace fs {
 
 bool ExposureQuery::buried(const Vec3d& x) const {
   if (!mask || !mask->partial) return false;
-  size_t best = 0;
-  double bestD = std::numeric_limits<double>::infinity();
-  for (size_t k = 0; k < mask->points.size(); ++k) {
-    const Vec3d d = mask->points[k] - x;
-    const double d2 = glm::dot(d, d);
-    if (d2 < bestD) bestD = d2, best = k;
-  }
-  return mask->border[best] ? cache->probe(patch, side, x) : mask->buried[best] != 0;
+  return mask->cells ? cache->cell(patch, side, *mask, x) : cache->nearest(patch, side, *mask, x);
 }
 
 ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid, int directions)
@@ -76,6 +70,45 @@ void ExposureCache::compute(uint32_t patch, int side) {
         const Vec3d d = m.points[k] - m.points[l];
         m.border[k] = m.buried[k] != m.buried[l] && glm::dot(d, d) <= r2;
       }
+  if (!m.partial) return;
+  // The lattice over the patch's bounding rectangle in its plane.
+  const Framed frame(glm::normalize(Vec3d(p.normal)));
+  double lo[2] = {0, 0}, hi[2] = {0, 0};
+  for (uint32_t k = 0; k < p.count; ++k) {
+    const Vec3d r = Vec3d(p.v[k]) - v0;
+    const double a = glm::dot(r, frame.s), b = glm::dot(r, frame.t);
+    lo[0] = std::min(lo[0], a), hi[0] = std::max(hi[0], a), lo[1] = std::min(lo[1], b), hi[1] = std::max(hi[1], b);
+  }
+  m.h = step / (grid_ * kLatticePerStep);
+  if (!(m.h > 0)) return;
+  m.s = frame.s, m.t = frame.t, m.origin = v0 + lo[0] * frame.s + lo[1] * frame.t;
+  m.nu = std::max(1, int(std::ceil((hi[0] - lo[0]) / m.h))), m.nv = std::max(1, int(std::ceil((hi[1] - lo[1]) / m.h)));
+  m.cells.reset(new std::atomic<uint8_t>[size_t(m.nu) * m.nv]);
+  for (size_t c = 0; c < size_t(m.nu) * m.nv; ++c) m.cells[c].store(0, std::memory_order_relaxed);
+}
+
+bool ExposureCache::nearest(uint32_t patch, int side, const ExposureMask& m, const Vec3d& x) const {
+  size_t best = 0;
+  double bestD = std::numeric_limits<double>::infinity();
+  for (size_t k = 0; k < m.points.size(); ++k) {
+    const Vec3d d = m.points[k] - x;
+    const double d2 = glm::dot(d, d);
+    if (d2 < bestD) bestD = d2, best = k;
+  }
+  return m.border[best] ? probe(patch, side, x) : m.buried[best] != 0;
+}
+
+bool ExposureCache::cell(uint32_t patch, int side, const ExposureMask& m, const Vec3d& x) const {
+  const Vec3d r = x - m.origin;
+  const int i = std::clamp(int(std::floor(glm::dot(r, m.s) / m.h)), 0, m.nu - 1);
+  const int j = std::clamp(int(std::floor(glm::dot(r, m.t) / m.h)), 0, m.nv - 1);
+  std::atomic<uint8_t>& c = m.cells[size_t(j) * m.nu + i];
+  uint8_t state = c.load(std::memory_order_relaxed);
+  if (state == 0) {  // two threads may both decide a new cell; they store the same answer
+    state = nearest(patch, side, m, m.origin + (i + 0.5) * m.h * m.s + (j + 0.5) * m.h * m.t) ? 2 : 1;
+    c.store(state, std::memory_order_relaxed);
+  }
+  return state == 2;
 }
 
 bool ExposureCache::probe(uint32_t patch, int side, const Vec3d& x) const {

@@ -11,6 +11,13 @@
 /// rays leaving it over that side's hemisphere hit the back face of a patch (the side its normal
 /// points away from); surfaces of closed objects face outwards. Each patch side is probed at a
 /// grid of points, on first use.
+///
+/// A point is decided at the centre of its cell of a lattice in the patch's plane (kLatticePerStep
+/// cells per grid step), once per cell: by the nearest probe point, or, when that point is on the
+/// border between buried and exposed probes, by probing the cell centre itself. The pixel centres
+/// of every light sample that sees the patch fall on the same cells, so each cell is decided once,
+/// and the answer does not depend on which light or which thread asked first.
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -30,12 +37,17 @@ struct ExposureMask {
   /// True when some points are buried and some are not (otherwise the mask changes nothing: a
   /// patch buried whole is never shaded, and a wrongly oriented surface must not blank a patch).
   bool partial = false;
+  /// Border lattice (partial masks only): cell (i, j) has its centre at
+  /// origin + (i + ½) h s + (j + ½) h t, on the patch's plane.
+  Vec3d origin{0.0}, s{0.0}, t{0.0};
+  double h = 0;                                  ///< cell size, m
+  int nu = 0, nv = 0;                            ///< cells along s and t
+  std::unique_ptr<std::atomic<uint8_t>[]> cells;  ///< 0 unknown, 1 exposed, 2 buried
 };
 
 class ExposureCache;
 
-/// Whether points of one side of one patch are buried: the nearest probe decides, unless it lies
-/// on the border between buried and exposed probes, where the point itself is probed with rays.
+/// Whether points of one side of one patch are buried (decided per lattice cell, see above).
 struct ExposureQuery {
   const ExposureCache* cache = nullptr;
   const ExposureMask* mask = nullptr;
@@ -57,6 +69,12 @@ class ExposureCache {
   const EmbreeItemBuffer& rays() const { return rays_; }
   /// The ray test itself at point @p x of side @p side of patch @p patch.
   bool probe(uint32_t patch, int side, const Vec3d& x) const;
+  /// The nearest probe point's answer at @p x, or the ray test at @p x if that point is on the border.
+  bool nearest(uint32_t patch, int side, const ExposureMask& mask, const Vec3d& x) const;
+  /// nearest() at the centre of the lattice cell of @p mask holding @p x, decided on first use.
+  bool cell(uint32_t patch, int side, const ExposureMask& mask, const Vec3d& x) const;
+  /// Lattice cells per grid step.
+  static constexpr int kLatticePerStep = 8;
 
  private:
   void compute(uint32_t patch, int side);
