@@ -226,9 +226,9 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
   // (memoized under a key of this call and the row, so nothing is cleared between calls).
   thread_local std::vector<uint64_t> columnKey;
   thread_local std::vector<uint8_t> columnClean;
-  thread_local uint64_t call = 0;
-  ++call;
-  if (columnKey.size() < size_t(view.width)) columnKey.assign(size_t(view.width), 0), columnClean.resize(size_t(view.width));
+  thread_local uint64_t call = 0;  // < 2³², so keys of different calls never coincide
+  if (++call >> 32 || columnKey.size() < size_t(view.width))
+    call = 1, columnKey.assign(std::max(columnKey.size(), size_t(view.width)), 0), columnClean.resize(columnKey.size());
   auto clean = [&](int x, int j) {
     const uint64_t key = (call << 32) | uint32_t(j);
     if (columnKey[x] != key) {

@@ -37,7 +37,7 @@ struct ExposureMask {
   /// True when some points are buried and some are not (otherwise the mask changes nothing: a
   /// patch buried whole is never shaded, and a wrongly oriented surface must not blank a patch).
   bool partial = false;
-  /// Border lattice (partial masks only): cell (i, j) has its centre at
+  /// Lattice (partial masks only): cell (i, j) has its centre at
   /// origin + (i + ½) h s + (j + ½) h t, on the patch's plane.
   Vec3d origin{0.0}, s{0.0}, t{0.0};
   double h = 0;                                  ///< cell size, m
