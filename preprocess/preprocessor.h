@@ -34,7 +34,7 @@ struct PreprocessStats {
 
 /// min_patch_size when the scene does not give it: patch_size / this (adaptive refinement by up to
 /// log2 of it levels).
-constexpr double kDefaultRefineRatio = 8.0;
+constexpr double kDefaultRefineRatio = 16.0;
 
 /// The smallest patch edge refinement may reach for coarse patches of @p patchSize (m): @p given if
 /// positive (at most patchSize), else patchSize / kDefaultRefineRatio.
