@@ -94,8 +94,9 @@ void FirstShotLighting::build(const RenderScene& scene) {
   const FirstShotTable* t = scene.firstShot();
   side_.clear();
   visible_.clear();
-  nearStart_.clear();
-  nearFactor_.clear();
+  near_.clear();
+  nearSpotStart_.clear();
+  nearSpot_.clear();
   if (!t) return;
   const uint32_t n = t->mesh.size();
   side_.assign(2 * size_t(n), SideTerm());
@@ -149,11 +150,20 @@ void FirstShotLighting::build(const RenderScene& scene) {
     for (int side = 0; side < 2; ++side)
       for (int ch = 0; ch < 3; ++ch) side_[2 * size_t(j) + side].gradient[ch] = Vec3(gradient[side][ch]);
   });
-  nearStart_.assign(size_t(n) + 1, 0);
+  nearSpotStart_.assign(size_t(n) + 1, 0);
   for (uint32_t j = 0; j < n; ++j) {
-    for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k)
-      if (near[k]) nearFactor_.push_back(k);
-    nearStart_[j + 1] = nearFactor_.size();
+    for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k) {
+      if (!near[k]) continue;
+      const LightSample& s = t->samples[t->sampleIndex[k]];
+      if (s.kind == LightSampleKind::Spot)
+        nearSpot_.push_back(k);
+      else if (s.kind == LightSampleKind::Point)
+        near_.addPoint(s.position, s.emission * (visible_[k] / (4.0f * kPiF)));
+      else
+        near_.addArea(s.position, s.normal, s.emission * (visible_[k] * s.weight));
+    }
+    near_.endPatch();
+    nearSpotStart_[j + 1] = nearSpot_.size();
   }
 }
 
@@ -164,8 +174,9 @@ Color FirstShotLighting::irradiance(const Hit& hit, bool front) const {
   Color e = far.average + Color(glm::dot(dx, far.gradient[0]), glm::dot(dx, far.gradient[1]), glm::dot(dx, far.gradient[2]));
   e = glm::max(e, Color(0.0f));
   const float sign = front ? 1.0f : -1.0f;
-  for (uint64_t m = nearStart_[hit.patch], end = nearStart_[hit.patch + 1]; m < end; ++m) {
-    const uint64_t k = nearFactor_[m];
+  e += near_.sum(hit.patch, hit.p, hit.ng * sign);
+  for (uint64_t m = nearSpotStart_[hit.patch], end = nearSpotStart_[hit.patch + 1]; m < end; ++m) {
+    const uint64_t k = nearSpot_[m];
     const LightSample& s = t.samples[t.sampleIndex[k]];
     Vec3 wi;
     e += s.emission * (visible_[k] * sampleKernel(s, spots_[t.sampleIndex[k]], hit.p, hit.ng, sign, wi));

@@ -14,6 +14,7 @@
 #include "common/lights.h"
 #include "common/math.h"
 #include "common/rng.h"
+#include "render/near_terms.h"
 #include "render/ray.h"
 #include "render/render_scene.h"
 
@@ -78,8 +79,9 @@ class FirstShotLighting {
   /// Per factor (the table's CSR order): V_ij, or a negative value for a patch-average entry.
   std::vector<float> visible_;
   std::vector<SpotKernel> spots_;  ///< by light sample: the spot profile (default for other kinds)
-  /// CSR over patches of their near factors (indices into the table's factors).
-  std::vector<uint64_t> nearStart_, nearFactor_;
+  NearTerms near_;  ///< per patch: its near point lights and area vertices, evaluated per point
+  /// CSR over patches of their near spots (indices into the table's factors): per point through sampleKernel.
+  std::vector<uint64_t> nearSpotStart_, nearSpot_;
 };
 
 /// Which lights estimateDirect() samples, and how it weights them.
