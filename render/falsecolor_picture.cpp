@@ -1,6 +1,6 @@
-// False colour: drawing the picture (field, contours, legend with OpenImageIO's text) and writing it.
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
+// False colour: drawing the picture (field, contours, legend with FreeType's text) and writing it.
+#include <ft2build.h>
+#include FT_FREETYPE_H
 
 #include <algorithm>
 #include <cmath>
@@ -24,20 +24,67 @@ void fill(Picture& p, int x0, int y0, int x1, int y1, const std::array<uint8_t, 
       std::copy(c.begin(), c.end(), &p.rgb[(size_t(y) * size_t(p.width) + size_t(x)) * 3]);
 }
 
-/// Draws @p text into @p p with its baseline's left end at (x, y); returns the end of its advance.
-int text(Picture& p, int x, int y, const std::string& s, int size) {
-  OIIO::ImageSpec spec(p.width, p.height, 3, OIIO::TypeDesc::UINT8);
-  OIIO::ImageBuf buf(spec, p.rgb.data());  // wraps the picture's pixels
-  const float ink[3] = {kInk[0] / 255.0f, kInk[1] / 255.0f, kInk[2] / 255.0f};
-  if (!OIIO::ImageBufAlgo::render_text(buf, x, y, s, size, kFontPath, ink))
-    throw std::runtime_error("--falsecolor: cannot draw the legend's text with " + std::string(kFontPath) + " (" +
-                             buf.geterror() + ")");
-  const OIIO::ROI r = OIIO::ImageBufAlgo::text_size(s, size, kFontPath);
-  return x + (r.defined() ? r.xend : int(s.size()) * size / 2);
+/// The code point starting at byte @p i of UTF-8 @p s; advances @p i past it (a stray byte counts as itself).
+FT_ULong nextCodePoint(const std::string& s, size_t& i) {
+  const auto b = [&](size_t k) { return FT_ULong(static_cast<unsigned char>(s[k])); };
+  const FT_ULong c = b(i);
+  const int extra = c >= 0xF0 ? 3 : c >= 0xE0 ? 2 : c >= 0xC0 ? 1 : 0;
+  if (extra == 0 || i + size_t(extra) >= s.size()) {
+    ++i;
+    return c;
+  }
+  FT_ULong cp = c & (0x3Fu >> extra);
+  for (int k = 1; k <= extra; ++k) cp = (cp << 6) | (b(i + size_t(k)) & 0x3Fu);
+  i += size_t(extra) + 1;
+  return cp;
 }
 
-/// Draws @p units, with "²" (which OpenImageIO 2.4 does not decode) as a smaller, raised "2".
-void unitsText(Picture& p, int x, int y, const std::string& units) {
+/// The legend's typeface (FreeType), opened once per picture.
+class Font {
+ public:
+  Font() {
+    if (FT_Init_FreeType(&lib_) != 0) throw std::runtime_error("--falsecolor: cannot start FreeType");
+    if (FT_New_Face(lib_, kFontPath, 0, &face_) != 0) {
+      FT_Done_FreeType(lib_);
+      throw std::runtime_error("--falsecolor: cannot open the legend's font " + std::string(kFontPath));
+    }
+  }
+  ~Font() {
+    FT_Done_Face(face_);
+    FT_Done_FreeType(lib_);
+  }
+  Font(const Font&) = delete;
+  Font& operator=(const Font&) = delete;
+
+  /// Draws @p s (UTF-8) into @p p at @p size pixels with its baseline's left end at (x, y), blending the ink
+  /// over what is there by the glyphs' coverage; returns the end of its advance.
+  int draw(Picture& p, int x, int y, const std::string& s, int size) {
+    FT_Set_Pixel_Sizes(face_, 0, FT_UInt(size));
+    for (size_t i = 0; i < s.size();) {
+      if (FT_Load_Char(face_, nextCodePoint(s, i), FT_LOAD_RENDER) != 0) continue;
+      const FT_GlyphSlot g = face_->glyph;
+      const FT_Bitmap& bm = g->bitmap;
+      for (unsigned r = 0; r < bm.rows; ++r)
+        for (unsigned c = 0; c < bm.width; ++c) {
+          const int px = x + g->bitmap_left + int(c), py = y - g->bitmap_top + int(r);
+          if (px < 0 || py < 0 || px >= p.width || py >= p.height) continue;
+          const float a = float(bm.buffer[int(r) * bm.pitch + int(c)]) / 255.0f;
+          uint8_t* dst = &p.rgb[(size_t(py) * size_t(p.width) + size_t(px)) * 3];
+          for (int k = 0; k < 3; ++k) dst[k] = uint8_t(std::lround(float(kInk[k]) * a + float(dst[k]) * (1.0f - a)));
+        }
+      x += int(g->advance.x >> 6);
+    }
+    return x;
+  }
+
+ private:
+  FT_Library lib_ = nullptr;
+  FT_Face face_ = nullptr;
+};
+
+/// Draws @p units, with "²" as a smaller, raised "2".
+void unitsText(Font& font, Picture& p, int x, int y, const std::string& units) {
+  auto text = [&font](Picture& q, int tx, int ty, const std::string& s, int size) { return font.draw(q, tx, ty, s, size); };
   const std::string sup = "\xC2\xB2";
   const auto at = units.find(sup);
   if (at == std::string::npos) {
@@ -95,7 +142,8 @@ Picture draw(const Field& field, const Options& options) {
   l.barX = l.mapWidth + kMargin, l.barWidth = kBarWidth;
   l.barTop = kMargin + 22, l.barBottom = p.height - kMargin;
   l.labelX = l.barX + kBarWidth + kTickLength + 3;
-  unitsText(p, l.barX, kMargin + 10, field.units);
+  Font font;
+  unitsText(font, p, l.barX, kMargin + 10, field.units);
   const int rows = l.barBottom - l.barTop;
   for (int y = l.barTop; y < l.barBottom; ++y)
     fill(p, l.barX, y, l.barX + kBarWidth, y + 1, colorMap(double(l.barBottom - 1 - y) / double(rows - 1)));
@@ -107,7 +155,7 @@ Picture draw(const Field& field, const Options& options) {
     fill(p, l.barX + kBarWidth, y, l.barX + kBarWidth + kTickLength, y + 1, kInk);
     if (options.contours > 0 && t > l.range.min && t < l.range.max) fill(p, l.barX, y, l.barX + kBarWidth, y + 1, kInk);
     if (std::any_of(labelled.begin(), labelled.end(), [y](int z) { return std::abs(z - y) < kFontSize + 1; })) continue;
-    text(p, l.labelX, y + kFontSize / 2 - 1, label(t), kFontSize);
+    font.draw(p, l.labelX, y + kFontSize / 2 - 1, label(t), kFontSize);
     labelled.push_back(y);
   }
   return p;

@@ -1,7 +1,5 @@
-// Film accumulation and image output through OpenImageIO.
+// Film accumulation and image output (OpenEXR and PNG through render/image_io.h).
 #include "render/film.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +10,7 @@
 #include "common/error.h"
 #include "common/memory_limit.h"
 #include "common/photometry.h"
+#include "render/image_io.h"
 
 namespace fs {
 
@@ -78,24 +77,10 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-/// Writes @p pixels (interleaved, spec's format) to @p path through a temporary file; the image
-/// format is chosen from @p path's extension.
-void writeImage(const std::string& path, const OIIO::ImageSpec& spec, const void* pixels) {
-  writeAtomically(path, [&](const std::string& tmp) {
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) throw std::runtime_error(path + ": cannot create an image writer (" + OIIO::geterror() + ")");
-    if (!out->open(tmp, spec)) throw std::runtime_error(path + ": cannot open for writing (" + out->geterror() + ")");
-    if (!out->write_image(spec.format, pixels) || !out->close())
-      throw std::runtime_error(path + ": write failed (" + out->geterror() + ")");
-  });
-}
-
 }  // namespace
 
 void writeRgb8(const std::string& path, int width, int height, const unsigned char* rgb) {
-  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("Software", "firstshot-render");
-  writeImage(path, spec, rgb);
+  image::writePng(path, width, height, rgb);
 }
 
 std::vector<double> Film::luminance(double efficacy) const {
@@ -133,12 +118,9 @@ void Film::writeExr(const std::string& path, bool aov, double efficacy) const {
         p[base + 3] = float(n.x), p[base + 4] = float(n.y), p[base + 5] = float(n.z);
       }
     }
-  OIIO::ImageSpec spec(width_, height_, channels, OIIO::TypeDesc::FLOAT);
-  spec.channelnames = base == 1 ? std::vector<std::string>{"Y"} : std::vector<std::string>{"R", "G", "B"};
-  if (aov) spec.channelnames.insert(spec.channelnames.end(), {"albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z"});
-  spec.attribute("compression", "zip");
-  spec.attribute("Software", "firstshot-render");
-  writeImage(path, spec, data.data());
+  std::vector<std::string> names = base == 1 ? std::vector<std::string>{"Y"} : std::vector<std::string>{"R", "G", "B"};
+  if (aov) names.insert(names.end(), {"albedo.R", "albedo.G", "albedo.B", "normal.X", "normal.Y", "normal.Z"});
+  image::writeExr(path, width_, height_, names, data.data());
 }
 
 void Film::writePng(const std::string& path, float exposure) const {
@@ -156,16 +138,10 @@ void Film::writePng(const std::string& path, float exposure) const {
 }
 
 std::vector<float> Film::read(const std::string& path, int& width, int& height, std::vector<std::string>& channelNames) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw InputError(path, "", "cannot read image (" + OIIO::geterror() + ")");
-  const OIIO::ImageSpec& spec = in->spec();
-  width = spec.width, height = spec.height;
-  channelNames = spec.channelnames;
-  std::vector<float> data(size_t(width) * height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
-    throw InputError(path, "", "cannot read image (" + in->geterror() + ")");
-  in->close();
-  return data;
+  image::Image im = image::read(path);
+  width = im.width, height = im.height;
+  channelNames = std::move(im.channels);
+  return std::move(im.data);
 }
 
 }  // namespace fs

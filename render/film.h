@@ -81,8 +81,8 @@ class Film {
   /// weights (common/photometry.h); row-major, width·height values.
   std::vector<double> luminance(double efficacy) const;
 
-  /// Reads an image written by write() (or any RGB image OpenImageIO knows) into linear floats,
-  /// width·height·channels values; @p channelNames receives the channel names. For tests and tools.
+  /// Reads an image written by write() (OpenEXR or PNG; render/image_io.h) into floats, width·height·channels
+  /// values; @p channelNames receives the channel names (R, G, B first). For tests and tools.
   static std::vector<float> read(const std::string& path, int& width, int& height, std::vector<std::string>& channelNames);
 
  private:
@@ -94,8 +94,8 @@ class Film {
   Sums s_;
 };
 
-/// Writes an 8-bit sRGB picture (@p rgb: width·height·3 bytes, row-major from the top left) in the
-/// format of @p path's extension (.png), atomically. @throws std::runtime_error for I/O failures.
+/// Writes an 8-bit sRGB picture (@p rgb: width·height·3 bytes, row-major from the top left) as a PNG,
+/// atomically. @throws std::runtime_error for I/O failures.
 void writeRgb8(const std::string& path, int width, int height, const unsigned char* rgb);
 
 /// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].

@@ -1,7 +1,6 @@
 // The preview application: window, instant picture, progressive refinement, input.
 #include "render/preview/preview_app.h"
 
-#include <OpenImageIO/imageio.h>
 #include <fmt/core.h>
 
 #include <algorithm>
@@ -9,9 +8,9 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
-#include "common/atomic_file.h"
 #include "render/film.h"
 #include "render/preview/gl_raster.h"
 #include "render/preview/gl_window.h"
@@ -47,17 +46,6 @@ std::string cameraJson(const CameraDesc& c) {
 }
 
 namespace {
-
-/// Writes 8-bit RGB pixels (top row first) as a PNG, atomically.
-void writePng8(const std::string& path, const std::vector<uint8_t>& rgb, int width, int height) {
-  writeAtomically(path, [&](const std::string& tmp) {
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) throw std::runtime_error(path + ": cannot create an image writer (" + OIIO::geterror() + ")");
-    const OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
-    if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::UINT8, rgb.data()) || !out->close())
-      throw std::runtime_error(path + ": write failed (" + out->geterror() + ")");
-  });
-}
 
 class PreviewApp {
  public:
@@ -333,7 +321,7 @@ class PreviewApp {
     if (!options_.windowGrab.empty()) {  // the back buffer holds the last frame until the swap
       int w = 0, h = 0;
       const std::vector<uint8_t> rgb = raster_.readDisplay(w, h);
-      writePng8(options_.windowGrab, rgb, w, h);
+      writeRgb8(options_.windowGrab, w, h, rgb.data());
     }
     window_->swapBuffers();
     updateTitle(true);
