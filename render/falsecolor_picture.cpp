@@ -9,7 +9,7 @@
 
 #include "common/error.h"
 #include "render/falsecolor.h"
-#include "render/film.h"
+#include "render/image_io.h"
 
 namespace fs::falsecolor {
 
@@ -162,7 +162,7 @@ Picture draw(const Field& field, const Options& options) {
 }
 
 void writePng(const std::string& path, const Picture& picture) {
-  writeRgb8(path, picture.width, picture.height, picture.rgb.data());
+  image::writePng(path, picture.width, picture.height, picture.rgb.data());
 }
 
 }  // namespace fs::falsecolor

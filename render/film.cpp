@@ -79,10 +79,6 @@ std::string lowerExtension(const std::string& path) {
 
 }  // namespace
 
-void writeRgb8(const std::string& path, int width, int height, const unsigned char* rgb) {
-  image::writePng(path, width, height, rgb);
-}
-
 std::vector<double> Film::luminance(double efficacy) const {
   std::vector<double> y(size_t(width_) * height_);
   for (int j = 0; j < height_; ++j)
@@ -134,7 +130,7 @@ void Film::writePng(const std::string& path, float exposure) const {
         data[(size_t(y) * width_ + x) * 3 + c] = static_cast<unsigned char>(std::lround(255.0f * linearToSrgb(v)));
       }
     }
-  writeRgb8(path, width_, height_, data.data());
+  image::writePng(path, width_, height_, data.data());
 }
 
 std::vector<float> Film::read(const std::string& path, int& width, int& height, std::vector<std::string>& channelNames) {

@@ -94,10 +94,6 @@ class Film {
   Sums s_;
 };
 
-/// Writes an 8-bit sRGB picture (@p rgb: width·height·3 bytes, row-major from the top left) as a PNG,
-/// atomically. @throws std::runtime_error for I/O failures.
-void writeRgb8(const std::string& path, int width, int height, const unsigned char* rgb);
-
 /// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
 float linearToSrgb(float v);
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "render/film.h"
+#include "render/image_io.h"
 #include "render/preview/gl_raster.h"
 #include "render/preview/gl_window.h"
 #include "render/preview/orbit_camera.h"
@@ -321,7 +322,7 @@ class PreviewApp {
     if (!options_.windowGrab.empty()) {  // the back buffer holds the last frame until the swap
       int w = 0, h = 0;
       const std::vector<uint8_t> rgb = raster_.readDisplay(w, h);
-      writeRgb8(options_.windowGrab, w, h, rgb.data());
+      image::writePng(options_.windowGrab, w, h, rgb.data());
     }
     window_->swapBuffers();
     updateTitle(true);
