@@ -63,6 +63,32 @@ void AdaptiveMesh::children(const Vec3d* v, int count, std::vector<std::vector<V
   out.push_back({m01, m12, m20});
 }
 
+AdaptiveMesh::SplitLines AdaptiveMesh::splitLines(const Patch* c) {
+  SplitLines l;
+  auto v = [&](int child, int k) { return Vec3d(c[child].v[k]); };
+  if (c[0].count == 4) {  // c0 = {v0, m01, centre, m30}, c1 = {m01, v1, m12, centre}, c2 = {centre, m12, v2, m23}
+    l.count = 2;
+    l.a[0] = v(0, 3), l.b[0] = v(1, 2), l.ref[0] = v(0, 0);  // m30–m12: v0's side holds c0 and c1
+    l.a[1] = v(0, 1), l.b[1] = v(2, 3), l.ref[1] = v(0, 0);  // m01–m23: v0's side holds c0 and c3
+    return l;
+  }
+  l.count = 3;  // c0 = {v0, m01, m20}, c1 = {m01, v1, m12}, c2 = {m20, m12, v2}, c3 the middle
+  l.a[0] = v(0, 1), l.b[0] = v(0, 2), l.ref[0] = v(0, 0);
+  l.a[1] = v(1, 0), l.b[1] = v(1, 2), l.ref[1] = v(1, 1);
+  l.a[2] = v(2, 0), l.b[2] = v(2, 1), l.ref[2] = v(2, 2);
+  return l;
+}
+
+int AdaptiveMesh::childOf(const SplitLines& lines, unsigned inside) {
+  if (lines.count == 2) {
+    const bool top = inside & 1u, left = inside & 2u;
+    return top ? (left ? 0 : 1) : (left ? 3 : 2);
+  }
+  for (int k = 0; k < 3; ++k)
+    if (inside & (1u << k)) return k;
+  return 3;
+}
+
 std::vector<uint32_t> AdaptiveMesh::split(const std::vector<uint8_t>& flags) {
   size_t count = 0;
   for (size_t j = 0; j < leaves_.size(); ++j) count += flags[j] ? 4 : 1;

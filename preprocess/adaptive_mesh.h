@@ -39,6 +39,20 @@ class AdaptiveMesh {
   /// the parent; appended to @p out.
   static void children(const Vec3d* v, int count, std::vector<std::vector<Vec3d>>& out);
 
+  /// The lines that divide a split patch among its children, read from the 4 consecutive children
+  /// @p c (as children() makes them): a quad's two midlines (edge midpoint to opposite edge
+  /// midpoint; they cross at the centre), a triangle's three midlines. Line k runs from a[k] to
+  /// b[k] on the parent's plane; ref[k] is a vertex of the parent on the side childOf() calls inside.
+  struct SplitLines {
+    int count = 0;  ///< 2 (quad) or 3 (triangle)
+    Vec3d a[3], b[3], ref[3];
+  };
+  static SplitLines splitLines(const Patch* c);
+
+  /// Which child (0–3) holds a point of the parent's plane, given for each of @p lines whether the
+  /// point lies on ref's side (@p inside, bit k for line k).
+  static int childOf(const SplitLines& lines, unsigned inside);
+
  private:
   struct Leaf {
     Vec3d v[4];

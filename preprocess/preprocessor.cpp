@@ -23,6 +23,7 @@
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
 #include "preprocess/gl_item_buffer.h"
+#include "preprocess/kept_item_buffers.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/occlusion_cull.h"
 #include "preprocess/profile.h"
@@ -71,6 +72,11 @@ std::unique_ptr<ItemBufferRenderer> makeRenderer(const std::string& backend, con
 /// the pixels it traces (about 33 ns each, growing only as the log of the triangles); so GL while
 /// the scene has at most 1/12 as many triangles as the window has pixels.
 constexpr size_t kPixelsPerTriangleForGL = 12;
+
+/// Memory for the item buffers kept between shooting passes, shared evenly by the light samples: a
+/// sample whose buffers take more than its share is re-traced instead (the same for any thread
+/// count or rank). At the default R = 256 a cube's 6 buffers take 1.5 MB raw and far less as runs.
+constexpr size_t kKeptItemBufferBytes = size_t(512) << 20;
 const char* autoBackend(size_t triangles, const Window& w) {
   return triangles * kPixelsPerTriangleForGL <= w.pixelCount() ? "gl" : "embree";
 }
@@ -90,15 +96,22 @@ struct Shooter {
   std::chrono::steady_clock::time_point deadline;  ///< past it the run fails (nothing is written)
   double exchangeSeconds = 0;
   uint64_t bytesSent = 0;
+  /// Per light sample, its item buffers from the first pass while refinement passes may need them
+  /// (on the rank that shoots the sample: tasks are dealt by sample).
+  std::vector<KeptItemBuffers> kept;
+  size_t keptBytesPerSample = 0;  ///< 0: keep none
+  /// The last pass's exposure masks; before a refinement pass, inherited by the split mesh.
+  ExposureCache::Masks exposureMasks;
 
   /// Runs @p tasks over @p mesh; each task's factors are added to results[task.sample], which ends
-  /// sorted by patch.
+  /// sorted by patch. A refinement pass gives the split that made @p mesh (@p first, as
+  /// AdaptiveMesh::split() returns it) and its @p level.
   void run(const PatchMesh& mesh, const std::vector<Task>& tasks, bool needVisible, const std::string& label,
-           std::vector<std::vector<Entry>>& results) {
+           std::vector<std::vector<Entry>>& results, const std::vector<uint32_t>* first = nullptr, int level = 0) {
     if (tasks.empty()) return;
     std::vector<size_t> mine;  // this rank's tasks
     for (size_t k = 0; k < tasks.size(); ++k)
-      if (comm.mine(k)) mine.push_back(k);
+      if (comm.mine(tasks[k].sample)) mine.push_back(k);
     profile::Scope meshTime(profile::Mesh);
     const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
     meshTime.stop();
@@ -112,7 +125,9 @@ struct Shooter {
         options.settings.backend != "gl") {
       profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
-      exposure = std::make_unique<ExposureCache>(mesh, *probe);
+      exposure = first && !exposureMasks.empty()
+                     ? std::make_unique<ExposureCache>(mesh, *probe, ExposureCache::inherit(exposureMasks, *first))
+                     : std::make_unique<ExposureCache>(mesh, *probe);
     }
     std::unique_ptr<OcclusionCull> cull;
     if (options.settings.estimator == "analytic" && tasks.front().patches.empty()) {
@@ -127,14 +142,11 @@ struct Shooter {
     auto work = [&](int worker) {
       try {
         std::unique_ptr<ItemBufferRenderer> renderers[2];  // gl, embree
-        std::vector<double> acc;
-        std::vector<uint32_t> touched;
-        std::vector<std::vector<uint32_t>> ids;
-        std::vector<uint32_t> candidates;
+        ShotScratch scratch;
         for (size_t m; (m = next++) < mine.size();) {
           const size_t k = mine[m];
           const Task& task = tasks[k];
-          if (acc.empty()) acc.assign(mesh.size(), 0.0);
+          if (scratch.acc.empty()) scratch.acc.assign(mesh.size(), 0.0);
           ItemBufferRenderer* renderer = nullptr;
           if (task.patches.empty()) {
             std::string backend = options.settings.backend;
@@ -153,8 +165,10 @@ struct Shooter {
             throw std::runtime_error("time limit of " + std::to_string(options.timeLimit) + " s reached (" + label +
                                      ", " + std::to_string(k) + " of " + std::to_string(tasks.size()) +
                                      " light samples); nothing written");
-          std::vector<Entry> out = renderSample(renderer, setups[task.sample], mesh, task, needVisible, acc, touched, ids,
-                                                exposure.get(), cull.get(), candidates);
+          Keeping keeping;
+          if (!kept.empty()) keeping = {&kept[task.sample], keptBytesPerSample, first, level};
+          std::vector<Entry> out = renderSample(renderer, setups[task.sample], mesh, task, needVisible, scratch,
+                                                exposure.get(), cull.get(), keeping);
           std::vector<Entry>& r = results[task.sample];
           if (r.empty()) {
             r = std::move(out);
@@ -179,6 +193,7 @@ struct Shooter {
     if (options.settings.backend == "auto" && (used[0] || used[1]) && rendererName.empty())
       rendererName = used[0] && used[1] ? "auto: gl+embree" : used[0] ? "auto: gl" : "auto: embree";
     exchange(tasks, mine, results);
+    exposureMasks = exposure ? exposure->masks() : ExposureCache::Masks{};
   }
 
   /// Every rank's results of its tasks to every rank: afterwards each rank holds, for every task's
@@ -374,6 +389,10 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   std::vector<Task> tasks(t.samples.size());
   for (size_t i = 0; i < tasks.size(); ++i) tasks[i].sample = static_cast<uint32_t>(i);
   const bool refine = options.settings.minPatchSize > 0 && options.settings.minPatchSize < options.settings.patchSize;
+  if (refine && options.keepItemBuffers && !t.samples.empty()) {
+    shooter.kept.resize(t.samples.size());
+    shooter.keptBytesPerSample = kKeptItemBufferBytes / t.samples.size();
+  }
   std::vector<std::vector<Entry>> results(t.samples.size());
   shooter.run(adaptive.mesh(), tasks, refine, "first-shot", results);
   std::string rendererName = shooter.rendererName;
@@ -382,8 +401,16 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     if (std::find(flags.begin(), flags.end(), uint8_t(1)) == flags.end()) break;
     const std::vector<uint32_t> first = adaptive.split(flags);
     carryOver(adaptive.mesh(), setups, flags, first, results, tasks);
-    shooter.run(adaptive.mesh(), tasks, true, "refine " + std::to_string(level), results);
+    if (!shooter.kept.empty()) {  // a sample without a task now has none later (carryOver): free its buffers
+      std::vector<uint8_t> tasked(t.samples.size(), 0);
+      for (const Task& task : tasks) tasked[task.sample] = 1;
+      for (size_t i = 0; i < tasked.size(); ++i)
+        if (!tasked[i]) shooter.kept[i].clear();
+    }
+    shooter.run(adaptive.mesh(), tasks, true, "refine " + std::to_string(level), results, &first, level);
   }
+  shooter.kept.clear();
+  shooter.exposureMasks.clear();
   profile::Scope tableTime(profile::Table);
   t.mesh = adaptive.mesh();
   // CSR by patch; within a row, samples ascend.

@@ -21,6 +21,10 @@ struct PreprocessOptions {
   /// light-sample tasks dealt to it; the factors are exchanged after every shooting pass, so every
   /// rank ends with the same table, byte for byte the one a single process makes.
   Comm* comm = nullptr;
+  /// Refinement passes read the first pass's item buffers, brought up to each split
+  /// (preprocess/kept_item_buffers.h), instead of re-tracing the pixels around split patches.
+  /// Off: always re-trace (to compare the two).
+  bool keepItemBuffers = true;
 };
 
 struct PreprocessStats {

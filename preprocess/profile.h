@@ -20,6 +20,7 @@ enum Phase : int {
   Render,          ///< item buffer: GL draw (to glFinish) or Embree rays
   Readback,        ///< GL glReadPixels
   Accumulate,      ///< Σ weights per patch
+  Kept,            ///< item buffers kept for the refinement passes: runs, splits followed, unpacked
   Coverage,        ///< analytic estimator: patchCoverage (software rasterisation + exact tests)
   CoverageExposed, ///< the same again over the exposed part of partly buried patches
   PointTests,      ///< analytic estimator: point tests of small or unseen patches
@@ -32,7 +33,7 @@ enum Phase : int {
 
 inline const char* name(Phase p) {
   static const char* names[] = {"windows", "mesh", "renderer setup (GL context / Embree BVH)", "probe BVH",
-                                "render (draw / rays)", "readback", "accumulate", "coverage (patchCoverage)",
+                                "render (draw / rays)", "readback", "accumulate", "kept item buffers", "coverage (patchCoverage)",
                                 "coverage of exposed parts",
                                 "point tests", "exposure probes", "closed forms + entries", "table assembly",
                                 "file write"};

@@ -124,14 +124,13 @@ float analyticPatchFactor(const SampleSetup& s, const Patch& p, double fraction)
 }
 
 /// Renders one sample's views and returns its non-zero factors over @p task's patches, sorted by
-/// patch. With @p needVisible, factors from pixel sums (spots, the pixels estimator) also get their
-/// visible fraction. A task over a subset of patches traces only the pixels around them with
-/// @p exposure's ray caster (a refinement pass: a few split patches per window); a task over all
-/// patches renders whole views with @p renderer.
+/// patch (sample_shot.h).
 std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup& s, const PatchMesh& mesh, const Task& task,
-                                bool needVisible, std::vector<double>& acc, std::vector<uint32_t>& touched,
-                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure,
-                                const OcclusionCull* cull, std::vector<uint32_t>& candidates) {
+                                bool needVisible, ShotScratch& scratch, ExposureCache* exposure,
+                                const OcclusionCull* cull, const Keeping& keeping) {
+  std::vector<double>& acc = scratch.acc;
+  std::vector<uint32_t>& touched = scratch.touched;
+  std::vector<std::vector<uint32_t>>& idsPerView = scratch.ids;
   Framed frame(s.axis);
   if (s.rotation != 0) {  // turn the window about its axis: decorrelates aliasing between samples
     const double c = std::cos(s.rotation), sn = std::sin(s.rotation);
@@ -141,28 +140,56 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   const std::vector<View> views = placeWindow(*s.window, s.position, frame, s.eyeOffset);
   idsPerView.resize(views.size());
   const bool masked = !task.patches.empty();
-  const double near = masked ? exposure->rays().nearPlane() : renderer->nearPlane();
+  KeptItemBuffers* kept = keeping.buffers;
+  const bool fromKept = masked && kept && keeping.first && kept->at(keeping.level - 1);
+  if (fromKept) {
+    profile::Scope keptTime(profile::Kept);
+    kept->followSplit(views, mesh, *keeping.first);
+    kept->unpack(idsPerView);
+  } else if (masked && kept) {
+    kept->clear();  // behind the mesh: of no further use
+  }
+  const double near = fromKept ? kept->nearPlane() : masked ? exposure->rays().nearPlane() : renderer->nearPlane();
+  if (masked) {  // only the task's patches are accumulated
+    if (scratch.inTask.size() != mesh.size()) scratch.inTask.assign(mesh.size(), 0);
+    for (uint32_t id : task.patches) scratch.inTask[id] = 1;
+  }
   std::vector<uint8_t> mask;
   for (size_t v = 0; v < views.size(); ++v) {
     std::vector<uint32_t>& ids = idsPerView[v];
-    profile::Scope renderTime(profile::Render);
-    if (masked) {
+    if (masked && !fromKept) {
+      profile::Scope renderTime(profile::Render);
       mask.assign(views[v].pixelCount(), 0);
       for (uint32_t id : task.patches) markProjection(views[v], mesh.patches[id], near, 2, mask);
       exposure->rays().renderMasked(views[v], mask, ids);
-    } else {
-      renderTime.stop();
+    } else if (!masked) {
       renderer->render(views[v], ids);
     }
-    renderTime.stop();
     profile::Scope accumulateTime(profile::Accumulate);
     const std::vector<double>& w = (*s.weights)[v];
+    if (fromKept) {  // by runs
+      kept->forEachRun(v, [&](uint32_t id, size_t begin, size_t end) {
+        if (id == kNoPatch || !scratch.inTask[id]) return;
+        double sum = 0;
+        for (size_t p = begin; p < end; ++p) sum += w[p];
+        if (sum == 0.0) return;
+        if (acc[id] == 0.0) touched.push_back(id);
+        acc[id] += sum;
+      });
+      continue;
+    }
     for (size_t p = 0; p < ids.size(); ++p) {
       const uint32_t id = ids[p];
-      if (id == kNoPatch || w[p] == 0.0) continue;
+      if (id == kNoPatch || w[p] == 0.0 || (masked && !scratch.inTask[id])) continue;
       if (acc[id] == 0.0) touched.push_back(id);
       acc[id] += w[p];
     }
+  }
+  if (masked)
+    for (uint32_t id : task.patches) scratch.inTask[id] = 0;
+  if (!masked && kept && keeping.maxBytes > 0) {
+    profile::Scope keptTime(profile::Kept);
+    kept->keep(views, idsPerView, near, keeping.maxBytes);
   }
   std::sort(touched.begin(), touched.end());
   std::vector<Entry> out;
@@ -198,6 +225,7 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
     if (task.patches.empty() && cull && oneEye) {
       // The same, less the clusters of unseen patches proven hidden behind a face of the scene (which
       // their point tests would find occluded): preprocess/occlusion_cull.h.
+      std::vector<uint32_t>& candidates = scratch.candidates;
       candidates.assign(touched.begin(), touched.end());
       cull->visible(views[0].eye, touched, candidates);
       std::sort(candidates.begin(), candidates.end());

@@ -13,6 +13,7 @@
 #include "common/patches.h"
 #include "preprocess/exposure.h"
 #include "preprocess/item_buffer.h"
+#include "preprocess/kept_item_buffers.h"
 #include "preprocess/occlusion_cull.h"
 #include "preprocess/window.h"
 
@@ -51,14 +52,31 @@ struct Task {
 /// fraction, computed as the .fsd reader recomputes grouped factors (0 if the patch gets nothing).
 float analyticPatchFactor(const SampleSetup& s, const Patch& p, double fraction);
 
+/// A worker's scratch space for renderSample(), reused from one light sample to the next.
+struct ShotScratch {
+  std::vector<double> acc;                     ///< Σ weights per patch (all zero between calls)
+  std::vector<uint32_t> touched;               ///< patches with acc > 0
+  std::vector<std::vector<uint32_t>> ids;      ///< item buffer per view
+  std::vector<uint32_t> candidates;            ///< patches the occlusion cull leaves
+  std::vector<uint8_t> inTask;                 ///< per patch: in the task (all zero between calls)
+};
+
+/// The first pass's item buffers kept for the refinement passes (preprocess/kept_item_buffers.h).
+struct Keeping {
+  KeptItemBuffers* buffers = nullptr;            ///< this sample's; null: none kept or used
+  size_t maxBytes = 0;                           ///< first pass: keep them if they take at most this
+  const std::vector<uint32_t>* first = nullptr;  ///< refinement pass: the split before it (AdaptiveMesh::split)
+  int level = 0;                                 ///< refinement pass: its level (1, 2, …)
+};
+
 /// Renders one sample's views and returns its non-zero factors over @p task's patches, sorted by
 /// patch. With @p needVisible, factors from pixel sums (spots, the pixels estimator) also get their
-/// visible fraction. A task over a subset of patches traces only the pixels around them with
-/// @p exposure's ray caster (a refinement pass: a few split patches per window); a task over all
-/// patches renders whole views with @p renderer.
+/// visible fraction. A task over all patches renders whole views with @p renderer (and keeps them
+/// in @p keeping.buffers if asked). A task over a subset of patches (a refinement pass: the
+/// children of a few split patches) reads the kept buffers brought up to the split, or if there
+/// are none traces the pixels around those patches with @p exposure's ray caster.
 std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup& s, const PatchMesh& mesh, const Task& task,
-                                bool needVisible, std::vector<double>& acc, std::vector<uint32_t>& touched,
-                                std::vector<std::vector<uint32_t>>& idsPerView, ExposureCache* exposure,
-                                const OcclusionCull* cull, std::vector<uint32_t>& candidates);
+                                bool needVisible, ShotScratch& scratch, ExposureCache* exposure,
+                                const OcclusionCull* cull, const Keeping& keeping);
 
 }  // namespace fs
