@@ -28,34 +28,14 @@ ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays
   offset_ = 1e-6 * std::max(b.diagonal(), 1e-30);
 }
 
-ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, Masks inherited)
-    : ExposureCache(mesh, rays) {
-  inherited_ = std::move(inherited);
-}
-
 const ExposureMask& ExposureCache::mask(uint32_t patch, int side) {
-  const size_t k = 2 * size_t(patch) + side;
-  std::call_once(once_[k], [&] {
-    if (!inherited_.empty() && inherited_[k])
-      masks_[k] = inherited_[k];
-    else
-      compute(patch, side);
-  });
-  return *masks_[k];
-}
-
-ExposureCache::Masks ExposureCache::inherit(const Masks& masks, const std::vector<uint32_t>& first) {
-  Masks out(2 * size_t(first.back()));
-  for (size_t j = 0; j + 1 < first.size(); ++j)
-    for (uint32_t c = first[j]; c < first[j + 1]; ++c)
-      for (int side = 0; side < 2; ++side) out[2 * size_t(c) + side] = masks[2 * j + side];
-  return out;
+  std::call_once(once_[2 * size_t(patch) + side], [&] { compute(patch, side); });
+  return masks_[2 * size_t(patch) + side];
 }
 
 void ExposureCache::compute(uint32_t patch, int side) {
   const Patch& p = mesh_.patches[patch];
-  masks_[2 * size_t(patch) + side] = std::make_shared<ExposureMask>();
-  ExposureMask& m = *masks_[2 * size_t(patch) + side];
+  ExposureMask& m = masks_[2 * size_t(patch) + side];
   // Probe points, evenly spread: cell centres of a grid × grid bilinear split of a quad, centroids of
   // the grid² sub-triangles of a triangle.
   const Vec3d v0(p.v[0]), v1(p.v[1]), v2(p.v[2]), v3(p.v[p.count == 4 ? 3 : 2]);

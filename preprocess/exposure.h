@@ -60,25 +60,9 @@ struct ExposureQuery {
 /// Lazily computed exposure masks of every patch side; thread-safe.
 class ExposureCache {
  public:
-  /// Masks shared between caches: 2 per patch (side 0, side 1), null where none is computed.
-  using Masks = std::vector<std::shared_ptr<ExposureMask>>;
-
   /// @p rays traces the same patches as @p mesh; both must outlive the cache. @p grid probe points
   /// per patch edge, @p directions rays per point (a stratified cosine-weighted set).
   ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid = 6, int directions = 16);
-  /// The same, taking the masks of @p inherited (2 per patch of @p mesh, null: probe on first use)
-  /// instead of probing: a refinement pass's children share their parent's (inherit()).
-  ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, Masks inherited);
-
-  /// The masks computed so far (or inherited). Call once no thread is using the cache.
-  const Masks& masks() const { return masks_; }
-
-  /// @p masks of a mesh for the mesh split from it (@p first as AdaptiveMesh::split() returns it):
-  /// every new patch gets the masks of the patch it is, or is a child of. A child so decides buried
-  /// points as its parent did, on the parent's probes and lattice: refinement splits where a
-  /// light's visibility varies, not where burial does, and the parent's lattice already resolves
-  /// a burial border to 1/48 of the parent's size.
-  static Masks inherit(const Masks& masks, const std::vector<uint32_t>& first);
   /// The mask of side @p side (0: the normal's side, 1: the other) of patch @p patch.
   const ExposureMask& mask(uint32_t patch, int side);
   /// The ray caster the probes use (the preprocessor's exact point-visibility tests use it too).
@@ -100,8 +84,7 @@ class ExposureCache {
   int grid_;
   std::vector<Vec3d> directions_;  ///< local frame, z up
   std::unique_ptr<std::once_flag[]> once_;
-  Masks masks_;                      ///< 2 per patch, set on first use
-  Masks inherited_;                  ///< 2 per patch or empty
+  std::vector<ExposureMask> masks_;  ///< 2 per patch
   double offset_ = 0;                ///< ray origins off the patch, m
 };
 

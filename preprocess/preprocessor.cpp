@@ -100,8 +100,6 @@ struct Shooter {
   /// (on the rank that shoots the sample: tasks are dealt by sample).
   std::vector<KeptItemBuffers> kept;
   size_t keptBytesPerSample = 0;  ///< 0: keep none
-  /// The last pass's exposure masks; before a refinement pass, inherited by the split mesh.
-  ExposureCache::Masks exposureMasks;
 
   /// Runs @p tasks over @p mesh; each task's factors are added to results[task.sample], which ends
   /// sorted by patch. A refinement pass gives the split that made @p mesh (@p first, as
@@ -125,9 +123,7 @@ struct Shooter {
         options.settings.backend != "gl") {
       profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
-      exposure = first && !exposureMasks.empty()
-                     ? std::make_unique<ExposureCache>(mesh, *probe, ExposureCache::inherit(exposureMasks, *first))
-                     : std::make_unique<ExposureCache>(mesh, *probe);
+      exposure = std::make_unique<ExposureCache>(mesh, *probe);
     }
     std::unique_ptr<OcclusionCull> cull;
     if (options.settings.estimator == "analytic" && tasks.front().patches.empty()) {
@@ -193,7 +189,6 @@ struct Shooter {
     if (options.settings.backend == "auto" && (used[0] || used[1]) && rendererName.empty())
       rendererName = used[0] && used[1] ? "auto: gl+embree" : used[0] ? "auto: gl" : "auto: embree";
     exchange(tasks, mine, results);
-    exposureMasks = exposure ? exposure->masks() : ExposureCache::Masks{};
   }
 
   /// Every rank's results of its tasks to every rank: afterwards each rank holds, for every task's
@@ -410,7 +405,6 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     shooter.run(adaptive.mesh(), tasks, true, "refine " + std::to_string(level), results, &first, level);
   }
   shooter.kept.clear();
-  shooter.exposureMasks.clear();
   profile::Scope tableTime(profile::Table);
   t.mesh = adaptive.mesh();
   // CSR by patch; within a row, samples ascend.

@@ -2,12 +2,10 @@
 // decided once per lattice cell, the same whatever order (light, thread) asks.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <thread>
 
 #include "common/patches.h"
 #include "common/scene_desc.h"
-#include "preprocess/adaptive_mesh.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
 #include "preprocess/item_buffer.h"
@@ -75,53 +73,4 @@ TEST(Exposure, BuriedUnderABoxExactlyAwayFromItsEdgeAndIndependentOfOrder) {
   }
   EXPECT_EQ(straddling, 12);  // 2 along each side of the box and the 4 under its corners
   EXPECT_GT(decided, 12 * 1300);
-}
-
-// After a split, a child decides buried points as its parent did (ExposureCache::inherit): the same box
-// on a floor of 0.4 m patches, the patches under the box's edges split; every child of a straddling
-// patch gives its parent's answers at 21 × 21 points of its own, and an unsplit patch keeps its mask.
-TEST(Exposure, ChildrenOfASplitInheritTheirParentsAnswers) {
-  const SceneDesc desc = test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.5}},
-    "shapes": [{"type": "quad", "material": "white", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]},
-               {"type": "box", "material": "white", "min": [-0.3,0,-0.3], "max": [0.3,0.05,0.3]}]})");
-  AdaptiveMesh adaptive(desc, 0.4);
-  const PatchMesh before = adaptive.mesh();
-  Bounds3d bounds;
-  for (const Patch& p : before.patches)
-    for (uint32_t k = 0; k < p.count; ++k) bounds.extend(Vec3d(p.v[k]));
-  const EmbreeItemBuffer raysBefore(ItemGeometry::fromPatches(before), bounds);
-  ExposureCache parent(before, raysBefore);
-  std::vector<uint8_t> flags(before.size(), 0);
-  int partial = 0;
-  for (uint32_t j = 0; j < before.size(); ++j)
-    if (before.patches[j].shape == 0 && before.patches[j].normal.y > 0 && parent.mask(j, 0).partial)
-      flags[j] = 1, ++partial;
-  ASSERT_GE(partial, 4);
-  const uint32_t keptWhole = std::find(flags.begin(), flags.end(), 0) - flags.begin();
-  parent.mask(keptWhole, 0);
-  const std::vector<uint32_t> first = adaptive.split(flags);
-  const PatchMesh& after = adaptive.mesh();
-  const EmbreeItemBuffer raysAfter(ItemGeometry::fromPatches(after), bounds);
-  ExposureCache child(after, raysAfter, ExposureCache::inherit(parent.masks(), first));
-  EXPECT_EQ(&child.mask(first[keptWhole], 0), &parent.mask(keptWhole, 0));
-  int compared = 0, buried = 0;
-  for (uint32_t j = 0; j < before.size(); ++j) {
-    if (!flags[j]) continue;
-    const ExposureQuery asParent{&parent, &parent.mask(j, 0), j, 0};
-    for (uint32_t c = first[j]; c < first[j + 1]; ++c) {
-      const ExposureQuery asChild{&child, &child.mask(c, 0), c, 0};
-      const Patch& p = after.patches[c];
-      for (int b = 0; b <= 20; ++b)
-        for (int a = 0; a <= 20; ++a) {
-          const double u = a / 20.0, v = b / 20.0;
-          const Vec3d x = (1 - u) * (1 - v) * Vec3d(p.v[0]) + u * (1 - v) * Vec3d(p.v[1]) + u * v * Vec3d(p.v[2]) +
-                          (1 - u) * v * Vec3d(p.v[3]);
-          const bool want = asParent.buried(x);
-          EXPECT_EQ(asChild.buried(x), want) << "child " << c << " of " << j;
-          ++compared, buried += want;
-        }
-    }
-  }
-  EXPECT_GT(buried, compared / 10);
-  EXPECT_LT(buried, compared * 9 / 10);
 }
