@@ -79,8 +79,8 @@ AdaptiveMesh::SplitLines AdaptiveMesh::splitLines(const Patch* c) {
   return l;
 }
 
-int AdaptiveMesh::childOf(const SplitLines& lines, unsigned inside) {
-  if (lines.count == 2) {
+int AdaptiveMesh::childOf(int lineCount, unsigned inside) {
+  if (lineCount == 2) {
     const bool top = inside & 1u, left = inside & 2u;
     return top ? (left ? 0 : 1) : (left ? 3 : 2);
   }

@@ -49,9 +49,9 @@ class AdaptiveMesh {
   };
   static SplitLines splitLines(const Patch* c);
 
-  /// Which child (0–3) holds a point of the parent's plane, given for each of @p lines whether the
-  /// point lies on ref's side (@p inside, bit k for line k).
-  static int childOf(const SplitLines& lines, unsigned inside);
+  /// Which child (0–3) holds a point of the parent's plane, given for each of the @p lineCount
+  /// lines of splitLines() whether the point lies on ref's side (@p inside, bit k for line k).
+  static int childOf(int lineCount, unsigned inside);
 
  private:
   struct Leaf {

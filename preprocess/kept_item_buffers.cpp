@@ -15,10 +15,10 @@ namespace {
 /// pixel centred at image-plane (u, v) meets the parent's plane is the sign of
 /// c[k][0] + u·c[k][1] + v·c[k][2], positive on the side of the line's reference vertex.
 struct PixelLines {
-  AdaptiveMesh::SplitLines lines;
+  int count;
   double c[3][3] = {};
 
-  PixelLines(const View& view, const AdaptiveMesh::SplitLines& l) : lines(l) {
+  PixelLines(const View& view, const AdaptiveMesh::SplitLines& l) : count(l.count) {
     const bool perspective = view.projection == Projection::Perspective;
     for (int k = 0; k < l.count; ++k) {
       // The plane through the line and the rays that meet it: through the eye (perspective), or
@@ -38,9 +38,9 @@ struct PixelLines {
 
   int child(double u, double v) const {
     unsigned inside = 0;
-    for (int k = 0; k < lines.count; ++k)
+    for (int k = 0; k < count; ++k)
       if (c[k][0] + u * c[k][1] + v * c[k][2] > 0) inside |= 1u << k;
-    return AdaptiveMesh::childOf(lines, inside);
+    return AdaptiveMesh::childOf(count, inside);
   }
 };
 
@@ -66,7 +66,7 @@ bool KeptItemBuffers::keep(const std::vector<View>& views, const std::vector<std
       }
       b.rowStart.push_back(uint32_t(b.runs.size()));
     }
-    total += b.runs.size() * sizeof(Run) + b.rowStart.size() * sizeof(uint32_t);
+    total += bytesOf(b);
     if (total > maxBytes) {
       clear();
       return false;
@@ -126,9 +126,13 @@ void KeptItemBuffers::unpack(std::vector<std::vector<uint32_t>>& ids) const {
   }
 }
 
+size_t KeptItemBuffers::bytesOf(const Buffer& b) {
+  return b.runs.size() * sizeof(Run) + b.rowStart.size() * sizeof(uint32_t);
+}
+
 size_t KeptItemBuffers::bytes() const {
   size_t total = 0;
-  for (const Buffer& b : views_) total += b.runs.size() * sizeof(Run) + b.rowStart.size() * sizeof(uint32_t);
+  for (const Buffer& b : views_) total += bytesOf(b);
   return total;
 }
 

@@ -66,6 +66,8 @@ class KeptItemBuffers {
     std::vector<uint32_t> rowStart;  ///< height + 1 offsets into runs
     std::vector<Run> runs;
   };
+  static size_t bytesOf(const Buffer& b);
+
   std::vector<Buffer> views_;
   double near_ = 0;
   int level_ = 0;

@@ -67,16 +67,16 @@ std::unique_ptr<ItemBufferRenderer> makeRenderer(const std::string& backend, con
   throw std::invalid_argument("unknown item-buffer back end \"" + backend + "\" (gl, embree, auto)");
 }
 
+/// Memory for the item buffers kept between shooting passes, shared evenly by the light samples: a
+/// sample whose buffers take more than its share is re-traced instead (the same for any thread
+/// count or rank). At the default R = 256 a cube's 6 buffers take 1.5 MB raw and far less as runs.
+constexpr size_t kKeptItemBufferBytes = size_t(512) << 20;
+
 /// The back end of sample window @p w for backend "auto" (docs/preprocess-performance.md): the GL
 /// rasteriser's cost grows with the triangles it draws (llvmpipe: about 0.4 µs each), Embree's with
 /// the pixels it traces (about 33 ns each, growing only as the log of the triangles); so GL while
 /// the scene has at most 1/12 as many triangles as the window has pixels.
 constexpr size_t kPixelsPerTriangleForGL = 12;
-
-/// Memory for the item buffers kept between shooting passes, shared evenly by the light samples: a
-/// sample whose buffers take more than its share is re-traced instead (the same for any thread
-/// count or rank). At the default R = 256 a cube's 6 buffers take 1.5 MB raw and far less as runs.
-constexpr size_t kKeptItemBufferBytes = size_t(512) << 20;
 const char* autoBackend(size_t triangles, const Window& w) {
   return triangles * kPixelsPerTriangleForGL <= w.pixelCount() ? "gl" : "embree";
 }
