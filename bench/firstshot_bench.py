@@ -143,6 +143,10 @@ def main(argv=None):
                          "target (default 1/3)")
     ap.add_argument("--ref-max-minutes", type=float, default=None,
                     help="stop doubling the reference before it would take longer than this (default 60)")
+    ap.add_argument("--ref-render", default=None,
+                    help="firstshot-render binary for the reference (default: the build's). A copy of the renderer kept "
+                         "apart (cp -p) lets a cached reference survive rebuilds that do not change the reference method; "
+                         "the cache key then names that copy")
     ap.add_argument("--ref-seed", type=int, default=1000, help="seed of the reference's first half A (then +1, +2, ...)")
     ap.add_argument("--seed", type=int, default=1, help="seed of repetition 0 (repetition k: +k)")
     ap.add_argument("--preprocess-args", default="", help="extra firstshot-preprocess arguments, e.g. '--resolution 128'")
@@ -188,6 +192,8 @@ def main(argv=None):
                 sys.exit(f"firstshot-bench: no scene {s!r} (neither a file nor scenes/{s}.json)")
             scenes.append(resolved)
     tools = Tools(os.path.abspath(args.build))
+    if args.ref_render:
+        tools.ref_render = os.path.abspath(args.ref_render)
     if not args.replot:
         tools.check(not args.no_accuracy)
     os.makedirs(args.out, exist_ok=True)

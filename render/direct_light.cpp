@@ -94,6 +94,7 @@ void FirstShotLighting::build(const RenderScene& scene) {
   const FirstShotTable* t = scene.firstShot();
   side_.clear();
   visible_.clear();
+  visibilityMap_ = TableVisibilityMap();
   near_.clear();
   nearSpotStart_.clear();
   nearSpot_.clear();
@@ -150,6 +151,7 @@ void FirstShotLighting::build(const RenderScene& scene) {
     for (int side = 0; side < 2; ++side)
       for (int ch = 0; ch < 3; ++ch) side_[2 * size_t(j) + side].gradient[ch] = Vec3(gradient[side][ch]);
   });
+  visibilityMap_.build(*t, visible_, scene.desc().lights.size());
   nearSpotStart_.assign(size_t(n) + 1, 0);
   for (uint32_t j = 0; j < n; ++j) {
     for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k) {
@@ -214,22 +216,37 @@ Color estimateDirect(const RenderScene& scene, const Hit& hit, const Frame& fram
   const LightSet& lights = scene.lights();
   const Color fDiffuse = options.nonDiffuseOnly ? bsdf.diffuseAlbedo() * kInvPiF : Color(0.0f);
   Color sum(0.0f);
+  // Light l takes dimensions d0 + 2l and d0 + 2l + 1 (later dimensions do not shift); the lights
+  // left out skip theirs without drawing them.
+  const uint64_t d0 = sampler.dimension();
+  const bool useTable = options.tableVisibility && hit.onPatch();
+  TableVisibilityMap::Cursor table;
+  if (useTable) table = options.tableVisibility->visibilityCursor(hit.patch);
   for (size_t l = 0; l < lights.lights().size(); ++l) {
     const RenderLight& light = lights.lights()[l];
-    const Vec2 u = sampler.next2D();  // drawn for every light, so later dimensions do not shift
     if (options.skipReplaced && light.replaced) continue;
     if (options.include && !(*options.include)[l]) continue;
+    TableVisibility seen = TableVisibility::Unknown;
+    if (useTable && light.replaced) {
+      seen = table.next(static_cast<uint32_t>(l));
+      if (seen == TableVisibility::Hidden) continue;
+    }
+    sampler.setDimension(d0 + 2 * uint64_t(l));
+    const Vec2 u = sampler.next2D();
     LightRecord rec;
     if (!lights.sample(light, hit.p, u, rec)) continue;
     const BSDFQuery q(frame.toLocal(rec.wi), woLocal);
     Color f = bsdf.eval(q);
     if (options.nonDiffuseOnly && q.wi.z * q.wo.z > 0.0f) f = glm::max(f - fDiffuse, Color(0.0f));
     if (maxComponent(f) <= 0.0f) continue;
-    ++rays;
-    if (scene.occluded(shadowRay(hit, rec.wi, rec.distance))) continue;
+    if (seen != TableVisibility::Visible) {
+      ++rays;
+      if (scene.occluded(shadowRay(hit, rec.wi, rec.distance))) continue;
+    }
     const float weight = light.isDelta() || !options.mis ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
     sum += f * (std::abs(q.wi.z) * weight) * rec.value;
   }
+  sampler.setDimension(d0 + 2 * uint64_t(lights.lights().size()));
   return sum;
 }
 

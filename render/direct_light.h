@@ -17,6 +17,7 @@
 #include "render/near_terms.h"
 #include "render/ray.h"
 #include "render/render_scene.h"
+#include "render/table_visibility.h"
 
 namespace fs {
 
@@ -67,6 +68,11 @@ class FirstShotLighting {
   /// First-shot irradiance (W/m²) at the hit point on the side of hit.patch's plane where
   /// @p front says (the side hit.ng points to), from the factors of hit.patch.
   Color irradiance(const Hit& hit, bool front) const;
+  /// Whether scene light @p light (a replaced point or spot light) sees all, none or part of patch
+  /// @p patch and its neighbours, by the table's visible fractions (render/table_visibility.h).
+  TableVisibility visibility(uint32_t patch, uint32_t light) const { return visibilityMap_.query(patch, light); }
+  /// The same for many lights of one patch, in ascending order.
+  TableVisibilityMap::Cursor visibilityCursor(uint32_t patch) const { return visibilityMap_.cursor(patch); }
 
  private:
   /// Far samples of one side of a patch: E(x) ≈ average + (x − centroid)·gradient per channel.
@@ -82,6 +88,7 @@ class FirstShotLighting {
   NearTerms near_;  ///< per patch: its near point lights and area vertices, evaluated per point
   /// CSR over patches of their near spots (indices into the table's factors): per point through sampleKernel.
   std::vector<uint64_t> nearSpotStart_, nearSpot_;
+  TableVisibilityMap visibilityMap_;
 };
 
 /// Which lights estimateDirect() samples, and how it weights them.
@@ -94,10 +101,14 @@ struct DirectLightOptions {
   bool mis = true;
   /// Integrate only f − ρd/π, the BSDF without its Lambertian part (the part an irradiance cache leaves out).
   bool nonDiffuseOnly = false;
+  /// If set, at a hit on a patch: no shadow ray to a replaced light the table finds visible from the
+  /// whole patch or from none of it (FirstShotLighting::visibility; --shadow-rays uncertain).
+  const FirstShotLighting* tableVisibility = nullptr;
 };
 
 /// One NEE sample per selected light: Σ_l f·|cos θ_i|·L_l/pdf_l·weight, unoccluded samples only.
-/// Draws one 2D number per light of the scene, selected or not, so later dimensions do not shift.
+/// Takes two dimensions per light of the scene, selected or not (drawn for the selected ones only), so
+/// later dimensions do not shift.
 /// @p rays is incremented by the shadow rays traced.
 Color estimateDirect(const RenderScene& scene, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
                      const DirectLightOptions& options, Sampler& sampler, uint64_t& rays);

@@ -51,6 +51,10 @@ struct IntegratorOptions {
   PatchNee patchNee = PatchNee::Off;
   /// Weight the light trees by the visibility of their emitters, estimated per grid cell.
   bool lightVisibility = true;
+  /// With a first-shot table, where the small lights are sampled with shadow rays (PrimaryMode::Exact):
+  /// no shadow ray to a point or spot light the table finds visible from the whole patch or from
+  /// none of it (FirstShotLighting::visibility).
+  bool tableVisibility = true;
   /// Bidirectional path tracing with a first-shot table: the small lights' light subpaths start
   /// from the patches the table lights (render/integrators/bdpt/integrator.h); false: the table is ignored.
   bool bdptFirstShot = true;

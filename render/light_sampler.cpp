@@ -191,16 +191,21 @@ Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLoc
   auto fromGroup = [&](GroupId id) {
     const Vec2 a = sampler.next2D();
     const float b = sampler.next1D();
-    sum += sampleGroup(groups_[id], hit, frame, woLocal, bsdf, n, Vec3(a, b), request.mis, rays);
+    sum += sampleGroup(groups_[id], hit, frame, woLocal, bsdf, n, Vec3(a, b), request, rays);
   };
   if (strategy_ == LightStrategy::All) {
     if (request.kept || request.replaced) {
+      // Light l takes dimensions d0 + 2l and d0 + 2l + 1, so later dimensions do not shift; the lights
+      // not requested skip theirs without drawing them.
       const std::vector<RenderLight>& lights = scene_->lights().lights();
+      const uint64_t d0 = sampler.dimension();
       for (uint32_t l = 0; l < lights.size(); ++l) {
-        const Vec2 u = sampler.next2D();  // drawn for every light, so later dimensions do not shift
         if (!included_[l] || !(lights[l].replaced ? request.replaced : request.kept)) continue;
-        sum += contribution({Emitter::Kind::Light, l, 0, 0.0f}, 1.0f, hit, frame, woLocal, bsdf, u, request.mis, rays);
+        sampler.setDimension(d0 + 2 * uint64_t(l));
+        const Vec2 u = sampler.next2D();
+        sum += contribution({Emitter::Kind::Light, l, 0, 0.0f}, 1.0f, hit, frame, woLocal, bsdf, u, request, rays);
       }
+      sampler.setDimension(d0 + 2 * uint64_t(lights.size()));
     }
   } else {
     if (request.kept) fromGroup(kKept);
@@ -211,7 +216,8 @@ Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLoc
 }
 
 Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                                const BSDF& bsdf, const Vec3& n, const Vec3& u, bool mis, uint64_t& rays) const {
+                                const BSDF& bsdf, const Vec3& n, const Vec3& u, const NeeRequest& request,
+                                uint64_t& rays) const {
   float uSelect = u.x;
   const float pDir = g.pDirectional();
   if (pDir > 0.0f) {
@@ -219,7 +225,7 @@ Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& fra
       const uint32_t count = static_cast<uint32_t>(g.directional.size());
       const uint32_t k = std::min(count - 1, static_cast<uint32_t>(uSelect / pDir * float(count)));
       return contribution({Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count), hit, frame, woLocal,
-                          bsdf, Vec2(u.y, u.z), mis, rays);
+                          bsdf, Vec2(u.y, u.z), request, rays);
     }
     uSelect = std::min((uSelect - pDir) / (1.0f - pDir), 0x1.fffffep-1f);
   }
@@ -227,17 +233,23 @@ Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& fra
   float pmf;
   if (!g.tree.sample(hit.p, n, uSelect, e, pmf)) return Color(0.0f);
   const Emitter& em = g.emitters[e];
-  return contribution(em, pmf * (1.0f - pDir), hit, frame, woLocal, bsdf, Vec2(u.y, u.z), mis, rays);
+  return contribution(em, pmf * (1.0f - pDir), hit, frame, woLocal, bsdf, Vec2(u.y, u.z), request, rays);
 }
 
 Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame,
-                                 const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, bool mis, uint64_t& rays) const {
+                                 const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, const NeeRequest& request,
+                                 uint64_t& rays) const {
   const LightSet& lights = scene_->lights();
   LightRecord rec;
   bool delta = false;
+  TableVisibility seen = TableVisibility::Unknown;
   switch (e.kind) {
     case Emitter::Kind::Light: {
       const RenderLight& light = lights.lights()[e.index];
+      if (request.tableVisibility && light.replaced && hit.onPatch()) {
+        seen = firstShot_->visibility(hit.patch, e.index);
+        if (seen == TableVisibility::Hidden) return Color(0.0f);
+      }
       if (!lights.sample(light, hit.p, u, rec)) return Color(0.0f);
       rec.value /= pSelect;
       rec.pdf *= pSelect;
@@ -271,9 +283,11 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
   const BSDFQuery q(frame.toLocal(rec.wi), woLocal);
   const Color f = bsdf.eval(q);
   if (!(maxComponent(f) > 0.0f)) return Color(0.0f);
-  ++rays;
-  if (scene_->occluded(shadowRay(hit, rec.wi, rec.distance))) return Color(0.0f);
-  const float weight = delta || !mis ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
+  if (seen != TableVisibility::Visible) {
+    ++rays;
+    if (scene_->occluded(shadowRay(hit, rec.wi, rec.distance))) return Color(0.0f);
+  }
+  const float weight = delta || !request.mis ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
   return f * (std::abs(q.wi.z) * weight) * rec.value;
 }
 

@@ -43,6 +43,9 @@ struct NeeRequest {
   /// Weight area emitters against BSDF sampling (power heuristic); false: weight 1, for callers
   /// whose BSDF-sampled rays never count these emitters.
   bool mis = true;
+  /// Replaced point and spot lights at a hit on a patch: no shadow ray where the table finds the
+  /// light visible from the whole patch or from none of it (FirstShotLighting::visibility).
+  bool tableVisibility = false;
 };
 
 /// One point of a lit first-shot patch chosen for a receiver (LightSampler::samplePatch).
@@ -108,9 +111,9 @@ class LightSampler {
   void addPatches(Group& g, GroupId id, std::vector<LightBounds>& bounds);
   /// One emitter of group @p g, chosen from u[0], its point from u[1..2]: its weighted contribution.
   Color sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                    const Vec3& n, const Vec3& u, bool mis, uint64_t& rays) const;
+                    const Vec3& n, const Vec3& u, const NeeRequest& request, uint64_t& rays) const;
   Color contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                     const BSDF& bsdf, const Vec2& u, bool mis, uint64_t& rays) const;
+                     const BSDF& bsdf, const Vec2& u, const NeeRequest& request, uint64_t& rays) const;
   /// The point of patch emitter @p e for @p u, seen from @p x: rec.value = Le/pdf. False if it
   /// sends nothing towards @p x.
   bool patchPoint(const Emitter& e, float pSelect, const Vec3& x, const Vec2& u, LightRecord& rec, Color& Le) const;

@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
     std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "off",
-                lightVisibility = "on", bdptFirstShot = "patches";
+                lightVisibility = "on", bdptFirstShot = "patches", tableVisibility = "on";
     std::vector<std::string> outputs;
     int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;
     double timeLimit = 0, patchSize = 0;
@@ -55,6 +55,11 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"first", "every", "off", "on"}))->capture_default_str();
     app.add_option("--light-visibility", lightVisibility, "light tree: weight its choices by the visibility of the "
                                                           "lights from each region, estimated with a few rays per region")
+        ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
+    app.add_option("--table-visibility", tableVisibility, "with --firstshot and --primary exact, camera-visible "
+                                                          "surfaces: no shadow ray to a small point or spot light "
+                                                          "the table finds visible from the whole patch or from none "
+                                                          "of it (on), or shadow rays to all (off)")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
     app.add_option("--bdpt-firstshot", bdptFirstShot, "bdpt with --firstshot: the small lights' light subpaths start "
                                                       "from the patches the table lights (patches) or the table is "
@@ -137,6 +142,7 @@ int main(int argc, char** argv) {
     io.lightSampler = lightSampler == "all" ? fs::LightStrategy::All : fs::LightStrategy::Tree;
     io.patchNee = patchNee == "off" ? fs::PatchNee::Off : patchNee == "first" ? fs::PatchNee::First : fs::PatchNee::Every;
     io.lightVisibility = lightVisibility == "on";
+    io.tableVisibility = tableVisibility == "on";
     io.bdptFirstShot = bdptFirstShot == "patches";
     io.comm = &comm;
     auto integrator = fs::makeIntegrator(integratorName, io);

@@ -70,7 +70,7 @@ def ensure_reference(tools, scene_name, scene_path, sdir, args):
     start_half = max(1, start // 2)
     goal = reference_goal(args.targets, args.ref_noise_fraction)
     max_seconds = 60.0 * args.ref_max_minutes
-    key = reference_key(scene_path, tools.render, method, spec, start_half, args.ref_seed, args.width, args.height)
+    key = reference_key(scene_path, tools.ref_render, method, spec, start_half, args.ref_seed, args.width, args.height)
     ref_exr = os.path.join(sdir, "reference.exr")
     rdir = os.path.join(sdir, "reference")
     os.makedirs(rdir, exist_ok=True)
@@ -95,7 +95,7 @@ def ensure_reference(tools, scene_name, scene_path, sdir, args):
         new = {}
         for half, seed in zip("ab", reference_seeds(args.ref_seed, r)):
             out = os.path.join(rdir, f"round{r}_{half}.exr")
-            cmd = [tools.render, scene_path, "--integrator", spec.integrator] + spec.args + [
+            cmd = [tools.ref_render, scene_path, "--integrator", spec.integrator] + spec.args + [
                 "--spp", str(add), "--seed", str(seed), "--threads", str(args.threads),
                 "--width", str(args.width), "--height", str(args.height), "-o", out, "--quiet"]
             rc, wall, text = run(cmd)

@@ -29,11 +29,12 @@ class Tools:
     def __init__(self, build):
         self.preprocess = os.path.join(build, "preprocess", "firstshot-preprocess")
         self.render = os.path.join(build, "render", "firstshot-render")
+        self.ref_render = self.render  # the reference's renderer (--ref-render)
         self.compare = os.path.join(build, "bench", "firstshot-compare")
         self.accuracy = os.path.join(build, "bench", "firstshot-preprocess-accuracy")
 
     def check(self, need_accuracy):
-        needed = [self.preprocess, self.render, self.compare] + ([self.accuracy] if need_accuracy else [])
+        needed = [self.preprocess, self.render, self.ref_render, self.compare] + ([self.accuracy] if need_accuracy else [])
         missing = [p for p in needed if not os.access(p, os.X_OK)]
         if missing:
             sys.exit("firstshot-bench: missing " + ", ".join(missing) + " (build first: make build, or cmake --build BUILD)")

@@ -67,6 +67,7 @@ Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, boo
       if (useTable && hit.onPatch()) L += beta * firstShot(hit, frame, woLocal, bsdf) * emissionWeight(prev, hit);
       nee.kept = true;
       nee.replaced = !useTable;
+      nee.tableVisibility = haveTable && options_.tableVisibility;
       nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
                     (options_.patchNee == PatchNee::Every || !sampledPatches);
       sampledPatches = sampledPatches || nee.patches;

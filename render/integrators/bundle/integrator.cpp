@@ -47,6 +47,7 @@ Color BundleIntegrator::surface(const Hit& hit, const Frame& frame, const Vec3& 
       DirectLightOptions o;
       o.include = &neeLights_;
       o.mis = false;  // the bundle never carries these lights' emission: no other technique counts them
+      if (scene_->firstShot() && options_.tableVisibility) o.tableVisibility = &firstShot_;
       L += estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, rays);
     }
     return L;

@@ -189,12 +189,14 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     o.skipReplaced = useTable;
     o.include = &direct_;
     o.mis = false;  // cache and BSDF rays never count the direct lights
+    if (scene_->firstShot() && options_.tableVisibility) o.tableVisibility = &firstShot_;
     L += estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
   } else {
     // Inside gathers the hemisphere averages many vertices: the light sampler (--light-sampler).
     NeeRequest nee;  // the direct lights (directLights_ holds no others), replaced ones where the table is not used
     nee.kept = true;
     nee.replaced = !useTable;
+    nee.tableVisibility = scene_->firstShot() && options_.tableVisibility;
     nee.mis = false;
     L += directLights_.sample(hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
   }
