@@ -1,8 +1,12 @@
 #include "preprocess/exposure.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+
+#include "common/patch_neighbours.h"
 
 namespace fs {
 
@@ -26,6 +30,21 @@ ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays
   for (const Patch& p : mesh.patches)
     for (uint32_t k = 0; k < p.count; ++k) b.extend(Vec3d(p.v[k]));
   offset_ = 1e-6 * std::max(b.diagonal(), 1e-30);
+  // Patches met by a patch outside their plane: the only ones that can be partly buried.
+  const double planeTolerance = 1e-5 * std::max(b.diagonal(), 1e-30);
+  const PatchNeighbours nb = patchNeighbours(mesh);
+  met_.assign(mesh.size(), 0);
+  tbb::parallel_for(uint32_t(0), mesh.size(), [&](uint32_t j) {
+    const Patch& p = mesh.patches[j];
+    const Vec3d normal = glm::normalize(Vec3d(p.normal));
+    for (uint64_t a = nb.start[j]; a < nb.start[j + 1] && !met_[j]; ++a) {
+      const Patch& q = mesh.patches[nb.adjacent[a]];
+      bool inPlane = std::abs(glm::dot(normal, glm::normalize(Vec3d(q.normal)))) >= 1.0 - 1e-6;
+      for (uint32_t k = 0; k < q.count && inPlane; ++k)
+        inPlane = std::abs(glm::dot(Vec3d(q.v[k]) - Vec3d(p.v[0]), normal)) <= planeTolerance;
+      met_[j] = !inPlane;
+    }
+  });
 }
 
 const ExposureMask& ExposureCache::mask(uint32_t patch, int side) {
@@ -36,6 +55,7 @@ const ExposureMask& ExposureCache::mask(uint32_t patch, int side) {
 void ExposureCache::compute(uint32_t patch, int side) {
   const Patch& p = mesh_.patches[patch];
   ExposureMask& m = masks_[2 * size_t(patch) + side];
+  if (!met_[patch]) return;  // nothing meets it: exposed or buried whole, never partly (exposure.h)
   // Probe points, evenly spread: cell centres of a grid × grid bilinear split of a quad, centroids of
   // the grid² sub-triangles of a triangle.
   const Vec3d v0(p.v[0]), v1(p.v[1]), v2(p.v[2]), v3(p.v[p.count == 4 ? 3 : 2]);

@@ -12,6 +12,11 @@
 /// points away from); surfaces of closed objects face outwards. Each patch side is probed at a
 /// grid of points, on first use.
 ///
+/// Only another surface that meets or crosses a patch can bury part of it (a closed object's faces
+/// bound what it buries; a patch buried whole keeps no mask). A patch that touches nothing but
+/// coplanar patches (common/patch_neighbours.h), which its hemisphere rays never hit, is therefore
+/// decided without probes: its mask is not partial.
+///
 /// A point is decided at the centre of its cell of a lattice in the patch's plane (kLatticePerStep
 /// cells per grid step), once per cell: by the nearest probe point, or, when that point is on the
 /// border between buried and exposed probes, by probing the cell centre itself. The pixel centres
@@ -85,6 +90,7 @@ class ExposureCache {
   std::vector<Vec3d> directions_;  ///< local frame, z up
   std::unique_ptr<std::once_flag[]> once_;
   std::vector<ExposureMask> masks_;  ///< 2 per patch
+  std::vector<uint8_t> met_;         ///< per patch: a patch not in its plane touches it (else no probes)
   double offset_ = 0;                ///< ray origins off the patch, m
 };
 

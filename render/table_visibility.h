@@ -13,8 +13,8 @@
 /// What stays uncertain: shadows that fit between pixel centres of every patch they touch (an
 /// occluder thinner than the item buffers' pixel spacing seen from the light).
 /// Neighbours are the patches whose bounding boxes, grown by 10⁻⁵ of the scene's diagonal, overlap
-/// (T-junctions of adaptive meshes included; patches of another surface that touch count too, which
-/// only leaves more to rays).
+/// (common/patch_neighbours.h: T-junctions of adaptive meshes included; patches of another surface
+/// that touch count too, which only leaves more to rays).
 #include <cstdint>
 #include <vector>
 

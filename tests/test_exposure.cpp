@@ -74,3 +74,42 @@ TEST(Exposure, BuriedUnderABoxExactlyAwayFromItsEdgeAndIndependentOfOrder) {
   EXPECT_EQ(straddling, 12);  // 2 along each side of the box and the 4 under its corners
   EXPECT_GT(decided, 12 * 1300);
 }
+
+// Only a surface that meets a patch can bury part of it: floor patches that touch nothing but the
+// floor are decided without probes (no probe points), those the box meets are probed (and partial
+// where its edge crosses them, as above).
+TEST(Exposure, OnlyPatchesMetByAnotherSurfaceAreProbed) {
+  const SceneDesc desc = test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "quad", "material": "white", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]},
+               {"type": "box", "material": "white", "min": [-0.3,0,-0.3], "max": [0.3,0.05,0.3]}]})");
+  const PatchMesh mesh = buildPatches(desc, 0.2);
+  const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
+  Bounds3d bounds;
+  for (const Patch& p : mesh.patches)
+    for (uint32_t k = 0; k < p.count; ++k) bounds.extend(Vec3d(p.v[k]));
+  const EmbreeItemBuffer rays(geometry, bounds);
+  ExposureCache cache(mesh, rays);
+  int probed = 0, skipped = 0, partial = 0;
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& p = mesh.patches[j];
+    if (p.shape != 0) continue;
+    const ExposureMask& m = cache.mask(j, 0);
+    // The box's sides stand on the lines |x| = 0.3 (|z| <= 0.3) and |z| = 0.3 (|x| <= 0.3); its bottom
+    // lies in the floor's plane and meets nothing. A hair of slack for the grown boxes.
+    float lo[2] = {1e9f, 1e9f}, hi[2] = {-1e9f, -1e9f};
+    for (uint32_t k = 0; k < p.count; ++k)
+      lo[0] = std::min(lo[0], p.v[k].x), hi[0] = std::max(hi[0], p.v[k].x), lo[1] = std::min(lo[1], p.v[k].z),
+      hi[1] = std::max(hi[1], p.v[k].z);
+    const float h = 1e-3f;
+    auto crosses = [&](int a, float at) { return lo[a] <= at + h && hi[a] >= at - h; };
+    auto within = [&](int a) { return lo[a] <= 0.3f + h && hi[a] >= -0.3f - h; };
+    const bool meets = ((crosses(0, 0.3f) || crosses(0, -0.3f)) && within(1)) ||
+                       ((crosses(1, 0.3f) || crosses(1, -0.3f)) && within(0));
+    EXPECT_EQ(!m.points.empty(), meets) << "patch " << j << " at " << p.centroid.x << ", " << p.centroid.z;
+    (m.points.empty() ? skipped : probed)++;
+    partial += m.partial;
+  }
+  EXPECT_EQ(partial, 12);
+  EXPECT_GT(skipped, 40);
+  EXPECT_EQ(probed, 12);  // the box's sides cross 12 patches and touch no others
+}
