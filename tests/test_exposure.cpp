@@ -13,20 +13,37 @@
 
 using namespace fs;
 
-// A box standing on a floor of 0.2 m patches, its sides through the middle of patches. On every floor
-// patch it half covers: the mask is partial; points farther than a lattice cell's diagonal from the
-// box's edge are buried exactly when under the box; and the answers are identical when the points are
-// asked in another order from two threads on a second cache.
-TEST(Exposure, BuriedUnderABoxExactlyAwayFromItsEdgeAndIndependentOfOrder) {
-  const SceneDesc desc = test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.5}},
-    "shapes": [{"type": "quad", "material": "white", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]},
-               {"type": "box", "material": "white", "min": [-0.3,0,-0.3], "max": [0.3,0.05,0.3]}]})");
-  const PatchMesh mesh = buildPatches(desc, 0.2);
-  const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
-  Bounds3d bounds;
-  for (const Patch& p : mesh.patches)
-    for (uint32_t k = 0; k < p.count; ++k) bounds.extend(Vec3d(p.v[k]));
-  const EmbreeItemBuffer rays(geometry, bounds);
+namespace {
+
+/// A box standing on a floor of 0.2 m patches, its sides through the middle of patches, and the rays
+/// the exposure probes trace through it.
+class Exposure : public ::testing::Test {
+ protected:
+  Exposure() : mesh(buildPatches(scene(), 0.2)), geometry(ItemGeometry::fromPatches(mesh)), rays(geometry, bounds(mesh)) {}
+
+  static SceneDesc scene() {
+    return test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.5}},
+      "shapes": [{"type": "quad", "material": "white", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]},
+                 {"type": "box", "material": "white", "min": [-0.3,0,-0.3], "max": [0.3,0.05,0.3]}]})");
+  }
+  static Bounds3d bounds(const PatchMesh& m) {
+    Bounds3d b;
+    for (const Patch& p : m.patches)
+      for (uint32_t k = 0; k < p.count; ++k) b.extend(Vec3d(p.v[k]));
+    return b;
+  }
+
+  const PatchMesh mesh;
+  const ItemGeometry geometry;
+  const EmbreeItemBuffer rays;
+};
+
+}  // namespace
+
+// On every floor patch the box half covers: the mask is partial; points farther than a lattice cell's
+// diagonal from the box's edge are buried exactly when under the box; and the answers are identical
+// when the points are asked in another order from two threads on a second cache.
+TEST_F(Exposure, BuriedUnderABoxExactlyAwayFromItsEdgeAndIndependentOfOrder) {
   ExposureCache first(mesh, rays), second(mesh, rays);
   const auto under = [](const Vec3d& x) { return std::abs(x.x) < 0.3 && std::abs(x.z) < 0.3; };
   const auto edgeDistance = [](const Vec3d& x) {
@@ -78,16 +95,7 @@ TEST(Exposure, BuriedUnderABoxExactlyAwayFromItsEdgeAndIndependentOfOrder) {
 // Only a surface that meets a patch can bury part of it: floor patches that touch nothing but the
 // floor are decided without probes (no probe points), those the box meets are probed (and partial
 // where its edge crosses them, as above).
-TEST(Exposure, OnlyPatchesMetByAnotherSurfaceAreProbed) {
-  const SceneDesc desc = test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.5}},
-    "shapes": [{"type": "quad", "material": "white", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]},
-               {"type": "box", "material": "white", "min": [-0.3,0,-0.3], "max": [0.3,0.05,0.3]}]})");
-  const PatchMesh mesh = buildPatches(desc, 0.2);
-  const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
-  Bounds3d bounds;
-  for (const Patch& p : mesh.patches)
-    for (uint32_t k = 0; k < p.count; ++k) bounds.extend(Vec3d(p.v[k]));
-  const EmbreeItemBuffer rays(geometry, bounds);
+TEST_F(Exposure, OnlyPatchesMetByAnotherSurfaceAreProbed) {
   ExposureCache cache(mesh, rays);
   int probed = 0, skipped = 0, partial = 0;
   for (uint32_t j = 0; j < mesh.size(); ++j) {
