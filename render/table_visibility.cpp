@@ -67,7 +67,7 @@ TableVisibility TableVisibilityMap::query(uint32_t patch, uint32_t light) const 
 
 TableVisibilityMap::Cursor TableVisibilityMap::cursor(uint32_t patch) const {
   Cursor c;
-  if (patch + 1 >= start_.size()) return c;
+  if (patch + 1 >= start_.size() || entries_.empty()) return c;  // no point or spot light anywhere: Unknown
   c.map_ = this;
   c.begin_ = c.at_ = entries_.data() + start_[patch];
   c.end_ = entries_.data() + start_[patch + 1];
