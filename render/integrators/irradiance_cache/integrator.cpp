@@ -195,8 +195,7 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     // Inside gathers the hemisphere averages many vertices: the light sampler (--light-sampler).
     NeeRequest nee;  // the direct lights (directLights_ holds no others), replaced ones where the table is not used
     nee.kept = true;
-    nee.replaced = !useTable;
-    nee.tableVisibility = scene_->firstShot() && options_.tableVisibility;
+    nee.replaced = !useTable;  // only off the patches: no table visibility there
     nee.mis = false;
     L += directLights_.sample(hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
   }
