@@ -46,32 +46,27 @@ PatchNeighbours patchNeighbours(const PatchMesh& mesh) {
   std::vector<std::pair<uint64_t, uint32_t>> cells;
   auto coord = [&](float x, float lo) { return static_cast<uint64_t>(std::max(0.0f, std::floor((x - lo) / cell))); };
   const Vec3 origin = scene.lo - Vec3(2.0f * grow);
-  for (uint32_t j = 0; j < n; ++j) {
-    const Box& b = box[j];
+  // Calls f(key) for every cell box b overlaps.
+  auto forCells = [&](const Box& b, auto&& f) {
     const uint64_t x0 = coord(b.lo.x, origin.x), x1 = coord(b.hi.x, origin.x);
     const uint64_t y0 = coord(b.lo.y, origin.y), y1 = coord(b.hi.y, origin.y);
     const uint64_t z0 = coord(b.lo.z, origin.z), z1 = coord(b.hi.z, origin.z);
     for (uint64_t x = x0; x <= x1; ++x)
       for (uint64_t y = y0; y <= y1; ++y)
-        for (uint64_t z = z0; z <= z1; ++z) cells.emplace_back((x << 42) | (y << 21) | z, j);
-  }
+        for (uint64_t z = z0; z <= z1; ++z) f((x << 42) | (y << 21) | z);
+  };
+  for (uint32_t j = 0; j < n; ++j) forCells(box[j], [&](uint64_t key) { cells.emplace_back(key, j); });
   std::sort(cells.begin(), cells.end());
   // Per patch (in parallel): the patches sharing one of its cells whose boxes overlap its own.
   std::vector<std::vector<uint32_t>> lists(n);
   tbb::parallel_for(uint32_t(0), n, [&](uint32_t j) {
     const Box& b = box[j];
     std::vector<uint32_t>& list = lists[j];
-    const uint64_t x0 = coord(b.lo.x, origin.x), x1 = coord(b.hi.x, origin.x);
-    const uint64_t y0 = coord(b.lo.y, origin.y), y1 = coord(b.hi.y, origin.y);
-    const uint64_t z0 = coord(b.lo.z, origin.z), z1 = coord(b.hi.z, origin.z);
-    for (uint64_t x = x0; x <= x1; ++x)
-      for (uint64_t y = y0; y <= y1; ++y)
-        for (uint64_t z = z0; z <= z1; ++z) {
-          const uint64_t key = (x << 42) | (y << 21) | z;
-          auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, uint32_t(0)));
-          for (; it != cells.end() && it->first == key; ++it)
-            if (it->second != j && b.overlaps(box[it->second])) list.push_back(it->second);
-        }
+    forCells(b, [&](uint64_t key) {
+      auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, uint32_t(0)));
+      for (; it != cells.end() && it->first == key; ++it)
+        if (it->second != j && b.overlaps(box[it->second])) list.push_back(it->second);
+    });
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
   });

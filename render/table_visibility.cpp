@@ -12,7 +12,6 @@
 
 namespace fs {
 
-
 void TableVisibilityMap::build(const FirstShotTable& t, const std::vector<float>& visible, size_t sceneLights) {
   const uint32_t n = t.mesh.size();
   sampleOfLight_.assign(sceneLights, kNoId);
