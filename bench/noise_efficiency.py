@@ -37,7 +37,7 @@ METHODS = [
     ("light tracing (one particle per pixel per pass)", False, ["--integrator", "light"]),
     ("bidirectional path tracing (one sample per pixel per pass)", False, ["--integrator", "bdpt"]),
     ("bidirectional path tracing + first-shot, light subpaths from the lit patches", True,
-     ["--integrator", "bdpt", "--bdpt-firstshot", "patches"]),
+     ["--integrator", "bdpt", "--shoot-firstshot", "patches"]),
     ("irradiance cache + first-shot, no patch NEE in gathers", True,
      ["--integrator", "irradiance-cache", "--one-pass", "--spp", "4", "--ic-patch-nee", "0"]),
     ("irradiance cache + first-shot, patch NEE in gathers (0.5)", True,

@@ -55,9 +55,11 @@ struct IntegratorOptions {
   /// no shadow ray to a point or spot light the table finds visible from the whole patch or from
   /// none of it (FirstShotLighting::visibility).
   bool tableVisibility = true;
-  /// Bidirectional path tracing with a first-shot table: the small lights' light subpaths start
-  /// from the patches the table lights (render/integrators/bdpt/integrator.h); false: the table is ignored.
-  bool bdptFirstShot = true;
+  /// Shooting integrators (light tracing, bidirectional path tracing) with a first-shot table: the
+  /// small lights' particles start from the patches the table lights and their direct light at the
+  /// first non-delta camera vertex is taken exactly (render/integrators/light/light_tracer.h);
+  /// false: the table is ignored (the small lights are shot like the others).
+  bool shootFromPatches = true;
   /// The ranks of an MPI run sharing the work (common/comm.h; null: this process alone). Integrators
   /// with a global state (the irradiance cache's two-pass fill, the bundle's transfer) split its
   /// computation over the ranks and exchange the results, so that every rank holds the state one

@@ -17,16 +17,16 @@ float mean(const Color& c) { return (c.x + c.y + c.z) / 3.0f; }
 
 }  // namespace
 
-EmissionSampler::EmissionSampler(const LightSet& lights, const SceneDesc& scene) : lights_(&lights) {
+EmissionSampler::EmissionSampler(const LightSet& lights, const SceneDesc& scene, EmitterSet set) : lights_(&lights) {
   setBounds(scene);
-  addLights(false);
+  addLights(set);
   finish();
 }
 
 EmissionSampler::EmissionSampler(const RenderScene& scene, const FirstShotLighting& lighting)
     : lights_(&scene.lights()), scene_(&scene), lighting_(&lighting) {
   setBounds(scene.desc());
-  addLights(true);
+  addLights(EmitterSet::Kept);
   const PatchMesh& mesh = scene.mesh();
   sideEmitter_.assign(2 * size_t(mesh.size()), kNoId);
   if (const FirstShotTable* table = scene.firstShot()) {
@@ -50,7 +50,7 @@ void EmissionSampler::setBounds(const SceneDesc& scene) {
   radius_ = std::max(1e-6f, float(0.5 * glm::length(hi - lo)) * 1.01f);
 }
 
-void EmissionSampler::addLights(bool skipReplaced) {
+void EmissionSampler::addLights(EmitterSet set) {
   for (const RenderLight& l : lights_->lights()) {
     double p = 0;
     switch (l.type) {
@@ -59,7 +59,9 @@ void EmissionSampler::addLights(bool skipReplaced) {
       case LightType::Directional: p = mean(l.irradiance) * kPi * double(radius_) * radius_; break;
       case LightType::Area: p = mean(l.radiance) * l.area * kPi; break;
     }
-    power_.push_back(skipReplaced && l.replaced ? 0.0 : std::max(0.0, p));
+    const bool emits = set == EmitterSet::All || (set == EmitterSet::Kept && !l.replaced) ||
+                       (set == EmitterSet::ReplacedAreaLights && l.replaced && l.type == LightType::Area);
+    power_.push_back(emits ? std::max(0.0, p) : 0.0);
   }
   lightCount_ = uint32_t(power_.size());
 }
@@ -149,8 +151,8 @@ float EmissionSampler::pdfDirection(uint32_t e, const Vec3& n, const Vec3& d) co
   }
 }
 
-bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out) const {
-  const double u = sampler.next1Dd();
+bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t stratum, uint64_t strata) const {
+  const double u = std::min((double(stratum) + sampler.next1Dd()) / double(strata), 1.0);
   const Vec2 uPos = sampler.next2D();
   const Vec2 uDir = sampler.next2D();
   if (!sampleOrigin(u, uPos, out)) return false;

@@ -48,18 +48,29 @@ struct EmissionSample {
   bool deltaDirection = false;  ///< directional lights
 };
 
+/// Which lights of a LightSet an EmissionSampler emits from.
+enum class EmitterSet {
+  All,                 ///< every light
+  Kept,                ///< the lights a first-shot table does not replace (table mode)
+  ReplacedAreaLights,  ///< only the replaced area lights (light tracing's delta-first particles)
+};
+
 class EmissionSampler {
  public:
   EmissionSampler() = default;
   /// @p lights must outlive the sampler; @p scene gives the bounding sphere for directional lights.
-  EmissionSampler(const LightSet& lights, const SceneDesc& scene);
+  /// @p set: the lights that emit (the others keep their index with no power).
+  EmissionSampler(const LightSet& lights, const SceneDesc& scene, EmitterSet set = EmitterSet::All);
   /// Table mode: the lights of @p scene that its first-shot table does not replace, and the lit
   /// patch sides, with radiance from @p lighting (built for @p scene). Both must outlive the sampler.
   EmissionSampler(const RenderScene& scene, const FirstShotLighting& lighting);
 
-  /// Draws a particle with 4 dimensions of @p sampler. @return false if nothing was emitted (no
-  /// light with power, or a zero-weight direction): the particle is then lost (counts zero).
-  bool sample(Sampler& sampler, EmissionSample& out) const;
+  /// Draws a particle with 5 dimensions of @p sampler. The emitter is chosen by inverting the
+  /// power CDF at u = (@p stratum + ξ)/@p strata, ξ the first dimension: particles that take
+  /// strata 0..n−1 of one pass choose their emitters stratified (and in emitter order, which keeps
+  /// their memory accesses close); the default is an independent choice. @return false if nothing
+  /// was emitted (no light with power, or a zero-weight direction): the particle then counts zero.
+  bool sample(Sampler& sampler, EmissionSample& out, uint64_t stratum = 0, uint64_t strata = 1) const;
   /// The origin part of sample(): a light by power with @p u, a point with @p uPos. Sets light, p,
   /// n, pdfLight, pdfPos, radiance (area lights) and the delta flags, not d, pdfDir or power (the
   /// NEE strategy s = 1 of bidirectional path tracing). @return false if no light has power.
@@ -95,7 +106,7 @@ class EmissionSampler {
 
  private:
   void setBounds(const SceneDesc& scene);
-  void addLights(bool skipReplaced);
+  void addLights(EmitterSet set);
   void finish();  ///< total and CDF from power_
 
   const LightSet* lights_ = nullptr;

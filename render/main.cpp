@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
     std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "off",
-                lightVisibility = "on", bdptFirstShot = "patches", tableVisibility = "on";
+                lightVisibility = "on", shootFirstShot = "patches", tableVisibility = "on";
     std::vector<std::string> outputs;
     int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;
     double timeLimit = 0, patchSize = 0;
@@ -61,9 +61,9 @@ int main(int argc, char** argv) {
                                                           "the table finds visible from the whole patch or from none "
                                                           "of it (on), or shadow rays to all (off)")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
-    app.add_option("--bdpt-firstshot", bdptFirstShot, "bdpt with --firstshot: the small lights' light subpaths start "
-                                                      "from the patches the table lights (patches) or the table is "
-                                                      "ignored (off; docs/bdpt.md says when each pays)")
+    app.add_option("--shoot-firstshot", shootFirstShot, "light and bdpt with --firstshot: the small lights' particles "
+                                                        "start from the patches the table lights (patches) or the "
+                                                        "table is ignored (off; docs/light-tracing.md, docs/bdpt.md)")
         ->check(CLI::IsMember({"patches", "off"}))->capture_default_str();
     auto* sppOpt = app.add_option("--spp", spp, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
     app.add_option("--time", timeLimit, "render passes of 1 spp until this many seconds have passed (the image then "
@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
     io.patchNee = patchNee == "off" ? fs::PatchNee::Off : patchNee == "first" ? fs::PatchNee::First : fs::PatchNee::Every;
     io.lightVisibility = lightVisibility == "on";
     io.tableVisibility = tableVisibility == "on";
-    io.bdptFirstShot = bdptFirstShot == "patches";
+    io.shootFromPatches = shootFirstShot == "patches";
     io.comm = &comm;
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);

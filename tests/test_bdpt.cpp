@@ -29,11 +29,11 @@ TEST(Bdpt, MixedLightsAgreeWithPathTracing) {
   test::expectAgreesWithPathTracing("bdpt", "mixed-lights", test::mixedLightsScene(), 200, 300);
 }
 
-// With a first-shot table and --bdpt-firstshot off, BDPT shoots and samples the table's small
+// With a first-shot table and --shoot-firstshot off, BDPT shoots and samples the table's small
 // lights like all others (the table is ignored): the same image as without a table.
 TEST(Bdpt, FirstShotOffLeavesTheImageUnchanged) {
   IntegratorOptions io;
-  io.bdptFirstShot = false;
+  io.shootFromPatches = false;
   test::expectTableLeavesImageUnchanged("bdpt", 150, io);
 }
 

@@ -95,6 +95,7 @@ void expectTableMatchesShooting(const std::string& what, const std::string& json
   ASSERT_FALSE(t.replacedLights.empty()) << what;
   IntegratorOptions io;
   io.maxDepth = 1;
+  io.shootFromPatches = false;  // shoot the small lights themselves
   LightTracingIntegrator lt(io);
   lt.preprocess(scene);
   const uint64_t n = 400000;

@@ -43,6 +43,12 @@ METHODS = {
     "bdpt": Method("bdpt", [], False, False,
                    "bidirectional path tracing, MIS over all strategies (docs/bdpt.md; not a baseline: shown for "
                    "comparison)"),
+    "light+firstshot": Method("light", ["--shoot-firstshot", "patches"], True, False,
+                              "light tracing with first-shot: particles leave the lit patches, the small lights' "
+                              "direct light at camera-visible surfaces by shadow rays (docs/light-tracing.md)"),
+    "bdpt+firstshot": Method("bdpt", ["--shoot-firstshot", "patches"], True, False,
+                             "bidirectional path tracing with first-shot: light subpaths leave the lit patches "
+                             "(docs/bdpt.md)"),
     "bundle": Method("bundle", [], False, False,
                      "ray-bundle stochastic iteration, no first-shot: small lights emit through the bundle, NEE at "
                      "camera-visible surfaces (not a baseline: the paper's plain method, docs/bundle.md)"),

@@ -53,6 +53,8 @@ class PathIntegrator : public Integrator {
     return firstShot_.eval(hit, frame, woLocal, bsdf);
   }
   const LightSampler& lightSampler() const { return lights_; }
+  /// The lit patches' first-shot radiance (empty without a table), for integrators built on this one.
+  const FirstShotLighting& lighting() const { return firstShot_; }
 
  private:
   /// Weight of emission met at @p hit (an area light or, for the first-shot term, a patch) by a

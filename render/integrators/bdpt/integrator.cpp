@@ -11,12 +11,7 @@ namespace fs {
 
 void BdptIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
-  light_.preprocess(scene);
-  table_ = options_.bdptFirstShot && scene.firstShot() != nullptr;
-  if (!table_) return;
-  lighting_.build(scene);
-  tableEmission_ = EmissionSampler(scene, lighting_);
-  small_.build(scene, lighting_, options_);
+  light_.preprocess(scene);  // in table mode its emitters are the kept lights and the lit patch sides
 }
 
 Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
@@ -56,6 +51,10 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   size_t m = 1;
   while (m < ws.camera.size() && ws.camera[m].delta) ++m;
 
+  // A path that ends on a lit patch (table mode) has one bounce more than s + t − 2: the patch's.
+  const EmissionSampler& em = emission();
+  const int lightExtra = ns > 0 && em.isPatch(ws.light[0].light) ? 1 : 0;
+
   // t ≥ 2: this pixel's sample.
   Color L(0.0f);
   for (int t = 2; t <= nt; ++t) {
@@ -63,12 +62,16 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
     for (int s = 0; s <= std::max(ns, 1) && s + t - 2 <= maxDepth; ++s) {
       Color c(0.0f);
       if (s == 0) {
-        c = connectEmission(densities, pt, table_ && size_t(t - 1) > m);
+        if (t - 2 + (pt.hit.onPatch() ? 1 : 0) > maxDepth) continue;  // a lit patch's emission
+        c = connectEmission(densities, pt, light_.tableMode() && size_t(t - 1) > m);
         if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, 0, t);
       } else if (s == 1) {
         BdptVertex sampled;
         c = connectLightSample(densities, pt, sampler, sampled, rays);
+        if (t - 1 + (em.isPatch(sampled.light) ? 1 : 0) > maxDepth) c = Color(0.0f);
         if (maxComponent(c) > 0.0f) c *= misWeight(densities, std::span<const BdptVertex>(&sampled, 1), cameraPath, 1, t);
+      } else if (s + t - 2 + lightExtra > maxDepth) {
+        continue;
       } else {
         c = connectVertices(densities, ws.light[size_t(s - 1)], pt, rays);
         if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, s, t);
@@ -76,12 +79,12 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
       L += c;
     }
   }
-  if (table_) L += small_.estimate(cameraPath, m, sampler, rays);
+  if (light_.tableMode()) L += light_.smallLights().estimate(cameraPath, m, sampler, rays);
   out.push_back(Splat{pixel, L});
 
   // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.
   const float invN = 1.0f / float(particlesPerPass(camera));
-  for (int s = 2; s <= ns && s - 1 <= maxDepth; ++s) {
+  for (int s = 2; s <= ns && s - 1 + lightExtra <= maxDepth; ++s) {
     Splat splat;
     if (!light_.connect(ws.lightRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays)) continue;
     splat.L *= misWeight(densities, lightPath, cameraPath.first(1), s, 1) * invN;

@@ -15,7 +15,7 @@
 /// the pixels they reach, over N = width·height. Images are bit-identical for any thread count.
 /// Li() gives only the AOVs.
 ///
-/// With a first-shot table and IntegratorOptions::bdptFirstShot (table mode): the small lights'
+/// With a first-shot table and IntegratorOptions::shootFromPatches (table mode): the small lights'
 /// light subpaths start from the patches the table lights — the table is their first bounce. The
 /// emitters are the kept lights and the lit patch sides (EmissionSampler's table mode): light
 /// subpaths leave them, s = 1 samples them, and a camera vertex after x_m (the first non-delta one)
@@ -61,16 +61,14 @@ class BdptIntegrator : public Integrator {
   void sample(const BdptDensities& densities, uint32_t pixel, Sampler& sampler, Workspace& ws, std::vector<Splat>& out,
               uint64_t& rays) const;
 
-  /// The emitters light subpaths leave and s = 1 samples.
-  const EmissionSampler& emission() const { return table_ ? tableEmission_ : light_.emission(); }
+  /// The emitters light subpaths leave and s = 1 samples (in table mode the lit patch sides too).
+  const EmissionSampler& emission() const { return light_.emission(); }
 
   IntegratorOptions options_;
   const RenderScene* scene_ = nullptr;
-  LightTracingIntegrator light_;  ///< emission, light subpaths and the t = 1 connection
-  bool table_ = false;            ///< table mode
-  FirstShotLighting lighting_;    ///< table mode: the lit patches' radiance
-  EmissionSampler tableEmission_; ///< table mode: kept lights and lit patch sides
-  SmallLightsExact small_;        ///< table mode: the small lights' own part
+  /// Emission, light subpaths and the t = 1 connection; in table mode also the lit patches'
+  /// emitters and the small lights' own part (SmallLightsExact).
+  LightTracingIntegrator light_;
 };
 
 }  // namespace fs

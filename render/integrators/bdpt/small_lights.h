@@ -12,6 +12,8 @@
 ///     small area light met by the subpath's BSDF sample from x_m, weighted against it by the
 ///     power heuristic;
 ///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1.
+/// Light tracing's table mode uses it too (render/integrators/light/light_tracer.h), with a camera
+/// subpath that ends at the first non-delta vertex after x_m.
 #include <span>
 
 #include "common/rng.h"
@@ -33,7 +35,8 @@ class SmallLightsExact {
  private:
   const RenderScene* scene_ = nullptr;
   LightSampler lights_;
-  static constexpr NeeRequest kRequest{false, true, false, true};  ///< the replaced lights, with MIS
+  /// The replaced lights, with MIS; no shadow ray where the table decides (IntegratorOptions::tableVisibility).
+  NeeRequest request_{false, true, false, true};
 };
 
 }  // namespace fs

@@ -7,10 +7,11 @@
 namespace fs {
 
 bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, const LightPathOptions& options,
-                    Sampler& sampler, std::vector<LightVertex>& path, uint64_t& rays) {
+                    Sampler& sampler, std::vector<LightVertex>& path, uint64_t& rays, uint64_t stratum,
+                    uint64_t strata) {
   path.clear();
   EmissionSample es;
-  if (!emission.sample(sampler, es)) return false;
+  if (!emission.sample(sampler, es, stratum, strata)) return false;
   LightVertex v0;
   v0.hit.p = es.p;
   v0.hit.ng = es.n;
@@ -24,10 +25,14 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
 
   Color beta = es.power;
   const float start = maxComponent(es.power);
+  // A lit patch (table mode) is the particle's first bounce already: one vertex less, roulette one
+  // bounce earlier.
+  const int bounced = emission.isPatch(es.light) ? 1 : 0;
+  const int maxDepth = options.maxDepth - bounced, rrDepth = options.rrDepth - bounced;
   Ray ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d);
   float pdfDir = es.pdfDir;
   bool deltaDir = es.deltaDirection;
-  for (int depth = 1; depth <= options.maxDepth; ++depth) {
+  for (int depth = 1; depth <= maxDepth; ++depth) {
     Hit hit;
     ++rays;
     if (!scene.intersect(ray, hit)) break;
@@ -42,7 +47,8 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
     const BSDF& bsdf = scene.bsdf(v.material);
     v.delta = bsdf.hasDelta();
     path.push_back(v);
-    if (depth >= options.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
+    if (depth >= maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
+    if (depth == 1 && options.deltaFirstHitOnly && !v.delta) break;
 
     // Scatter: sample the adjoint BSDF with wo towards the light side.
     const Frame frame(hit.ng);
@@ -56,7 +62,7 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
     beta *= weight;
     ray = Ray(hit.spawnOrigin(wo), wo);
 
-    if (depth >= options.rrDepth) {
+    if (depth >= rrDepth) {
       const float survive = std::min(0.95f, maxComponent(beta) / start);
       if (!(sampler.next1D() < survive)) break;
       beta /= survive;

@@ -37,12 +37,19 @@ struct LightVertex {
 struct LightPathOptions {
   int maxDepth = 16;  ///< vertices 1..maxDepth at most: a vertex k connected to the camera makes a path of k bounces
   int rrDepth = 3;    ///< Russian roulette once the particle has bounced this many times
+  /// Stop at a first hit that is not a delta surface (light tracing's delta-first particles of the
+  /// small area lights in table mode: the table holds their other first bounces).
+  bool deltaFirstHitOnly = false;
 };
 
-/// Traces one light subpath into @p path (cleared first). Consumes the sampler's dimensions in a
+/// Traces one light subpath into @p path (cleared first). A particle leaving a lit patch (table
+/// mode) has bounced once already: it makes at most maxDepth − 1 hits and meets roulette one
+/// bounce earlier. Consumes the sampler's dimensions in a
 /// fixed order: 5 for the emission, then per bounce 2 for the BSDF and, from rrDepth on, 1 for roulette. @p rays counts the
-/// closest-hit rays. @return false if the light emitted nothing (the path is then empty).
+/// closest-hit rays. @p stratum of @p strata: the emitter's stratum (EmissionSampler::sample).
+/// @return false if the light emitted nothing (the path is then empty).
 bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, const LightPathOptions& options,
-                    Sampler& sampler, std::vector<LightVertex>& path, uint64_t& rays);
+                    Sampler& sampler, std::vector<LightVertex>& path, uint64_t& rays, uint64_t stratum = 0,
+                    uint64_t strata = 1);
 
 }  // namespace fs

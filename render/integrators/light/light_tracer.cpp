@@ -4,13 +4,25 @@
 #include <cmath>
 
 #include "render/direct_light.h"
+#include "render/lights.h"
 
 namespace fs {
 
 void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
-  emission_ = EmissionSampler(scene.lights(), scene.desc());
   fallback_.preprocess(scene);
+  table_ = options_.shootFromPatches && scene.firstShot() != nullptr;
+  if (!table_) {
+    emission_ = EmissionSampler(scene.lights(), scene.desc());
+    return;
+  }
+  emission_ = EmissionSampler(scene, fallback_.lighting());
+  small_.build(scene, fallback_.lighting(), options_);
+  deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
+  bool mirrors = false;
+  for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors = mirrors || scene.bsdf(uint32_t(m)).hasDelta();
+  smallAreaLights_ = deltaFirst_.totalPower() > 0;
+  deltaParticles_ = smallAreaLights_ && mirrors;
 }
 
 Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* info) const {
@@ -28,7 +40,59 @@ Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* i
     info->albedo = bsdf.albedo();
     info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
   }
-  return Color(0.0f);
+  if (!table_) return Color(0.0f);
+  uint64_t rays = 0;
+  const Color L = smallLightsAt(ray, hit, sampler, rays);
+  if (info) info->rays += uint32_t(rays);
+  return L;
+}
+
+Color LightTracingIntegrator::smallLightsAt(const Ray& ray, const Hit& x, Sampler& sampler, uint64_t& rays) const {
+  // The camera subpath: the pinhole, x, and — if a replaced light has a surface to meet — the hit
+  // of x's BSDF sample (a small area light seen from x through mirrors and glass comes from the
+  // delta-first particles instead).
+  thread_local std::vector<BdptVertex> path;
+  path.clear();
+  BdptVertex v;
+  v.kind = BdptVertex::Kind::Camera;
+  v.hit.p = ray.o;
+  v.beta = Color(1.0f);
+  path.push_back(v);
+  v = BdptVertex();
+  v.hit = x;
+  v.wi = -glm::normalize(ray.d);
+  v.beta = Color(1.0f);
+  v.material = scene_->material(x);
+  path.push_back(v);
+  if (options_.maxDepth < 1) return small_.estimate(path, path.size(), sampler, rays);  // x's own emission only
+  const BSDF& bsdf = scene_->bsdf(path[1].material);
+  if (smallAreaLights_ && maxComponent(bsdf.albedo()) > 0.0f) {
+    const Frame frame(x.ng);
+    BSDFQuery q(frame.toLocal(path[1].wi));
+    const Color weight = bsdf.sample(q, sampler.next2D());
+    const Vec3 wi = frame.toWorld(q.wi);
+    Hit hit;
+    if (q.pdf > 0.0f && maxComponent(weight) > 0.0f && (++rays, scene_->intersect(Ray(x.spawnOrigin(wi), wi), hit))) {
+      v = BdptVertex();
+      v.hit = hit;
+      v.wi = -wi;
+      v.beta = weight;
+      v.material = scene_->material(hit);
+      v.delta = scene_->bsdf(v.material).hasDelta();
+      path.push_back(v);
+    }
+  }
+  return small_.estimate(path, 1, sampler, rays);
+}
+
+void LightTracingIntegrator::splatPath(const std::vector<LightVertex>& path, int first, int last, const Camera& camera,
+                                       float invN, std::vector<Splat>& out, uint64_t& rays) const {
+  for (int k = first; k < int(path.size()) && k <= last; ++k) {
+    Splat s;
+    if (!connect(path[size_t(k)], camera, s.pixel, s.L, rays)) continue;
+    s.L *= invN;
+    out.push_back(s);  // the renderer counts and drops non-finite ones
+  }
 }
 
 bool LightTracingIntegrator::connect(const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L,
@@ -55,18 +119,27 @@ bool LightTracingIntegrator::connect(const LightVertex& v, const Camera& camera,
 
 void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin,
                                             uint64_t end, std::vector<Splat>& out, uint64_t& rays) const {
-  const float invN = 1.0f / float(particlesPerPass(camera));
+  // Particle i of the pass chooses its emitter in stratum i of n (EmissionSampler::sample).
+  const uint64_t n = particlesPerPass(camera);
+  const float invN = 1.0f / float(n);
   const LightPathOptions po = pathOptions();
   std::vector<LightVertex> path;
+  LightPathOptions deltaFirst = po;
+  deltaFirst.deltaFirstHitOnly = true;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler(seed, i, pass, kParticleStream);
-    if (!traceLightPath(*scene_, emission_, po, sampler, path, rays)) continue;
-    for (const LightVertex& v : path) {
-      Splat s;
-      if (!connect(v, camera, s.pixel, s.L, rays)) continue;
-      s.L *= invN;
-      out.push_back(s);  // the renderer counts and drops non-finite ones
+    if (traceLightPath(*scene_, emission_, po, sampler, path, rays, i, n)) {
+      // A patch particle (table mode) starts one bounce in: its vertex 0, the first-shot radiance
+      // at the camera's first hit, is the small lights' direct light that Li() takes exactly.
+      const bool fromPatch = emission_.isPatch(path[0].light);
+      splatPath(path, fromPatch ? 1 : 0, fromPatch ? po.maxDepth - 1 : po.maxDepth, camera, invN, out, rays);
     }
+    // Table mode with mirrors or glass: a small area light's particle whose first hit is a delta
+    // surface (no table holds that bounce). Its vertex 0 seen by the camera comes from Li().
+    if (!deltaParticles_) continue;
+    Sampler second(seed, i, pass, kDeltaFirstStream);
+    if (traceLightPath(*scene_, deltaFirst_, deltaFirst, second, path, rays, i, n) && path.size() > 2)
+      splatPath(path, 2, po.maxDepth, camera, invN, out, rays);
   }
 }
 

@@ -15,11 +15,23 @@
 /// camera samples whose first hit is a delta surface (mirror, glass) take the path tracer's
 /// estimate; the splats skip them (they start from non-delta vertices only), so the two parts
 /// partition the pixel's paths. Point and spot lights are not seen by the camera (as in gathering).
-/// With a first-shot table the table's small lights are shot like the others (shooting is exact
-/// without the table); only the path-traced delta pixels read the table.
+///
+/// With a first-shot table and IntegratorOptions::shootFromPatches (table mode) the small lights
+/// are not shot: particles leave the kept lights and the lit patch sides (EmissionSampler's table
+/// mode), so the table is the small lights' first bounce. A patch particle's vertex 0 is not
+/// splatted, and its vertex k makes a path of k + 1 bounces. What the small lights give the
+/// camera directly — their direct light at the first hit x (next-event estimation, exact shadows,
+/// MIS with x's BSDF sample for area lights) and their emission seen at x — comes from Li() per
+/// pixel (SmallLightsExact). A small area light's light whose first bounce is a mirror or glass
+/// (no table holds it) comes from a second particle per particle index when the scene has both:
+/// shot from the small area lights, stopped at a first hit that is not delta. This is the path
+/// space of the path tracer with the same table and PrimaryMode::Exact. Without the option the
+/// table's small lights are shot like the others (shooting is exact without the table), and only
+/// the path-traced delta pixels read the table.
 #include <vector>
 
 #include "render/integrator.h"
+#include "render/integrators/bdpt/small_lights.h"
 #include "render/integrators/light/light_path.h"
 #include "render/integrators/path.h"
 #include "render/light_emission.h"
@@ -31,7 +43,8 @@ class LightTracingIntegrator : public Integrator {
   explicit LightTracingIntegrator(const IntegratorOptions& options) : options_(options), fallback_(options) {}
   void preprocess(const RenderScene& scene) override;
   /// The camera-side part of a sample: the AOVs, and the path tracer's radiance for a ray whose
-  /// first hit is a delta surface; 0 otherwise (the splats carry it).
+  /// first hit is a delta surface; otherwise, in table mode, the small lights' own part, and 0
+  /// without a table (the splats carry it).
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "light"; }
 
@@ -47,17 +60,35 @@ class LightTracingIntegrator : public Integrator {
   /// @p pixel receives y·width + x. @p rays counts the shadow ray.
   bool connect(const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L, uint64_t& rays) const;
 
+  /// The emitters particles leave: every light, or in table mode the kept lights and lit patch sides.
   const EmissionSampler& emission() const { return emission_; }
+  /// Table mode: a first-shot table is loaded and IntegratorOptions::shootFromPatches is set.
+  bool tableMode() const { return table_; }
+  /// Table mode: the small lights' own part of a camera subpath (built in preprocess()).
+  const SmallLightsExact& smallLights() const { return small_; }
   LightPathOptions pathOptions() const { return {options_.maxDepth, options_.rrDepth}; }
 
   /// The stream index of the particles' samplers: Sampler(seed, particle, pass, kParticleStream).
   static constexpr uint64_t kParticleStream = 0x4c54;  // "LT"
+  /// The stream of table mode's delta-first particles of the small area lights.
+  static constexpr uint64_t kDeltaFirstStream = 0x4c44;  // "LD"
 
  private:
+  /// Splats vertices @p first..@p last of @p path (those that reach the pinhole), scaled by @p invN.
+  void splatPath(const std::vector<LightVertex>& path, int first, int last, const Camera& camera, float invN,
+                 std::vector<Splat>& out, uint64_t& rays) const;
+  /// Table mode, first hit @p x (non-delta) of @p ray: the small lights' own part of the pixel.
+  Color smallLightsAt(const Ray& ray, const Hit& x, Sampler& sampler, uint64_t& rays) const;
+
   IntegratorOptions options_;
   const RenderScene* scene_ = nullptr;
   EmissionSampler emission_;
-  PathIntegrator fallback_;  ///< for camera rays whose first hit is a delta surface
+  PathIntegrator fallback_;  ///< for camera rays whose first hit is a delta surface; its table lighting
+  bool table_ = false;
+  bool smallAreaLights_ = false;  ///< table mode: a replaced light has a surface (a BSDF sample can meet it)
+  bool deltaParticles_ = false;   ///< table mode: small area lights and delta surfaces: shoot deltaFirst_ too
+  EmissionSampler deltaFirst_;    ///< table mode: the replaced area lights, for particles whose first hit is delta
+  SmallLightsExact small_;
 };
 
 }  // namespace fs
