@@ -110,7 +110,7 @@ EmbreeItemBuffer::EmbreeItemBuffer(const PatchMesh& mesh, const Bounds3d& sceneB
     : EmbreeItemBuffer(ItemGeometry::fromPatches(mesh), sceneBounds, nearRelative, mode) {}
 
 EmbreeItemBuffer::EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBounds, double nearRelative,
-                                   EmbreeRayMode mode)
+                                   EmbreeRayMode mode, bool robust)
     : triPatch_(geometry.patchIds), bounds_(sceneBounds), near_(itemBufferNear(sceneBounds, nearRelative)),
       mode_(mode) {
   if (geometry.positions.size() != 3 * geometry.patchIds.size())
@@ -119,7 +119,7 @@ EmbreeItemBuffer::EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d&
   device_ = rtcNewDevice(nullptr);
   if (!device_) embreeFail(nullptr, "rtcNewDevice");
   scene_ = rtcNewScene(device_);
-  rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+  if (robust) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_MEDIUM);
   const size_t nTri = geometry.triangleCount();
   if (nTri > 0) {

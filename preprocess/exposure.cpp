@@ -15,8 +15,9 @@ bool ExposureQuery::buried(const Vec3d& x) const {
   return mask->cells ? cache->cell(patch, side, *mask, x) : cache->nearest(patch, side, *mask, x);
 }
 
-ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid, int directions)
-    : mesh_(mesh), rays_(rays), grid_(grid), once_(new std::once_flag[2 * size_t(mesh.size())]),
+ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, const EmbreeItemBuffer& probeRays,
+                             int grid, int directions)
+    : mesh_(mesh), rays_(rays), probeRays_(probeRays), grid_(grid), once_(new std::once_flag[2 * size_t(mesh.size())]),
       masks_(2 * size_t(mesh.size())) {
   // Stratified cosine-weighted directions: n×n strata, each at its centre.
   const int n = std::max(1, int(std::lround(std::sqrt(double(directions)))));
@@ -142,7 +143,7 @@ bool ExposureCache::probe(uint32_t patch, int side, const Vec3d& x) const {
   for (const Vec3d& l : directions_) {
     const Vec3d d = l.x * frame.s + l.y * frame.t + l.z * frame.n;
     double t = 0;
-    const uint32_t hit = rays_.firstHit(o, d, std::numeric_limits<double>::infinity(), t);
+    const uint32_t hit = probeRays_.firstHit(o, d, std::numeric_limits<double>::infinity(), t);
     if (hit != kNoPatch && hit != patch && glm::dot(d, Vec3d(mesh_.patches[hit].normal)) > 0) ++back;
     ++traced;
     if (2 * back > total) return true;

@@ -67,7 +67,12 @@ class ExposureCache {
  public:
   /// @p rays traces the same patches as @p mesh; both must outlive the cache. @p grid probe points
   /// per patch edge, @p directions rays per point (a stratified cosine-weighted set).
-  ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid = 6, int directions = 16);
+  ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, int grid = 6, int directions = 16)
+      : ExposureCache(mesh, rays, rays, grid, directions) {}
+  /// The same with the probes traced by @p probeRays (which may be a faster, non-watertight BVH of
+  /// the same patches); rays() stays @p rays.
+  ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays, const EmbreeItemBuffer& probeRays, int grid = 6,
+                int directions = 16);
   /// The mask of side @p side (0: the normal's side, 1: the other) of patch @p patch.
   const ExposureMask& mask(uint32_t patch, int side);
   /// The ray caster the probes use (the preprocessor's exact point-visibility tests use it too).
@@ -86,6 +91,7 @@ class ExposureCache {
 
   const PatchMesh& mesh_;
   const EmbreeItemBuffer& rays_;
+  const EmbreeItemBuffer& probeRays_;
   int grid_;
   std::vector<Vec3d> directions_;  ///< local frame, z up
   std::unique_ptr<std::once_flag[]> once_;

@@ -4,12 +4,14 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <thread>
 
 #include <fmt/core.h>
+#include <tbb/parallel_for.h>
 
 #include "common/error.h"
 #include "common/firstshot_groups.h"
@@ -116,14 +118,16 @@ struct Shooter {
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min<int>(threads, static_cast<int>(mine.size())));
     // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
-    std::unique_ptr<EmbreeItemBuffer> probe;
+    std::unique_ptr<EmbreeItemBuffer> probe, fastProbe;
     std::unique_ptr<ExposureCache> exposure;
     // One BVH for the point tests, the probes and, with the embree back end, every worker's item buffers.
     if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty() ||
         options.settings.backend != "gl") {
       profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
-      exposure = std::make_unique<ExposureCache>(mesh, *probe);
+      // The exposure probes' votes (16 rays) do not need watertight rays: a BVH without it.
+      fastProbe = std::make_unique<EmbreeItemBuffer>(geometry, bounds, 1e-6, EmbreeRayMode::Packet16, false);
+      exposure = std::make_unique<ExposureCache>(mesh, *probe, *fastProbe);
     }
     std::unique_ptr<OcclusionCull> cull;
     if (options.settings.estimator == "analytic" && tasks.front().patches.empty()) {
@@ -326,7 +330,22 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
                                                                                        : makeHemicubeWindow(R);
     return *areaWindow;
   };
-  std::vector<std::unique_ptr<Window>> perLight(scene.lights.size());  // directional windows, spot profiles
+  std::vector<std::unique_ptr<Window>> perLight(scene.lights.size());  // directional windows, IES spots
+  // A spot's window: the cube's weights times its profile, in the frame Framed(axis) (renderSample).
+  // A cone's profile depends only on the angle to the axis, so spots with the same cone share one.
+  std::map<std::pair<double, double>, std::unique_ptr<Window>> coneWindows;
+  auto profiled = [&](auto&& profileOfLocal) {
+    auto w = std::make_unique<Window>(cube());
+    for (size_t v = 0; v < w->views.size(); ++v) {
+      const View& view = w->views[v];
+      tbb::parallel_for(0, view.height, [&](int y) {
+        for (int x = 0; x < view.width; ++x)
+          w->weights[v][size_t(y) * view.width + x] *= profileOfLocal(glm::normalize(view.pixelDirection(x, y)));
+      });
+    }
+    cropToWeights(*w);  // only the cone is rendered
+    return w;
+  };
   std::vector<SampleSetup> setups(t.samples.size());
   for (size_t i = 0; i < t.samples.size(); ++i) {
     const LightSample& ls = t.samples[i];
@@ -342,19 +361,20 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
         break;
       case LightSampleKind::Spot: {
         s.profile = EmissionProfile(light);
-        if (!perLight[ls.light]) {  // cube weights times the profile, the window in the frame Framed(axis) (renderSample)
-          auto w = std::make_unique<Window>(cube());
-          const Framed frame(light.direction);
-          for (size_t v = 0; v < w->views.size(); ++v)
-            for (int y = 0; y < w->views[v].height; ++y)
-              for (int x = 0; x < w->views[v].width; ++x) {
-                const View& view = w->views[v];
-                const Vec3d d = glm::normalize(view.pixelDirection(x, y));
-                w->weights[v][size_t(y) * view.width + x] *= s.profile(frame.s * d.x + frame.t * d.y + frame.n * d.z);
-              }
-          perLight[ls.light] = std::move(w);
+        const Window* w = nullptr;
+        if (light.ies) {
+          if (!perLight[ls.light]) {
+            const Framed frame(light.direction);
+            perLight[ls.light] = profiled([&](const Vec3d& d) { return s.profile(frame.s * d.x + frame.t * d.y + frame.n * d.z); });
+          }
+          w = perLight[ls.light].get();
+        } else {
+          const SpotCone cone(light);
+          auto& shared = coneWindows[{cone.cosInner, cone.cosOuter}];
+          if (!shared) shared = profiled([&](const Vec3d& d) { return cone.profile(d.z); });
+          w = shared.get();
         }
-        s.window = perLight[ls.light].get(), s.weights = &perLight[ls.light]->weights;
+        s.window = w, s.weights = &w->weights;
         s.axis = light.direction, s.scale = 1.0 / s.profile.integral();
         break;
       }

@@ -55,6 +55,32 @@ size_t Window::pixelCount() const {
   return n;
 }
 
+void cropToWeights(Window& window) {
+  std::vector<View> views;
+  std::vector<std::vector<double>> weights;
+  for (size_t v = 0; v < window.views.size(); ++v) {
+    const View& view = window.views[v];
+    const std::vector<double>& w = window.weights[v];
+    int i0 = view.width, i1 = -1, j0 = view.height, j1 = -1;
+    for (int j = 0; j < view.height; ++j)
+      for (int i = 0; i < view.width; ++i)
+        if (w[size_t(j) * view.width + i] > 0) i0 = std::min(i0, i), i1 = std::max(i1, i), j0 = std::min(j0, j), j1 = std::max(j1, j);
+    if (i1 < 0) continue;
+    View c = view;
+    const double du = (view.planeMax.x - view.planeMin.x) / view.width, dv = (view.planeMax.y - view.planeMin.y) / view.height;
+    c.width = i1 - i0 + 1, c.height = j1 - j0 + 1;
+    if (c.width != view.width) c.planeMin.x = view.planeMin.x + i0 * du, c.planeMax.x = view.planeMin.x + (i1 + 1) * du;
+    if (c.height != view.height) c.planeMax.y = view.planeMax.y - j0 * dv, c.planeMin.y = view.planeMax.y - (j1 + 1) * dv;
+    std::vector<double> cw(c.pixelCount());
+    for (int j = 0; j < c.height; ++j)
+      std::copy_n(w.begin() + size_t(j + j0) * view.width + i0, c.width, cw.begin() + size_t(j) * c.width);
+    views.push_back(c);
+    weights.push_back(std::move(cw));
+  }
+  window.views = std::move(views);
+  window.weights = std::move(weights);
+}
+
 Window makeCubeWindow(int R) {
   checkResolution(R, "cube window");
   Window win;

@@ -60,6 +60,12 @@ Window makeTetraWindow(int R, int subgrid = 16);
 /// eye plane lies 1% of the diagonal before the box. Weight δA⊥ (m²) on every pixel.
 Window makeOrthoWindow(int R, const Bounds3d& bounds, const Vec3d& direction);
 
+/// Crops every view of @p window to the smallest pixel rectangle holding its weights > 0 and drops
+/// views without any (a spot's cube outside its cone). The pixels kept keep their centres (the
+/// image-plane bounds move by whole pixels) and weights; the estimators never use a weight-0 pixel,
+/// so a cropped window gives the same factors for fewer pixels rendered.
+void cropToWeights(Window& window);
+
 /// The window's views moved to a light sample: eye = position + frame·localEye + eyeOffset·frame.n,
 /// basis vectors rotated by @p frame (local x,y,z → frame.s, frame.t, frame.n).
 std::vector<View> placeWindow(const Window& window, const Vec3d& position, const Framed& frame, double eyeOffset = 0.0);

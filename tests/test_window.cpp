@@ -1,10 +1,12 @@
 // Windows around light samples: views and per-pixel weights (REFERENCE.md, "First-shot factors").
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 
+#include "common/lights.h"
 #include "preprocess/window.h"
 
 namespace fs {
@@ -208,4 +210,47 @@ TEST(Window, PixelOrder) {
 }
 
 }  // namespace
+}  // namespace fs
+
+namespace fs {
+
+// A spot's cube window cropped to its cone: the pixels kept have the same centres and weights, the
+// sum is unchanged, views outside the cone are dropped, and far fewer pixels remain to render.
+TEST(Window, CropToWeightsKeepsEveryWeightedPixel) {
+  const int R = 64;
+  const Window cube = makeCubeWindow(R);
+  Window spot = cube;
+  SpotCone cone;
+  cone.cosInner = std::cos(glm::radians(30.0)), cone.cosOuter = std::cos(glm::radians(50.0));
+  for (size_t v = 0; v < spot.views.size(); ++v)
+    for (int j = 0; j < R; ++j)
+      for (int i = 0; i < R; ++i)
+        spot.weights[v][size_t(j) * R + i] *= cone.profile(glm::normalize(spot.views[v].pixelDirection(i, j)).z);
+  const double before = spot.totalWeight();
+  Window cropped = spot;
+  cropToWeights(cropped);
+  EXPECT_EQ(cropped.totalWeight(), before);
+  EXPECT_EQ(cropped.views.size(), 5u) << "the face opposite the axis holds no weight";
+  EXPECT_LT(cropped.pixelCount() * 3, spot.pixelCount()) << cropped.pixelCount() << " of " << spot.pixelCount();
+  // Every cropped pixel is an original pixel: same direction (to rounding) and the same weight.
+  size_t matched = 0;
+  for (const View& c : cropped.views) {
+    const size_t cv = size_t(&c - cropped.views.data());
+    const auto original = std::find_if(spot.views.begin(), spot.views.end(),
+                                       [&](const View& o) { return o.forward == c.forward && o.up == c.up; });
+    ASSERT_NE(original, spot.views.end());
+    const size_t ov = size_t(original - spot.views.begin());
+    const double du = (original->planeMax.x - original->planeMin.x) / R, dv = (original->planeMax.y - original->planeMin.y) / R;
+    const int i0 = int(std::lround((c.planeMin.x - original->planeMin.x) / du));
+    const int j0 = int(std::lround((original->planeMax.y - c.planeMax.y) / dv));
+    for (int j = 0; j < c.height; ++j)
+      for (int i = 0; i < c.width; ++i) {
+        EXPECT_LT(glm::length(c.pixelDirection(i, j) - original->pixelDirection(i + i0, j + j0)), 1e-12);
+        EXPECT_EQ(cropped.weights[cv][size_t(j) * c.width + i], spot.weights[ov][size_t(j + j0) * R + i + i0]);
+        ++matched;
+      }
+  }
+  EXPECT_EQ(matched, cropped.pixelCount());
+}
+
 }  // namespace fs
