@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/scene_desc.h"
+#include "preprocess/preprocessor.h"
 #include "render/camera.h"
 #include "render/film.h"
 #include "render/integrator.h"
@@ -20,11 +21,14 @@ namespace fs::test {
 
 /// Renders the Cornell box at 40×30 (1200 samples a pass: two splat chunks) with @p integrator
 /// (a makeIntegrator name) at 3 spp on 1 and on 2 threads, and pass by pass: every pixel's mean and
-/// variance must be bit-identical, and the image not black. Returns the one-thread run.
-inline RenderRun expectSameFilmForThreadsAndPasses(const std::string& integrator) {
+/// variance must be bit-identical, and the image not black. @p withTable: with a first-shot table
+/// (Embree, R = 64; the shooting integrators' table mode). Returns the one-thread run.
+inline RenderRun expectSameFilmForThreadsAndPasses(const std::string& integrator, bool withTable = false) {
   SceneDesc d = loadScene(source("scenes/cornell.json"));
   d.camera.width = 40, d.camera.height = 30;
-  const RenderScene scene(d, d.settings.patchSize);
+  PreprocessOptions po = defaultOptions(d);
+  po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+  const RenderScene scene = withTable ? RenderScene(d, preprocessScene(d, po)) : RenderScene(d, d.settings.patchSize);
   auto it = makeIntegrator(integrator, IntegratorOptions());
   it->preprocess(scene);
   RenderRun one = renderWith(*it, scene, 3, 1, 1);

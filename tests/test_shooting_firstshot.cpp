@@ -10,6 +10,7 @@
 #include "render/light_emission.h"
 #include "tests/block_compare.h"
 #include "tests/light_tracing_util.h"
+#include "tests/splat_checks.h"
 #include "tests/test_util.h"
 
 using namespace fs;
@@ -56,6 +57,10 @@ TEST_P(ShootingFirstShot, CornellAtTwoBouncesAgreesWithPathTracingOnTheSameTable
 TEST_P(ShootingFirstShot, ManyLightsAgreesWithPathTracingOnTheSameTable) {
   FIRSTSHOT_STATISTICS_ONLY("ShootingFirstShot.MixedLightsAgreeWithPathTracingOnTheSameTable");
   expectAgrees("many-lights, table", shipped("many-lights"), GetParam().heavyTail);
+}
+// Table mode's particles and its per-pixel part: the same film for 1 and 2 threads and pass by pass.
+TEST_P(ShootingFirstShot, BitIdenticalForOneAndTwoThreadsAndByPasses) {
+  test::expectSameFilmForThreadsAndPasses(GetParam().integrator, true);
 }
 // Kept (directional) and replaced lights of every kind, over diffuse and glossy patches.
 TEST_P(ShootingFirstShot, MixedLightsAgreeWithPathTracingOnTheSameTable) {
