@@ -65,7 +65,8 @@ void LightSampler::addLight(Group& g, GroupId id, uint32_t l, std::vector<LightB
         const float len = glm::length(c);
         const float area = 0.5f * len;
         const Vec3 normal = len > 0.0f ? c / len : Vec3(0, 0, 1);
-        g.emitters.push_back({Emitter::Kind::Triangle, l, t, area});
+        triangles_.push_back({v[0], v[1] - v[0], v[2] - v[0], normal});
+        g.emitters.push_back({Emitter::Kind::Triangle, l, uint32_t(triangles_.size() - 1), area});
         bounds.push_back(surfaceBounds(v, 3, normal, len > 0.0f ? meanOf(light.radiance) * kPiF * area : 0.0f));
       }
       return;
@@ -100,6 +101,7 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
   patchCount_ = 0;
   patchGroup_ = kNone;
   for (Group& g : groups_) g = Group();
+  triangles_.clear();
   const size_t n = scene.lights().lights().size();
   lightGroup_.assign(n, kNone);
   lightFirst_.assign(n, 0);
@@ -137,10 +139,9 @@ Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
     case Emitter::Kind::Light:
       return lights.lights()[e.index].position;
     case Emitter::Kind::Triangle: {
-      const EmitterMesh& m = lights.emitterMeshes()[lights.lights()[e.index].emitter];
+      const TriangleEmitter& t = triangles_[e.sub];
       const Vec3 bary = squareToUniformTriangle(u);
-      return bary.x * m.vertices[m.indices[3 * e.sub]] + bary.y * m.vertices[m.indices[3 * e.sub + 1]] +
-             bary.z * m.vertices[m.indices[3 * e.sub + 2]];
+      return t.a + bary.y * t.e1 + bary.z * t.e2;
     }
     case Emitter::Kind::Patch:
       return samplePatchPoint(scene_->mesh().patches[e.index], u);
@@ -258,18 +259,15 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
     }
     case Emitter::Kind::Triangle: {
       const RenderLight& light = lights.lights()[e.index];
-      const EmitterMesh& m = lights.emitterMeshes()[light.emitter];
-      const Vec3 a = m.vertices[m.indices[3 * e.sub]], b = m.vertices[m.indices[3 * e.sub + 1]],
-                 c = m.vertices[m.indices[3 * e.sub + 2]];
       const Vec3 d = emitterPoint(e, u) - hit.p;
       const float dist2 = glm::dot(d, d);
       if (!(dist2 > 0.0f)) return Color(0.0f);
       rec.distance = std::sqrt(dist2);
-      rec.wi = d / rec.distance;
-      const float cosL = -glm::dot(glm::normalize(glm::cross(b - a, c - a)), rec.wi);
+      rec.wi = d * (1.0f / rec.distance);  // one division, not three (a hot path)
+      const float cosL = -glm::dot(triangles_[e.sub].n, rec.wi);
       if (!(cosL > 0.0f)) return Color(0.0f);
       rec.pdf = pSelect * dist2 / (cosL * e.area);
-      rec.value = light.radiance / rec.pdf;
+      rec.value = light.radiance * (1.0f / rec.pdf);
       break;
     }
     case Emitter::Kind::Patch: {

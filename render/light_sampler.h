@@ -95,8 +95,12 @@ class LightSampler {
   struct Emitter {
     enum class Kind : uint8_t { Light, Triangle, Patch } kind = Kind::Light;
     uint32_t index = 0;  ///< LightSet index (Light, Triangle) or patch ID
-    uint32_t sub = 0;    ///< triangle of the emitter mesh, or the patch side (0 front, 1 back)
+    uint32_t sub = 0;    ///< Triangle: index in triangles_; Patch: the side (0 front, 1 back)
     float area = 0.0f;   ///< m² (Triangle, Patch)
+  };
+  /// An area light's triangle as NEE samples it: vertex a, edges b − a and c − a, unit normal.
+  struct TriangleEmitter {
+    Vec3 a, e1, e2, n;
   };
   /// A tree and the emitters it chooses from, with the directional lights beside it.
   struct Group {
@@ -127,6 +131,7 @@ class LightSampler {
   const FirstShotLighting* firstShot_ = nullptr;
   LightStrategy strategy_ = LightStrategy::Tree;
   Group groups_[3];
+  std::vector<TriangleEmitter> triangles_;  ///< the Triangle emitters of all groups
   size_t patchCount_ = 0;
   // Where each emitter lives: per LightSet light its group and first emitter (its triangles
   // follow in order); per patch side (2j + s) its emitter in the patch group.

@@ -94,7 +94,7 @@ Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, boo
     if (depth + 1 >= options_.rrDepth) {
       const float survive = std::min(0.95f, maxComponent(beta));
       if (!(sampler.next1D() < survive)) break;
-      beta /= survive;
+      beta *= 1.0f / survive;
     }
   }
   return L;
