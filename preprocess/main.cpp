@@ -1,6 +1,9 @@
 // firstshot-preprocess: scene -> patches -> first-shot table (.fsd).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
+#include <tbb/global_control.h>
+
+#include <optional>
 
 #include "common/cli.h"
 #include "common/interrupt.h"
@@ -73,7 +76,8 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     app.add_option("--light-tolerance", lightTolerance, "automatic area-light tessellation: relative error at the nearest receiver (default: settings.light_tolerance)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--threads", threads, "workers, one GL context each (default: one per core)")->check(CLI::NonNegativeNumber);
+    app.add_option("--threads", threads, "workers, one GL context each, and the cap on every parallel loop "
+                                         "(default: one per core)")->check(CLI::NonNegativeNumber);
     app.add_option("--seed", seed, "0: windows aligned with each light's frame; else rotate each sample's window randomly about its axis (not an IES light's: its table fixes the frame)");
     app.add_option("--time", timeLimit, "give up (writing nothing) after this many seconds")->check(CLI::NonNegativeNumber);
     app.add_option("--estimator", estimator, "analytic: closed form times the visible fraction (default) | pixels: plain pixel sums")
@@ -112,6 +116,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (out.empty()) throw fs::InputError("", "command line", "no output file given (-o OUT.fsd)");
+    // --threads caps every parallel loop as well (TBB's, and Embree's BVH builds), not only the workers.
+    std::optional<tbb::global_control> cap;
+    if (threads > 0) cap.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
     fs::PreprocessStats st;
     const fs::FirstShotTable table = fs::preprocessScene(scene, o, &st);
     if (!comm.root()) return 0;  // every rank holds the table; rank 0 writes it
