@@ -120,12 +120,13 @@ struct Shooter {
     // Exposure of partly visible patches (analytic estimator), probed with rays on first use.
     std::unique_ptr<EmbreeItemBuffer> probe, fastProbe;
     std::unique_ptr<ExposureCache> exposure;
-    // One BVH for the point tests, the probes and, with the embree back end, every worker's item buffers.
+    // One watertight BVH for the point tests, the refinement passes' item buffers and, with the embree
+    // back end, every worker's item buffers; the exposure probes trace a second one (below).
     if (options.settings.estimator == "analytic" || needVisible || !tasks.front().patches.empty() ||
         options.settings.backend != "gl") {
       profile::Scope probeTime(profile::ProbeSetup);
       probe = std::make_unique<EmbreeItemBuffer>(geometry, bounds);
-      // The exposure probes' votes (16 rays) do not need watertight rays: a BVH without it.
+      // The exposure probes' votes (16 rays) do not need watertight rays: a faster BVH without it.
       fastProbe = std::make_unique<EmbreeItemBuffer>(geometry, bounds, 1e-6, EmbreeRayMode::Packet16, false);
       exposure = std::make_unique<ExposureCache>(mesh, *probe, *fastProbe);
     }

@@ -24,10 +24,8 @@
 /// is ignored: the small lights are shot and sampled like all others (unbiased, as light tracing).
 #include <vector>
 
-#include "render/direct_light.h"
 #include "render/integrator.h"
 #include "render/integrators/bdpt/densities.h"
-#include "render/integrators/bdpt/small_lights.h"
 #include "render/integrators/light/light_tracer.h"
 
 namespace fs {

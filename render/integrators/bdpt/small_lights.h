@@ -13,7 +13,8 @@
 ///     power heuristic;
 ///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1.
 /// Light tracing's table mode uses it too (render/integrators/light/light_tracer.h), with a camera
-/// subpath that ends at the first non-delta vertex after x_m.
+/// subpath of x_m (the camera's first hit) and the hit of x_m's BSDF sample only: light reflected by
+/// mirrors and glass before x_m comes from its delta-first particles there.
 #include <span>
 
 #include "common/rng.h"

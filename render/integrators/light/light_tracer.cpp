@@ -85,11 +85,11 @@ Color LightTracingIntegrator::smallLightsAt(const Ray& ray, const Hit& x, Sample
   return small_.estimate(path, 1, sampler, rays);
 }
 
-void LightTracingIntegrator::splatPath(const std::vector<LightVertex>& path, int first, int last, const Camera& camera,
+void LightTracingIntegrator::splatPath(const std::vector<LightVertex>& path, size_t first, const Camera& camera,
                                        float invN, std::vector<Splat>& out, uint64_t& rays) const {
-  for (int k = first; k < int(path.size()) && k <= last; ++k) {
+  for (size_t k = first; k < path.size(); ++k) {
     Splat s;
-    if (!connect(path[size_t(k)], camera, s.pixel, s.L, rays)) continue;
+    if (!connect(path[k], camera, s.pixel, s.L, rays)) continue;
     s.L *= invN;
     out.push_back(s);  // the renderer counts and drops non-finite ones
   }
@@ -129,17 +129,17 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler(seed, i, pass, kParticleStream);
     if (traceLightPath(*scene_, emission_, po, sampler, path, rays, i, n)) {
-      // A patch particle (table mode) starts one bounce in: its vertex 0, the first-shot radiance
-      // at the camera's first hit, is the small lights' direct light that Li() takes exactly.
-      const bool fromPatch = emission_.isPatch(path[0].light);
-      splatPath(path, fromPatch ? 1 : 0, fromPatch ? po.maxDepth - 1 : po.maxDepth, camera, invN, out, rays);
+      // A patch particle (table mode) starts one bounce in (traceLightPath stops it a hit earlier):
+      // its vertex 0, the first-shot radiance at the camera's first hit, is the small lights'
+      // direct light that Li() takes exactly.
+      splatPath(path, emission_.isPatch(path[0].light) ? 1 : 0, camera, invN, out, rays);
     }
     // Table mode with mirrors or glass: a small area light's particle whose first hit is a delta
     // surface (no table holds that bounce). Its vertex 0 seen by the camera comes from Li().
     if (!deltaParticles_) continue;
     Sampler second(seed, i, pass, kDeltaFirstStream);
     if (traceLightPath(*scene_, deltaFirst_, deltaFirst, second, path, rays, i, n) && path.size() > 2)
-      splatPath(path, 2, po.maxDepth, camera, invN, out, rays);
+      splatPath(path, 2, camera, invN, out, rays);
   }
 }
 

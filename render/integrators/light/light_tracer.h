@@ -74,8 +74,8 @@ class LightTracingIntegrator : public Integrator {
   static constexpr uint64_t kDeltaFirstStream = 0x4c44;  // "LD"
 
  private:
-  /// Splats vertices @p first..@p last of @p path (those that reach the pinhole), scaled by @p invN.
-  void splatPath(const std::vector<LightVertex>& path, int first, int last, const Camera& camera, float invN,
+  /// Splats vertices @p first, … of @p path (those that reach the pinhole), scaled by @p invN.
+  void splatPath(const std::vector<LightVertex>& path, size_t first, const Camera& camera, float invN,
                  std::vector<Splat>& out, uint64_t& rays) const;
   /// Table mode, first hit @p x (non-delta) of @p ray: the small lights' own part of the pixel.
   Color smallLightsAt(const Ray& ray, const Hit& x, Sampler& sampler, uint64_t& rays) const;
