@@ -60,6 +60,10 @@ struct IntegratorOptions {
   /// first non-delta camera vertex is taken exactly (render/integrators/light/light_tracer.h);
   /// false: the table is ignored (the small lights are shot like the others).
   bool shootFromPatches = true;
+  /// Light tracing: light paths per pixel in each pass (the pass's one camera sample per pixel goes
+  /// with them). 0 = automatic: 8, or 1 when the scene has mirrors or glass (the camera samples then
+  /// carry what is seen through them).
+  int lightPathsPerPixel = 0;
   /// The ranks of an MPI run sharing the work (common/comm.h; null: this process alone). Integrators
   /// with a global state (the irradiance cache's two-pass fill, the bundle's transfer) split its
   /// computation over the ranks and exchange the results, so that every rank holds the state one

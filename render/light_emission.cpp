@@ -73,6 +73,10 @@ void EmissionSampler::finish() {
   cdf_.clear();
   for (double p : power_) cdf_.push_back(total_ > 0 ? (sum += p) / total_ : 1.0);
   if (!cdf_.empty()) cdf_.back() = 1.0;
+  const size_t n = std::max<size_t>(1, cdf_.size());
+  guide_.resize(n + 1);
+  for (size_t b = 0; b <= n; ++b)
+    guide_[b] = uint32_t(std::upper_bound(cdf_.begin(), cdf_.end(), double(b) / double(n)) - cdf_.begin());
 }
 
 bool EmissionSampler::isDirectional(uint32_t e) const {
@@ -95,7 +99,11 @@ Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) c
 
 bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
   if (!(total_ > 0)) return false;
-  const size_t l = std::min(size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()), cdf_.size() - 1);
+  // The answer of upper_bound over the whole CDF, searched between the guides around u's bucket.
+  const size_t n = guide_.size() - 1, b = std::min(size_t(std::max(u, 0.0) * double(n)), n - 1);
+  const auto lo = cdf_.begin() + guide_[b > 0 ? b - 1 : 0];
+  const auto hi = cdf_.begin() + std::min<size_t>(cdf_.size(), size_t(guide_[std::min(b + 2, n)]) + 1);
+  const size_t l = std::min(size_t(std::upper_bound(lo, hi, u) - cdf_.begin()), cdf_.size() - 1);
   if (!(power_[l] > 0)) return false;
   out = EmissionSample();
   out.light = static_cast<uint32_t>(l);

@@ -89,6 +89,8 @@ class EmissionSampler {
   /// Number of LightSet lights; emitters from this index on are patch sides.
   uint32_t lightCount() const { return lightCount_; }
   bool isPatch(uint32_t e) const { return e >= lightCount_; }
+  /// Number of patch-side emitters (table mode), after the lightCount() lights.
+  uint32_t patchSideCount() const { return uint32_t(patchSides_.size()); }
   bool isDirectional(uint32_t e) const;
   /// Table mode: the emitter of side @p side (0: the side the normal faces) of patch @p j, or kNoId.
   uint32_t patchEmitter(uint32_t j, uint32_t side) const;
@@ -117,6 +119,9 @@ class EmissionSampler {
   std::vector<uint32_t> sideEmitter_;   ///< table mode, by 2j + side: its emitter index or kNoId
   std::vector<double> power_;  ///< by emitter
   std::vector<double> cdf_;    ///< by emitter, last entry 1
+  /// guide_[b] = the first emitter whose CDF entry exceeds b/n (n = guide_.size() − 1): the
+  /// inversion at u searches only between the guides of u's bucket and its neighbours.
+  std::vector<uint32_t> guide_;
   double total_ = 0;
   Vec3 centre_{0.0f};          ///< bounding sphere, m
   float radius_ = 0;

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "off",
                 lightVisibility = "on", shootFirstShot = "patches", tableVisibility = "on";
     std::vector<std::string> outputs;
-    int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0;
+    int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0, lightPaths = 0;
     double timeLimit = 0, patchSize = 0;
     float exposure = 0;
     uint64_t seed = 0;
@@ -65,6 +65,9 @@ int main(int argc, char** argv) {
                                                         "start from the patches the table lights (patches) or the "
                                                         "table is ignored (off; docs/light-tracing.md, docs/bdpt.md)")
         ->check(CLI::IsMember({"patches", "off"}))->capture_default_str();
+    app.add_option("--light-paths", lightPaths, "light: light paths per pixel in each pass (0: automatic, 8, or 1 in "
+                                                 "scenes with mirrors or glass; docs/light-tracing.md)")
+        ->check(CLI::Range(0, 4096))->capture_default_str();
     auto* sppOpt = app.add_option("--spp", spp, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
     app.add_option("--time", timeLimit, "render passes of 1 spp until this many seconds have passed (the image then "
                                         "depends on how many passes fit)")
@@ -144,6 +147,7 @@ int main(int argc, char** argv) {
     io.lightVisibility = lightVisibility == "on";
     io.tableVisibility = tableVisibility == "on";
     io.shootFromPatches = shootFirstShot == "patches";
+    io.lightPathsPerPixel = lightPaths;
     io.comm = &comm;
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);

@@ -12,6 +12,7 @@
 #include "common/error.h"
 #include "render/checkpoint.h"
 #include "render/integrators/irradiance_cache/integrator.h"
+#include "render/splat_renderer.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
@@ -95,11 +96,12 @@ TEST_P(CheckpointResume, StoppedMidPassSavedRestoredAndResumedEqualsUninterrupte
   Film full(kWidth, kHeight);
   render(*reference, camera, full, options(1));
 
-  // Stopped after 1.5 passes' worth of camera samples (splatting: in pass 0, so that pass 1 is
-  // dropped when its first particle chunk sees the flag).
+  // Stopped after 1.5 passes' worth of camera samples (splatting: after pass 0's particle chunks,
+  // so that pass 1 is dropped when its first particle chunk sees the flag).
   const auto inner = makePreprocessed(GetParam(), scene);
   std::atomic<bool> stop{false};
-  const uint64_t limit = inner->splats() ? 0 : uint64_t(kWidth * kHeight) * 3 / 2;
+  const uint64_t limit = inner->splats() ? (inner->particlesPerPass(camera) + kSplatChunk - 1) / kSplatChunk
+                                         : uint64_t(kWidth * kHeight) * 3 / 2;
   CancelAfter cancelling(*inner, stop, limit);
   Film partial(kWidth, kHeight);
   RenderOptions ro = options(2);

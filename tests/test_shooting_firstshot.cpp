@@ -5,6 +5,10 @@
 // table after it), so the images agree per 8×8 block within 3σ (σ from the per-pass block means).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
 #include "preprocess/preprocessor.h"
 #include "render/integrators/bdpt/integrator.h"
 #include "render/light_emission.h"
@@ -74,16 +78,28 @@ TEST_P(ShootingFirstShot, MirrorAndGlassAgreeWithPathTracingOnTheSameTable) {
   expectAgrees("mirror-glass, table", test::mirrorGlassScene());
 }
 
+/// Table mode's emitters on cornell's table (Embree item buffers, R = 64).
+class ShootingFirstShotEmission : public testing::Test {
+ protected:
+  static SceneDesc cornell() { return shipped("cornell"); }
+  static PreprocessOptions options(const SceneDesc& d) {
+    PreprocessOptions po = defaultOptions(d);
+    po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+    return po;
+  }
+  SceneDesc d = cornell();
+  const RenderScene scene{d, preprocessScene(d, options(d))};
+  const FirstShotLighting lighting = [this] {
+    FirstShotLighting l;
+    l.build(scene);
+    return l;
+  }();
+  const EmissionSampler emission{scene, lighting};
+};
+
 // Table mode's emitters: the replaced lights leave, every lit patch side joins with a power of
 // albedo·E·A, and a particle's expected power is the total (Σ over particles / N → Σ power).
-TEST(ShootingFirstShotEmission, OverPatchesConservesPower) {
-  SceneDesc d = shipped("cornell");
-  PreprocessOptions po = defaultOptions(d);
-  po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
-  const RenderScene scene(d, preprocessScene(d, po));
-  FirstShotLighting lighting;
-  lighting.build(scene);
-  const EmissionSampler emission(scene, lighting);
+TEST_F(ShootingFirstShotEmission, OverPatchesConservesPower) {
   for (uint32_t l = 0; l < emission.lightCount(); ++l)
     if (scene.lights().lights()[l].replaced) {
       EXPECT_EQ(emission.power(l), 0.0) << "light " << l;
@@ -112,6 +128,37 @@ TEST(ShootingFirstShotEmission, OverPatchesConservesPower) {
 
 // The option on the command line, for both integrators: both modes render; a value that is not
 // one of them exits 2.
+// The guide table (EmissionSampler::guide_) only narrows the search: every u picks the emitter
+// that inverting the whole power CDF picks, on the cornell table's 4 k patch sides, the bucket edges
+// included (u = b/n and its neighbouring doubles), where a guide one bucket off would show.
+TEST_F(ShootingFirstShotEmission, GuidedChoiceInvertsThePowerCdf) {
+  const size_t n = emission.lightCount() + emission.patchSideCount();
+  ASSERT_GT(n, 1000u);
+  std::vector<double> cdf;  // finish()'s arithmetic
+  double sum = 0;
+  for (size_t e = 0; e < n; ++e) cdf.push_back((sum += emission.power(e)) / emission.totalPower());
+  cdf.back() = 1.0;
+  std::vector<double> us;
+  for (size_t b = 0; b <= n; ++b) {
+    const double edge = double(b) / double(n);
+    us.insert(us.end(), {edge, std::nextafter(edge, 0.0), std::nextafter(edge, 1.0)});
+  }
+  for (size_t e = 0; e < n; ++e) us.insert(us.end(), {cdf[e], std::nextafter(cdf[e], 0.0)});
+  Sampler random(3, 0, 0, 0);
+  for (int i = 0; i < 100000; ++i) us.push_back(random.next1Dd());
+  size_t checked = 0;
+  for (double u : us) {
+    u = std::clamp(u, 0.0, 1.0);
+    const size_t expected = std::min(size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), n - 1);
+    if (!(emission.power(expected) > 0)) continue;  // sampleOrigin() refuses an emitter without power
+    EmissionSample es;
+    ASSERT_TRUE(emission.sampleOrigin(u, Vec2(0.5f), es)) << u;
+    ASSERT_EQ(es.light, expected) << "u = " << u;
+    ++checked;
+  }
+  EXPECT_GT(checked, us.size() / 2);
+}
+
 TEST(ShootingFirstShotCli, CommandLine) {
   const std::string dir = test::tempDir(), scene = test::source("scenes/cornell.json"), fsd = dir + "/c.fsd";
   const auto pre = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene +

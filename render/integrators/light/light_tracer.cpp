@@ -12,6 +12,9 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   fallback_.preprocess(scene);
   table_ = options_.shootFromPatches && scene.firstShot() != nullptr;
+  bool mirrors = false;
+  for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors = mirrors || scene.bsdf(uint32_t(m)).hasDelta();
+  pathsPerPixel_ = options_.lightPathsPerPixel > 0 ? options_.lightPathsPerPixel : mirrors ? 1 : kAutoPathsPerPixel;
   if (!table_) {
     emission_ = EmissionSampler(scene.lights(), scene.desc());
     return;
@@ -19,8 +22,6 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   emission_ = EmissionSampler(scene, fallback_.lighting());
   small_.build(scene, fallback_.lighting(), options_);
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
-  bool mirrors = false;
-  for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors = mirrors || scene.bsdf(uint32_t(m)).hasDelta();
   smallAreaLights_ = deltaFirst_.totalPower() > 0;
   deltaParticles_ = smallAreaLights_ && mirrors;
 }

@@ -3,8 +3,8 @@
 /// Light tracing (particle tracing with connections to the camera): the shooting estimator of the
 /// adjoint identity <L, W_e> = <L_e, W> (Dutré et al., docs/light-tracing.md).
 ///
-/// Each pass traces particlesPerPass() = width·height light subpaths (render/integrators/light/
-/// light_path.h). Every vertex that can reach the pinhole — an area light's vertex 0 and every
+/// Each pass traces particlesPerPass() = k·width·height light subpaths (render/integrators/light/
+/// light_path.h), k = pathsPerPixel(), and one camera sample per pixel. Every vertex that can reach the pinhole — an area light's vertex 0 and every
 /// non-delta surface vertex — is connected to it by a shadow ray and splats
 ///     beta · f(ω_light, ω_camera) · |cosθ_x| · W_e·cosθ_c/d²  / N
 /// into the pixel it projects to (CameraConnection: the same box filter as the jittered camera
@@ -50,8 +50,13 @@ class LightTracingIntegrator : public Integrator {
 
   bool splats() const override { return true; }
   uint64_t particlesPerPass(const Camera& camera) const override {
-    return uint64_t(camera.width()) * uint64_t(camera.height());
+    return uint64_t(pathsPerPixel_) * uint64_t(camera.width()) * uint64_t(camera.height());
   }
+  /// Light paths per pixel and pass (IntegratorOptions::lightPathsPerPixel, resolved for the scene
+  /// by preprocess()). A camera sample costs about a light path; without mirrors and glass it
+  /// carries no noise (or, in table mode, only the small lights' direct light), so more light paths
+  /// per pass buy the same error sooner (docs/light-tracing.md, "Light paths per pass").
+  int pathsPerPixel() const { return pathsPerPixel_; }
   void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
                       std::vector<Splat>& out, uint64_t& rays) const override;
 
@@ -68,6 +73,9 @@ class LightTracingIntegrator : public Integrator {
   const SmallLightsExact& smallLights() const { return small_; }
   LightPathOptions pathOptions() const { return {options_.maxDepth, options_.rrDepth}; }
 
+  /// pathsPerPixel() of the automatic setting in scenes without mirrors or glass: the error at a
+  /// given time stops falling near it on the fixture room (docs/light-tracing.md).
+  static constexpr int kAutoPathsPerPixel = 8;
   /// The stream index of the particles' samplers: Sampler(seed, particle, pass, kParticleStream).
   static constexpr uint64_t kParticleStream = 0x4c54;  // "LT"
   /// The stream of table mode's delta-first particles of the small area lights.
@@ -85,6 +93,7 @@ class LightTracingIntegrator : public Integrator {
   EmissionSampler emission_;
   PathIntegrator fallback_;  ///< for camera rays whose first hit is a delta surface; its table lighting
   bool table_ = false;
+  int pathsPerPixel_ = 1;
   bool smallAreaLights_ = false;  ///< table mode: a replaced light has a surface (a BSDF sample can meet it)
   bool deltaParticles_ = false;   ///< table mode: small area lights and delta surfaces: shoot deltaFirst_ too
   EmissionSampler deltaFirst_;    ///< table mode: the replaced area lights, for particles whose first hit is delta
