@@ -49,8 +49,11 @@ inline float squareToUniformHemispherePdf(const Vec3& w) { return w.z >= 0.0f ? 
 /// Cosine-weighted direction on the upper hemisphere (Malley's method: concentric disk lifted to the
 /// hemisphere). Density cosθ/π for z > 0, else 0.
 inline Vec3 squareToCosineHemisphere(const Vec2& u) {
+  // The disk point's radius is the concentric mapping's r = max(|a|, |b|): z = √(1 − r²) does not
+  // wait for the angle's division and polynomial, so the two run side by side (a hot path).
+  const float r = std::max(std::abs(2.0f * u.x - 1.0f), std::abs(2.0f * u.y - 1.0f));
+  const float z = std::sqrt(std::max(0.0f, 1.0f - r * r));
   const Vec2 d = squareToUniformDiskConcentric(u);
-  const float z = std::sqrt(std::max(0.0f, 1.0f - d.x * d.x - d.y * d.y));
   return {d.x, d.y, z};
 }
 inline float squareToCosineHemispherePdf(const Vec3& w) { return w.z > 0.0f ? w.z * kInvPiF : 0.0f; }

@@ -266,8 +266,9 @@ Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit
       rec.wi = d * (1.0f / rec.distance);  // one division, not three (a hot path)
       const float cosL = -glm::dot(triangles_[e.sub].n, rec.wi);
       if (!(cosL > 0.0f)) return Color(0.0f);
+      // pdf and 1/pdf from the same inputs: two independent divisions instead of one after the other.
       rec.pdf = pSelect * dist2 / (cosL * e.area);
-      rec.value = light.radiance * (1.0f / rec.pdf);
+      rec.value = light.radiance * (cosL * e.area / (pSelect * dist2));
       break;
     }
     case Emitter::Kind::Patch: {
