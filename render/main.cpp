@@ -9,6 +9,7 @@
 #include "common/cli.h"
 #include "common/firstshot.h"
 #include "common/interrupt.h"
+#include "common/memory_limit.h"
 #include "common/scene_desc.h"
 #include "render/camera.h"
 #include "render/checkpoint_cli.h"
@@ -65,8 +66,9 @@ int main(int argc, char** argv) {
                                                         "start from the patches the table lights (patches) or the "
                                                         "table is ignored (off; docs/light-tracing.md, docs/bdpt.md)")
         ->check(CLI::IsMember({"patches", "off"}))->capture_default_str();
-    app.add_option("--light-paths", lightPaths, "light: light paths per pixel in each pass (0: automatic, 8, or 1 in "
-                                                 "scenes with mirrors or glass; docs/light-tracing.md)")
+    app.add_option("--light-paths", lightPaths, "light: light paths per pixel in each pass (0: automatic, 8 and at most "
+                                                 "2^21 per pass, or 1 in scenes with mirrors or glass; "
+                                                 "docs/light-tracing.md)")
         ->check(CLI::Range(0, 4096))->capture_default_str();
     auto* sppOpt = app.add_option("--spp", spp, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
     app.add_option("--time", timeLimit, "render passes of 1 spp until this many seconds have passed (the image then "
@@ -148,6 +150,10 @@ int main(int argc, char** argv) {
     io.tableVisibility = tableVisibility == "on";
     io.shootFromPatches = shootFirstShot == "patches";
     io.lightPathsPerPixel = lightPaths;
+    if (integratorName == "light" && lightPaths > 0)  // a pass's splats, ≈ 4 per light path, are held until it is summed
+      fs::requireMemory(double(lightPaths) * scene.camera.width * scene.camera.height * 4.0 * sizeof(fs::Splat), "",
+                        "--light-paths", fmt::format("the splats of {} light paths per pixel", lightPaths),
+                        "lower --light-paths");
     io.comm = &comm;
     auto integrator = fs::makeIntegrator(integratorName, io);
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);

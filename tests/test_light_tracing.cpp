@@ -124,31 +124,39 @@ TEST(LightTracing, BitIdenticalForOneAndTwoThreadsAndByPasses) {
   EXPECT_GT(one.stats.rays, uint64_t(3 * 1200));
 }
 
-// --light-paths K: K light paths per pixel in each pass; 0 (the default) is 8, or 1 where a mirror
-// or glass makes the camera samples carry what is seen through it. Any K gives the same expected
-// image: the agreement tests above run at 8 (cornell, many-lights, sierpinski-glossy) and at 1
-// (mirror and glass), and would be K times off if the splats were not divided by all of a pass's
-// particles.
+// --light-paths K: K light paths per pixel in each pass; 0 (the default) is 8, fewer where a pass
+// would hold more than 2^21 paths' splats, and 1 where a mirror or glass makes the camera samples
+// carry what is seen through it. Any K gives the same expected image: the agreement tests above
+// run at 8 (cornell, many-lights, sierpinski-glossy) and at 1 (mirror and glass), and would be K
+// times off if the splats were not divided by all of a pass's particles.
 TEST(LightTracing, LightPathsPerPass) {
   SceneDesc cornell = loadScene(test::source("scenes/cornell.json")), mirrors = test::mirrorGlassScene();
-  for (SceneDesc* d : {&cornell, &mirrors}) d->camera.width = 32, d->camera.height = 24;
   const RenderScene diffuseScene(cornell, cornell.settings.patchSize), deltaScene(mirrors, mirrors.settings.patchSize);
-  const Camera camera(cornell.camera);
+  const auto camera = [&](int w, int h) {
+    CameraDesc c = cornell.camera;
+    c.width = w, c.height = h;
+    return Camera(c);
+  };
   for (const int k : {0, 1, 3}) {
     IntegratorOptions io;
     io.lightPathsPerPixel = k;
     LightTracingIntegrator a(io), b(io);
     a.preprocess(diffuseScene);
     b.preprocess(deltaScene);
-    EXPECT_EQ(a.pathsPerPixel(), k > 0 ? k : LightTracingIntegrator::kAutoPathsPerPixel) << k;
-    EXPECT_EQ(b.pathsPerPixel(), k > 0 ? k : 1) << k;
-    EXPECT_EQ(a.particlesPerPass(camera), uint64_t(a.pathsPerPixel()) * 32u * 24u) << k;
+    EXPECT_EQ(a.pathsPerPixel(camera(32, 24)), k > 0 ? k : LightTracingIntegrator::kAutoPathsPerPixel) << k;
+    EXPECT_EQ(a.pathsPerPixel(camera(640, 480)), k > 0 ? k : 6) << k;  // 2^21 / 307,200 pixels
+    EXPECT_EQ(a.pathsPerPixel(camera(1920, 1080)), k > 0 ? k : 1) << k;
+    EXPECT_EQ(b.pathsPerPixel(camera(32, 24)), k > 0 ? k : 1) << k;
+    EXPECT_EQ(a.particlesPerPass(camera(32, 24)), uint64_t(a.pathsPerPixel(camera(32, 24))) * 32u * 24u) << k;
   }
   const std::string render = std::string(FIRSTSHOT_RENDER_EXE) + " " + test::source("scenes/cornell.json") +
-                             " --integrator light --spp 1 --width 24 --height 20 -q -o " + test::tempDir() + "/k.exr";
-  const auto ok = test::run(render + " --light-paths 2");
+                             " --integrator light --spp 1 -q -o " + test::tempDir() + "/k.exr";
+  const auto ok = test::run(render + " --width 24 --height 20 --light-paths 2");
   EXPECT_EQ(ok.exitCode, 0) << ok.output;
-  for (const char* bad : {"-1", "two", "5000"}) {
+  // Out of range, not a number, and more splats per pass than the machine's memory (2^12 paths per
+  // pixel of 2^24 pixels: petabytes), refused before anything is rendered.
+  for (const char* bad : {"-1 --width 24 --height 20", "two --width 24 --height 20", "5000 --width 24 --height 20",
+                          "4096 --width 4096 --height 4096"}) {
     const auto r = test::run(render + " --light-paths " + bad);
     EXPECT_EQ(r.exitCode, 2) << bad << ": " << r.output;
     EXPECT_NE(r.output.find("--light-paths"), std::string::npos) << r.output;

@@ -1,6 +1,7 @@
 // Light tracing: light subpaths connected to the pinhole camera.
 #include "render/integrators/light/light_tracer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "render/direct_light.h"
@@ -12,9 +13,8 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   fallback_.preprocess(scene);
   table_ = options_.shootFromPatches && scene.firstShot() != nullptr;
-  bool mirrors = false;
-  for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors = mirrors || scene.bsdf(uint32_t(m)).hasDelta();
-  pathsPerPixel_ = options_.lightPathsPerPixel > 0 ? options_.lightPathsPerPixel : mirrors ? 1 : kAutoPathsPerPixel;
+  mirrors_ = false;
+  for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
   if (!table_) {
     emission_ = EmissionSampler(scene.lights(), scene.desc());
     return;
@@ -23,7 +23,14 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   small_.build(scene, fallback_.lighting(), options_);
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
   smallAreaLights_ = deltaFirst_.totalPower() > 0;
-  deltaParticles_ = smallAreaLights_ && mirrors;
+  deltaParticles_ = smallAreaLights_ && mirrors_;
+}
+
+int LightTracingIntegrator::pathsPerPixel(const Camera& camera) const {
+  if (options_.lightPathsPerPixel > 0) return options_.lightPathsPerPixel;
+  if (mirrors_) return 1;
+  const uint64_t pixels = std::max<uint64_t>(1, uint64_t(camera.width()) * uint64_t(camera.height()));
+  return int(std::clamp<uint64_t>(kAutoPathsPerPass / pixels, 1, kAutoPathsPerPixel));
 }
 
 Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* info) const {

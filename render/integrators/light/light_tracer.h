@@ -4,8 +4,9 @@
 /// adjoint identity <L, W_e> = <L_e, W> (Dutré et al., docs/light-tracing.md).
 ///
 /// Each pass traces particlesPerPass() = k·width·height light subpaths (render/integrators/light/
-/// light_path.h), k = pathsPerPixel(), and one camera sample per pixel. Every vertex that can reach the pinhole — an area light's vertex 0 and every
-/// non-delta surface vertex — is connected to it by a shadow ray and splats
+/// light_path.h), k = pathsPerPixel(), and one camera sample per pixel. Every vertex that can
+/// reach the pinhole — an area light's vertex 0 and every non-delta surface vertex — is connected
+/// to it by a shadow ray and splats
 ///     beta · f(ω_light, ω_camera) · |cosθ_x| · W_e·cosθ_c/d²  / N
 /// into the pixel it projects to (CameraConnection: the same box filter as the jittered camera
 /// rays of the gathering integrators), N the particles of the pass. The pass's splat sums are one
@@ -50,13 +51,15 @@ class LightTracingIntegrator : public Integrator {
 
   bool splats() const override { return true; }
   uint64_t particlesPerPass(const Camera& camera) const override {
-    return uint64_t(pathsPerPixel_) * uint64_t(camera.width()) * uint64_t(camera.height());
+    return uint64_t(pathsPerPixel(camera)) * uint64_t(camera.width()) * uint64_t(camera.height());
   }
-  /// Light paths per pixel and pass (IntegratorOptions::lightPathsPerPixel, resolved for the scene
-  /// by preprocess()). A camera sample costs about a light path; without mirrors and glass it
-  /// carries no noise (or, in table mode, only the small lights' direct light), so more light paths
-  /// per pass buy the same error sooner (docs/light-tracing.md, "Light paths per pass").
-  int pathsPerPixel() const { return pathsPerPixel_; }
+  /// Light paths per pixel and pass for @p camera: IntegratorOptions::lightPathsPerPixel, or
+  /// automatically 1 in a scene with mirrors or glass and otherwise kAutoPathsPerPixel, fewer where
+  /// that would pass kAutoPathsPerPass (a pass's splats are held until it is summed). A camera
+  /// sample costs about a light path; without mirrors and glass it carries no noise (or, in table
+  /// mode, only the small lights' direct light), so more light paths per pass buy the same error
+  /// sooner (docs/light-tracing.md, "Light paths per pass").
+  int pathsPerPixel(const Camera& camera) const;
   void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
                       std::vector<Splat>& out, uint64_t& rays) const override;
 
@@ -76,6 +79,10 @@ class LightTracingIntegrator : public Integrator {
   /// pathsPerPixel() of the automatic setting in scenes without mirrors or glass: the error at a
   /// given time stops falling near it on the fixture room (docs/light-tracing.md).
   static constexpr int kAutoPathsPerPixel = 8;
+  /// The most light paths per pass the automatic setting takes (2^21: as many as one path per pixel
+  /// of a 1920×1080 image): its splats, ≈ 16 bytes per vertex that reaches the camera, stay near
+  /// 100 MB.
+  static constexpr uint64_t kAutoPathsPerPass = uint64_t(1) << 21;
   /// The stream index of the particles' samplers: Sampler(seed, particle, pass, kParticleStream).
   static constexpr uint64_t kParticleStream = 0x4c54;  // "LT"
   /// The stream of table mode's delta-first particles of the small area lights.
@@ -93,7 +100,7 @@ class LightTracingIntegrator : public Integrator {
   EmissionSampler emission_;
   PathIntegrator fallback_;  ///< for camera rays whose first hit is a delta surface; its table lighting
   bool table_ = false;
-  int pathsPerPixel_ = 1;
+  bool mirrors_ = false;  ///< the scene has a delta (mirror, glass) material
   bool smallAreaLights_ = false;  ///< table mode: a replaced light has a surface (a BSDF sample can meet it)
   bool deltaParticles_ = false;   ///< table mode: small area lights and delta surfaces: shoot deltaFirst_ too
   EmissionSampler deltaFirst_;    ///< table mode: the replaced area lights, for particles whose first hit is delta
