@@ -18,6 +18,7 @@
 #include "render/integrator.h"
 #include "render/integrators/bundle/cli.h"
 #include "render/integrators/irradiance_cache/cli.h"
+#include "render/integrators/light/light_tracer.h"
 #include "render/preview/preview_app.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
@@ -150,8 +151,9 @@ int main(int argc, char** argv) {
     io.tableVisibility = tableVisibility == "on";
     io.shootFromPatches = shootFirstShot == "patches";
     io.lightPathsPerPixel = lightPaths;
-    if (integratorName == "light" && lightPaths > 0)  // a pass's splats, ≈ 4 per light path, are held until it is summed
-      fs::requireMemory(double(lightPaths) * scene.camera.width * scene.camera.height * 4.0 * sizeof(fs::Splat), "",
+    if (integratorName == "light" && lightPaths > 0)
+      fs::requireMemory(double(lightPaths) * scene.camera.width * scene.camera.height *
+                            fs::LightTracingIntegrator::kSplatBytesPerPath, "",
                         "--light-paths", fmt::format("the splats of {} light paths per pixel", lightPaths),
                         "lower --light-paths");
     io.comm = &comm;

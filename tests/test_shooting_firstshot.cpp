@@ -81,13 +81,12 @@ TEST_P(ShootingFirstShot, MirrorAndGlassAgreeWithPathTracingOnTheSameTable) {
 /// Table mode's emitters on cornell's table (Embree item buffers, R = 64).
 class ShootingFirstShotEmission : public testing::Test {
  protected:
-  static SceneDesc cornell() { return shipped("cornell"); }
   static PreprocessOptions options(const SceneDesc& d) {
     PreprocessOptions po = defaultOptions(d);
     po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
     return po;
   }
-  SceneDesc d = cornell();
+  SceneDesc d = shipped("cornell");
   const RenderScene scene{d, preprocessScene(d, options(d))};
   const FirstShotLighting lighting = [this] {
     FirstShotLighting l;

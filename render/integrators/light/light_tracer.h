@@ -83,6 +83,9 @@ class LightTracingIntegrator : public Integrator {
   /// of a 1920×1080 image): its splats, ≈ 16 bytes per vertex that reaches the camera, stay near
   /// 100 MB.
   static constexpr uint64_t kAutoPathsPerPass = uint64_t(1) << 21;
+  /// Memory a pass holds per light path until it sums the splats, bytes: about 4 vertices of a path
+  /// reach the camera (the check of an explicit --light-paths against the machine's memory).
+  static constexpr double kSplatBytesPerPath = 4.0 * sizeof(Splat);
   /// The stream index of the particles' samplers: Sampler(seed, particle, pass, kParticleStream).
   static constexpr uint64_t kParticleStream = 0x4c54;  // "LT"
   /// The stream of table mode's delta-first particles of the small area lights.
