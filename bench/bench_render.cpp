@@ -4,6 +4,7 @@
 // renderer's default); BM_RawEmbreeIncoherent times plain rtcIntersect1 calls on random
 // rays (origins uniform in the box, directions uniform on the sphere). Both on 1 and 2 threads.
 // BM_HemisphereRays: an irradiance record's hemisphere rays as single rays, packets and streams.
+// BM_CameraRays: Cornell's camera rays (128², 4 × 4 pixel blocks) as single rays and packets.
 #include <benchmark/benchmark.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -35,6 +36,7 @@ struct Fixture {
   std::vector<Ray> randomRays;
   std::vector<Ray> hemisphereRays;  ///< an irradiance record's 2M² = 512 cosine-stratified rays, at 64 camera hits
   std::vector<Ray> hemisphereBlocks;  ///< the same rays, each record's in 4 × 4 blocks of neighbouring strata
+  std::vector<Ray> cameraRays;  ///< one jittered camera ray per pixel, in 4 × 4 blocks of pixels
 
   Fixture() {
     desc = loadScene(std::string(FIRSTSHOT_SOURCE_DIR) + "/scenes/cornell.json");
@@ -55,6 +57,13 @@ struct Fixture {
       r = Ray(Vec3(lo) + u * Vec3(hi - lo), squareToUniformSphere(s.next2D()));
     }
     const Camera camera(desc.camera);
+    for (int by = 0; by < camera.height(); by += 4)
+      for (int bx = 0; bx < camera.width(); bx += 4)
+        for (int y = by; y < by + 4; ++y)
+          for (int x = bx; x < bx + 4; ++x) {
+            const Vec2 j = s.next2D();
+            cameraRays.push_back(camera.generateRay(float(x) + j.x, float(y) + j.y));
+          }
     const int M = 16, N = 2 * M;  // the cache's default of 512 samples
     for (int point = 0; point < 64; ++point) {
       Hit hit;
@@ -149,6 +158,35 @@ void BM_HemisphereRays(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_HemisphereRays)->ArgNames({"layout"})->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+/// One camera ray per pixel (128², one thread), by layout: 0 single rtcIntersect1 calls, 1 one packet
+/// of 16 per 4 × 4 block (rtcIntersect16), 2 the renderer's two packets of 8 per block (intersect16).
+void BM_CameraRays(benchmark::State& state) {
+  Fixture& f = fixture();
+  const EmbreeScene& embree = f.scene->embree();
+  const std::vector<Ray>& rays = f.cameraRays;
+  size_t hits = 0;
+  uint64_t traced = 0;
+  enableFlushToZero();
+  bool active[16], found[16];
+  std::fill(active, active + 16, true);
+  Hit blockHits[16];
+  for (auto _ : state) {
+    switch (state.range(0)) {
+      case 0: hits += embree.intersectRaw(rays.data(), rays.size()); break;
+      case 1: hits += embree.intersectRawPackets(rays.data(), rays.size()); break;
+      default:
+        for (size_t first = 0; first + 16 <= rays.size(); first += 16) {
+          embree.intersect16(rays.data() + first, active, 16, blockHits, found);
+          hits += size_t(std::count(found, found + 16, true));
+        }
+    }
+    traced += rays.size();
+  }
+  benchmark::DoNotOptimize(hits);
+  state.counters["rays/s"] = benchmark::Counter(double(traced), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_CameraRays)->ArgNames({"layout"})->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
 BENCHMARK(BM_PathTracer)->ArgNames({"threads", "tree"})->ArgsProduct({{1, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_RawEmbreeIncoherent)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 

@@ -2,7 +2,9 @@
 /// @file math.h
 /// Small value types on GLM used everywhere: single precision for geometry and colour,
 /// double precision where sums must be exact (areas, form factors).
+#ifndef GLM_FORCE_XYZW_ONLY  // set for every target by common/CMakeLists.txt
 #define GLM_FORCE_XYZW_ONLY
+#endif
 #include <glm/glm.hpp>
 #include <glm/gtc/constants.hpp>
 

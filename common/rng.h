@@ -53,6 +53,8 @@ inline float hashToUnit(uint64_t first, Keys... rest) {
 /// Copies continue independently from the same position (they produce the same numbers).
 class Sampler {
  public:
+  /// A sampler over key 0 (a placeholder to assign a keyed one to).
+  Sampler() = default;
   /// Sampler for one (seed, pixel, sample index, stream); starts at dimension 0.
   Sampler(uint64_t seed, uint64_t pixel, uint64_t sampleIndex, uint64_t stream = 0)
       : key_(hashKeys(seed, pixel, sampleIndex, stream)) {}

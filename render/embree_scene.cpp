@@ -70,6 +70,23 @@ struct EmbreeScene::Impl {
   /// from the vertices is that accurate), so that offsets scale with the scene.
   float epsFloor = 0.0f;
 
+  /// Fills @p hit from Embree's hit on @p ray at @p t.
+  void fill(const Ray& ray, float t, unsigned geomID, unsigned primID, Hit& hit) const {
+    hit.t = t;
+    hit.p = ray.at(t);
+    if (geomID == kPatchGeometry) {
+      hit.patch = primID;
+      hit.emitter = hit.triangle = kNoId;
+      hit.ng = patchNormals[primID];
+    } else {
+      hit.patch = kNoId;
+      hit.emitter = geomID - 1;
+      hit.triangle = primID;
+      hit.ng = emitterNormals[hit.emitter][primID];
+    }
+    hit.eps = eps(hit.p, t * glm::length(ray.d));
+  }
+
   /// Offset for a hit at @p p, @p travelled metres along its ray: the hit point's rounding error
   /// grows with its coordinates, the scene's and the distance travelled.
   float eps(const Vec3& p, float travelled) const { return 1e-5f * maxAbs(p) + epsFloor + 2e-6f * travelled; }
@@ -158,20 +175,48 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
   RTCRayHit rh = toRTCHit(ray);
   rtcIntersect1(impl_->scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
-  hit.t = rh.ray.tfar;
-  hit.p = ray.at(hit.t);
-  if (rh.hit.geomID == kPatchGeometry) {
-    hit.patch = rh.hit.primID;
-    hit.emitter = hit.triangle = kNoId;
-    hit.ng = impl_->patchNormals[hit.patch];
-  } else {
-    hit.patch = kNoId;
-    hit.emitter = rh.hit.geomID - 1;
-    hit.triangle = rh.hit.primID;
-    hit.ng = impl_->emitterNormals[hit.emitter][hit.triangle];
-  }
-  hit.eps = impl_->eps(hit.p, hit.t * glm::length(ray.d));
+  impl_->fill(ray, rh.ray.tfar, rh.hit.geomID, rh.hit.primID, hit);
   return true;
+}
+
+namespace {
+
+/// Closest hits of rays[k], k < N, with valid[k] = -1, as one Embree packet of N (8 or 16).
+template <int N, typename Packet>
+void tracePacket(RTCScene scene, const Ray* rays, int* valid, Packet& rh) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  for (int k = 0; k < N; ++k) {
+    const Ray& r = rays[valid[k] ? k : 0];  // inactive lanes: any finite ray (Embree ignores them)
+    rh.ray.org_x[k] = r.o.x, rh.ray.org_y[k] = r.o.y, rh.ray.org_z[k] = r.o.z;
+    rh.ray.dir_x[k] = r.d.x, rh.ray.dir_y[k] = r.d.y, rh.ray.dir_z[k] = r.d.z;
+    rh.ray.tnear[k] = r.tmin, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0.0f;
+    rh.ray.mask[k] = 0xffffffffu, rh.ray.id[k] = unsigned(k), rh.ray.flags[k] = 0;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  }
+  if constexpr (N == 8)
+    rtcIntersect8(valid, scene, &context, &rh);
+  else
+    rtcIntersect16(valid, scene, &context, &rh);
+}
+
+}  // namespace
+
+void EmbreeScene::intersect16(const Ray* rays, const bool* active, int count, Hit* hits, bool* found) const {
+  for (int half = 0; half < 2; ++half) {
+    const int k0 = 8 * half;
+    if (count <= k0) break;
+    alignas(32) RTCRayHit8 rh;
+    alignas(32) int valid[8];
+    for (int k = 0; k < 8; ++k) valid[k] = k0 + k < count && active[k0 + k] ? -1 : 0;
+    tracePacket<8>(impl_->scene, rays + k0, valid, rh);
+    for (int k = 0; k < 8 && k0 + k < count; ++k) {
+      found[k0 + k] = valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+      if (found[k0 + k]) impl_->fill(rays[k0 + k], rh.ray.tfar[k], rh.hit.geomID[k], rh.hit.primID[k], hits[k0 + k]);
+    }
+  }
 }
 
 bool EmbreeScene::occluded(const Ray& ray) const {
@@ -214,18 +259,7 @@ void EmbreeScene::allHits(const Ray& ray, std::vector<Hit>& out) const {
   for (size_t k = 0; k < hits.size(); ++k) {
     if (k > 0 && hits[k].second == hits[k - 1].second) continue;  // the same primitive again
     Hit hit;
-    hit.t = hits[k].first;
-    hit.p = ray.at(hit.t);
-    const unsigned geomID = unsigned(hits[k].second >> 32), primID = unsigned(hits[k].second);
-    if (geomID == kPatchGeometry) {
-      hit.patch = primID;
-      hit.ng = impl_->patchNormals[primID];
-    } else {
-      hit.emitter = geomID - 1;
-      hit.triangle = primID;
-      hit.ng = impl_->emitterNormals[hit.emitter][primID];
-    }
-    hit.eps = impl_->eps(hit.p, hit.t * glm::length(ray.d));
+    impl_->fill(ray, hits[k].first, unsigned(hits[k].second >> 32), unsigned(hits[k].second), hit);
     out.push_back(hit);
   }
 }
@@ -243,25 +277,12 @@ size_t EmbreeScene::intersectRaw(const Ray* rays, size_t count) const {
 }
 
 size_t EmbreeScene::intersectRawPackets(const Ray* rays, size_t count) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
-  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   size_t hits = 0;
   alignas(64) RTCRayHit16 rh;
   alignas(64) int valid[16];
   for (size_t first = 0; first < count; first += 16) {
-    for (int k = 0; k < 16; ++k) {
-      const size_t i = first + size_t(k);
-      valid[k] = i < count ? -1 : 0;
-      const Ray& r = rays[i < count ? i : first];
-      rh.ray.org_x[k] = r.o.x, rh.ray.org_y[k] = r.o.y, rh.ray.org_z[k] = r.o.z;
-      rh.ray.dir_x[k] = r.d.x, rh.ray.dir_y[k] = r.d.y, rh.ray.dir_z[k] = r.d.z;
-      rh.ray.tnear[k] = r.tmin, rh.ray.tfar[k] = r.tmax, rh.ray.time[k] = 0.0f;
-      rh.ray.mask[k] = 0xffffffffu, rh.ray.id[k] = unsigned(k), rh.ray.flags[k] = 0;
-      rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-      rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-    }
-    rtcIntersect16(valid, impl_->scene, &context, &rh);
+    for (int k = 0; k < 16; ++k) valid[k] = first + size_t(k) < count ? -1 : 0;
+    tracePacket<16>(impl_->scene, rays + first, valid, rh);
     for (int k = 0; k < 16; ++k) hits += valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
   }
   return hits;

@@ -105,6 +105,16 @@ class Integrator {
   /// Radiance arriving at the camera along @p ray (d unit length), estimated with @p sampler.
   /// Thread-safe. @p info, if given, receives the AOVs and the ray count.
   virtual Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const = 0;
+  /// The camera rays of a 4 × 4 pixel block at one sample index (k = 4·row + column, k < @p count):
+  /// L[k] = Li(rays[k], samplers[k], &infos[k]) for every k with wanted[k]. An integrator may trace
+  /// the rays with traced[k] (a superset of the wanted ones: all of the block's pixels in the image,
+  /// so that what a ray meets never depends on which pixels are wanted) as one coherent packet;
+  /// rays[k] must then be finite for every k < @p count. Default: Li() per wanted ray.
+  virtual void LiBlock(const Ray* rays, const bool* /*traced*/, const bool* wanted, int count, Sampler* samplers,
+                       SampleInfo* infos, Color* L) const {
+    for (int k = 0; k < count; ++k)
+      if (wanted[k]) L[k] = Li(rays[k], samplers[k], &infos[k]);
+  }
   virtual std::string name() const = 0;
   /// True for integrators that store records (irradiance caching); false by default.
   virtual bool hasRecords() const { return false; }

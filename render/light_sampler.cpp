@@ -190,6 +190,10 @@ Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLoc
   const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the side that reflects towards the viewer
   Color sum(0.0f);
   auto fromGroup = [&](GroupId id) {
+    if (groups_[id].empty()) {  // skip its three dimensions without drawing them (images stay the same)
+      sampler.setDimension(sampler.dimension() + 3);
+      return;
+    }
     const Vec2 a = sampler.next2D();
     const float b = sampler.next1D();
     sum += sampleGroup(groups_[id], hit, frame, woLocal, bsdf, n, Vec3(a, b), request, rays);

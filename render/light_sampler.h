@@ -108,6 +108,8 @@ class LightSampler {
     std::vector<Emitter> emitters;
     std::vector<uint32_t> directional;  ///< LightSet indices
     float pDirectional() const;
+    /// Nothing to sample (no directional light, no tree).
+    bool empty() const { return directional.empty() && tree.empty(); }
   };
   enum GroupId : uint8_t { kKept = 0, kReplaced = 1, kPatches = 2, kNone = 255 };
 

@@ -31,28 +31,52 @@ std::vector<Tile> makeTiles(int width, int height, int size) {
   return tiles;
 }
 
-/// Samples [s0, s1) of every pixel of a tile, in sample order per pixel.
-/// With @p skipTaken, only the samples a pixel does not hold yet. Stops between two samples once
-/// @p cancel is set (a pixel then holds its first samples, in order): @return false if it did.
+/// Samples [s0, s1) of every pixel of a tile, in sample order per pixel, by blocks of 4 × 4 pixels
+/// (on the image's grid of such blocks: the tiles' sides are multiples of 4), each block one sample
+/// index at a time (Integrator::LiBlock). With @p skipTaken, only the samples a pixel does not hold
+/// yet. Stops between two sample indices of a block once @p cancel is set (every pixel then holds
+/// its first samples, in order): @return false if it did.
 bool renderTile(const Integrator& integrator, const Camera& camera, Film& film, const Tile& tile, int s0, int s1,
                 uint64_t seed, bool skipTaken, const std::atomic<bool>* cancel, uint64_t& rays, uint64_t& nonFinite) {
-  for (int y = tile.y0; y < tile.y1; ++y)
-    for (int x = tile.x0; x < tile.x1; ++x) {
-      const uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
-      const int first = skipTaken ? std::max<int64_t>(s0, film.samples(x, y)) : s0;
-      for (int s = first; s < s1; ++s) {
+  constexpr int B = 4;
+  for (int by = tile.y0; by < tile.y1; by += B)
+    for (int bx = tile.x0; bx < tile.x1; bx += B) {
+      const int w = std::min(B, tile.x1 - bx), h = std::min(B, tile.y1 - by), count = B * (h - 1) + w;
+      int first[B * B];
+      bool traced[B * B] = {};
+      int begin = s1;
+      for (int k = 0; k < count; ++k) {
+        const int x = bx + k % B, y = by + k / B;
+        if (k % B >= w) continue;
+        traced[k] = true;
+        first[k] = skipTaken ? std::max<int64_t>(s0, film.samples(x, y)) : s0;
+        begin = std::min(begin, first[k]);
+      }
+      for (int s = begin; s < s1; ++s) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return false;
-        Sampler sampler(seed, pixel, uint64_t(s));
-        const Vec2 jitter = sampler.next2D();
-        const Ray ray = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
-        SampleInfo info;
-        Color L = integrator.Li(ray, sampler, &info);
-        rays += info.rays;
-        if (!isFinite(L)) {
-          ++nonFinite;
-          L = Color(0.0f);
+        Ray ray[B * B];
+        Sampler sampler[B * B];
+        SampleInfo info[B * B];
+        Color L[B * B];
+        bool wanted[B * B] = {};
+        for (int k = 0; k < count; ++k) {
+          if (!traced[k]) continue;
+          const int x = bx + k % B, y = by + k / B;
+          sampler[k] = Sampler(seed, uint64_t(y) * uint64_t(camera.width()) + uint64_t(x), uint64_t(s));
+          const Vec2 jitter = sampler[k].next2D();
+          ray[k] = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
+          wanted[k] = s >= first[k];
         }
-        film.add(x, y, L, info.albedo, info.normal);
+        integrator.LiBlock(ray, traced, wanted, count, sampler, info, L);
+        for (int k = 0; k < count; ++k) {
+          if (!wanted[k]) continue;
+          rays += info[k].rays;
+          if (!isFinite(L[k])) {
+            ++nonFinite;
+            L[k] = Color(0.0f);
+          }
+          film.add(bx + k % B, by + k / B, L[k], info[k].albedo, info[k].normal);
+        }
       }
     }
   return true;
@@ -66,7 +90,9 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
   if (integrator.splats()) return renderSplatting(integrator, camera, film, options);
   Comm& comm = options.comm ? *options.comm : serialComm();
   // This rank's tiles (dealt round-robin over the ranks; all of them with one rank).
-  std::vector<Tile> tiles = makeTiles(camera.width(), camera.height(), std::max(1, options.tileSize));
+  // Tiles of a multiple of 4 pixels, so that renderTile's 4 × 4 blocks lie on the image's grid of blocks
+  // whatever the tile size: a block's camera rays, traced together, never depend on it.
+  std::vector<Tile> tiles = makeTiles(camera.width(), camera.height(), (std::max(1, options.tileSize) + 3) / 4 * 4);
   std::vector<PixelRect> mine;
   for (size_t t = 0, kept = 0; t < tiles.size(); ++t)
     if (comm.mine(t)) tiles[kept++] = tiles[t], mine.push_back({tiles[t].x0, tiles[t].y0, tiles[t].x1, tiles[t].y1});

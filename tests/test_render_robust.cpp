@@ -7,8 +7,10 @@
 
 #include <cstring>
 #include <map>
+#include <memory>
 
 #include "preprocess/preprocessor.h"
+#include "render/embree_scene.h"
 #include "tests/bundle_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
@@ -45,18 +47,30 @@ std::string closedBox(const std::string& lights, const std::string& extraShapes 
          R"(], "lights": [)" + lights + R"(], "settings": {"patch_size": 0.25, "light_patch_size": 0.1}})";
 }
 
-}  // namespace
-
-TEST(RenderDeterminism, SameImageForOneAndTwoThreads) {
-  SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
-  desc.camera.width = 40, desc.camera.height = 24;  // tiles of 16 do not divide the image
-  const RenderScene nee(desc, 0.1);
-  PreprocessOptions po = defaultOptions(desc);
+/// Cornell at @p width × @p height, with NEE only (patches of 0.1 m) and with a first-shot table.
+struct CornellScenes {
+  SceneDesc desc;
+  std::unique_ptr<RenderScene> nee, fs;
+};
+CornellScenes cornellScenes(int width, int height) {
+  CornellScenes c;
+  c.desc = loadScene(test::source("scenes/cornell.json"));
+  c.desc.camera.width = width, c.desc.camera.height = height;
+  c.nee = std::make_unique<RenderScene>(c.desc, 0.1);
+  PreprocessOptions po = defaultOptions(c.desc);
   po.settings.backend = "embree";
   po.settings.resolution = 64;
   po.settings.patchSize = 0.1;
   po.quiet = true;
-  const RenderScene fs(desc, preprocessScene(desc, po));
+  c.fs = std::make_unique<RenderScene>(c.desc, preprocessScene(c.desc, po));
+  return c;
+}
+
+}  // namespace
+
+TEST(RenderDeterminism, SameImageForOneAndTwoThreads) {
+  const CornellScenes c = cornellScenes(40, 24);  // tiles of 16 do not divide the image
+  const RenderScene &nee = *c.nee, &fs = *c.fs;
   IntegratorOptions exact, patch;
   patch.primary = PrimaryMode::Patch;
   for (const auto& [scene, io, what] : {std::tuple{&nee, exact, "NEE"}, std::tuple{&fs, exact, "first-shot, exact"},
@@ -68,6 +82,89 @@ TEST(RenderDeterminism, SameImageForOneAndTwoThreads) {
     const auto other = test::renderPath(*scene, io, 4, 6, 2);
     EXPECT_FALSE(identical(one.film, other.film)) << what << ": the seed must matter";
   }
+}
+
+/// The renderer traces the path tracer's camera rays by 4 × 4 pixel blocks as Embree packets
+/// (Integrator::LiBlock): the film must equal, bit for bit, one made with Li() per camera ray, which
+/// traces each ray alone, and the ray count too — with NEE and with the first-shot table.
+TEST(RenderDeterminism, CameraPacketsGiveTheSingleRayImage) {
+  const CornellScenes c = cornellScenes(38, 22);  // blocks of 4 × 4 cut by the image's edges
+  const RenderScene &nee = *c.nee, &fs = *c.fs;
+  const Camera camera(c.desc.camera);
+  const int spp = 3;
+  const uint64_t seed = 7;
+  for (const auto& [scene, what] : {std::pair{&nee, "NEE"}, std::pair{&fs, "first-shot"}}) {
+    auto integrator = makeIntegrator("path", IntegratorOptions{});
+    integrator->preprocess(*scene);
+    const auto blocks = test::renderWith(*integrator, *scene, spp, seed, 2);
+    Film single(camera.width(), camera.height());
+    uint64_t rays = 0;
+    for (int y = 0; y < camera.height(); ++y)
+      for (int x = 0; x < camera.width(); ++x)
+        for (int s = 0; s < spp; ++s) {
+          Sampler sampler(seed, uint64_t(y) * uint64_t(camera.width()) + uint64_t(x), uint64_t(s));
+          const Vec2 jitter = sampler.next2D();
+          SampleInfo info;
+          const Color L = integrator->Li(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, &info);
+          single.add(x, y, L, info.albedo, info.normal);
+          rays += info.rays;
+        }
+    int differing = 0;
+    for (int y = 0; y < camera.height(); ++y)
+      for (int x = 0; x < camera.width(); ++x) {
+        const Film::PixelSums a = blocks.film.pixelSums(x, y), b = single.pixelSums(x, y);
+        differing += std::memcmp(&a.sum, &b.sum, sizeof a.sum) != 0 || std::memcmp(&a.albedo, &b.albedo, sizeof a.albedo) != 0 ||
+                     std::memcmp(&a.normal, &b.normal, sizeof a.normal) != 0 || a.count != b.count;
+      }
+    EXPECT_EQ(differing, 0) << what;
+    EXPECT_EQ(blocks.stats.rays, rays) << what;
+  }
+}
+
+/// EmbreeScene::intersect16 (two packets of 8) finds, for every active ray of a block, the hit
+/// intersect() finds alone, and nothing for the inactive ones; a partial block (count < 16) too.
+TEST(RenderDeterminism, PacketHitsEqualSingleRayHits) {
+  SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
+  desc.camera.width = desc.camera.height = 16;
+  const RenderScene scene(desc, 0.1);
+  const Camera camera(desc.camera);
+  Sampler sampler(3, 0, 0);
+  int compared = 0, missed = 0;
+  for (int block = 0; block < 16; ++block) {
+    const int count = block == 15 ? 11 : 16;
+    Ray rays[16];
+    bool active[16];
+    for (int k = 0; k < 16; ++k) {
+      const Vec2 j = sampler.next2D();
+      // Some rays leave through the open front of the box (no hit): the camera turned around.
+      const Vec3 d = camera.generateRay(float(4 * (block % 4) + k % 4) + j.x, float(4 * (block / 4) + k / 4) + j.y).d;
+      rays[k] = Ray(camera.position(), k == 5 ? -d : d);
+      active[k] = (k + block) % 7 != 0;
+    }
+    Hit hits[16];
+    bool found[16];
+    scene.embree().intersect16(rays, active, count, hits, found);
+    for (int k = 0; k < count; ++k) {
+      Hit alone;
+      const bool hit = scene.embree().intersect(rays[k], alone);
+      if (!active[k]) {
+        EXPECT_FALSE(found[k]) << block << ", " << k;
+        continue;
+      }
+      ASSERT_EQ(found[k], hit) << block << ", " << k;
+      missed += !hit;
+      if (!hit) continue;
+      EXPECT_EQ(hits[k].t, alone.t);
+      EXPECT_EQ(hits[k].patch, alone.patch);
+      EXPECT_EQ(hits[k].emitter, alone.emitter);
+      EXPECT_EQ(hits[k].triangle, alone.triangle);
+      EXPECT_EQ(hits[k].ng, alone.ng);
+      EXPECT_EQ(hits[k].eps, alone.eps);
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 150);
+  EXPECT_GT(missed, 0);
 }
 
 /// The preprocessor's hard cases (tests/test_preprocess.cpp) with a camera, plus delta and sharp BSDFs.

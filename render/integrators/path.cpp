@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/embree_scene.h"
+
 namespace fs {
 
 void PathIntegrator::preprocess(const RenderScene& scene) {
@@ -32,8 +34,22 @@ Color PathIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* inf
   return L;
 }
 
+void PathIntegrator::LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count, Sampler* samplers,
+                             SampleInfo* infos, Color* L) const {
+  Hit hits[16];
+  bool found[16];
+  scene_->embree().intersect16(rays, traced, count, hits, found);
+  for (int k = 0; k < count; ++k) {
+    if (!wanted[k]) continue;
+    uint64_t n = 1;  // the camera ray
+    L[k] = found[k] ? trace(rays[k], Color(1.0f), 0, PathVertex(), true, samplers[k], n, &infos[k], &hits[k])
+                    : Color(0.0f);
+    infos[k].rays = n;
+  }
+}
+
 Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, bool specularChain, Sampler& sampler,
-                            uint64_t& rays, SampleInfo* info) const {
+                            uint64_t& rays, SampleInfo* info, const Hit* first) const {
   const RenderScene& scene = *scene_;
   const bool haveTable = scene.firstShot() != nullptr;
   bool sampledPatches = false;  // a vertex of this path sampled the lit patches (PatchNee::First: once)
@@ -41,8 +57,13 @@ Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, boo
 
   for (;; ++depth) {
     Hit hit;
-    ++rays;
-    if (!scene.intersect(ray, hit)) break;
+    if (first) {
+      hit = *first;
+      first = nullptr;
+    } else {
+      ++rays;
+      if (!scene.intersect(ray, hit)) break;
+    }
     const Vec3 wo = -glm::normalize(ray.d);
 
     // Emission of area lights met by the path.
