@@ -84,17 +84,20 @@ TEST(RenderDeterminism, SameImageForOneAndTwoThreads) {
   }
 }
 
-/// The renderer traces the path tracer's camera rays by 4 × 4 pixel blocks as Embree packets
-/// (Integrator::LiBlock): the film must equal, bit for bit, one made with Li() per camera ray, which
-/// traces each ray alone, and the ray count too — with NEE and with the first-shot table.
+/// The renderer traces the camera rays of the path tracer and the irradiance cache by 4 × 4 pixel
+/// blocks as Embree packets (Integrator::LiBlock): the film must equal, bit for bit, one made with
+/// Li() per camera ray, which traces each ray alone, and the ray count too — with NEE and with the
+/// first-shot table. (The cache is filled first, by its two passes, and then frozen.)
 TEST(RenderDeterminism, CameraPacketsGiveTheSingleRayImage) {
   const CornellScenes c = cornellScenes(38, 22);  // blocks of 4 × 4 cut by the image's edges
   const RenderScene &nee = *c.nee, &fs = *c.fs;
   const Camera camera(c.desc.camera);
   const int spp = 3;
   const uint64_t seed = 7;
-  for (const auto& [scene, what] : {std::pair{&nee, "NEE"}, std::pair{&fs, "first-shot"}}) {
-    auto integrator = makeIntegrator("path", IntegratorOptions{});
+  for (const auto& [scene, name, what] :
+       {std::tuple{&nee, "path", "NEE"}, std::tuple{&fs, "path", "first-shot"},
+        std::tuple{&nee, "irradiance-cache", "cache, NEE"}, std::tuple{&fs, "irradiance-cache", "cache, first-shot"}}) {
+    auto integrator = makeIntegrator(name, IntegratorOptions{});
     integrator->preprocess(*scene);
     const auto blocks = test::renderWith(*integrator, *scene, spp, seed, 2);
     Film single(camera.width(), camera.height());

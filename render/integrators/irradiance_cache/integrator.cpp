@@ -8,6 +8,7 @@
 
 #include "common/interrupt.h"
 #include "common/sampling.h"
+#include "render/embree_scene.h"
 #include "render/integrators/irradiance_cache/hemisphere_samples.h"
 #include "render/integrators/irradiance_cache/context.h"
 
@@ -94,8 +95,24 @@ Color IrradianceCacheIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo
   return L;
 }
 
+void IrradianceCacheIntegrator::LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count,
+                                        Sampler* samplers, SampleInfo* infos, Color* L) const {
+  Hit hits[16];
+  bool found[16];
+  scene_->embree().intersect16(rays, traced, count, hits, found);
+  for (int k = 0; k < count; ++k) {
+    if (!wanted[k]) continue;
+    Context ctx(frozen_ ? Context::Mode::Private : Context::Mode::Shared);
+    ctx.rays = 1;  // the camera ray
+    L[k] = found[k] ? radiance(rays[k], 0, RayKind::Camera, 0.0f, samplers[k], ctx, nullptr, &infos[k], &hits[k])
+                    : Color(0.0f);
+    if (ctx.overlay) privateRecords_ += ctx.overlay->size();
+    infos[k].rays = ctx.rays;
+  }
+}
+
 Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, float pathLength, Sampler& sampler,
-                                          Context& ctx, FirstVertex* first, SampleInfo* info) const {
+                                          Context& ctx, FirstVertex* first, SampleInfo* info, const Hit* known) const {
   const RenderScene& scene = *scene_;
   const LightSet& lights = scene.lights();
   Color L(0.0f), beta(1.0f);
@@ -106,8 +123,13 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
 
   for (int depth = 0;; ++depth) {
     Hit hit;
-    ++ctx.rays;
-    if (!scene.intersect(ray, hit)) break;
+    if (known) {
+      hit = *known;
+      known = nullptr;
+    } else {
+      ++ctx.rays;
+      if (!scene.intersect(ray, hit)) break;
+    }
     if (depth == 0 && first) first->distance = hit.t, first->hit = hit;
     pathLength += hit.t;
     const Vec3 wo = -glm::normalize(ray.d);

@@ -119,6 +119,9 @@ class IrradianceCacheIntegrator : public Integrator {
   /// the records one task makes, e.g. inside a closed object).
   void preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task, float rayAngle) override;
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
+  /// Li() per wanted ray, the block's camera rays traced as Embree packets (as the path tracer does).
+  void LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count, Sampler* samplers,
+               SampleInfo* infos, Color* L) const override;
   std::string name() const override { return "irradiance-cache"; }
   bool hasRecords() const override { return true; }
   /// Level-0 records (radius = a·R_i, the valid domain).
@@ -153,9 +156,10 @@ class IrradianceCacheIntegrator : public Integrator {
   struct FirstVertex;
   /// Radiance along @p ray at diffuse level @p level; @p pathLength is the distance from the
   /// camera to the ray's origin along the path (for the footprint clamp). @p first, if given,
-  /// receives the first hit and the first-shot term there.
+  /// receives the first hit and the first-shot term there. @p known, if given, is the ray's closest
+  /// hit, already traced (and counted) by the caller.
   Color radiance(Ray ray, int level, RayKind kind, float pathLength, Sampler& sampler, Context& ctx,
-                 FirstVertex* first, SampleInfo* info) const;
+                 FirstVertex* first, SampleInfo* info, const Hit* known = nullptr) const;
   /// Outgoing radiance at a non-delta vertex; @p firstShot, if given, receives its first-shot term.
   Color shade(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, int level, bool cameraVertex,
               float pathLength, Sampler& sampler, Context& ctx, Color* firstShot = nullptr) const;
