@@ -3,6 +3,7 @@
 // sampling and film included), with NEE to every light (tree:0) and by the light tree (tree:1, the
 // renderer's default); BM_RawEmbreeIncoherent times plain rtcIntersect1 calls on random
 // rays (origins uniform in the box, directions uniform on the sphere). Both on 1 and 2 threads.
+// BM_PathTracerOverRaw: the two in alternation, 1-spp pass against 2^17 raw rays, and their ratio.
 // BM_HemisphereRays: an irradiance record's hemisphere rays as single rays, packets and streams.
 // BM_CameraRays: Cornell's camera rays (128², 4 × 4 pixel blocks) as single rays and packets.
 #include <benchmark/benchmark.h>
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <vector>
 
@@ -108,24 +110,64 @@ void BM_PathTracer(benchmark::State& state) {
   state.counters["rays/sample"] = double(rays) / double(samples);
 }
 
+/// rtcIntersect1 on randomRays[first, first + count) in @p arena's threads; @return the hits.
+size_t traceRandomRays(const Fixture& f, tbb::task_arena& arena, size_t first, size_t count) {
+  const EmbreeScene& embree = f.scene->embree();
+  std::atomic<size_t> hits{0};
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(first, first + count, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      enableFlushToZero();
+      hits += embree.intersectRaw(f.randomRays.data() + r.begin(), r.size());
+    });
+  });
+  return hits.load();
+}
+
 void BM_RawEmbreeIncoherent(benchmark::State& state) {
   Fixture& f = fixture();
-  const EmbreeScene& embree = f.scene->embree();
   tbb::task_arena arena(int(state.range(0)));
   uint64_t rays = 0;
-  std::atomic<size_t> hits{0};
+  size_t hits = 0;
   for (auto _ : state) {
-    arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, f.randomRays.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
-        enableFlushToZero();
-        hits += embree.intersectRaw(f.randomRays.data() + r.begin(), r.size());
-      });
-    });
+    hits += traceRandomRays(f, arena, 0, f.randomRays.size());
     rays += f.randomRays.size();
   }
-  benchmark::DoNotOptimize(hits.load());
+  benchmark::DoNotOptimize(hits);
   state.counters["rays/s"] = benchmark::Counter(double(rays), benchmark::Counter::kIsRate);
-  state.counters["hit fraction"] = double(hits.load()) / double(rays);
+  state.counters["hit fraction"] = double(hits) / double(rays);
+}
+
+/// The ratio of the two above taken in alternation: each iteration times one 1-spp pass of the
+/// path tracer (light tree) and then 2^17 raw random rays (about as long), so that a machine whose
+/// speed drifts between benchmarks (shared hosts) slows both alike. "ratio" = path tracer rays/s
+/// over raw rays/s, summed over all iterations.
+void BM_PathTracerOverRaw(benchmark::State& state) {
+  using Clock = std::chrono::steady_clock;
+  Fixture& f = fixture();
+  const Camera camera(f.desc.camera);
+  RenderOptions ro;
+  ro.spp = 1;
+  ro.threads = int(state.range(0));
+  tbb::task_arena arena(ro.threads);
+  Film film(camera.width(), camera.height());
+  const size_t slice = size_t(1) << 17;
+  uint64_t pathRays = 0, rawRays = 0, pass = 0;
+  size_t hits = 0;
+  double pathSeconds = 0.0, rawSeconds = 0.0;
+  for (auto _ : state) {
+    const Clock::time_point t0 = Clock::now();
+    ro.firstSample = int(pass);
+    pathRays += render(*f.tree, camera, film, ro).rays;
+    const Clock::time_point t1 = Clock::now();
+    hits += traceRandomRays(f, arena, (pass++ * slice) % f.randomRays.size(), slice);
+    rawRays += slice;
+    pathSeconds += std::chrono::duration<double>(t1 - t0).count();
+    rawSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
+  }
+  benchmark::DoNotOptimize(hits);
+  state.counters["path Mrays/s"] = double(pathRays) / pathSeconds * 1e-6;
+  state.counters["raw Mrays/s"] = double(rawRays) / rawSeconds * 1e-6;
+  state.counters["ratio"] = (double(pathRays) / pathSeconds) / (double(rawRays) / rawSeconds);
 }
 
 /// The irradiance cache's hemisphere rays (one record's 512 rays after another), one thread, by
@@ -189,5 +231,6 @@ BENCHMARK(BM_CameraRays)->ArgNames({"layout"})->Arg(0)->Arg(1)->Arg(2)->Unit(ben
 
 BENCHMARK(BM_PathTracer)->ArgNames({"threads", "tree"})->ArgsProduct({{1, 2}, {0, 1}})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 BENCHMARK(BM_RawEmbreeIncoherent)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK(BM_PathTracerOverRaw)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(4.0);
 
 BENCHMARK_MAIN();
