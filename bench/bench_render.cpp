@@ -91,17 +91,29 @@ Fixture& fixture() {
   return f;
 }
 
+/// 1-spp passes of the Cornell fixture's path tracer on @p threads, accumulated into one film as a
+/// progressive render does; next() renders the next pass.
+struct ProgressivePasses {
+  const Camera camera;
+  RenderOptions options;
+  Film film;
+  int pass = 0;
+  ProgressivePasses(const Fixture& f, int threads) : camera(f.desc.camera), film(camera.width(), camera.height()) {
+    options.spp = 1;
+    options.threads = threads;
+  }
+  RenderStats next(const Integrator& integrator) {
+    options.firstSample = pass++;
+    return render(integrator, camera, film, options);
+  }
+};
+
 void BM_PathTracer(benchmark::State& state) {
   Fixture& f = fixture();
-  const Camera camera(f.desc.camera);
-  RenderOptions ro;
-  ro.spp = 1;
-  ro.threads = int(state.range(0));
-  uint64_t rays = 0, samples = 0, pass = 0;
-  Film film(camera.width(), camera.height());  // accumulated over the passes, as a progressive render does
+  ProgressivePasses passes(f, int(state.range(0)));
+  uint64_t rays = 0, samples = 0;
   for (auto _ : state) {
-    ro.firstSample = int(pass++);
-    const RenderStats st = render(state.range(1) ? *f.tree : *f.all, camera, film, ro);
+    const RenderStats st = passes.next(state.range(1) ? *f.tree : *f.all);
     rays += st.rays;
     samples += st.cameraSamples;
   }
@@ -144,30 +156,26 @@ void BM_RawEmbreeIncoherent(benchmark::State& state) {
 void BM_PathTracerOverRaw(benchmark::State& state) {
   using Clock = std::chrono::steady_clock;
   Fixture& f = fixture();
-  const Camera camera(f.desc.camera);
-  RenderOptions ro;
-  ro.spp = 1;
-  ro.threads = int(state.range(0));
-  tbb::task_arena arena(ro.threads);
-  Film film(camera.width(), camera.height());
+  ProgressivePasses passes(f, int(state.range(0)));
+  tbb::task_arena arena(int(state.range(0)));
   const size_t slice = size_t(1) << 17;
-  uint64_t pathRays = 0, rawRays = 0, pass = 0;
+  uint64_t pathRays = 0, rawRays = 0;
   size_t hits = 0;
   double pathSeconds = 0.0, rawSeconds = 0.0;
   for (auto _ : state) {
     const Clock::time_point t0 = Clock::now();
-    ro.firstSample = int(pass);
-    pathRays += render(*f.tree, camera, film, ro).rays;
+    pathRays += passes.next(*f.tree).rays;
     const Clock::time_point t1 = Clock::now();
-    hits += traceRandomRays(f, arena, (pass++ * slice) % f.randomRays.size(), slice);
+    hits += traceRandomRays(f, arena, rawRays % f.randomRays.size(), slice);
     rawRays += slice;
     pathSeconds += std::chrono::duration<double>(t1 - t0).count();
     rawSeconds += std::chrono::duration<double>(Clock::now() - t1).count();
   }
   benchmark::DoNotOptimize(hits);
-  state.counters["path Mrays/s"] = double(pathRays) / pathSeconds * 1e-6;
-  state.counters["raw Mrays/s"] = double(rawRays) / rawSeconds * 1e-6;
-  state.counters["ratio"] = (double(pathRays) / pathSeconds) / (double(rawRays) / rawSeconds);
+  const double pathRate = double(pathRays) / pathSeconds, rawRate = double(rawRays) / rawSeconds;
+  state.counters["path Mrays/s"] = pathRate * 1e-6;
+  state.counters["raw Mrays/s"] = rawRate * 1e-6;
+  state.counters["ratio"] = pathRate / rawRate;
 }
 
 /// The irradiance cache's hemisphere rays (one record's 512 rays after another), one thread, by
