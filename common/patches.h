@@ -5,6 +5,7 @@
 /// so a hit's primitive maps straight to a patch.
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "common/math.h"
@@ -22,6 +23,9 @@ struct Patch {
   Vec3 centroid{0.0f};    ///< area-weighted centroid
   double area = 0;        ///< m², computed in double from the exact (double) sub-polygon
 };
+
+/// A patch size (m) that leaves every face whole: one patch per scene face.
+inline constexpr double kFacesAsTheyAre = std::numeric_limits<double>::infinity();
 
 /// All patches; the index in @c patches is the patch ID (0..N-1, 32-bit).
 struct PatchMesh {

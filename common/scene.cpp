@@ -97,10 +97,10 @@ void frameCamera(SceneDesc& scene) {
 void validateScene(SceneDesc& scene) {
   const std::string& file = scene.file;
   const SettingsDesc& st = scene.settings;
-  if (!(st.patchSize > 0)) throw InputError(file, "settings.patch_size", "must be positive");
+  if (!(st.patchSize >= 0)) throw InputError(file, "settings.patch_size", "must be positive");
   if (!(st.lightPatchSize >= 0)) throw InputError(file, "settings.light_patch_size", "must be positive");
   if (!(st.minPatchSize >= 0)) throw InputError(file, "settings.min_patch_size", "must be positive");
-  if (st.minPatchSize > st.patchSize) throw InputError(file, "settings.min_patch_size", "must not exceed settings.patch_size");
+  if (st.patchSize > 0 && st.minPatchSize > st.patchSize) throw InputError(file, "settings.min_patch_size", "must not exceed settings.patch_size");
   if (scene.materials.empty()) throw InputError(file, "materials", "the scene defines no material");
   for (const auto& m : scene.materials) {
     const std::string w = "materials." + m.name;

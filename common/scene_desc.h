@@ -84,7 +84,7 @@ struct CameraDesc {
 
 /// Settings that change results. Command-line options override them.
 struct SettingsDesc {
-  double patchSize = 0.05;         ///< longest patch edge, m (the coarse mesh adaptive refinement starts from)
+  double patchSize = 0;            ///< longest patch edge, m (the coarse mesh adaptive refinement starts from); 0: from the scene (common/patch_size.h)
   double minPatchSize = 0;         ///< smallest patch edge refinement may reach, m; 0: the default (patchSize/kDefaultRefineRatio)
   double refineTolerance = 0.02;   ///< split a patch whose shadow-edge measure exceeds this fraction of its irradiance
   double lightPatchSize = 0;       ///< longest edge of an area light's tessellation, m; 0: automatic from lightTolerance

@@ -8,6 +8,7 @@
 #include "common/cli.h"
 #include "common/interrupt.h"
 #include "common/firstshot.h"
+#include "common/patch_size.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
@@ -15,7 +16,7 @@
 
 namespace {
 
-void printStats(const fs::SceneDesc& scene, const std::string& path, double ps) {
+void printStats(const fs::SceneDesc& scene, const std::string& path, double ps, bool automatic) {
   const fs::PatchMesh mesh = fs::buildPatches(scene, ps);
   size_t quads = 0;
   double minA = 1e300, maxA = 0;
@@ -25,7 +26,9 @@ void printStats(const fs::SceneDesc& scene, const std::string& path, double ps) 
   }
   fmt::print("scene        {}\n", path);
   fmt::print("shapes       {}\nmaterials    {}\nlights       {}\n", scene.shapes.size(), scene.materials.size(), scene.lights.size());
-  fmt::print("patch size   {} m\npatches      {} ({} quads, {} triangles)\n", ps, mesh.size(), quads, mesh.size() - quads);
+  fmt::print("patch size   {:.6g} m{}\npatches      {} ({} quads, {} triangles)\n", ps,
+             !automatic ? std::string() : fmt::format(" (automatic: at most {} coarse patches)", fs::kDefaultPatchCount), mesh.size(),
+             quads, mesh.size() - quads);
   fmt::print("area         {:.6f} m² (patch min {:.3e}, max {:.3e})\n", mesh.totalArea(), mesh.size() ? minA : 0.0, maxA);
   fmt::print("patch hash   {:016x}\nscene hash   {:016x}\n", fs::hashPatches(mesh), fs::hashScene(scene));
 }
@@ -67,7 +70,7 @@ int main(int argc, char** argv) {
     app.add_option("--backend", backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree)")
         ->check(CLI::IsMember({"gl", "embree", "auto"}));
     app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
-    app.add_option("--patch-size", patchSize, "longest patch edge in metres (default: settings.patch_size)")->check(CLI::PositiveNumber);
+    app.add_option("--patch-size", patchSize, "longest patch edge in metres (default: settings.patch_size, else automatic from the scene's faces)")->check(CLI::PositiveNumber);
     app.add_option("--light-patch-size", lightPatchSize, "area-light tessellation in metres (default: settings.light_patch_size)")
         ->check(CLI::PositiveNumber);
     app.add_option("--min-patch-size", minPatchSize, "smallest patch edge adaptive refinement may reach, m (default: settings.min_patch_size)")
@@ -112,7 +115,7 @@ int main(int argc, char** argv) {
     o.gl = gl, o.threads = threads, o.quiet = quiet || !comm.root(), o.timeLimit = timeLimit;
     o.comm = &comm;
     if (stats) {
-      if (comm.root()) printStats(scene, scenePath, o.settings.patchSize);
+      if (comm.root()) printStats(scene, scenePath, o.settings.patchSize, patchSize <= 0 && scene.settings.patchSize <= 0);
       return 0;
     }
     if (out.empty()) throw fs::InputError("", "command line", "no output file given (-o OUT.fsd)");

@@ -18,6 +18,7 @@
 #include "common/interrupt.h"
 #include "common/emission_profile.h"
 #include "common/memory_limit.h"
+#include "common/patch_size.h"
 #include "common/patches.h"
 #include "common/progress.h"
 #include "common/rng.h"
@@ -38,8 +39,8 @@ PreprocessOptions defaultOptions(const SceneDesc& scene) {
   PreprocessOptions o;
   o.settings.resolution = static_cast<uint32_t>(scene.settings.itemBufferResolution);
   o.settings.window = scene.settings.window;
-  o.settings.patchSize = scene.settings.patchSize;
-  o.settings.minPatchSize = minPatchSizeFor(scene.settings.patchSize, scene.settings.minPatchSize);
+  o.settings.patchSize = resolvePatchSize(scene);
+  o.settings.minPatchSize = minPatchSizeFor(o.settings.patchSize, scene.settings.minPatchSize);
   o.settings.refineTolerance = scene.settings.refineTolerance;
   o.settings.lightPatchSize = scene.settings.lightPatchSize;
   o.settings.lightTolerance = scene.settings.lightTolerance;

@@ -43,7 +43,8 @@ void LightSampler::buildVisibility() {
   const Vec3 extent = Vec3(hi - lo);
   const float longest = std::max({extent.x, extent.y, extent.z});
   if (!(longest > 0.0f)) return;
-  grid_.cell = std::max(longest / float(kGridCells), float(mesh.patchSize));
+  grid_.cell = longest / float(kGridCells);
+  if (std::isfinite(mesh.patchSize)) grid_.cell = std::max(grid_.cell, float(mesh.patchSize));
   grid_.origin = Vec3(lo);
   grid_.nx = std::max(1, int(std::ceil(extent.x / grid_.cell)));
   grid_.ny = std::max(1, int(std::ceil(extent.y / grid_.cell)));

@@ -10,6 +10,7 @@
 #include "common/firstshot.h"
 #include "common/interrupt.h"
 #include "common/memory_limit.h"
+#include "common/patch_size.h"
 #include "common/scene_desc.h"
 #include "render/camera.h"
 #include "render/checkpoint_cli.h"
@@ -86,7 +87,8 @@ int main(int argc, char** argv) {
     app.add_flag("--aov", aov, "EXR: add albedo and normal layers for external denoisers");
     app.add_option("--width", width, "image width (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
     app.add_option("--height", height, "image height (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
-    app.add_option("--patch-size", patchSize, "without --firstshot: longest patch edge in metres (default: the scene's)")
+    app.add_option("--patch-size", patchSize, "without --firstshot: longest patch edge in metres (default: every face as it is; --integrator bundle: "
+                                         "the scene's patch_size, else automatic as the preprocessor's)")
         ->check(CLI::Range(1e-6, 1e6));
     app.add_flag("-q,--quiet", quiet, "no progress bar or summary");
     auto* previewOpt = app.add_flag("--preview", preview, "open the interactive preview window (needs a display; keys: H)")
@@ -175,7 +177,7 @@ int main(int argc, char** argv) {
     if (!fsdPath.empty())
       rs.emplace(scene, fs::readFirstShot(fsdPath, fs::hashScene(scene)), fsdPath);
     else
-      rs.emplace(scene, patchSize);
+      rs.emplace(scene, patchSize > 0 || integratorName != "bundle" ? patchSize : fs::resolvePatchSize(scene));
     if (sensors.active()) {  // sensors.run preprocesses the integrator for the sensors' rays
       fs::SensorOptions so;
       so.timeLimit = timeLimit;

@@ -9,7 +9,9 @@
 namespace fs {
 
 RenderScene::RenderScene(SceneDesc scene, double patchSize) : desc_(std::move(scene)) {
-  mesh_ = buildPatches(desc_, patchSize > 0 ? patchSize : desc_.settings.patchSize);
+  // Without a table nothing needs patches smaller than the faces (the bundle integrator's elements
+  // are the exception; its caller passes a size): every face is traced as it is.
+  mesh_ = buildPatches(desc_, patchSize > 0 ? patchSize : kFacesAsTheyAre);
   build({});
 }
 

@@ -20,8 +20,8 @@ namespace fs {
 
 class RenderScene {
  public:
-  /// A scene without first-shot: traces buildPatches(scene, patchSize), or the scene's own
-  /// settings.patchSize when @p patchSize <= 0. Every light is sampled by the integrator.
+  /// A scene without first-shot: traces buildPatches(scene, patchSize), or every face as it is
+  /// (one patch per face) when @p patchSize <= 0. Every light is sampled by the integrator.
   explicit RenderScene(SceneDesc scene, double patchSize = 0);
 
   /// A scene with a first-shot table: traces the table's patch mesh; the table's replacedLights

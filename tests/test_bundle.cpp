@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "common/patch_size.h"
 #include "tests/bundle_util.h"
 #include "tests/render_util.h"
 #include "tests/stats.h"
@@ -87,7 +88,7 @@ TEST(BundleFurnace, EveryElementConvergesToLeOverOneMinusRho) {
 TEST(BundleFurnace, IntegratingCubeIndirectIrradiance) {
   const double rho = 0.6, phi = 40.0;
   const SceneDesc desc = test::sceneFromJson(boxScene(rho, "", R"({"type": "point", "position": [0.3, 0.25, -0.1], "power": 40})", 0.5));
-  PatchMesh mesh = buildPatches(desc, desc.settings.patchSize);
+  PatchMesh mesh = buildPatches(desc, resolvePatchSize(desc));
   const double area = mesh.totalArea();
   ASSERT_NEAR(area, 24.0, 1e-6);
   const RenderScene scene(desc, test::pointLightTable(desc, std::move(mesh), 0));
@@ -128,7 +129,7 @@ TEST(BundleFirstShot, WithAndWithoutTableConvergeToTheSameImage) {
   const double rho = 0.6;
   const SceneDesc desc = test::sceneFromJson(boxScene(rho, "", R"({"type": "point", "position": [0.3, 0.25, -0.1], "power": 40})", 0.5));
   const RenderScene plain(desc);
-  const RenderScene table(desc, test::pointLightTable(desc, buildPatches(desc, desc.settings.patchSize), 0));
+  const RenderScene table(desc, test::pointLightTable(desc, buildPatches(desc, resolvePatchSize(desc)), 0));
   IntegratorOptions io;
   const Camera camera(desc.camera);
   const int K = 128, w = camera.width(), h = camera.height();
@@ -150,7 +151,7 @@ TEST(BundleFirstShot, WithAndWithoutTableConvergeToTheSameImage) {
 /// The state and the image are bit-identical for 1 and 2 threads (and with a table, --primary patch).
 TEST(BundleDeterminism, SameImageForOneAndTwoThreads) {
   const SceneDesc desc = test::sceneFromJson(boxScene(0.6, "", R"({"type": "point", "position": [0.3, 0.25, -0.1], "power": 40})", 0.5));
-  const RenderScene table(desc, test::pointLightTable(desc, buildPatches(desc, desc.settings.patchSize), 0));
+  const RenderScene table(desc, test::pointLightTable(desc, buildPatches(desc, resolvePatchSize(desc)), 0));
   SceneDesc small = loadScene(test::source("scenes/cornell.json"));
   small.camera.width = small.camera.height = 24;
   const RenderScene cornell(small, 0.1);

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "common/patch_size.h"
 #include "common/photometry.h"
 #include "common/sampling.h"
 #include "render/sensors.h"
@@ -142,7 +143,7 @@ TEST(Sensors, IndirectFromLitFloor) {
 TEST(Sensors, IntegratingSphereIndirect) {
   const double rho = 0.6, phi = 50.0;
   const SceneDesc desc = test::sceneFromJson(test::integratingSphereScene(rho, phi));
-  PatchMesh mesh = buildPatches(desc, desc.settings.patchSize);
+  PatchMesh mesh = buildPatches(desc, resolvePatchSize(desc));
   const double area = mesh.totalArea();
   std::vector<Sensor> sensors;
   for (size_t j = 0; j < mesh.patches.size(); j += mesh.patches.size() / 5) {

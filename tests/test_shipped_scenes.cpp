@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/patch_size.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
 #include "tests/test_util.h"
@@ -81,7 +82,7 @@ TEST(ShippedScenes, EveryJsonSceneLoadsAndSplitsIntoPatches) {
     EXPECT_FALSE(s.shapes.empty());
     EXPECT_FALSE(s.lights.empty());
     EXPECT_TRUE(s.camera.given) << "shipped scenes set their camera";
-    const PatchMesh mesh = buildPatches(s, s.settings.patchSize);
+    const PatchMesh mesh = buildPatches(s, resolvePatchSize(s));
     EXPECT_GT(mesh.size(), 0u);
     EXPECT_LE(mesh.size(), 300000u) << "patch_size keeps the shipped scenes small";
   }
@@ -91,7 +92,7 @@ TEST(ShippedScenes, FixtureRoomHidesEveryBulb) {
   const SceneDesc s = loadScene(test::source("scenes/fixture-room.json"));
   ASSERT_FALSE(s.lights.empty());
   EXPECT_EQ(countType(s, LightType::Point), static_cast<int>(s.lights.size())) << "only point lights (no area lights)";
-  EXPECT_LE(buildPatches(s, s.settings.patchSize).size(), 60000u);
+  EXPECT_LE(buildPatches(s, resolvePatchSize(s)).size(), 60000u);
 
   const std::vector<Triangle> tris = occluders(s);
   int cove = 0;
@@ -126,7 +127,7 @@ TEST(ShippedScenes, OfficeFloorHasHundredsOfMostlyHiddenLights) {
   EXPECT_NEAR(hi.x - lo.x, 40.0, 1e-9);
   EXPECT_NEAR(hi.z - lo.z, 20.0, 1e-9);
   EXPECT_NEAR(hi.y - lo.y, 3.0, 1e-9);
-  EXPECT_LE(buildPatches(s, s.settings.patchSize).size(), 300000u);
+  EXPECT_LE(buildPatches(s, resolvePatchSize(s)).size(), 300000u);
 
   // Walls hide most lights from the camera.
   const std::vector<Triangle> tris = occluders(s);
