@@ -2,6 +2,7 @@
 
 #include "preprocess/profile.h"
 
+#include <fmt/core.h>
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -171,9 +172,11 @@ GLItemBuffer::GLItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBo
     for (size_t v = 3 * t0; v < 3 * t1; ++v) b.extend(Vec3d(vertices[v].x, vertices[v].y, vertices[v].z));
     clusters_.push_back({b.centre(), 0.5 * b.diagonal() * (1 + 1e-6) + 1e-12, int(3 * t0), int(3 * (t1 - t0))});
   }
+  // A scene without patches (every surface emissive) draws nothing, but a buffer's storage must not be
+  // empty (GL_INVALID_VALUE): it gets one unused vertex.
+  if (vertices.empty()) vertices.push_back({0.0f, 0.0f, 0.0f, kNoPatch});
   glCreateBuffers(1, &vbo_);
-  glNamedBufferStorage(vbo_, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)),
-                       vertices.empty() ? nullptr : vertices.data(), 0);
+  glNamedBufferStorage(vbo_, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), 0);
   glCreateVertexArrays(1, &vao_);
   glVertexArrayVertexBuffer(vao_, 0, vbo_, 0, sizeof(Vertex));
   glEnableVertexArrayAttrib(vao_, 0);
@@ -220,8 +223,7 @@ const char* GLItemBuffer::name() const {
 void GLItemBuffer::checkErrors(const char* where) {
   const GLenum e = glGetError();
   if (e != GL_NO_ERROR)
-    throw std::runtime_error(std::string("GL item buffer (") + name() + "): OpenGL error 0x" +
-                             std::to_string(e) + " in " + where);
+    throw std::runtime_error(fmt::format("GL item buffer ({}): OpenGL error 0x{:04x} in {}", name(), e, where));
 }
 
 void GLItemBuffer::ensureFramebuffer(int width, int height) {

@@ -15,7 +15,7 @@ struct PreprocessOptions {
   FirstShotSettings settings;     ///< resolution, window, backend, patch sizes, small-light rule
   std::string gl = "osmesa";      ///< OpenGL back end for backend "gl": osmesa | egl
   int threads = 0;                ///< workers (0 = one per core); each has its own GL context
-  bool quiet = false;             ///< no progress bar
+  bool quiet = true;              ///< no progress on stderr (common/progress.h; the tool: unless --quiet)
   double timeLimit = 0;           ///< seconds; 0 = none. Past it the run fails (nothing is written).
   /// The ranks sharing the work (common/comm.h; null: this process alone). Each rank shoots the
   /// light-sample tasks dealt to it; the factors are exchanged after every shooting pass, so every

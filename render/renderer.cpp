@@ -121,7 +121,7 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
           rays += tileRays;
           nonFinite += tileBad;
           const Tile& tl = tiles[t];
-          if (options.timeLimit <= 0) progress.advance(uint64_t(tl.x1 - tl.x0) * uint64_t(tl.y1 - tl.y0) * uint64_t(s1 - s0));
+          progress.advance(uint64_t(tl.x1 - tl.x0) * uint64_t(tl.y1 - tl.y0) * uint64_t(s1 - s0));
         }
       });
     });
@@ -149,10 +149,8 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
 
   RenderStats stats;
   if (options.timeLimit > 0) {
-    const uint64_t budgetMs = uint64_t(options.timeLimit * 1000.0);
-    Progress progress("render", budgetMs, options.quiet);
+    Progress progress = Progress::timed("render", options.timeLimit, options.quiet);
     int s = options.firstSample;
-    uint64_t shownMs = 0;  // the bar shows elapsed time against the budget
     while (true) {
       pass(s, s + 1, progress);
       if (comm.any(cancelled)) {  // rank 0's partial pass is what one process leaves
@@ -161,9 +159,6 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
       }
       ++s;
       if (options.afterPass) collect(), options.afterPass(s);
-      const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
-      progress.advance(nowMs - shownMs);
-      shownMs = nowMs;
       if (comm.any(comm.root() && seconds() >= options.timeLimit)) break;  // rank 0's clock decides
     }
     progress.finish();

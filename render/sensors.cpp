@@ -154,7 +154,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
             acc.lux2 += lux * lux;
             ++acc.n;
           }
-          if (options.timeLimit <= 0) progress.advance(s1 - s0);
+          progress.advance(s1 - s0);
         }
         rays += localRays;
         nonFinite += bad;
@@ -165,15 +165,10 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
 
   uint64_t taken = 0;
   if (options.timeLimit > 0) {
-    const uint64_t budgetMs = uint64_t(options.timeLimit * 1000.0);
-    Progress progress("sensors", budgetMs, options.quiet);
-    uint64_t shownMs = 0;
+    Progress progress = Progress::timed("sensors", options.timeLimit, options.quiet);
     do {
       pass(taken, taken + uint64_t(batch), progress);
       taken += uint64_t(batch);
-      const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
-      progress.advance(nowMs - shownMs);
-      shownMs = nowMs;
     } while (!comm.any(comm.root() && seconds() >= options.timeLimit));  // rank 0's clock decides
     progress.finish();
   } else {

@@ -120,9 +120,8 @@ RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, 
   RenderStats stats;
   const bool timed = options.timeLimit > 0;
   const int spp = std::max(1, options.spp);
-  const uint64_t budgetMs = uint64_t(options.timeLimit * 1000.0);
-  Progress progress("render", timed ? budgetMs : pixels * uint64_t(spp), options.quiet);
-  uint64_t shownMs = 0;
+  Progress progress = timed ? Progress::timed("render", options.timeLimit, options.quiet)
+                            : Progress("render", pixels * uint64_t(spp), options.quiet);
   int s = options.firstSample;
   while (true) {
     if (!splatPass(integrator, camera, film, options, uint64_t(s), arena, rays, nonFinite, comm)) {
@@ -131,15 +130,10 @@ RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, 
     }
     ++s;
     if (options.afterPass) collectFilm(comm, film, mine), options.afterPass(s);
-    if (timed) {
-      const uint64_t nowMs = std::min<uint64_t>(budgetMs, uint64_t(seconds() * 1000.0));
-      progress.advance(nowMs - shownMs);
-      shownMs = nowMs;
-      if (comm.any(comm.root() && seconds() >= options.timeLimit)) break;  // rank 0's clock decides
-    } else {
-      progress.advance(pixels);
-      if (s - options.firstSample >= spp) break;
-    }
+    progress.advance(pixels);
+    if (timed ? comm.any(comm.root() && seconds() >= options.timeLimit)  // rank 0's clock decides
+              : s - options.firstSample >= spp)
+      break;
   }
   progress.finish();
   collectFilm(comm, film, mine);

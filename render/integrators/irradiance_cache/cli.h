@@ -22,8 +22,10 @@ struct IrradianceCacheCli {
   bool twoPass = false, onePass = false;
   std::vector<CLI::Option*> options;
   CLI::Option* ambientOption = nullptr;
+  const CLI::App* tool = nullptr;  ///< the tool's command line, for its --quiet
 
   void add(CLI::App& app) {
+    tool = &app;
     auto onOff = CLI::IsMember({"on", "off"});
     options = {
         app.add_option("--accuracy", settings.accuracy, "irradiance cache: a, the accuracy of eq. 5 (smaller: more records)")
@@ -97,6 +99,7 @@ struct IrradianceCacheCli {
     }
     settings.seed = seed;
     settings.threads = threads;
+    settings.quiet = tool->count("--quiet") > 0;  // the fill's progress (rank 0's alone: the integrator knows its ranks)
     ic->setSettings(settings);
   }
 

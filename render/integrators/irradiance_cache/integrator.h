@@ -75,6 +75,7 @@ struct IrradianceCacheSettings {
   std::string cacheFile;        ///< records read in preprocess() if the file exists [--cache-file]
   uint64_t seed = 1;            ///< the render's seed (the fill traces the render's own camera samples)
   int threads = 0;              ///< workers of the fill pass (0 = one per core)
+  bool quiet = true;            ///< no progress of the fill on stderr (the tool's --quiet; rank 0 alone shows it)
   /// With a first-shot table: patch NEE samples per hemisphere ray of a record (rounded, at least
   /// one), MIS-combined with the rays' first-shot terms; 0 = off [--ic-patch-nee].
   float patchNee = 0.0f;

@@ -12,6 +12,7 @@
 #include "common/comm.h"
 #include "common/error.h"
 #include "common/interrupt.h"
+#include "common/progress.h"
 #include "common/small_lights.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
 #include "render/camera.h"
@@ -141,6 +142,8 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
 
   // One sweep over the pixels; returns the number of records added.
   auto sweep = [&](bool shrinkNeighbours) {
+    Progress progress(shrinkNeighbours ? "irradiance cache fill" : "irradiance cache fill, gaps", tasks,
+                      settings_.quiet || !comm.root());
     size_t added = 0;
     size_t batch = 1;
     for (size_t pos = 0; pos < tasks; pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
@@ -186,6 +189,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
               cache_->insert(l, r, settings_.neighbourClamp, shrinkNeighbours);
               ++added;
             }
+      progress.advance(count);
     }
     return added;
   };
