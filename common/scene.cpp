@@ -8,6 +8,7 @@
 #include "common/hash.h"
 #include "common/mesh_import.h"
 #include "common/scene_desc.h"
+#include "common/scene_mitsuba.h"
 #include "common/ies.h"
 #include "common/scene_shapes.h"
 
@@ -42,8 +43,10 @@ SceneDesc loadScene(const std::string& path) {
     scene = parseSceneJson(ss.str(), path);
   } else if (ext == ".obj" || ext == ".gltf" || ext == ".glb" || ext == ".ply") {
     scene = importAssetScene(path);
+  } else if (ext == ".xml") {
+    scene = loadSceneMitsuba(path);
   } else {
-    throw InputError(path, "", "unknown scene file type \"" + ext + "\" (expected .json, .obj, .gltf, .glb or .ply)");
+    throw InputError(path, "", "unknown scene file type \"" + ext + "\" (expected .json, .xml, .obj, .gltf, .glb or .ply)");
   }
   validateScene(scene);
   return scene;

@@ -1,0 +1,39 @@
+#pragma once
+/// @file mitsuba_bsdf.h
+/// Mitsuba 3 `<bsdf>` plugins mapped to the project's materials (diffuse, glossy Phong, mirror,
+/// dielectric). Every approximation is printed once per plugin type; docs/scene-format.md, "Mitsuba 3
+/// XML scenes", states each mapping.
+#include <map>
+
+#include "common/mitsuba_xml.h"
+#include "common/scene_desc.h"
+
+namespace fs::mitsuba {
+
+/// Turns `<bsdf>` elements into SceneDesc materials, one per element however often it is referenced.
+class BsdfMapper {
+ public:
+  BsdfMapper(Document& doc, SceneDesc& scene) : doc_(doc), scene_(scene) {}
+  /// Index in SceneDesc::materials of the `<bsdf>` @p node (mapped on first use; named by its id, or
+  /// by its element path). @throws InputError for unsupported plugins or values.
+  int material(pugi::xml_node node);
+  /// Mitsuba's material for a shape without a bsdf: diffuse, reflectance 0.5.
+  int defaultMaterial();
+
+ private:
+  MaterialDesc map(pugi::xml_node node, bool wrapped);
+
+  Document& doc_;
+  SceneDesc& scene_;
+  std::map<pugi::xml_node, int> done_;
+  int default_ = -1;
+};
+
+/// The Phong exponent of a microfacet roughness α (Walter et al. 2007): n = 2/α² − 2, clamped to [0, 1000]
+/// (α ≤ 0.0447, smooth plastic included, gives 1000).
+float phongExponent(double alpha);
+
+/// Fresnel reflectance at normal incidence of a dielectric interface of relative index @p eta: ((η−1)/(η+1))².
+double fresnelF0(double eta);
+
+}  // namespace fs::mitsuba
