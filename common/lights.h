@@ -15,6 +15,7 @@
 #include <cmath>
 
 #include "common/math.h"
+#include "common/photometry.h"
 #include "common/scene_desc.h"
 
 namespace fs {
@@ -50,6 +51,14 @@ inline float spotProfile(const LightDesc& l, float cosTheta) {
 
 /// Integral of spotProfile over the sphere of directions, in sr (SpotCone::integral).
 inline double spotProfileIntegral(const LightDesc& l) { return SpotCone(l).integral(); }
+
+/// Power Φ = I0·∫profile dω, W, of point or spot light @p l (not IES) with luminous intensity @p candela, cd, on its
+/// axis (a point light: in every direction) and RGB weights @p rgb (photometry::toRadiometric): the JSON's "candela"
+/// key and glTF's KHR_lights_punctual point and spot intensities.
+inline Color powerFromCandela(const LightDesc& l, double candela, const Color& rgb) {
+  const double solidAngle = l.type == LightType::Point ? 4.0 * kPi : spotProfileIntegral(l);
+  return photometry::toRadiometric(candela * solidAngle, rgb);
+}
 
 /// On-axis intensity I0 = Φ / spotProfileIntegral of a spot light in W/sr, so that the total
 /// emitted power is Φ. Zero for a spot of zero solid angle.

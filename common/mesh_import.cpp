@@ -10,12 +10,16 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
+#include <optional>
 #include <unordered_map>
 
 #include "common/asset_checks.h"
 #include "common/error.h"
+#include "common/gltf_file.h"
+#include "common/gltf_materials.h"
 #include "common/hash.h"
+#include "common/photometry.h"
+#include "common/skipped_faces.h"
 
 namespace fs {
 namespace {
@@ -50,33 +54,6 @@ std::string lowerExtension(const std::string& path) {
 bool isGltf(const std::string& path) {
   const std::string ext = lowerExtension(path);
   return ext == ".gltf" || ext == ".glb";
-}
-
-/// The JSON part of a .gltf or .glb file (null when unreadable); @p error receives the parser's message.
-nlohmann::json readGltfJson(const std::string& path, std::string* error = nullptr) {
-  std::ifstream in(path, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (text.size() >= 20 && text.compare(0, 4, "glTF") == 0) {  // GLB: 12-byte header, then the JSON chunk
-    uint32_t length = 0;
-    std::memcpy(&length, text.data() + 12, 4);
-    text = text.substr(20, std::min<size_t>(length, text.size() - 20));
-  }
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    if (error) *error = e.what();
-    return nullptr;
-  }
-}
-
-/// KHR_materials_emissive_strength of glTF material @p k (1 when absent or not a number).
-float emissiveStrength(const nlohmann::json& gltf, unsigned k) {
-  try {
-    return gltf.at("materials").at(k).at("extensions").at("KHR_materials_emissive_strength")
-        .at("emissiveStrength").get<float>();
-  } catch (const nlohmann::json::exception&) {
-    return 1.0f;
-  }
 }
 
 /// What is wrong with the structure of an imported scene, or "": a node naming a mesh that does not exist,
@@ -119,12 +96,15 @@ void setPrimitiveTypes(const aiScene& scene) {
   }
 }
 
-/// Reads @p path with assimp (triangulated, nothing else changed). The importer owns the scene.
+/// Reads @p path with assimp (triangulated, nothing else changed). The importer owns the scene. A glTF file's
+/// buffers are checked first (GltfFile::bufferDefect), and the file read beside assimp is left in @p gltf.
 const aiScene* readAsset(Assimp::Importer& importer, const std::string& path, const std::string& sceneFile,
-                         const std::string& element) {
+                         const std::string& element, std::optional<GltfFile>& gltf) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
     throw InputError(sceneFile, element, "mesh file not found: " + path);
+  if (isGitLfsPointer(fileHead(path)))
+    throw InputError(sceneFile, element, "mesh file " + path + " " + kGitLfsPointerMessage);
   // Only the documented types: assimp's other importers are not part of firstshot (nor fuzzed).
   const std::string ext = lowerExtension(path);
   if (ext != ".obj" && ext != ".ply" && !isGltf(path))
@@ -136,13 +116,17 @@ const aiScene* readAsset(Assimp::Importer& importer, const std::string& path, co
         ext == ".ply" ? plyHeaderDefect(in) : glbHeaderDefect(in, std::filesystem::file_size(path, ec));
     if (!defect.empty()) throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
   }
+  if (isGltf(path)) {
+    gltf.emplace(path);
+    if (const std::string defect = gltf->bufferDefect(); !defect.empty())
+      throw InputError(sceneFile, element, "mesh file " + path + ": " + defect);
+  }
   // No aiProcess_ValidateDataStructure: it rejects meshes without faces, which we report as "no triangles".
   // Triangulation runs only once the indices are checked (ReadFile(path, flags) is this, unchecked).
   const aiScene* scene = importer.ReadFile(path, 0);
   if (!scene || !scene->mRootNode) {
     std::string why = importer.GetErrorString();
-    std::string jsonError;  // assimp only says "no suitable reader" for a .gltf with broken JSON
-    if (isGltf(path) && readGltfJson(path, &jsonError).is_null() && !jsonError.empty()) why = jsonError;
+    if (gltf && !gltf->parseError().empty()) why = gltf->parseError();  // assimp says "no suitable reader"
     throw InputError(sceneFile, element, "cannot read mesh file " + path + ": " + why);
   }
   if (const std::string defect = structureDefect(*scene); !defect.empty())
@@ -199,38 +183,45 @@ void forEachMeshInstance(const aiNode* node, const Mat4d& parent, const F& f) {
   for (unsigned i = 0; i < node->mNumChildren; ++i) forEachMeshInstance(node->mChildren[i], m, f);
 }
 
-/// Converts one material. Base colour (else diffuse colour) -> albedo; emissive colour, times the glTF
-/// KHR_materials_emissive_strength (read from the JSON: assimp 5.2 ignores it) -> emission. Textures
-/// are ignored. glTF metallic/roughness (metallic m, roughness r, base colour b, F0 = 0.04) becomes a
-/// stretched-Phong glossy material unless it is a plain rough dielectric (m = 0, r = 1, then diffuse):
-///   albedo = b·(1−m)·(1−F0), specular = F0·(1−m) + b·m (their sum stays ≤ 1),
-///   exponent n = 2/α² − 2 with α = r² (Walter et al. 2007's Phong–Beckmann match), clamped to [1, 10⁴].
-/// OBJ Ks/Ns are ignored (diffuse only).
-MaterialDesc convertMaterial(const aiMaterial& mat, float emissiveStrength) {
-  MaterialDesc m;
-  aiColor3D c(0.5f, 0.5f, 0.5f);
+/// Converts an OBJ or PLY material: diffuse colour -> albedo, emissive colour -> emission; assimp's PBR keys
+/// (OBJ's Pm/Pr) through metallicRoughnessMaterial when they are not a plain rough dielectric. Textures and OBJ's
+/// Ks/Ns are ignored (diffuse only).
+MaterialDesc convertMaterial(const aiMaterial& mat) {
+  aiColor3D c(0.5f, 0.5f, 0.5f), e(0.0f, 0.0f, 0.0f);
   if (mat.Get(AI_MATKEY_BASE_COLOR, c) != aiReturn_SUCCESS) mat.Get(AI_MATKEY_COLOR_DIFFUSE, c);
-  m.albedo = color(c);
-  aiColor3D e(0.0f, 0.0f, 0.0f);
   mat.Get(AI_MATKEY_COLOR_EMISSIVE, e);
-  m.emission = color(e) * emissiveStrength;
   float metallic = 0.0f, roughness = 1.0f;
   const bool pbr = mat.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == aiReturn_SUCCESS;
   mat.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness);
-  if (pbr && (metallic > 0.0f || roughness < 1.0f)) {
-    constexpr float kF0 = 0.04f;
-    const Color base = m.albedo;
-    m.type = MaterialType::Glossy;
-    m.albedo = base * (1.0f - metallic) * (1.0f - kF0);
-    m.specular = Color(kF0 * (1.0f - metallic)) + base * metallic;
-    const double alpha = std::max(double(roughness) * roughness, 1e-3);
-    m.exponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
-  }
+  MaterialDesc m = metallicRoughnessMaterial(color(c), pbr ? metallic : 0.0f, pbr ? roughness : 1.0f);
+  m.emission = color(e);
   return m;
 }
 
-/// Converts a light placed by @p node. glTF (KHR_lights_punctual) intensities are taken as radiometric:
-/// point/spot candela -> W/sr, directional lux -> W/m²; assimp stores colour·intensity in mColorDiffuse.
+/// The texture coordinates of @p mesh's triangles in TEXCOORD_<@p set> (glTF's v, down from the image's top: assimp
+/// 5.2's glTF importer stores 1 − v), each weighted by its area in m² under @p toWorld; nullopt without that set.
+std::optional<std::vector<UvTriangle>> uvTriangles(const aiMesh& mesh, const Mat4d& toWorld, unsigned set) {
+  if (set >= AI_MAX_NUMBER_OF_TEXTURECOORDS || !mesh.mTextureCoords[set]) return std::nullopt;
+  std::vector<UvTriangle> triangles;
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    const aiFace& face = mesh.mFaces[f];
+    if (face.mNumIndices != 3) continue;
+    UvTriangle t;
+    Vec3d p[3];
+    for (int k = 0; k < 3; ++k) {
+      const aiVector3D& uv = mesh.mTextureCoords[set][face.mIndices[k]];
+      t.uv[k] = Vec2d(uv.x, 1.0 - double(uv.y));
+      p[k] = point(toWorld, mesh.mVertices[face.mIndices[k]]);
+    }
+    t.weight = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+    triangles.push_back(t);
+  }
+  return triangles;
+}
+
+/// Converts a light placed by @p node. KHR_lights_punctual intensities are photometric, point and spot in candela
+/// (on the axis), directional in lux; assimp stores colour·intensity in mColorDiffuse, and they become watts as
+/// the JSON's "candela" does (powerFromCandela, photometry::toRadiometric: the colour multiplies the intensity).
 /// The glTF range is ignored (inverse-square falloff). glTF spot cone angles are half-angles from the
 /// axis, and assimp's glTF2 importer copies them unchanged into mAngleInnerCone/mAngleOuterCone.
 LightDesc convertLight(const aiLight& l, const aiNode& node, unsigned k) {
@@ -244,17 +235,17 @@ LightDesc convertLight(const aiLight& l, const aiNode& node, unsigned k) {
   switch (l.mType) {
     case aiLightSource_DIRECTIONAL:
       d.type = LightType::Directional;
-      d.irradiance = intensity;
+      d.irradiance = photometry::toRadiometric(1.0, intensity);  // lx -> W/m²
       break;
     case aiLightSource_SPOT:
       d.type = LightType::Spot;
       d.innerAngleDeg = glm::degrees(double(l.mAngleInnerCone));
       d.outerAngleDeg = glm::degrees(double(l.mAngleOuterCone));
-      d.power = intensity * static_cast<float>(spotProfileIntegral(d));  // Φ = I0·∫profile dω (common/lights.h)
+      d.power = powerFromCandela(d, 1.0, intensity);
       break;
     default:  // point (and anything else assimp knows: treated as a point)
       d.type = LightType::Point;
-      d.power = intensity * float(4.0 * kPi);
+      d.power = powerFromCandela(d, 1.0, intensity);
   }
   return d;
 }
@@ -276,11 +267,87 @@ CameraDesc convertCamera(const aiCamera& c, const aiNode& node, bool gltf) {
   return d;
 }
 
+/// The scene's materials, each converted when first used: one per asset material, and for a glTF material with an
+/// emissive texture one per emission its meshes get (emissionOnMesh). Defaults stand in for "no material":
+/// assimp's OBJ/PLY default (unnamed or "DefaultMaterial") and the one its glTF2 importer appends last.
+class MaterialTable {
+ public:
+  MaterialTable(const aiScene& scene, const GltfFile* gltf, std::vector<MaterialDesc>& materials)
+      : scene_(scene), gltf_(gltf), materials_(materials), converted_(scene.mNumMaterials) {
+    if (gltf) textures_.emplace(*gltf);
+  }
+
+  /// The index in the scene's materials of the material of @p mesh, placed by @p toWorld, named @p meshName.
+  int index(const aiMesh& mesh, const Mat4d& toWorld, const std::string& meshName) {
+    const unsigned k = mesh.mMaterialIndex;
+    if (k >= converted_.size()) return add(defaultMaterial(), k, meshName);
+    if (!converted_[k]) converted_[k] = convert(k);
+    MaterialDesc m = converted_[k]->first;
+    if (const std::optional<GltfMaterial>& g = converted_[k]->second; g && g->emissiveTexture.texture >= 0) {
+      const auto uv = uvTriangles(mesh, toWorld, g->emissiveTexture.texCoord);
+      m.emission = emissionOnMesh(*g, *textures_, uv ? &*uv : nullptr);
+    }
+    for (size_t i = 0; i < sources_.size(); ++i)
+      if (sources_[i] == k && materials_[i].emission == m.emission) return int(i);
+    return add(std::move(m), k, meshName);
+  }
+
+  /// Prints the line of textures that could not be read (GltfTextures::report).
+  void reportTextures(const std::string& file) const {
+    if (textures_) textures_->report(file);
+  }
+
+ private:
+  static MaterialDesc defaultMaterial() {
+    MaterialDesc m;
+    m.name = "default";
+    m.albedo = Color(0.5f);
+    return m;
+  }
+
+  /// Material @p k of the asset, and for glTF the JSON's material (empty for defaults).
+  std::pair<MaterialDesc, std::optional<GltfMaterial>> convert(unsigned k) {
+    const aiMaterial* mat = scene_.mMaterials[k];
+    aiString name;
+    if (mat) mat->Get(AI_MATKEY_NAME, name);
+    const bool isDefault = !mat || (gltf_ ? k + 1 == scene_.mNumMaterials
+                                          : name.length == 0 || std::strcmp(name.C_Str(), AI_DEFAULT_MATERIAL_NAME) == 0);
+    if (isDefault) return {defaultMaterial(), std::nullopt};
+    std::optional<GltfMaterial> g;
+    if (gltf_) g = readGltfMaterial(gltf_->json(), k);
+    MaterialDesc m = g ? convertGltfMaterial(*g, *textures_) : convertMaterial(*mat);
+    m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(k) + "]";
+    return {std::move(m), std::move(g)};
+  }
+
+  /// Appends @p m, made unique in name: " [k]" when another material has its name, " on <mesh>" for a second
+  /// emission of one glTF material.
+  int add(MaterialDesc m, unsigned k, const std::string& meshName) {
+    const auto taken = [&](const std::string& name) {
+      return std::any_of(materials_.begin(), materials_.end(), [&](const MaterialDesc& o) { return o.name == name; });
+    };
+    if (std::find(sources_.begin(), sources_.end(), k) != sources_.end()) m.name += " on " + meshName;
+    if (taken(m.name)) m.name += " [" + std::to_string(k) + "]";
+    if (taken(m.name)) m.name += " (" + std::to_string(materials_.size()) + ")";
+    materials_.push_back(std::move(m));
+    sources_.push_back(k);
+    return int(materials_.size()) - 1;
+  }
+
+  const aiScene& scene_;
+  const GltfFile* gltf_;
+  std::vector<MaterialDesc>& materials_;
+  std::vector<std::optional<std::pair<MaterialDesc, std::optional<GltfMaterial>>>> converted_;
+  std::vector<unsigned> sources_;  ///< the asset material of each of materials_
+  std::optional<GltfTextures> textures_;
+};
+
 }  // namespace
 
 MeshData loadMeshFile(const std::string& path, const std::string& sceneFile, const std::string& element) {
   Assimp::Importer importer;
-  const aiScene* scene = readAsset(importer, path, sceneFile, element);
+  std::optional<GltfFile> gltf;
+  const aiScene* scene = readAsset(importer, path, sceneFile, element, gltf);
   MeshData data;
   Welder welder(data.vertices);
   forEachMeshInstance(scene->mRootNode, Mat4d(1.0), [&](unsigned mesh, const Mat4d& m) {
@@ -293,38 +360,11 @@ MeshData loadMeshFile(const std::string& path, const std::string& sceneFile, con
 
 SceneDesc importAssetScene(const std::string& path) {
   Assimp::Importer importer;
-  const aiScene* scene = readAsset(importer, path, path, "");
-  const bool gltf = isGltf(path);
-  const nlohmann::json json = gltf ? readGltfJson(path) : nlohmann::json();
+  std::optional<GltfFile> gltf;
+  const aiScene* scene = readAsset(importer, path, path, "", gltf);
   SceneDesc s;
   s.file = path;
-
-  // Materials are converted when first used. Defaults stand in for "no material": assimp's OBJ/PLY
-  // default (unnamed or "DefaultMaterial") and the one its glTF2 importer appends last.
-  std::vector<int> materialIndex(scene->mNumMaterials, -1);
-  auto material = [&](unsigned k) -> int {
-    if (k < materialIndex.size() && materialIndex[k] >= 0) return materialIndex[k];
-    MaterialDesc m;
-    aiString name;
-    const aiMaterial* mat = k < scene->mNumMaterials ? scene->mMaterials[k] : nullptr;
-    if (mat) mat->Get(AI_MATKEY_NAME, name);
-    const bool isDefault = !mat || (gltf ? k + 1 == scene->mNumMaterials
-                                         : name.length == 0 || std::strcmp(name.C_Str(), AI_DEFAULT_MATERIAL_NAME) == 0);
-    if (isDefault) {
-      m.name = "default";
-      m.albedo = Color(0.5f);
-    } else {
-      m = convertMaterial(*mat, gltf ? emissiveStrength(json, k) : 1.0f);
-      m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(k) + "]";
-    }
-    const auto sameName = [&](const MaterialDesc& other) { return other.name == m.name; };
-    if (std::any_of(s.materials.begin(), s.materials.end(), sameName)) m.name += " [" + std::to_string(k) + "]";
-    s.materials.push_back(m);
-    const int index = int(s.materials.size()) - 1;
-    if (k < materialIndex.size()) materialIndex[k] = index;
-    return index;
-  };
-
+  MaterialTable materials(*scene, gltf ? &*gltf : nullptr, s.materials);
   forEachMeshInstance(scene->mRootNode, Mat4d(1.0), [&](unsigned k, const Mat4d& m) {
     const aiMesh& mesh = *scene->mMeshes[k];
     ShapeDesc shape;
@@ -335,10 +375,12 @@ SceneDesc importAssetScene(const std::string& path) {
     if (!appendTriangles(mesh, m, welder, shape.faces))
       throw InputError(path, shape.name, "vertex index out of range");
     if (shape.faces.empty()) return;  // points or lines only
-    shape.material = material(mesh.mMaterialIndex);
+    shape.material = materials.index(mesh, m, shape.name);
     s.shapes.push_back(std::move(shape));
   });
   if (s.shapes.empty()) throw InputError(path, "", "holds no triangles");
+  materials.reportTextures(path);
+  skipDegenerateFaces(s);
 
   // Lights and cameras are placed by the node of the same name; those no node places are not in the scene.
   for (unsigned k = 0; k < scene->mNumLights; ++k)
@@ -346,7 +388,7 @@ SceneDesc importAssetScene(const std::string& path) {
       s.lights.push_back(convertLight(*scene->mLights[k], *node, k));
   for (unsigned k = 0; k < scene->mNumCameras && !s.camera.given; ++k)
     if (const aiNode* node = scene->mRootNode->FindNode(scene->mCameras[k]->mName))
-      s.camera = convertCamera(*scene->mCameras[k], *node, gltf);
+      s.camera = convertCamera(*scene->mCameras[k], *node, gltf.has_value());
   return s;
 }
 

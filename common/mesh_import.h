@@ -14,14 +14,18 @@ struct MeshData {
   std::vector<Face> faces;  ///< all triangles
 };
 
-/// Loads all triangles of a mesh file. @p element names the scene element that asked for it.
-/// @throws InputError when the file is missing, unreadable, or holds no triangles.
+/// Loads all triangles of a mesh file, degenerate ones kept (the scene's loader skips them: skipDegenerateFaces).
+/// @p element names the scene element that asked for it.
+/// @throws InputError when the file is missing, a Git LFS pointer, unreadable (a glTF buffer missing, an LFS
+/// pointer or short: named so), or holds no triangles.
 MeshData loadMeshFile(const std::string& path, const std::string& sceneFile, const std::string& element);
 
-/// Imports an asset file as a whole scene: each mesh becomes a shape; materials keep their base
-/// colour as diffuse albedo and their emissive colour as emission (making the mesh an area light);
-/// KHR_lights_punctual lights become point, spot and directional lights; the first camera is used
-/// (SceneDesc::camera.given = false when there is none, so validateScene frames the scene).
+/// Imports an asset file as a whole scene: each mesh becomes a shape; OBJ/PLY materials keep their diffuse colour
+/// as albedo and their emissive colour as emission (making the mesh an area light), glTF materials are read from
+/// the JSON with their textures folded into the factors (common/gltf_materials.h); KHR_lights_punctual lights
+/// (candela, lux) become point, spot and directional lights in watts; the first camera is used
+/// (SceneDesc::camera.given = false when there is none, so validateScene frames the scene). Zero-area and
+/// duplicate faces are skipped (skipDegenerateFaces). Rules: docs/scene-format.md, "Asset files as scenes".
 /// @throws InputError.
 SceneDesc importAssetScene(const std::string& path);
 

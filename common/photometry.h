@@ -17,6 +17,13 @@ inline constexpr double kWeightR = 0.2126, kWeightG = 0.7152, kWeightB = 0.0722;
 /// Luminance-weighted radiometric value Y of @p c (W/m² for irradiance, W/(m² sr) for radiance).
 inline double luminance(const Color& c) { return kWeightR * c.x + kWeightG * c.y + kWeightB * c.z; }
 
+/// Radiometric RGB of a photometric @p amount with RGB weights @p rgb: rgb · amount / K, so lm → W, cd → W/sr and
+/// lx → W/m² (a white [1, 1, 1] has luminance 1, so the result's luminance times K is @p amount). The one conversion of
+/// the JSON's "lumens" and "candela" keys (with "color" rescaled to luminance 1) and of glTF light intensities.
+inline Color toRadiometric(double amount, const Color& rgb, double efficacy = kEfficacy) {
+  return rgb * static_cast<float>(amount / efficacy);
+}
+
 /// Illuminance in lux (lm/m²) of RGB irradiance @p E (W/m²) at efficacy @p efficacy (lm/W).
 inline double lux(const Color& E, double efficacy = kEfficacy) { return efficacy * luminance(E); }
 

@@ -11,6 +11,7 @@
 #include "common/scene_mitsuba.h"
 #include "common/ies.h"
 #include "common/scene_shapes.h"
+#include "common/skipped_faces.h"
 
 namespace fs {
 
@@ -72,14 +73,10 @@ void validateShape(const SceneDesc& scene, const ShapeDesc& s) {
     const Face& f = s.faces[k];
     const std::string what = fromFile ? "triangle " + std::to_string(k) + " of " + s.sourceFile : "face " + std::to_string(k);
     if (f.count != 3 && f.count != 4) throw InputError(scene.file, s.name, what + " has " + std::to_string(f.count) + " vertices");
-    double longest = 0;
-    for (int i = 0; i < f.count; ++i) {
+    for (int i = 0; i < f.count; ++i)
       if (f.v[i] >= s.vertices.size()) throw InputError(scene.file, s.name, what + " has a vertex index out of range");
-      longest = std::max(longest, glm::length(s.vertices[f.v[(i + 1) % f.count]] - s.vertices[f.v[i]]));
-    }
-    const double area = shapes::faceArea(s, f);
-    if (!(longest > 0) || !(area > 1e-10 * longest * longest))
-      throw InputError(scene.file, s.name, what + " is degenerate (zero area)");
+    // The loaders skip zero-area faces (skipDegenerateFaces); a scene built otherwise may still hold one.
+    if (hasZeroArea(s, f)) throw InputError(scene.file, s.name, what + " is degenerate (zero area)");
   }
 }
 

@@ -14,6 +14,7 @@
 #include "common/mesh_import.h"
 #include "common/scene_desc.h"
 #include "common/scene_shapes.h"
+#include "common/skipped_faces.h"
 
 namespace fs {
 namespace {
@@ -234,18 +235,15 @@ void parseLightUnits(const Reader& r, const Json& j, const std::string& where, L
     if (!(y > 0)) r.fail(where + ".color", "the colour has zero luminance");
     color *= float(1.0 / y);
   }
-  const double K = photometry::kEfficacy;
   if (j.contains("power")) {
     l.power = r.color(j["power"], where + ".power");
   } else if (j.contains("lumens")) {
-    l.power = color * float(r.nonNegative(j["lumens"], where + ".lumens") / K);
+    l.power = photometry::toRadiometric(r.nonNegative(j["lumens"], where + ".lumens"), color);
   } else if (j.contains("candela")) {
     if (l.ies) r.fail(where + ".candela", "an IES light's candela come from its file (rescale with \"lumens\")");
-    const double I = r.nonNegative(j["candela"], where + ".candela");
-    const double solidAngle = l.type == LightType::Point ? 4.0 * kPi : SpotCone(l).integral();  // Φ = I·∫profile dω
-    l.power = color * float(I * solidAngle / K);
+    l.power = powerFromCandela(l, r.nonNegative(j["candela"], where + ".candela"), color);
   } else {
-    l.power = color * float(l.ies->flux / K);
+    l.power = photometry::toRadiometric(l.ies->flux, color);
   }
 }
 
@@ -383,6 +381,7 @@ SceneDesc parseSceneJson(const std::string& text, const std::string& path) {
     for (size_t i = 0; i < lights.size(); ++i)
       scene.lights.push_back(parseLight(r, lights[i], "lights[" + std::to_string(i) + "]"));
   }
+  skipDegenerateFaces(scene);  // the faces are final: zero-area and duplicate ones skipped, with a line on stderr
   return scene;
 }
 

@@ -4,11 +4,13 @@
 
 #include <cstring>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <utility>
 
 #include "common/error.h"
 #include "common/mesh_import.h"
+#include "common/scene_desc.h"
 #include "tests/test_util.h"
 
 namespace fs {
@@ -238,7 +240,8 @@ TEST(MeshImport, GltfLightsAndCamera) {
   EXPECT_EQ(point.type, LightType::Point);
   EXPECT_THAT(point.name, HasSubstr("bulb"));  // assimp names lights by their node
   expectNear(point.position, {0, 5, 0}, 0);
-  expectNear(point.power, Color(1.0f, 0.5f, 0.25f) * float(4.0 * kPi * 10.0), 1e-6);
+  // Photometric: candela and lux over K = 179 lm/W, the colour multiplying the intensity.
+  expectNear(point.power, Color(1.0f, 0.5f, 0.25f) * float(4.0 * kPi * 10.0 / 179.0), 1e-6);
   EXPECT_EQ(spot.type, LightType::Spot);
   expectNear(spot.position, {1, 4, 0}, 1e-12);
   expectNear(spot.direction, {0, -1, 0}, 1e-6);
@@ -252,10 +255,10 @@ TEST(MeshImport, GltfLightsAndCamera) {
     const double c = -1.0 + (k + 0.5) * 2.0 / n, t = std::clamp((c - co) / (ci - co), 0.0, 1.0);
     integral += 2.0 * kPi * (t * t * (3 - 2 * t)) * 2.0 / n;
   }
-  EXPECT_NEAR(spot.power.x, 5.0 * integral, 5.0 * integral * 1e-5);
+  EXPECT_NEAR(spot.power.x, 5.0 * integral / 179.0, 5.0 * integral / 179.0 * 1e-5);
   EXPECT_EQ(sun.type, LightType::Directional);
   expectNear(sun.direction, {0, -1, 0}, 1e-6);
-  expectNear(sun.irradiance, Color(3.0f), 1e-6);
+  expectNear(sun.irradiance, Color(3.0f / 179.0f), 1e-6);
   // Camera: at the node origin (not twice its translation), looking along the rotated −z.
   EXPECT_TRUE(s.camera.given);
   expectNear(s.camera.position, {0, 1, 5}, 1e-12);
@@ -345,6 +348,75 @@ TEST(MeshImport, FilesWithoutTrianglesAreInputErrors) {
   const std::string path = test::tempDir() + "/points.obj";
   test::writeText(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\n");
   EXPECT_THROW(importAssetScene(path), InputError);
+}
+
+TEST(MeshImport, GltfLightsMatchTheJsonCandela) {
+  // KHR_lights_punctual: point and spot intensity in cd, directional in lx, converted as the JSON's "candela".
+  const std::string path = test::tempDir() + "/lights.gltf";
+  test::writeText(path, R"({"asset": {"version": "2.0"}, "scene": 0, "extensionsUsed": ["KHR_lights_punctual"],
+  "extensions": {"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 1000},
+    {"type": "spot", "intensity": 1000, "spot": {"innerConeAngle": 0.25, "outerConeAngle": 0.5}},
+    {"type": "directional", "intensity": 1000}]}},
+  "scenes": [{"nodes": [0, 1, 2, 3]}],
+  "nodes": [{"mesh": 0}, {"extensions": {"KHR_lights_punctual": {"light": 0}}},
+    {"extensions": {"KHR_lights_punctual": {"light": 1}}}, {"extensions": {"KHR_lights_punctual": {"light": 2}}}],
+  "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}], )" + embeddedBuffers() + "}");
+  const SceneDesc gltf = importAssetScene(path);
+  ASSERT_EQ(gltf.lights.size(), 3u);
+  const double degrees = 180.0 / kPi;
+  SceneDesc json = parseSceneJson(R"({"materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "quad", "material": "m", "vertices": [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]}],
+    "lights": [{"type": "point", "position": [0, 0, 0], "candela": 1000},
+               {"type": "spot", "position": [0, 0, 0], "direction": [0, 0, -1], "candela": 1000,
+                "inner_angle": )" + std::to_string(gltf.lights[1].innerAngleDeg) + R"(, "outer_angle": )" +
+                                      std::to_string(gltf.lights[1].outerAngleDeg) + "}]}", "lights.json");
+  EXPECT_NEAR(gltf.lights[1].innerAngleDeg, 0.25 * degrees, 1e-5);
+  for (int k = 0; k < 2; ++k) {
+    SCOPED_TRACE(k == 0 ? "point" : "spot");
+    EXPECT_EQ(gltf.lights[k].type, json.lights[k].type);
+    expectNear(gltf.lights[k].power, json.lights[k].power, 1e-6);  // float rounding (and the printed angles)
+    EXPECT_GT(json.lights[k].power.x, 0.0f);
+  }
+  EXPECT_NEAR(json.lights[0].power.x, 1000.0 * 4.0 * kPi / 179.0, 1e-6 * json.lights[0].power.x);
+  // Directional: E = lux / K W/m² (the JSON gives irradiance in W/m² only).
+  EXPECT_EQ(gltf.lights[2].type, LightType::Directional);
+  expectNear(gltf.lights[2].irradiance, Color(float(1000.0 / 179.0)), 1e-6);
+}
+
+/// simpleGltf() with its buffer in the file tri.bin, which holds @p bin (none: no such file), loaded as a JSON scene's
+/// mesh and as a scene; @return the latter's message. Both name the buffer file.
+std::string bufferError(const std::optional<std::string>& bin) {
+  const std::string dir = test::tempDir();
+  if (bin) test::writeText(dir + "/tri.bin", *bin);
+  test::writeText(dir + "/tri.gltf", simpleGltf(triangleBuffers("tri.bin")));
+  try {
+    loadMeshFile(dir + "/tri.gltf", "s.json", "shapes[0].file");
+    ADD_FAILURE() << "loaded";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.element(), "shapes[0].file");
+    EXPECT_THAT(e.what(), HasSubstr("mesh file " + dir + "/tri.gltf: buffer file " + dir + "/tri.bin "));
+  }
+  try {
+    importAssetScene(dir + "/tri.gltf");
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), dir + "/tri.gltf");
+    EXPECT_THAT(e.what(), HasSubstr("buffer file " + dir + "/tri.bin "));
+    return e.what();
+  }
+  ADD_FAILURE() << "loaded";
+  return "";
+}
+
+TEST(MeshImport, BrokenGltfBufferIsNamed) {
+  EXPECT_THAT(bufferError("version https://git-lfs.github.com/spec/v1\noid sha256:4d7a\nsize 36\n"),
+              HasSubstr("tri.bin is a Git LFS pointer, not the data: fetch it with git lfs pull"));
+  EXPECT_THAT(bufferError(triangleBytes().substr(0, 20)), HasSubstr("tri.bin has 20 bytes, the glTF says 36"));
+  EXPECT_THAT(bufferError(std::nullopt), HasSubstr("tri.bin is missing"));
+  EXPECT_THAT(loadError("short.gltf", simpleGltf(triangleBuffers("data:application/octet-stream;base64," +
+                                                                 base64(triangleBytes().substr(0, 24))))),
+              HasSubstr("buffers[0] (data URI) has 24 bytes, the glTF says 36"));
+  EXPECT_THAT(loadError("lfs.obj", "version https://git-lfs.github.com/spec/v1\noid sha256:4d7a\nsize 99\n"),
+              HasSubstr("is a Git LFS pointer"));
 }
 
 }  // namespace

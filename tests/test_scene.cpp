@@ -174,28 +174,9 @@ TEST(SceneBadInput, NegativeRadius) {
   expectBadInput(r, {"shapes[0].radius", "must be positive"});
 }
 
-TEST(SceneBadInput, DegenerateQuad) {
-  const auto r = runOn(variant("[[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]", "[[0,0,0],[1,0,0],[2,0,0],[3,0,0]]"));
-  expectBadInput(r, {"shapes[0]", "degenerate"});
-}
-
-TEST(SceneBadInput, DegenerateTriangleInMesh) {
-  const std::string dir = test::tempDir();
-  test::writeText(dir + "/flat.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
-  test::writeText(dir + "/scene.json", variant("{\"type\": \"quad\", \"material\": \"white\", \"vertices\": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}",
-                                               "{\"type\": \"mesh\", \"material\": \"white\", \"file\": \"flat.obj\"}"));
-  const auto r = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " --stats " + dir + "/scene.json");
-  expectBadInput(r, {"shapes[0]", "triangle 1", "flat.obj", "degenerate"});
-}
-
 TEST(SceneBadInput, UnknownMaterial) {
   const auto r = runOn(variant("\"material\": \"white\"", "\"material\": \"marble\""));
   expectBadInput(r, {"shapes[0].material", "unknown material \"marble\""});
-}
-
-TEST(SceneBadInput, EmitterWithZeroArea) {
-  const auto r = runOn(variant("[[-0.1,2,-0.1],[0.1,2,-0.1],[0.1,2,0.1],[-0.1,2,0.1]]", "[[0,2,0],[0,2,0],[0,2,0],[0,2,0]]"));
-  expectBadInput(r, {"shapes[1]", "emitter has zero area"});
 }
 
 TEST(SceneBadInput, UnknownShapeType) {
@@ -226,4 +207,84 @@ TEST(SceneBadInput, RefinementSettings) {
   EXPECT_EQ(runOn(withSettings(R"({"patch_size": 0.5, "min_patch_size": 0.1, "refine_tolerance": 0.05, "light_tolerance": 0.02})"))
                 .exitCode,
             0);
+}
+
+// Zero-area and duplicate faces: skipped with one line per file on stderr, as other renderers tolerate them.
+namespace {
+
+/// 4 good triangles (two quads), 3 zero-area ones, 2 duplicates (one rotated) and the first triangle reversed
+/// (not a duplicate: the other side).
+const char* kFlawedObj =
+    "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 2 0 0\nv 2 0 1\nv 3 0 0\n"
+    "f 1 4 3\nf 1 3 2\nf 2 3 6\nf 2 6 5\n"  // good
+    "f 1 2 5\nf 1 1 3\nf 2 5 7\n"            // collinear, repeated vertex, collinear
+    "f 4 3 1\nf 1 4 3\n"                     // the first, rotated, and again
+    "f 1 3 4\n";                             // the first, reversed
+
+/// kValid with its floor replaced by a mesh shape of @p obj, written to a fresh directory; @return the scene's path.
+std::string sceneWithMesh(const std::string& obj, const std::string& material = "white") {
+  const std::string dir = test::tempDir();
+  test::writeText(dir + "/flawed.obj", obj);
+  test::writeText(dir + "/scene.json",
+                  variant("{\"type\": \"quad\", \"material\": \"white\", \"vertices\": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}",
+                          "{\"type\": \"mesh\", \"material\": \"" + material + "\", \"file\": \"flawed.obj\"}"));
+  return dir + "/scene.json";
+}
+
+}  // namespace
+
+TEST(SceneSkippedFaces, ZeroAreaAndDuplicateTrianglesAreSkippedWithOneLine) {
+  const std::string path = sceneWithMesh(kFlawedObj);
+  testing::internal::CaptureStderr();
+  const SceneDesc s = loadScene(path);
+  const std::string err = testing::internal::GetCapturedStderr();
+  ASSERT_EQ(s.shapes.size(), 2u);
+  EXPECT_EQ(s.shapes[0].faces.size(), 10u - 5u);
+  EXPECT_NEAR(shapeArea(s.shapes[0]), 4 * 0.5 + 0.5, 1e-12);  // the reversed triangle stays
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  EXPECT_EQ(err, path + ": skipped 5 of 10 triangles of " + dir + "/flawed.obj (3 zero-area, 2 duplicates)\n");
+  // The tool: the same line, exit 0.
+  const auto r = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " --stats " + path);
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("skipped 5 of 10 triangles of " + dir + "/flawed.obj (3 zero-area, 2 duplicates)"));
+}
+
+TEST(SceneSkippedFaces, DirectObjSceneToo) {
+  const std::string dir = test::tempDir();
+  test::writeText(dir + "/flawed.obj", kFlawedObj);
+  testing::internal::CaptureStderr();
+  const SceneDesc s = loadScene(dir + "/flawed.obj");
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            dir + "/flawed.obj: skipped 5 of 10 triangles (3 zero-area, 2 duplicates)\n");
+  ASSERT_EQ(s.shapes.size(), 1u);
+  EXPECT_EQ(s.shapes[0].faces.size(), 5u);
+}
+
+TEST(SceneSkippedFaces, ShapeOfSkippedFacesIsDroppedAndAreaLightsFollow) {
+  // The floor quad is a line: dropped. The lamp (an area light) is then shapes[0], and its light points at it.
+  testing::internal::CaptureStderr();
+  SceneDesc s = parseSceneJson(variant("[[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]", "[[0,0,0],[1,0,0],[2,0,0],[3,0,0]]"),
+                               "mem.json");
+  EXPECT_EQ(testing::internal::GetCapturedStderr(),
+            "mem.json: skipped 2 of 3 faces (2 zero-area, 0 duplicates); dropped 1 shape with no face left (shapes[0])\n");
+  validateScene(s);
+  ASSERT_EQ(s.shapes.size(), 1u);
+  EXPECT_EQ(s.shapes[0].name, "shapes[1]");
+  const auto area = std::find_if(s.lights.begin(), s.lights.end(), [](const LightDesc& l) { return l.type == LightType::Area; });
+  ASSERT_NE(area, s.lights.end());
+  EXPECT_EQ(area->shape, 0);
+  // A zero-area emitter is dropped likewise (it emits nothing); the tool goes on.
+  const auto r = runOn(variant("[[-0.1,2,-0.1],[0.1,2,-0.1],[0.1,2,0.1],[-0.1,2,0.1]]", "[[0,2,0],[0,2,0],[0,2,0],[0,2,0]]"));
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("dropped 1 shape with no face left (shapes[1])"));
+}
+
+TEST(SceneSkippedFaces, NoShapeLeftAndNonFiniteVerticesAreErrors) {
+  expectBadInput(runOn(R"({"materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "quad", "material": "m", "vertices": [[0,0,0],[1,0,0],[2,0,0],[3,0,0]]}]})"),
+                 {"shapes", "every face of every shape is zero-area or a duplicate"});
+  // A NaN vertex in a mesh whose only triangle it makes degenerate: still refused, not skipped.
+  const auto r = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " --stats " +
+                           sceneWithMesh("v 0 0 0\nv 1 0 0\nv nan 0 0\nf 1 2 3\n"));
+  expectBadInput(r, {"shapes[0]", "not finite"});
 }

@@ -1,0 +1,148 @@
+// glTF metallic-roughness materials from the JSON, textures folded into factors (common/gltf_materials.h).
+#include "common/gltf_materials.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "common/error.h"
+
+namespace fs {
+namespace {
+
+using Json = nlohmann::json;
+
+float number(const Json& j, const char* key, float fallback) {
+  const Json* v = jsonMember(j, key);
+  return v && v->is_number() ? v->get<float>() : fallback;
+}
+
+/// The first three numbers of the array @p j[key], or @p fallback.
+Color color(const Json& j, const char* key, const Color& fallback) {
+  const Json* v = jsonMember(j, key);
+  if (!v || !v->is_array() || v->size() < 3) return fallback;
+  Color c;
+  for (int i = 0; i < 3; ++i) {
+    if (!(*v)[i].is_number()) return fallback;
+    c[i] = (*v)[i].get<float>();
+  }
+  return c;
+}
+
+GltfTextureRef textureRef(const Json& j, const char* key) {
+  GltfTextureRef ref;
+  const Json* info = jsonMember(j, key);
+  const Json* index = info ? jsonMember(*info, "index") : nullptr;
+  if (!index || !index->is_number_unsigned() || index->get<uint64_t>() > uint64_t(INT64_MAX)) return ref;
+  ref.texture = index->get<int64_t>();
+  const Json* set = jsonMember(*info, "texCoord");
+  if (set && set->is_number_unsigned() && set->get<uint64_t>() < 8) ref.texCoord = set->get<unsigned>();
+  return ref;
+}
+
+/// textures[ref.texture] of @p gltf, or nullptr.
+const Json* texture(const Json& gltf, const GltfTextureRef& ref) {
+  return ref.texture < 0 ? nullptr : jsonArrayElement(gltf, "textures", uint64_t(ref.texture));
+}
+
+TextureWrap wrapMode(const Json* sampler, const char* key) {
+  const Json* v = sampler ? jsonMember(*sampler, key) : nullptr;
+  const int64_t mode = v && v->is_number_integer() ? v->get<int64_t>() : 10497;
+  return mode == 33071 ? TextureWrap::ClampToEdge : mode == 33648 ? TextureWrap::MirroredRepeat : TextureWrap::Repeat;
+}
+
+Color rgb(const std::array<float, 4>& v) { return {v[0], v[1], v[2]}; }
+
+}  // namespace
+
+GltfMaterial readGltfMaterial(const Json& gltf, size_t k) {
+  GltfMaterial g;
+  const Json* material = jsonArrayElement(gltf, "materials", k);
+  if (!material) return g;
+  const Json& m = *material;
+  if (const Json* pbr = jsonMember(m, "pbrMetallicRoughness")) {
+    g.baseColor = color(*pbr, "baseColorFactor", g.baseColor);
+    g.metallic = number(*pbr, "metallicFactor", g.metallic);
+    g.roughness = number(*pbr, "roughnessFactor", g.roughness);
+    g.baseColorTexture = textureRef(*pbr, "baseColorTexture");
+    g.metallicRoughnessTexture = textureRef(*pbr, "metallicRoughnessTexture");
+  }
+  g.emissive = color(m, "emissiveFactor", g.emissive);
+  g.emissiveTexture = textureRef(m, "emissiveTexture");
+  const Json* extensions = jsonMember(m, "extensions");
+  const Json* strength = extensions ? jsonMember(*extensions, "KHR_materials_emissive_strength") : nullptr;
+  if (strength) g.emissive *= number(*strength, "emissiveStrength", 1.0f);
+  return g;
+}
+
+const TextureImage* GltfTextures::image(const GltfTextureRef& ref, bool srgb) {
+  if (ref.texture < 0) return nullptr;
+  auto [it, inserted] = images_.try_emplace({ref.texture, srgb});
+  if (!inserted) return it->second ? &*it->second : nullptr;
+  const std::string where = "textures[" + std::to_string(ref.texture) + "]";
+  try {
+    const Json* t = texture(file_.json(), ref);
+    const Json* source = t ? jsonMember(*t, "source") : nullptr;
+    if (!t) throw InputError("", "", where + " does not exist");
+    if (!source || !source->is_number_unsigned()) throw InputError("", "", where + " has no PNG or JPEG source");
+    it->second = decodeTextureImage(file_.imageBytes(source->get<size_t>()), srgb);
+  } catch (const InputError& e) {
+    failures_.push_back(where + ": " + e.what());
+  }
+  return it->second ? &*it->second : nullptr;
+}
+
+std::pair<TextureWrap, TextureWrap> GltfTextures::wrap(const GltfTextureRef& ref) const {
+  const Json* t = texture(file_.json(), ref);
+  const Json* index = t ? jsonMember(*t, "sampler") : nullptr;
+  const Json* sampler =
+      index && index->is_number_unsigned() ? jsonArrayElement(file_.json(), "samplers", index->get<uint64_t>()) : nullptr;
+  return {wrapMode(sampler, "wrapS"), wrapMode(sampler, "wrapT")};
+}
+
+std::string GltfTextures::report(const std::string& file) const {
+  if (failures_.empty()) return "";
+  const std::string line = file + ": " + std::to_string(failures_.size()) +
+                           (failures_.size() == 1 ? " texture" : " textures") +
+                           " not read, their factors used alone (first: " + failures_.front() + ")";
+  std::fprintf(stderr, "%s\n", line.c_str());
+  return line;
+}
+
+MaterialDesc metallicRoughnessMaterial(const Color& base, float metallic, float roughness) {
+  MaterialDesc m;
+  m.albedo = base;
+  if (metallic > 0.0f || roughness < 1.0f) {
+    constexpr float kF0 = 0.04f;
+    m.type = MaterialType::Glossy;
+    m.albedo = base * (1.0f - metallic) * (1.0f - kF0);
+    m.specular = Color(kF0 * (1.0f - metallic)) + base * metallic;
+    const double alpha = std::max(double(roughness) * roughness, 1e-3);
+    m.exponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
+  }
+  return m;
+}
+
+MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) {
+  Color base = g.baseColor;
+  float metallic = g.metallic, roughness = g.roughness;
+  if (const TextureImage* t = textures.image(g.baseColorTexture, true)) base *= rgb(t->mean());
+  if (const TextureImage* t = textures.image(g.metallicRoughnessTexture, false)) {
+    const std::array<float, 4> mean = t->mean();
+    metallic *= mean[2];
+    roughness *= mean[1];
+  }
+  MaterialDesc m = metallicRoughnessMaterial(base, std::clamp(metallic, 0.0f, 1.0f), std::clamp(roughness, 0.0f, 1.0f));
+  m.emission = g.emissive;
+  return m;
+}
+
+Color emissionOnMesh(const GltfMaterial& g, GltfTextures& textures, const std::vector<UvTriangle>* uv) {
+  if (!(maxComponent(g.emissive) > 0.0f)) return g.emissive;
+  const TextureImage* t = textures.image(g.emissiveTexture, true);
+  if (!t) return g.emissive;
+  if (!uv) return g.emissive * rgb(t->mean());
+  const auto [wrapU, wrapV] = textures.wrap(g.emissiveTexture);
+  return g.emissive * rgb(meanOverTriangles(*t, *uv, wrapU, wrapV));
+}
+
+}  // namespace fs
