@@ -1,5 +1,6 @@
 #include "preprocess/light_samples.h"
 
+#include "common/progress.h"
 #include "preprocess/light_tessellation.h"
 
 namespace fs {
@@ -27,8 +28,12 @@ void areaSamples(const SceneDesc& scene, uint32_t lightIndex, double lightPatchS
 }  // namespace
 
 std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vector<uint32_t>& lights,
-                                          double lightPatchSize, double lightTolerance) {
+                                          double lightPatchSize, double lightTolerance, bool quiet) {
   std::vector<LightSample> out;
+  uint64_t faces = 0;  // the area lights' faces: the unit of the tessellation's progress
+  for (uint32_t li : lights)
+    if (scene.lights[li].type == LightType::Area) faces += scene.shapes[scene.lights[li].shape].faces.size();
+  Progress progress("area-light samples", faces, quiet || faces == 0);
   for (uint32_t li : lights) {
     const LightDesc& l = scene.lights[li];
     LightSample s;
@@ -49,6 +54,7 @@ std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vec
         break;
       case LightType::Area:
         areaSamples(scene, li, lightPatchSize, lightTolerance, out);
+        progress.advance(scene.shapes[l.shape].faces.size());
         break;
     }
   }

@@ -15,8 +15,10 @@ namespace fs {
 /// into triangles (preprocess/light_tessellation.h): with edges at most @p lightPatchSize long (m) if
 /// it is > 0, else automatically for relative accuracy @p lightTolerance of the vertex rule at the
 /// receivers. Each shared vertex becomes one sample with the trapezoidal weight S_i/3 (S_i = area of
-/// the triangles around it, m²) and the area-weighted normal of those triangles.
+/// the triangles around it, m²) and the area-weighted normal of those triangles; an emissive mesh's
+/// samples are then merged as its receivers allow (preprocess/light_clusters.h). Progress over the
+/// area lights' faces on stderr unless @p quiet.
 std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vector<uint32_t>& lights,
-                                          double lightPatchSize, double lightTolerance);
+                                          double lightPatchSize, double lightTolerance, bool quiet = true);
 
 }  // namespace fs

@@ -10,6 +10,7 @@
 #include "common/firstshot.h"
 #include "common/memory_limit.h"
 #include "common/patches.h"
+#include "preprocess/light_clusters.h"
 
 namespace fs {
 
@@ -54,6 +55,13 @@ double diameter(const Vec3d* v, int n) {
   for (int i = 0; i < n; ++i)
     for (int k = i + 1; k < n; ++k) h = std::max(h, glm::length(v[i] - v[k]));
   return h;
+}
+
+/// Diameter bound (m) of a shape: the diagonal of its vertices' bounding box.
+double shapeDiameter(const ShapeDesc& s) {
+  Vec3d lo(kInf), hi(-kInf);
+  for (const Vec3d& p : s.vertices) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  return s.vertices.empty() ? 0.0 : glm::length(hi - lo);
 }
 
 Vec3d centroidOf(const Vec3d* v, int n) {
@@ -222,6 +230,10 @@ LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, do
     requireMemory(cells * double(sizeof(LightSample)), scene.file, "settings.light_patch_size",
                   "the light samples of " + shape.name, "raise it");
   }
+  // An emissive mesh: its small faces are cells as they are (one receiver scan per face would cost
+  // faces × scene faces), the large ones cut as a single face is; then the samples are merged.
+  const bool mesh = lightPatchSize <= 0 && shape.faces.size() > kLightMeshFaces;
+  const double large = mesh ? shapeDiameter(shape) / kLightGridMaxCells : 0.0;
   for (const Face& f : shape.faces) {
     Vec3d v[4];
     for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
@@ -229,11 +241,13 @@ LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, do
       polys.clear();
       subdividePolygon(v, f.count, lightPatchSize, polys);
       for (const auto& p : polys) out.addCell(p.data(), static_cast<int>(p.size()));
+    } else if (mesh && diameter(v, f.count) <= large) {
+      out.addCell(v, f.count);
     } else {
       tessellateFace(scene, v, f.count, tolerance, out);
     }
   }
-  return out.finish();
+  return mesh ? clusterLightSamples(scene, out.finish(), tolerance) : out.finish();
 }
 
 VertexRuleError vertexRuleError(const ShapeDesc& light, const LightTessellation& t,

@@ -38,6 +38,11 @@ inline constexpr int kLightGridMaxCells = 8;
 /// (≤ 64² cells per face) and the bound is not met in the region within ~10 floor sizes of it.
 inline constexpr double kLightMinSizeRatio = 64.0;
 
+/// Automatic tessellation of an emissive shape of more faces than this: its samples are merged into
+/// clusters as its receivers allow (preprocess/light_clusters.h), so their count follows the need,
+/// not the mesh.
+inline constexpr size_t kLightMeshFaces = 16;
+
 /// A tessellated area light: vertex samples with their trapezoidal weights, and the triangles.
 struct LightTessellation {
   std::vector<Vec3d> positions;              ///< sample positions, m, in order of first appearance

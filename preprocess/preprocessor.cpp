@@ -308,7 +308,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   t.settings = options.settings;
   t.replacedLights = smallLights(scene, options.settings.smallLightMaxSolidAngle);
   t.samples = makeLightSamples(scene, t.replacedLights, options.settings.lightPatchSize,
-                               options.settings.lightTolerance);
+                               options.settings.lightTolerance, options.quiet);
   const int R = static_cast<int>(options.settings.resolution);
 
   // The scene's bounds: patches, emitters and positional lights (near/far planes, eye offsets).

@@ -37,14 +37,25 @@ struct Refusal {
   std::initializer_list<const char*> parts;
 };
 
-/// Runs both tools on @p c's scene (with @p extra options) and expects both to refuse it, writing nothing.
-void expectBothToolsRefuse(const Refusal& c, const std::string& extra = "") {
+/// Runs both tools on @p c's scene (with @p extra options, and @p renderExtra for the renderer) and expects both
+/// to refuse it, writing nothing.
+void expectBothToolsRefuse(const Refusal& c, const std::string& extra = "", const std::string& renderExtra = "") {
   const std::string dir = test::tempDir(), scene = test::hardCasePath(c.file);
   SCOPED_TRACE(c.file);
   expectRefused(test::run(kPreprocess + " " + scene + " -o " + dir + "/out.fsd --backend embree --quiet " + extra), c.file, c.parts);
-  expectRefused(test::run(kRender + " " + scene + " -o " + dir + "/out.exr --spp 1 --quiet " + extra), c.file, c.parts);
+  expectRefused(test::run(kRender + " " + scene + " -o " + dir + "/out.exr --spp 1 --quiet " + extra + " " + renderExtra), c.file,
+                c.parts);
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.fsd"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.exr"));
+}
+
+/// A patch size far too small does not concern a render without a table, which traces the faces as they are;
+/// the bundle integrator, whose elements are patches, builds them and refuses it (expectBothToolsRefuse).
+void expectRenderWithoutTableIgnoresPatchSize(const std::string& file) {
+  const std::string dir = test::tempDir();
+  const auto r = test::run(kRender + " " + test::hardCasePath(file) + " -o " + dir + "/out.exr --spp 1 --quiet");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out.exr"));
 }
 
 }  // namespace
@@ -67,13 +78,16 @@ TEST(HardCaseErrors, DegenerateFaceInMeshIsSkipped) {
 }
 
 TEST(HardCaseErrors, MorePatchesThan32BitIds) {
-  expectBothToolsRefuse({"too_many_patches.json", {"settings.patch_size", "1e+14 patches", "2^32-1"}});
+  expectBothToolsRefuse({"too_many_patches.json", {"settings.patch_size", "1e+14 patches", "2^32-1"}}, "", "--integrator bundle");
+  expectRenderWithoutTableIgnoresPatchSize("too_many_patches.json");
 }
 
 TEST(HardCaseErrors, PatchesThatCannotFitInMemory) {
   // 3.9e9 patches of sizeof(Patch) bytes: about 300 GB.
   if (double(physicalMemoryBytes()) > 3.9e9 * sizeof(Patch)) GTEST_SKIP() << "this machine could hold them";
-  expectBothToolsRefuse({"patches_exceed_memory.json", {"settings.patch_size", "3.91e+09 patches", "GB", "memory"}});
+  expectBothToolsRefuse({"patches_exceed_memory.json", {"settings.patch_size", "3.91e+09 patches", "GB", "memory"}}, "",
+                        "--integrator bundle");
+  expectRenderWithoutTableIgnoresPatchSize("patches_exceed_memory.json");
 }
 
 /// The InputError message preprocessScene gives for @p desc at item-buffer resolution @p R ("" if none).
