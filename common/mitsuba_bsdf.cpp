@@ -112,6 +112,7 @@ int BsdfMapper::defaultMaterial() {
 }
 
 MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
+  const Document::Nested nested(doc_, node);
   Plugin p(doc_, node);
   const std::string& t = p.type();
   if (t == "twosided" || t == "bumpmap" || t == "normalmap") {

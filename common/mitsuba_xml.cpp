@@ -19,14 +19,22 @@ bool equalsIgnoringCase(const std::string& a, const char* b) {
                     [](char x, char y) { return std::tolower((unsigned char)x) == std::tolower((unsigned char)y); });
 }
 
-/// Every element below @p node, depth first in document order.
-void forEachElement(pugi::xml_node node, const std::function<void(pugi::xml_node)>& f) {
-  for (pugi::xml_node c : node.children())
-    if (c.type() == pugi::node_element) {
-      f(c);
-      forEachElement(c, f);
+/// Every element below @p root, depth first in document order (a loop, not recursion: any nesting depth).
+void forEachElement(pugi::xml_node root, const std::function<void(pugi::xml_node)>& f) {
+  pugi::xml_node n = root.first_child();
+  while (n) {
+    if (n.type() == pugi::node_element) f(n);
+    if (n.first_child()) {
+      n = n.first_child();
+      continue;
     }
+    while (n != root && !n.next_sibling()) n = n.parent();
+    n = n == root ? pugi::xml_node() : n.next_sibling();
+  }
 }
+
+constexpr int kMaxNesting = 16;   ///< bsdfs and textures inside one another (a <ref> cycle ends here)
+constexpr size_t kMaxPathParts = 12;  ///< element path components shown in messages (deeper: the middle elided)
 
 /// A vector given as attribute "value" (3 numbers) or as attributes x, y, z (each defaulting to @p fallback's).
 Vec3d vectorAttributes(const Document& doc, pugi::xml_node node, const Vec3d& fallback) {
@@ -143,6 +151,10 @@ Document::Document(std::string file, const std::string& text) : file_(std::move(
     note("version", "Mitsuba " + version + " scene: property names upgraded to snake_case as Mitsuba 3 does");
   }
   substitute();
+  std::map<std::pair<const void*, std::string>, int> seen;  // per parent and tag: elements so far
+  forEachElement(s, [&](pugi::xml_node n) {
+    index_[n.internal_object()] = ++seen[{n.parent().internal_object(), n.name()}];
+  });
   forEachElement(s, [&](pugi::xml_node n) {
     if (!n.attribute("id") || std::string(n.name()) == "ref") return;
     if (!ids_.emplace(n.attribute("id").value(), n).second)
@@ -203,25 +215,33 @@ int Document::line(pugi::xml_node node) const {
 }
 
 std::string Document::path(pugi::xml_node node) const {
-  std::string p;
+  std::vector<std::string> parts;  // innermost first
   for (pugi::xml_node n = node; n && n.type() == pugi::node_element; n = n.parent()) {
-    std::string part = n.name();
     if (n.attribute("name") && n.parent() != doc_) {
-      part = n.attribute("name").value();
-    } else {
-      int index = 0, count = 0;
-      for (pugi::xml_node s : n.parent().children(n.name())) {
-        ++count;
-        if (s == n) index = count;
-      }
-      if (count > 1) part += "[" + std::to_string(index) + "]";
+      parts.push_back(n.attribute("name").value());
+      continue;
     }
-    p = p.empty() ? part : part + "/" + p;
+    const auto it = index_.find(n.internal_object());
+    const int index = it == index_.end() ? 1 : it->second;
+    const bool repeated = index > 1 || n.next_sibling(n.name());
+    parts.push_back(repeated ? std::string(n.name()) + "[" + std::to_string(index) + "]" : std::string(n.name()));
   }
+  if (parts.size() > kMaxPathParts)  // keep the outermost 4 and the innermost 7
+    parts.erase(parts.begin() + 7, parts.end() - 4), parts.insert(parts.begin() + 7, "…");
+  std::string p;
+  for (auto it = parts.rbegin(); it != parts.rend(); ++it) p += (p.empty() ? "" : "/") + *it;
   return p;
 }
 
+Document::Nested::Nested(Document& doc, pugi::xml_node node) : doc_(doc) {
+  if (++doc_.nesting_ > kMaxNesting) {
+    --doc_.nesting_;
+    doc_.fail(node, "bsdfs or textures nested more than " + std::to_string(kMaxNesting) + " deep (a <ref> cycle?)");
+  }
+}
+
 std::string Document::where(pugi::xml_node node) const {
+  if (!node) return "";
   std::string id = node.attribute("id") ? std::string("id \"") + node.attribute("id").value() + "\", " : "";
   const int l = line(node);
   return path(node) + " (" + id + (l > 0 ? "line " + std::to_string(l) : "") + ")";
@@ -316,7 +336,9 @@ int Plugin::integer(const char* name, int fallback) {
   const pugi::xml_node n = take(name);
   if (!n) return fallback;
   expectTag(doc_, n, {"integer"});
-  const std::string v = n.attribute("value").value();
+  std::string v = n.attribute("value").value();
+  v.erase(0, v.find_first_not_of(" \t\r\n"));
+  v.erase(v.find_last_not_of(" \t\r\n") + 1);
   int out = 0;
   const auto r = std::from_chars(v.data(), v.data() + v.size(), out);
   if (v.empty() || r.ec != std::errc() || r.ptr != v.data() + v.size()) doc_.fail(n, "not an integer: \"" + v + "\"");
@@ -358,6 +380,7 @@ Color Plugin::colorOf(pugi::xml_node ref) {
   const std::string tag = n.name();
   Color c(0.0f);
   if (tag == "texture") {
+    const Document::Nested nested(doc_, n);
     Plugin t(doc_, n);
     if (t.type() == "bitmap") {
       doc_.note("bitmap", "bitmap textures approximated by 0.5 grey (the image is not read)");

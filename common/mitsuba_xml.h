@@ -35,6 +35,19 @@ class Document {
   std::string path(pugi::xml_node node) const;
   [[noreturn]] void fail(pugi::xml_node node, const std::string& message) const;
 
+  /// While alive, one more level of bsdfs or textures inside one another; @throws InputError past 16 levels
+  /// (a `<ref>` cycle, or absurd nesting), instead of recursing without end.
+  class Nested {
+   public:
+    Nested(Document& doc, pugi::xml_node node);
+    ~Nested() { --doc_.nesting_; }
+    Nested(const Nested&) = delete;
+    Nested& operator=(const Nested&) = delete;
+
+   private:
+    Document& doc_;
+  };
+
   /// The element with `id` @p id, or an empty node.
   pugi::xml_node byId(const std::string& id) const;
   /// Follows a `<ref id=…>` to its target (@throws InputError if there is none); other nodes as they are.
@@ -58,6 +71,8 @@ class Document {
   pugi::xml_document doc_;
   std::vector<size_t> lineStarts_;  ///< byte offset of each line's first character
   std::map<std::string, pugi::xml_node> ids_;
+  std::map<const void*, int> index_;  ///< each element's place among its parent's children of its tag, from 1
+  int nesting_ = 0;
   std::set<std::string> noted_;
   std::vector<std::string> notes_;
   std::vector<std::string> ignored_;

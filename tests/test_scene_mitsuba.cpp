@@ -294,6 +294,26 @@ TEST(MitsubaScene, UnreadPropertiesAreCountedOnOneLine) {
                              "scene/sensor/near_clip)\n"));
 }
 
+TEST(MitsubaScene, ReferenceCyclesAndDeepNestingEndCleanly) {
+  for (const char* cycle : {R"(<bsdf type="twosided" id="a"><ref id="a"/></bsdf><shape type="cube"><ref id="a"/></shape>)",
+                            R"(<texture type="checkerboard" id="t"><ref name="color0" id="t"/></texture>
+                               <shape type="cube"><bsdf type="diffuse"><ref name="reflectance" id="t"/></bsdf></shape>)"}) {
+    try {
+      xml(cycle);
+      ADD_FAILURE() << "a <ref> cycle must be an error: " << cycle;
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("nested more than 16 deep"));
+    }
+  }
+  // 100 000 elements inside one another (skipped, counted): no recursion over the XML tree.
+  std::string deep = "<shape type=\"cube\">";
+  for (int i = 0; i < 100000; ++i) deep += "<x>";
+  for (int i = 0; i < 100000; ++i) deep += "</x>";
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(xml(deep + "</shape>").shapes.size(), 1u);
+  EXPECT_THAT(testing::internal::GetCapturedStderr(), HasSubstr("1 property not used by firstshot, skipped (scene/shape/x)"));
+}
+
 namespace {
 
 /// firstshot-preprocess --stats on the XML @p text: exit code 2 and one line with every part of @p parts.

@@ -17,6 +17,7 @@
 #include "common/ies.h"
 #include "common/mesh_import.h"
 #include "common/scene_desc.h"
+#include "common/scene_mitsuba.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
 
 #ifndef FIRSTSHOT_SOURCE_DIR
@@ -59,6 +60,12 @@ std::string withChecksum(std::string_view bytes, std::string_view endMarker) {
 
 void sceneJson(std::string_view bytes) {
   SceneDesc scene = parseSceneJson(std::string(bytes), FIRSTSHOT_SOURCE_DIR "/scenes/fuzz-input.json");
+  validateScene(scene);
+  hashScene(scene);
+}
+
+void sceneXml(std::string_view bytes) {
+  SceneDesc scene = parseSceneMitsuba(std::string(bytes), FIRSTSHOT_SOURCE_DIR "/scenes/fuzz-input.xml");
   validateScene(scene);
   hashScene(scene);
 }
@@ -113,6 +120,7 @@ void iesFile(std::string_view bytes) {
 
 EntryPoint entryPoint(std::string_view target) {
   if (target == "scene_json") return sceneJson;
+  if (target == "scene_xml") return sceneXml;
   if (target == "mesh_import") return meshImport;
   if (target == "fsd") return firstShotFile;
   if (target == "cache_file") return cacheFile;

@@ -17,6 +17,10 @@ namespace fs::fuzz {
 /// relative mesh files resolve.
 void sceneJson(std::string_view bytes);
 
+/// A Mitsuba 3 XML scene as the tools load it: parseSceneMitsuba, validateScene, hashScene; the scene "file" sits
+/// in scenes/ as for sceneJson.
+void sceneXml(std::string_view bytes);
+
 /// A mesh or asset file through assimp: loadScene's importAssetScene + validateScene, and
 /// loadMeshFile (a JSON scene's "mesh" shape). The extension comes from the content: "glTF" → .glb,
 /// "ply" → .ply, a leading '{' → .gltf, else .obj.
@@ -34,7 +38,7 @@ void cacheFile(std::string_view bytes);
 /// in a few directions (common/ies.h).
 void iesFile(std::string_view bytes);
 
-/// The target of each name ("scene_json", "mesh_import", "fsd", "cache_file", "ies"), or nullptr.
+/// The target of each name ("scene_json", "scene_xml", "mesh_import", "fsd", "cache_file", "ies"), or nullptr.
 using EntryPoint = void (*)(std::string_view);
 EntryPoint entryPoint(std::string_view target);
 
