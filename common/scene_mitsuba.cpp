@@ -13,6 +13,7 @@
 #include "common/mitsuba_bsdf.h"
 #include "common/mitsuba_xml.h"
 #include "common/scene_shapes.h"
+#include "common/skipped_faces.h"
 
 namespace fs {
 namespace mitsuba {
@@ -273,6 +274,7 @@ SceneDesc parseSceneMitsuba(const std::string& text, const std::string& path) {
   SceneDesc scene;
   scene.file = path;
   mitsuba::SceneReader(doc, scene).read();
+  skipDegenerateFaces(scene);  // the faces are final: zero-area and duplicate ones skipped, with a line on stderr
   doc.flush();
   return scene;
 }

@@ -126,6 +126,16 @@ TEST(MitsubaScene, ShapesMatchJson) {
   EXPECT_EQ(x.materials[x.shapes[0].material].name, "grey");
 }
 
+TEST(MitsubaScene, ZeroAreaFacesAreSkippedAsInJson) {
+  const std::string path = writeScene("scene.xml", R"(<scene version="3.0.0"><shape type="obj"><string name="filename" value="flat.obj"/>
+      </shape></scene>)", {{"flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n"}});
+  testing::internal::CaptureStderr();
+  const SceneDesc s = loadScene(path);
+  EXPECT_THAT(testing::internal::GetCapturedStderr(), HasSubstr("skipped 1 of 2 triangles of"));
+  ASSERT_EQ(s.shapes.size(), 1u);
+  EXPECT_EQ(s.shapes[0].faces.size(), 1u);
+}
+
 TEST(MitsubaScene, DiskIsTessellatedWithItsAreaAndNormal) {
   // Mitsuba's disk: the unit disk in z = 0 facing +z; here scaled to radius 0.5 and turned to face +y.
   const SceneDesc s = xml(R"(<shape type="disk">
