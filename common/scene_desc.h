@@ -112,7 +112,7 @@ struct SceneDesc {
   void bounds(Vec3d& lo, Vec3d& hi) const;
 };
 
-/// Loads a scene: .json (docs/scene-format.md) or .obj/.gltf/.glb/.ply directly.
+/// Loads a scene: .json (docs/scene-format.md), a Mitsuba 3 .xml (common/scene_mitsuba.h) or .obj/.gltf/.glb/.ply directly.
 /// @throws InputError naming the file and element for any bad input.
 SceneDesc loadScene(const std::string& path);
 
