@@ -14,6 +14,7 @@
 #include <cmath>
 #include <map>
 
+#include "common/patches.h"
 #include "common/rng.h"
 #include "render/light_sampler.h"
 
@@ -23,7 +24,7 @@ namespace {
 
 constexpr int kGridCells = 32;       ///< cells along the scene's longest side
 constexpr int kCutDepth = 7;         ///< the factors weight the nodes down to this depth (≤ 128 per cut)
-constexpr int kPointsPerCell = 3;    ///< receiver points per cell (patch centroids), each used on both sides
+constexpr int kPointsPerCell = 3;    ///< receiver points per cell (patch or piece centroids), each used on both sides
 constexpr int kRaysPerNode = 6;      ///< shadow rays from a cell to the emitters under one cut node, at most
 constexpr double kRayBudget = 1.0e6; ///< rays per tree at most (fewer per node in large scenes, at least 2)
 constexpr float kEpsilon = 0.05f;    ///< floor of the factor: a node never loses more than 20× its chance
@@ -53,31 +54,52 @@ void LightSampler::buildVisibility() {
 
   // Receivers: in every cell that a patch's bounds touch, the centroids of the kPointsPerCell
   // such patches with the smallest hash of their ID (a deterministic, spread-out choice).
-  std::map<size_t, std::vector<std::pair<uint64_t, uint32_t>>> chosen;
+  // A patch longer than a cell (a face traced whole, without a table) offers the centroids of its
+  // cell-sized pieces instead of its own, so every cell it crosses gets points of its own.
+  struct Candidate {
+    uint64_t key;
+    Receiver r;
+  };
+  std::map<size_t, std::vector<Candidate>> chosen;
+  std::vector<std::vector<Vec3d>> pieces;
   for (uint32_t j = 0; j < mesh.size(); ++j) {
     const Patch& patch = mesh.patches[j];
-    Vec3 plo = patch.v[0], phi = plo;
-    for (uint32_t i = 1; i < patch.count; ++i) plo = glm::min(plo, patch.v[i]), phi = glm::max(phi, patch.v[i]);
-    const Vec3 step(grid_.cell);
-    std::vector<size_t> cells;
-    for (float z = plo.z; z < phi.z + step.z; z += step.z)
-      for (float y = plo.y; y < phi.y + step.y; y += step.y)
-        for (float x = plo.x; x < phi.x + step.x; x += step.x)
-          cells.push_back(grid_.cellOf(glm::min(Vec3(x, y, z), phi)));
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    for (size_t cell : cells) {
-      auto& list = chosen[cell];
-      list.emplace_back(hashKeys(kSeed, j), j);
-      std::sort(list.begin(), list.end());
-      if (list.size() > size_t(kPointsPerCell)) list.pop_back();
+    Vec3d v[4];
+    double longestEdge = 0;
+    for (uint32_t i = 0; i < patch.count; ++i) v[i] = Vec3d(patch.v[i]);
+    for (uint32_t i = 0; i < patch.count; ++i) longestEdge = std::max(longestEdge, glm::length(v[(i + 1) % patch.count] - v[i]));
+    pieces.clear();
+    if (longestEdge > grid_.cell * (1 + 1e-4))  // (a patch of the size the cell was made from stays whole)
+      subdividePolygon(v, int(patch.count), grid_.cell, pieces);
+    else
+      pieces.emplace_back(v, v + patch.count);
+    for (size_t k = 0; k < pieces.size(); ++k) {
+      Vec3 plo(pieces[k][0]), phi = plo;
+      Vec3d centroid(0.0);
+      for (const Vec3d& p : pieces[k]) plo = glm::min(plo, Vec3(p)), phi = glm::max(phi, Vec3(p)), centroid += p;
+      const Receiver r{pieces.size() == 1 ? patch.centroid : Vec3(centroid / double(pieces[k].size())), patch.normal};
+      const uint64_t key = pieces.size() == 1 ? hashKeys(kSeed, j) : hashKeys(kSeed, j, k);
+      const Vec3 step(grid_.cell);
+      std::vector<size_t> cells;
+      for (float z = plo.z; z < phi.z + step.z; z += step.z)
+        for (float y = plo.y; y < phi.y + step.y; y += step.y)
+          for (float x = plo.x; x < phi.x + step.x; x += step.x)
+            cells.push_back(grid_.cellOf(glm::min(Vec3(x, y, z), phi)));
+      std::sort(cells.begin(), cells.end());
+      cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+      for (size_t cell : cells) {
+        auto& list = chosen[cell];
+        list.push_back({key, r});
+        std::stable_sort(list.begin(), list.end(), [](const Candidate& a, const Candidate& b) { return a.key < b.key; });
+        if (list.size() > size_t(kPointsPerCell)) list.pop_back();
+      }
     }
   }
   std::vector<std::vector<Receiver>> receivers;
   for (const auto& [cell, list] : chosen) {
     grid_.row[cell] = static_cast<int32_t>(receivers.size());
     std::vector<Receiver> r;
-    for (const auto& [h, j] : list) r.push_back({mesh.patches[j].centroid, mesh.patches[j].normal});
+    for (const Candidate& c : list) r.push_back(c.r);
     receivers.push_back(std::move(r));
   }
   grid_.rows = receivers.size();
