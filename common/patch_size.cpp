@@ -24,16 +24,16 @@ double longestEdge(const SceneDesc& scene) {
 
 }  // namespace
 
-double autoPatchSize(const SceneDesc& scene, double targetCount) {
+double autoPatchSize(const SceneDesc& scene, double budget) {
   const double top = longestEdge(scene);
   if (!(top > 0)) return 1.0;  // no surface to cut: any size gives the same (empty) mesh
-  if (countPatchPolygons(scene, top) >= targetCount) return top;
+  const double target = countPatchPolygons(scene, kFacesAsTheyAre) + budget;
   // The count falls monotonically as the size grows. Bisect on the size relative to the longest
   // edge (so a scaled scene takes the same steps), keeping `hi` a size whose count is within target.
   double lo = 0, hi = 1;  // fractions of `top`; count(lo·top) > target (or lo = 0), count(hi·top) ≤ target
-  for (int step = 0; step < 48; ++step) {
+  for (int step = 0; step < 64; ++step) {
     const double mid = lo > 0 ? std::sqrt(lo * hi) : hi / 2;
-    if (countPatchPolygons(scene, mid * top) <= targetCount)
+    if (countPatchPolygons(scene, mid * top) <= target)
       hi = mid;
     else
       lo = mid;

@@ -2,21 +2,22 @@
 /// @file patch_size.h
 /// The coarse patch size of a scene that does not set `patch_size`: taken from the scene's own
 /// geometry, not from a length, so that a scene modelled in millimetres, metres or kilometres gets
-/// the same patches. The uniform mesh of that size (common/patches.h) has at most
-/// kDefaultPatchCount patches: faces longer than it are split, shorter ones are taken as they are
-/// (a scene of more faces than that gets one patch per face). Adaptive refinement then splits the
-/// patches that shadows cross (preprocess/adaptive_mesh.h), down to 1/16 of the size.
+/// the same patches. Cutting the faces to that size (the uniform mesh, common/patches.h) adds at most
+/// kAutoPatchBudget patches to the faces themselves: faces longer than it are split, shorter ones
+/// are taken as they are, so a scene of a million small triangles still gets its walls split while
+/// a plain room gets about kAutoPatchBudget patches. Adaptive refinement then splits the patches that
+/// shadows cross (preprocess/adaptive_mesh.h), down to 1/16 of the size.
 #include "common/scene_desc.h"
 
 namespace fs {
 
-/// Coarse patches the automatic size aims at (at most; see docs/firstshot-format.md, "Patch size").
-inline constexpr double kDefaultPatchCount = 16384;
+/// Patches the automatic size may add to the scene's faces (docs/firstshot-format.md, "Patch size").
+inline constexpr double kAutoPatchBudget = 16384;
 
-/// The largest edge length h (m) whose uniform mesh countPatchPolygons(scene, h) has at most
-/// @p targetCount patches, or the longest edge of any face when even one patch per face exceeds it.
+/// The largest edge length h (m) whose uniform mesh has at most @p budget patches more than the
+/// scene has faces: countPatchPolygons(scene, h) ≤ countPatchPolygons(scene, kFacesAsTheyAre) + budget.
 /// A pure function of the geometry's shape: scaling the scene by s scales the result by s.
-double autoPatchSize(const SceneDesc& scene, double targetCount = kDefaultPatchCount);
+double autoPatchSize(const SceneDesc& scene, double budget = kAutoPatchBudget);
 
 /// settings.patchSize when the scene (or a command line, written into it) gives one, else autoPatchSize().
 double resolvePatchSize(const SceneDesc& scene);

@@ -27,7 +27,7 @@ void printStats(const fs::SceneDesc& scene, const std::string& path, double ps, 
   fmt::print("scene        {}\n", path);
   fmt::print("shapes       {}\nmaterials    {}\nlights       {}\n", scene.shapes.size(), scene.materials.size(), scene.lights.size());
   fmt::print("patch size   {:.6g} m{}\npatches      {} ({} quads, {} triangles)\n", ps,
-             !automatic ? std::string() : fmt::format(" (automatic: at most {} coarse patches)", fs::kDefaultPatchCount), mesh.size(),
+             !automatic ? std::string() : fmt::format(" (automatic: the faces cut into at most {} more patches)", fs::kAutoPatchBudget), mesh.size(),
              quads, mesh.size() - quads);
   fmt::print("area         {:.6f} m² (patch min {:.3e}, max {:.3e})\n", mesh.totalArea(), mesh.size() ? minA : 0.0, maxA);
   fmt::print("patch hash   {:016x}\nscene hash   {:016x}\n", fs::hashPatches(mesh), fs::hashScene(scene));

@@ -4,6 +4,7 @@
 #include "common/analytic.h"
 #include "common/patch_size.h"
 #include "common/patches.h"
+#include "common/scene_shapes.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/light_tessellation.h"
 #include "render/camera.h"
@@ -35,11 +36,11 @@ SceneDesc cornellWithoutPatchSize() {
 
 TEST(AutomaticPatchSize, BoundsTheCoarseCountAndScalesWithTheScene) {
   const SceneDesc d = cornellWithoutPatchSize();
-  const double h = autoPatchSize(d);
+  const double h = autoPatchSize(d), faces = countPatchPolygons(d, kFacesAsTheyAre);
   const double n = countPatchPolygons(d, h);
-  EXPECT_LE(n, kDefaultPatchCount);
-  EXPECT_GT(countPatchPolygons(d, h * 0.999), kDefaultPatchCount) << "not the largest size within the count";
-  EXPECT_GT(n, 0.9 * kDefaultPatchCount);  // steps of ceil(): the count lands close below the target
+  EXPECT_LE(n, faces + kAutoPatchBudget);
+  EXPECT_GT(countPatchPolygons(d, h * 0.999), faces + kAutoPatchBudget) << "not the largest size within the budget";
+  EXPECT_GT(n, 0.9 * kAutoPatchBudget);  // steps of ceil(): the count lands close below the target
   for (double s : {1e-3, 1e3}) {
     const SceneDesc ds = scaled(d, s);
     EXPECT_NEAR(autoPatchSize(ds) / (s * h), 1.0, 1e-9) << "scale " << s;
@@ -48,10 +49,25 @@ TEST(AutomaticPatchSize, BoundsTheCoarseCountAndScalesWithTheScene) {
   }
 }
 
-TEST(AutomaticPatchSize, SceneOfMoreFacesThanTheTargetKeepsItsFaces) {
+// A scene of more small faces than the budget (a finely tessellated sphere in the Cornell box): the
+// sphere's faces stay whole, the box's walls are still cut, into at most the budget's patches.
+TEST(AutomaticPatchSize, ManySmallFacesStayWholeWhileLargeOnesAreCut) {
   SceneDesc d = cornellWithoutPatchSize();
-  EXPECT_EQ(countPatchPolygons(d, autoPatchSize(d, 10.0)), countPatchPolygons(d, kFacesAsTheyAre));
-  EXPECT_LT(countPatchPolygons(d, kFacesAsTheyAre), 100.0);  // the box's own faces, whole
+  ShapeDesc ball;
+  ball.name = "ball";
+  ball.type = ShapeType::Sphere;
+  ball.material = d.shapes[0].material;
+  shapes::makeSphere(ball, Vec3d(0.3, 0.1, 0.3), 0.05, 6);  // 81920 triangles, below 2 mm across
+  const size_t before = d.shapes.size();
+  d.shapes.push_back(ball);
+  const double faces = countPatchPolygons(d, kFacesAsTheyAre), h = autoPatchSize(d);
+  const PatchMesh mesh = buildPatches(d, h);
+  EXPECT_LE(mesh.size(), faces + kAutoPatchBudget);
+  EXPECT_GT(mesh.size(), faces + 0.9 * kAutoPatchBudget);
+  size_t onBall = 0;
+  for (const Patch& p : mesh.patches) onBall += p.shape == before;
+  EXPECT_EQ(onBall, ball.faces.size()) << "the small faces are taken as they are";
+  EXPECT_LT(h, 0.05) << "the walls are cut finer than a fifth of the box";
 }
 
 // The same scene in millimetres, metres and kilometres: the same table size and the same image. The
