@@ -64,7 +64,7 @@ VertexRuleError ruleError(const SceneDesc& scene, const FirstShotTable& t, doubl
   for (uint32_t li : t.replacedLights) {
     const LightDesc& l = scene.lights[li];
     if (l.type != LightType::Area || scene.shapes[l.shape].faces.size() != 1) continue;
-    const LightTessellation lt = tessellateAreaLight(scene, l.shape, lightPatchSize, tolerance);
+    const LightTessellation lt = tessellateAreaLight(scene, l.shape, lightPatchSize, tolerance, kNoLightSampleBudget);
     const VertexRuleError e = vertexRuleError(scene.shapes[l.shape], lt, points);
     worst.cut = std::max(worst.cut, e.cut), worst.uncut = std::max(worst.uncut, e.uncut);
   }

@@ -42,8 +42,9 @@ std::vector<Receiver> receiversOf(const SceneDesc& scene) {
 
 class Clusterer {
  public:
-  Clusterer(const std::vector<Receiver>& receivers, const LightTessellation& fine, double tolerance)
-      : receivers_(receivers), fine_(fine), tolerance_(tolerance), scale_(std::sqrt(kVertexRuleErrorConstant / tolerance)) {}
+  Clusterer(const std::vector<Receiver>& receivers, const LightTessellation& fine, double tolerance, double floor)
+      : receivers_(receivers), fine_(fine), tolerance_(tolerance), scale_(std::sqrt(kVertexRuleErrorConstant / tolerance)),
+        floor_(floor) {}
 
   /// Clusters the samples fine_[*begin..*end) and appends one sample per cluster kept whole to @p out.
   void split(uint32_t* begin, uint32_t* end, LightTessellation& out) const {
@@ -65,7 +66,7 @@ class Clusterer {
         rear = std::min(rear, glm::dot(n, fine_.positions[*i]));
         radius = std::max(radius, glm::length(fine_.positions[*i] - centre));
       }
-      if (2 * radius * scale_ <= distance(centre, radius, n, rear)) return emit(centre, 0.5 * (weight + agreement), n, out);
+      if (2 * radius <= floor_ || 2 * radius * scale_ <= distance(centre, radius, n, rear)) return emit(centre, 0.5 * (weight + agreement), n, out);
     }
     // Split at the median of the widest spread: of the normals while they disagree, else of the positions.
     const std::vector<Vec3d>& key = coherent ? fine_.positions : fine_.normals;
@@ -107,17 +108,17 @@ class Clusterer {
 
   const std::vector<Receiver>& receivers_;
   const LightTessellation& fine_;
-  double tolerance_, scale_;
+  double tolerance_, scale_, floor_;
 };
 
 }  // namespace
 
-LightTessellation clusterLightSamples(const SceneDesc& scene, LightTessellation fine, double tolerance) {
+LightTessellation clusterLightSamples(const SceneDesc& scene, LightTessellation fine, double tolerance, double floor) {
   const std::vector<Receiver> receivers = receiversOf(scene);
   std::vector<uint32_t> order(fine.positions.size());
   std::iota(order.begin(), order.end(), 0u);
   LightTessellation out;
-  if (!order.empty()) Clusterer(receivers, fine, tolerance).split(order.data(), order.data() + order.size(), out);
+  if (!order.empty()) Clusterer(receivers, fine, tolerance, floor).split(order.data(), order.data() + order.size(), out);
   out.triangles = std::move(fine.triangles);
   return out;
 }

@@ -28,6 +28,8 @@ namespace fs {
 /// for relative accuracy @p tolerance (see the file comment). Deterministic: same input, same
 /// output, byte for byte. The triangles of @p fine are kept (they still describe the light).
 /// Cost: O(S log S) in the samples plus one scan of the receivers per cluster examined.
-LightTessellation clusterLightSamples(const SceneDesc& scene, LightTessellation fine, double tolerance);
+/// A cluster whose normals agree is also kept whole once its diameter is at most @p floor (m): the
+/// tessellation's floor, raised to keep the samples within kLightSampleBudget.
+LightTessellation clusterLightSamples(const SceneDesc& scene, LightTessellation fine, double tolerance, double floor = 0);
 
 }  // namespace fs

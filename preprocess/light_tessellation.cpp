@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 
+#include <fmt/core.h>
+
 #include "common/analytic.h"
 #include "common/error.h"
 #include "common/firstshot.h"
@@ -141,17 +143,35 @@ struct Refiner {
   }
 };
 
-/// Automatic tessellation of one face (see tessellateAreaLight).
-void tessellateFace(const SceneDesc& scene, const Vec3d* v, int count, double tolerance, SampleBuilder& out) {
+/// Automatic tessellation of one face (see tessellateAreaLight), no cell split below (diameter)/@p floorRatio.
+void tessellateFace(const SceneDesc& scene, const Vec3d* v, int count, double tolerance, double floorRatio, SampleBuilder& out) {
   const LightReceivers receivers(scene, centroidOf(v, count), polygonNormal(v, count));
   const double scale = std::sqrt(kVertexRuleErrorConstant / tolerance);
   const double size = diameter(v, count);
   // First grid: cells that meet the bound at the face's own distance, or size/8 across when closer.
-  const double cell = std::max(receivers.distance(v, count) / scale, size / kLightGridMaxCells);
+  const double cell = std::max(receivers.distance(v, count) / scale, size / std::min(double(kLightGridMaxCells), floorRatio));
   std::vector<std::vector<Vec3d>> grid;
   subdividePolygon(v, count, count == 4 ? cell / std::sqrt(2.0) : cell, grid);
-  const Refiner refiner{receivers, scale, size / kLightMinSizeRatio, out};
+  const Refiner refiner{receivers, scale, size / floorRatio, out};
   for (const auto& g : grid) refiner.refine(g.data(), static_cast<int>(g.size()));
+}
+
+/// The automatic tessellation of @p shape with the floor at 1/@p floorRatio of a face's diameter.
+LightTessellation automaticTessellation(const SceneDesc& scene, const ShapeDesc& shape, double tolerance, double floorRatio) {
+  // An emissive mesh: its small faces are cells as they are (one receiver scan per face would cost
+  // faces × scene faces), the large ones cut as a single face is; then the samples are merged.
+  const bool mesh = shape.faces.size() > kLightMeshFaces;
+  const double span = shapeDiameter(shape);
+  SampleBuilder out;
+  for (const Face& f : shape.faces) {
+    Vec3d v[4];
+    for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
+    if (mesh && diameter(v, f.count) <= span / kLightGridMaxCells)
+      out.addCell(v, f.count);
+    else
+      tessellateFace(scene, v, f.count, tolerance, floorRatio, out);
+  }
+  return mesh ? clusterLightSamples(scene, out.finish(), tolerance, span / floorRatio) : out.finish();
 }
 
 }  // namespace
@@ -214,40 +234,47 @@ double LightReceivers::distance(const Vec3d* poly, int count) const {
   return best;
 }
 
-LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance) {
+LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance,
+                                      size_t budget) {
   const ShapeDesc& shape = scene.shapes[shapeIndex];
-  SampleBuilder out;
-  std::vector<std::vector<Vec3d>> polys;
-  if (lightPatchSize > 0) {  // a light_patch_size far too small is an error, not an allocation
-    double cells = 0;
-    for (const Face& f : shape.faces) {
-      Vec3d v[4];
-      for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
-      cells += subdivisionCount(v, f.count, lightPatchSize);
+  if (lightPatchSize <= 0) {
+    // Within the budget: the tolerance doubled twice, then the floor raised to 1/8 of a face (the
+    // first grid's cells), the tolerance doubled twice more, the floor raised to the whole face.
+    constexpr std::pair<double, double> kSteps[] = {{64, 1}, {64, 2}, {64, 4}, {32, 4}, {16, 4}, {8, 4},
+                                                    {8, 8}, {8, 16}, {4, 16}, {2, 16}, {1, 16}};
+    static_assert(kSteps[0].first == kLightMinSizeRatio);
+    for (const auto& [ratio, relax] : kSteps) {
+      LightTessellation t = automaticTessellation(scene, shape, relax * tolerance, ratio);
+      t.floorRatio = ratio, t.tolerance = relax * tolerance;
+      if (t.positions.size() <= budget || ratio == 1) {
+        if (relax > 1 || ratio < kLightMinSizeRatio)
+          fmt::print(stderr, "{}: {}: {} light samples at light_tolerance {:g}, none split below 1/{:g} of a face (the budget is {}; "
+                     "{:g} asked)\n", scene.file, shape.name, t.positions.size(), t.tolerance, ratio, budget, tolerance);
+        return t;
+      }
     }
-    if (cells > double(std::numeric_limits<uint32_t>::max()))
-      throw InputError(scene.file, "settings.light_patch_size", shape.name + " would be cut into more than 2^32-1 cells: raise it");
-    requireMemory(cells * double(sizeof(LightSample)), scene.file, "settings.light_patch_size",
-                  "the light samples of " + shape.name, "raise it");
   }
-  // An emissive mesh: its small faces are cells as they are (one receiver scan per face would cost
-  // faces × scene faces), the large ones cut as a single face is; then the samples are merged.
-  const bool mesh = lightPatchSize <= 0 && shape.faces.size() > kLightMeshFaces;
-  const double large = mesh ? shapeDiameter(shape) / kLightGridMaxCells : 0.0;
+  // Uniform. A light_patch_size far too small is an error, not an allocation.
+  double cells = 0;
   for (const Face& f : shape.faces) {
     Vec3d v[4];
     for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
-    if (lightPatchSize > 0) {
-      polys.clear();
-      subdividePolygon(v, f.count, lightPatchSize, polys);
-      for (const auto& p : polys) out.addCell(p.data(), static_cast<int>(p.size()));
-    } else if (mesh && diameter(v, f.count) <= large) {
-      out.addCell(v, f.count);
-    } else {
-      tessellateFace(scene, v, f.count, tolerance, out);
-    }
+    cells += subdivisionCount(v, f.count, lightPatchSize);
   }
-  return mesh ? clusterLightSamples(scene, out.finish(), tolerance) : out.finish();
+  if (cells > double(std::numeric_limits<uint32_t>::max()))
+    throw InputError(scene.file, "settings.light_patch_size", shape.name + " would be cut into more than 2^32-1 cells: raise it");
+  requireMemory(cells * double(sizeof(LightSample)), scene.file, "settings.light_patch_size",
+                "the light samples of " + shape.name, "raise it");
+  SampleBuilder out;
+  std::vector<std::vector<Vec3d>> polys;
+  for (const Face& f : shape.faces) {
+    Vec3d v[4];
+    for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
+    polys.clear();
+    subdividePolygon(v, f.count, lightPatchSize, polys);
+    for (const auto& p : polys) out.addCell(p.data(), static_cast<int>(p.size()));
+  }
+  return out.finish();
 }
 
 VertexRuleError vertexRuleError(const ShapeDesc& light, const LightTessellation& t,

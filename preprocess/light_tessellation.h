@@ -38,6 +38,15 @@ inline constexpr int kLightGridMaxCells = 8;
 /// (≤ 64² cells per face) and the bound is not met in the region within ~10 floor sizes of it.
 inline constexpr double kLightMinSizeRatio = 64.0;
 
+/// Automatic tessellation budget: an area light that would take more samples than this (a receiver
+/// touching it: a lamp's bowl, a shelf; a large light near a wall) is cut again with the tolerance
+/// doubled twice, then the floor raised to 1/8 of a face, the tolerance doubled twice more and the
+/// floor raised to the whole face, until it fits (one line on stderr says what it reached). Each
+/// sample costs the preprocessor an item-buffer render.
+inline constexpr size_t kLightSampleBudget = 256;
+/// No budget: the tolerance and floor as asked, however many samples they take (tests, the accuracy bench).
+inline constexpr size_t kNoLightSampleBudget = ~size_t(0);
+
 /// Automatic tessellation of an emissive shape of more faces than this: its samples are merged into
 /// clusters as its receivers allow (preprocess/light_clusters.h), so their count follows the need,
 /// not the mesh.
@@ -49,6 +58,8 @@ struct LightTessellation {
   std::vector<double> weights;               ///< S_i/3, m² (S_i: area of the triangles around vertex i)
   std::vector<Vec3d> normals;                ///< unit, area-weighted normal of the triangles around it
   std::vector<std::array<Vec3d, 3>> triangles;  ///< the leaf triangles, m (counter-clockwise from the front)
+  double floorRatio = 0;  ///< automatic: no cell split below (face diameter)/floorRatio (kLightMinSizeRatio unless the budget raised it)
+  double tolerance = 0;   ///< automatic: the tolerance met (light_tolerance unless the budget relaxed it)
 };
 
 /// Distance (m) from @p p to a convex planar polygon of @p count ≤ 8 vertices.
@@ -87,10 +98,12 @@ class LightReceivers {
 /// @p tolerance: each face is cut into a grid whose cells meet the bound at the face's own distance
 /// to its receivers (at least (diameter)/kLightGridMaxCells cells), then each cell is split 4-way
 /// (midpoints; quads bilinearly) until C·(h/d)² ≤ tolerance, h its diameter and d its distance to
-/// the receivers, or h reaches the floor. Vertices are shared exactly between neighbours; hanging
+/// the receivers, or h reaches the floor (floor, then tolerance, relaxed while the samples exceed
+/// @p budget); an emissive mesh's samples are then merged (preprocess/light_clusters.h). Vertices are shared exactly between neighbours; hanging
 /// vertices where levels meet get weight only from their own triangles, so Σ weights = area.
 /// Same input → same output, byte for byte.
-LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance);
+LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance,
+                                      size_t budget = kLightSampleBudget);
 
 /// Worst error of the vertex rule Σ w_i cosθ_x cosθ_L / d² of @p t against the exact
 /// ∫ cosθ_x cosθ_L / d² dA (analytic::polygonCosineSolidAngle) over @p points (position, normal), the

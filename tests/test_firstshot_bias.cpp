@@ -45,7 +45,10 @@ int borderEdges(const SceneDesc& desc, const Patch& p) {
 }
 
 SceneDesc named(const std::string& name) {
-  SceneDesc d = name == "cornell-metre" ? test::cornellMetre() : loadScene(test::source("scenes/" + name + ".json"));
+  // A shipped scene's name, or the path of any scene file (a name with a '/').
+  SceneDesc d = name == "cornell-metre"                  ? test::cornellMetre()
+                : name.find('/') != std::string::npos ? loadScene(name)
+                                                       : loadScene(test::source("scenes/" + name + ".json"));
   d.camera.width = d.camera.height = 64;
   if (std::getenv("FSBIAS_LPS")) d.settings.lightPatchSize = std::atof(std::getenv("FSBIAS_LPS"));
   if (std::getenv("FSBIAS_PS")) d.settings.patchSize = std::atof(std::getenv("FSBIAS_PS"));

@@ -24,8 +24,11 @@ const std::string kPreprocess = FIRSTSHOT_PREPROCESS_EXE;
 const std::string kCornell = test::source("scenes/cornell.json");
 const std::string kFast = " --resolution 64 --threads 2";  ///< cornell's preprocessing in about a second
 
-/// stderr alone of @p command (stdout dropped), read through a pipe.
-test::CommandResult stderrOf(const std::string& command) { return test::run("(" + command + " 2>&1 >/dev/null)"); }
+/// stderr alone of @p command (stdout dropped), read through a pipe; under the sanitizers without
+/// LeakSanitizer's report of the suppressions it used.
+test::CommandResult stderrOf(const std::string& command) {
+  return test::run("(export LSAN_OPTIONS=\"${LSAN_OPTIONS:+$LSAN_OPTIONS:}print_suppressions=0\"; " + command + " 2>&1 >/dev/null)");
+}
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
