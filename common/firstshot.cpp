@@ -9,6 +9,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/firstshot_groups.h"
+#include "common/firstshot_patches.h"
 #include "common/hash.h"
 
 namespace fs {
@@ -19,7 +20,8 @@ constexpr char kEnd[8] = {'F', 'S', 'H', 'O', 'T', 'E', 'N', 'D'};
 /// 2: the analytic estimator's factors are exact per patch (visible fraction from exact occlusion
 /// tests, over the exposed part of a patch); version-1 tables carried the biases fixed then.
 /// 3: settings for adaptive patches and light tessellation; grouped factors (common/firstshot_groups.h).
-constexpr uint32_t kVersion = 3;
+/// 4: packed patches (common/firstshot_patches.h).
+constexpr uint32_t kVersion = 4;
 
 /// Appends plain values to a byte buffer (little-endian host assumed, checked at compile time).
 class Out {
@@ -167,11 +169,13 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
   s = o.begin("PTCH");
   o.put<uint64_t>(t.mesh.size());
   o.put(t.mesh.patchSize);
-  for (const Patch& p : t.mesh.patches) {
-    o.put(p.count), o.put(p.material), o.put(p.shape);
-    for (const Vec3& v : p.v) o.put(v);
-    o.put(p.normal), o.put(p.centroid), o.put(p.area);
-  }
+  const PackedPatches pp = packPatches(t.mesh);
+  o.put<uint64_t>(pp.vertices.size());
+  o.put<uint64_t>(pp.runLength.size());
+  o.put<uint64_t>(pp.index.size());
+  o.array(pp.runShape), o.array(pp.runMaterial), o.array(pp.runLength);
+  o.array(pp.corners), o.array(pp.index), o.array(pp.vertices);
+  o.array(pp.normal), o.array(pp.centroid), o.array(pp.area);
   o.end(s);
   s = o.begin("LSMP");
   o.put<uint64_t>(t.samples.size());
@@ -262,16 +266,15 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
   const uint64_t n = in.get<uint64_t>("PTCH");
   if (n > std::numeric_limits<uint32_t>::max()) in.fail("PTCH", "patch count above 2^32-1 (corrupt file)");
   t.mesh.patchSize = in.get<double>("PTCH");
-  constexpr size_t kPatchBytes = 12 + 4 * 12 + 12 + 12 + 8;
-  if (n > uint64_t(e - data.data()) / kPatchBytes) in.fail("PTCH", "truncated or corrupt: fewer patches than counted");
-  t.mesh.patches.resize(n);
-  for (Patch& p : t.mesh.patches) {
-    p.count = in.get<uint32_t>("PTCH"), p.material = in.get<uint32_t>("PTCH"), p.shape = in.get<uint32_t>("PTCH");
-    for (Vec3& v : p.v) v = in.get<Vec3>("PTCH");
-    p.normal = in.get<Vec3>("PTCH"), p.centroid = in.get<Vec3>("PTCH"), p.area = in.get<double>("PTCH");
-    if ((p.count != 3 && p.count != 4) || !(p.area > 0)) in.fail("PTCH", "invalid patch (corrupt file)");
+  {
+    PackedPatches pp;
+    const uint64_t nv = in.get<uint64_t>("PTCH"), runs = in.get<uint64_t>("PTCH"), ni = in.get<uint64_t>("PTCH");
+    in.array(pp.runShape, runs, "PTCH"), in.array(pp.runMaterial, runs, "PTCH"), in.array(pp.runLength, runs, "PTCH");
+    in.array(pp.corners, n, "PTCH"), in.array(pp.index, ni, "PTCH"), in.array(pp.vertices, nv, "PTCH");
+    in.array(pp.normal, n, "PTCH"), in.array(pp.centroid, n, "PTCH"), in.array(pp.area, n, "PTCH");
+    in.leave(e, "PTCH");
+    unpackPatches(pp, t.mesh, [&](const std::string& msg) { in.fail("PTCH", msg); });
   }
-  in.leave(e, "PTCH");
   if (hashPatches(t.mesh) != patchHash) in.fail("PTCH", "patches do not match their hash (corrupt file)");
 
   e = in.section("LSMP");

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <tuple>
 
 #include "common/error.h"
 #include "common/firstshot.h"
@@ -134,7 +135,7 @@ TEST(FsdFile, WrongVersion) {
   b[8] = 1;  // a table from before the exposed-part factors: refused, with what to do
   writeBytes(dir + "/old.fsd", b);
   EXPECT_THAT(readError(dir + "/old.fsd"),
-              HasSubstr("format version 1, this build reads version 3: run firstshot-preprocess again"));
+              HasSubstr("format version 1, this build reads version 4: run firstshot-preprocess again"));
 }
 
 TEST(FsdFile, Truncated) {
@@ -295,4 +296,87 @@ TEST(FsdFile, TableWithoutGroupsHasNoGroupArrays) {
   EXPECT_EQ(l.singles, t.nonZeros());
   // rowCount, then straight to the singles: 4 bytes per row and 8 per factor, then checksum and end marker.
   EXPECT_EQ(b.size(), l.rowCount + 4 * t.mesh.size() + 8 * t.nonZeros() + 16);
+}
+
+namespace {
+
+/// A hand-made table of five patches: two runs of (shape, material) that come back, triangles and
+/// quads sharing corners, and a corner at -0 beside one at +0 (distinct bit patterns).
+FirstShotTable packedPatchesTable() {
+  FirstShotTable t;
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(1, 1, 0), d(0, 1, 0), e(2, 0, 0), z(-0.0f, 0, 0);
+  auto patch = [](std::initializer_list<Vec3> v, uint32_t shape, uint32_t material) {
+    Patch p;
+    p.count = uint32_t(v.size()), p.shape = shape, p.material = material;
+    std::copy(v.begin(), v.end(), p.v);
+    if (p.count == 3) p.v[3] = p.v[2];
+    computePatchGeometry(p);
+    return p;
+  };
+  t.mesh.patches = {patch({a, b, c, d}, 0, 1), patch({b, e, c}, 0, 1), patch({z, b, c}, 2, 0),
+                    patch({a, b, c}, 2, 0), patch({d, a, e, c}, 0, 1)};
+  t.mesh.patchSize = 0.5;
+  t.rowStart.assign(t.mesh.patches.size() + 1, 0);
+  return t;
+}
+
+/// Byte offset of section @p tag's contents (after its tag and length) in a table's bytes.
+size_t sectionContents(const std::vector<char>& b, const char* tag) {
+  size_t p = 40;  // magic, version, flags, three hashes
+  for (;;) {
+    uint64_t len;
+    std::memcpy(&len, b.data() + p + 4, 8);
+    if (std::memcmp(b.data() + p, tag, 4) == 0) return p + 12;
+    p += 12 + len;
+  }
+}
+
+}  // namespace
+
+TEST(FsdFile, PackedPatchesComeBackBitForBit) {
+  const std::string path = test::tempDir() + "/packed.fsd";
+  const FirstShotTable t = packedPatchesTable();
+  writeFirstShot(path, t);
+  const FirstShotTable r = readFirstShot(path);
+  ASSERT_EQ(r.mesh.size(), t.mesh.size());
+  for (uint32_t j = 0; j < t.mesh.size(); ++j) {
+    const Patch &p = t.mesh.patches[j], &q = r.mesh.patches[j];
+    EXPECT_EQ(std::memcmp(p.v, q.v, sizeof(p.v)), 0) << j;  // -0 stays -0; a triangle's 4th corner its 3rd
+    EXPECT_EQ(std::tie(p.count, p.shape, p.material, p.area), std::tie(q.count, q.shape, q.material, q.area)) << j;
+    EXPECT_EQ(std::memcmp(&p.normal, &q.normal, sizeof(Vec3)) | std::memcmp(&p.centroid, &q.centroid, sizeof(Vec3)), 0);
+  }
+  EXPECT_EQ(hashPatches(r.mesh), hashPatches(t.mesh));
+  // 6 distinct corners (a, b, c, d, e, -0), 3 runs, 17 corner indices: the layout of docs/firstshot-format.md.
+  const auto bytes = readBytes(path);
+  const size_t p = sectionContents(bytes, "PTCH");
+  uint64_t len, counts[3];
+  std::memcpy(&len, bytes.data() + p - 8, 8);
+  std::memcpy(counts, bytes.data() + p + 16, sizeof(counts));
+  EXPECT_EQ(counts[0], 6u);
+  EXPECT_EQ(counts[1], 3u);
+  EXPECT_EQ(counts[2], 17u);
+  EXPECT_EQ(len, 40 + 3 * 12 + 5 + 17 * 4 + 6 * 12 + 5 * (12 + 12 + 8));
+}
+
+TEST(FsdFile, MalformedPatchesAreRefused) {
+  const std::string dir = test::tempDir();
+  writeFirstShot(dir + "/packed.fsd", packedPatchesTable());
+  const auto good = readBytes(dir + "/packed.fsd");
+  const size_t p = sectionContents(good, "PTCH");
+  const size_t runShape = p + 40, runLength = runShape + 2 * 12, corners = runShape + 3 * 12, index = corners + 5;
+  const size_t area = index + 17 * 4 + 6 * 12 + 5 * 24;
+  auto refused = [&](auto&& change) {
+    std::vector<char> m = good;
+    change(m);
+    writeResealed(dir + "/bad.fsd", m);
+    return readError(dir + "/bad.fsd");
+  };
+  EXPECT_THAT(refused([&](auto& m) { poke<uint32_t>(m, index + 4 * 7, 6); }), HasSubstr("corner index outside the vertex pool"));
+  EXPECT_THAT(refused([&](auto& m) { poke<uint8_t>(m, corners + 2, 5); }), HasSubstr("a patch with 5 corners"));
+  EXPECT_THAT(refused([&](auto& m) { poke<uint8_t>(m, corners + 2, 4); }), HasSubstr("corner counts do not add up"));
+  EXPECT_THAT(refused([&](auto& m) { poke<uint32_t>(m, runLength, 3); }), HasSubstr("runs do not add up"));
+  EXPECT_THAT(refused([&](auto& m) { poke<uint32_t>(m, runLength, 0); }), HasSubstr("an empty run"));
+  EXPECT_THAT(refused([&](auto& m) { poke<double>(m, area + 8 * 3, 0.0); }), HasSubstr("patch 3 has no positive area"));
+  EXPECT_THAT(refused([&](auto& m) { poke<uint32_t>(m, runShape, 7); }), HasSubstr("patches do not match their hash"));
+  EXPECT_THAT(refused([&](auto& m) { poke<uint64_t>(m, p + 16, uint64_t(1) << 40); }), HasSubstr("PTCH"));
 }
