@@ -79,7 +79,10 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
       L += c;
     }
   }
-  if (light_.tableMode()) L += light_.smallLights().estimate(cameraPath, m, sampler, rays);
+  // x_m's direct light is a bounce at x_m (camera vertex m is the path tracer's vertex m − 1): only
+  // while m ≤ D; past it the small lights count only where the delta chain meets them.
+  if (light_.tableMode())
+    L += light_.smallLights().estimate(cameraPath, int(m) <= maxDepth ? m : cameraPath.size(), sampler, rays);
   out.push_back(Splat{pixel, L});
 
   // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.

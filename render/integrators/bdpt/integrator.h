@@ -8,7 +8,8 @@
 /// s = 1 (a new light sample), s ≥ 2 with t ≥ 2 (a shadow ray between the subpaths), and t = 1 (a
 /// light vertex joined to the pinhole, splatted where it projects, as light tracing does) — and
 /// weighted by the power heuristic over all strategies of the same path (misWeight). Paths of
-/// more than IntegratorOptions::maxDepth bounces (s + t − 2) are left out.
+/// more than IntegratorOptions::maxDepth bounces (s + t − 2) are left out (docs/irradiance-cache.md,
+/// "What --max-depth counts").
 ///
 /// The whole sample is a particle of the deterministic splat loop (render/splat_renderer.h): the
 /// t ≥ 2 strategies go to pixel j as one splat (one sample per pixel per pass), the t = 1 ones to

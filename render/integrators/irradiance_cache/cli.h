@@ -33,8 +33,9 @@ struct IrradianceCacheCli {
         app.add_option("--ic-samples", settings.samples, "irradiance cache: hemisphere samples per level-0 record "
                                                          "(halved per bounce)")
             ->check(CLI::Range(8, 1 << 20))->capture_default_str(),
-        app.add_option("--bounces", settings.bounces, "irradiance cache: diffuse bounces served by the cache (level ℓ "
-                                                      "uses a·1.4^ℓ); beyond them path tracing, or --ambient")
+        app.add_option("--bounces", settings.bounces, "irradiance cache: bounces served by the cache: records at path "
+                                                      "vertices 0..B-1 (level ℓ uses a·1.4^ℓ); beyond them path tracing, "
+                                                      "or --ambient")
             ->check(CLI::Range(0, 16))->capture_default_str(),
         ambientOption = app.add_option("--ambient", ambient, "irradiance cache: radiance assumed past the last bounce, V or "
                                                  "R,G,B (biased; default: the light there is path traced)"),

@@ -59,7 +59,7 @@ std::string IrradianceCacheIntegrator::settingsText() const {
   const FirstShotTable* t = scene_ ? scene_->firstShot() : nullptr;
   return fmt::format(
       "accuracy={} samples={} bounces={} past-last={} ambient={},{},{} gradients={} clamp-footprint={},{} neighbour-clamp={} "
-      "max-depth={} gathered-lights=[{}] firstshot={} patch-nee={}",
+      "max-depth={} levels=path-vertices gathered-lights=[{}] firstshot={} patch-nee={}",
       settings_.accuracy, settings_.samples, settings_.bounces, settings_.pathContinuation ? "path" : "ambient", settings_.ambient.x, settings_.ambient.y,
       settings_.ambient.z, settings_.gradients ? "on" : "off", settings_.footprintMin, settings_.footprintMax,
       settings_.neighbourClamp ? "on" : "off", options_.maxDepth, gathered, t ? fmt::format("{:016x}", tableHash(*t)) : "none",
@@ -122,6 +122,10 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
   if (first) *first = FirstVertex{std::numeric_limits<float>::infinity(), Hit(), Color(0.0f)};
 
   for (int depth = 0;; ++depth) {
+    // The hit's place along the whole path, counted as the path tracer counts (its vertex index,
+    // docs/irradiance-cache.md, "What --max-depth counts"), and the cache level it reads and makes
+    // records at: a record's gather is that vertex's bounce, mirrors, glass and glossy samples are too.
+    const int vertex = level + depth;
     Hit hit;
     if (known) {
       hit = *known;
@@ -151,7 +155,7 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
       info->albedo = bsdf.albedo();
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
     }
-    if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
+    if (vertex >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;  // emission only there
     const Frame frame(hit.ng);
     const Vec3 woLocal = frame.toLocal(wo);
 
@@ -166,7 +170,7 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
       continue;
     }
 
-    L += beta * shade(hit, frame, woLocal, bsdf, level, cameraChain, pathLength, sampler, ctx,
+    L += beta * shade(hit, frame, woLocal, bsdf, vertex, cameraChain, pathLength, sampler, ctx,
                       depth == 0 && first ? &first->firstShot : nullptr);
     if (bsdf.isDiffuse()) break;
 
@@ -290,7 +294,7 @@ IrradianceRecord IrradianceCacheIntegrator::gather(const Hit& hit, const Vec3& n
   const Frame frame(n);
   HemisphereSamples hs(M, N);
   const uint64_t key = sampler.nextBits();
-  const bool nee = patchNeeOn() && options_.maxDepth >= 1;  // the rays count first-shot terms
+  const bool nee = patchNeeOn() && level + 1 < options_.maxDepth;  // the rays' hits (vertex level + 1) count first-shot terms
   Vec3d overlap(0.0);  // Σ (1 − w_h)·first-shot radiance of the rays: what patch NEE takes over
   for (int j = 0; j < M; ++j)
     for (int k = 0; k < N; ++k) {

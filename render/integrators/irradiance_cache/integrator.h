@@ -9,8 +9,10 @@
 ///   the first-shot term Σ_i emission_i r_ij f_r (NEE at the camera-visible vertex under
 ///   PrimaryMode::Exact); without one from NEE at the vertex. Rays of the cache and of BSDF
 ///   sampling that meet a small light count nothing, so nothing is counted twice.
-/// - E_ℓ is the indirect irradiance at diffuse-bounce level ℓ (0 at camera-visible surfaces),
-///   interpolated from the records of level ℓ (eq. 5) or, if none is valid, computed by the
+/// - E_ℓ is the indirect irradiance at level ℓ, the vertex's index along the path as the path
+///   tracer counts bounces (0 at camera-visible surfaces; mirrors, glass and glossy samples count
+///   too; docs/irradiance-cache.md, "What --max-depth counts": vertex ℓ scatters only for
+///   ℓ < maxDepth), interpolated from the records of level ℓ (eq. 5) or, if none is valid, computed by the
 ///   primary method: stratified cosine-weighted hemisphere sampling (eq. 2, M × 2M cells) whose
 ///   rays gather the radiance of the surfaces they hit at level ℓ+1 (first-shot or NEE direct
 ///   light plus their own cached indirect light) and the emission of large area lights (§5).
@@ -58,7 +60,7 @@ namespace fs {
 struct IrradianceCacheSettings {
   float accuracy = 0.15f;       ///< a of eq. 5 at level 0 [--accuracy]
   int samples = 512;            ///< hemisphere samples N of a level-0 record [--ic-samples]
-  int bounces = 3;              ///< B: diffuse bounce levels served by the cache [--bounces]
+  int bounces = 3;              ///< B: levels served by the cache, path vertices 0 .. B − 1 [--bounces]
   /// Past the last level: continue by path tracing (unbiased; default), or assume ambient.
   bool pathContinuation = true;
   Color ambient{0.0f};          ///< radiance assumed past the last level when !pathContinuation [--ambient]
@@ -155,7 +157,8 @@ class IrradianceCacheIntegrator : public Integrator {
   struct Context;
   enum class RayKind : uint8_t;
   struct FirstVertex;
-  /// Radiance along @p ray at diffuse level @p level; @p pathLength is the distance from the
+  /// Radiance along @p ray whose first hit is path vertex (and cache level) @p level, the next hits
+  /// @p level + 1, ... (mirrors, glass, glossy samples); @p pathLength is the distance from the
   /// camera to the ray's origin along the path (for the footprint clamp). @p first, if given,
   /// receives the first hit and the first-shot term there. @p known, if given, is the ray's closest
   /// hit, already traced (and counted) by the caller.
