@@ -18,6 +18,7 @@
 
 #include "common/math.h"
 #include "common/patches.h"
+#include "common/scene_desc.h"
 
 namespace fs {
 
@@ -33,26 +34,13 @@ struct LightSample {
   float weight = 1.0f;    ///< area vertex: S_i/3 in m² (already inside r_ij); otherwise 1
 };
 
-/// Preprocess settings that change the factors (hashed into the file).
-struct FirstShotSettings {
-  uint32_t resolution = 256;      ///< R, pixels across a full cube face
-  std::string window = "hemicube";///< hemicube | tetra (area lights)
-  std::string backend = "gl";     ///< gl | embree | auto (per light sample, preprocess/preprocessor.cpp autoBackend)
-  double patchSize = 0.05;        ///< longest patch edge of the coarse mesh, m
-  double minPatchSize = 0;        ///< smallest edge adaptive refinement may reach, m; ≥ patchSize (or 0): a uniform mesh
-  double refineTolerance = 0.02;  ///< relative shadow-edge measure above which a patch is split (docs/firstshot-format.md)
-  double lightPatchSize = 0;      ///< area-light tessellation, m; 0: automatic from lightTolerance
-  double lightTolerance = 0.01;   ///< automatic area-light tessellation: relative error bound at the nearest receiver
-  double smallLightMaxSolidAngle = 1.0;
-  std::string estimator = "analytic"; ///< analytic: closed form × visible fraction (preprocess/coverage.h); pixels: Σ pixel weights
-  uint64_t rotationSeed = 0;      ///< 0: windows aligned with the light frame; else a random rotation per sample
-  uint64_t hash() const;
-};
+// FirstShotSettings, the preprocess settings that change the factors (the SETT section, hashed into
+// the header), is defined in common/scene_desc.h: the scene's settings block is one (SettingsDesc).
 
 /// The whole table, as read from or written to a .fsd file.
 struct FirstShotTable {
   uint64_t sceneHash = 0;
-  FirstShotSettings settings;
+  FirstShotSettings settings;           ///< as resolved (preprocess/preprocessor.h resolveSettings): patchSize > 0, 0 < minPatchSize ≤ patchSize
   PatchMesh mesh;                       ///< the patches the factors refer to
   std::vector<LightSample> samples;
   std::vector<uint32_t> replacedLights; ///< indices into SceneDesc::lights of the small lights

@@ -43,8 +43,16 @@ double autoPatchSize(const SceneDesc& scene, double budget) {
   return std::min(1.0, hi * (1 + 1e-7)) * top;
 }
 
+void resolvePatchSizes(const SceneDesc& scene, FirstShotSettings& settings) {
+  if (!(settings.patchSize > 0)) settings.patchSize = autoPatchSize(scene);
+  settings.minPatchSize = settings.minPatchSize > 0 ? std::min(settings.minPatchSize, settings.patchSize)
+                                                    : settings.patchSize / kDefaultRefineRatio;
+}
+
 double resolvePatchSize(const SceneDesc& scene) {
-  return scene.settings.patchSize > 0 ? scene.settings.patchSize : autoPatchSize(scene);
+  FirstShotSettings settings = scene.settings;  // the scene's preprocess settings (SettingsDesc is one)
+  resolvePatchSizes(scene, settings);
+  return settings.patchSize;
 }
 
 }  // namespace fs

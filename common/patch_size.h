@@ -19,7 +19,20 @@ inline constexpr double kAutoPatchBudget = 16384;
 /// A pure function of the geometry's shape: scaling the scene by s scales the result by s.
 double autoPatchSize(const SceneDesc& scene, double budget = kAutoPatchBudget);
 
-/// settings.patchSize when the scene (or a command line, written into it) gives one, else autoPatchSize().
+/// minPatchSize when neither the scene nor the command line gives one: patchSize / this (adaptive
+/// refinement by up to log2 of it levels; docs/firstshot-format.md, "Contacts").
+inline constexpr double kDefaultRefineRatio = 16.0;
+
+/// Replaces the automatic patch sizes of @p settings by their values, the one place they are resolved
+/// (called by preprocess/preprocessor.h's resolveSettings and preprocessScene):
+///   patchSize ≤ 0: autoPatchSize(scene);
+///   minPatchSize ≤ 0: patchSize / kDefaultRefineRatio; above patchSize: patchSize (a uniform mesh).
+/// Idempotent: resolved settings come back as they are.
+void resolvePatchSizes(const SceneDesc& scene, FirstShotSettings& settings);
+
+/// The coarse patch size of the scene's own settings, resolved as resolvePatchSizes does:
+/// scene.settings.patchSize when the scene gives one, else autoPatchSize(). For the renderer without
+/// a table (--integrator bundle) and tests.
 double resolvePatchSize(const SceneDesc& scene);
 
 }  // namespace fs

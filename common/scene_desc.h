@@ -82,19 +82,37 @@ struct CameraDesc {
   bool given = false;   ///< false when framed automatically
 };
 
-/// Settings that change results. Command-line options override them.
-struct SettingsDesc {
-  double patchSize = 0;            ///< longest patch edge, m (the coarse mesh adaptive refinement starts from); 0: from the scene (common/patch_size.h)
-  double minPatchSize = 0;         ///< smallest patch edge refinement may reach, m; 0: the default (patchSize/kDefaultRefineRatio)
-  double refineTolerance = 0.02;   ///< split a patch whose shadow-edge measure exceeds this fraction of its irradiance
-  double lightPatchSize = 0;       ///< longest edge of an area light's tessellation, m; 0: automatic from lightTolerance
+/// The preprocessor's settings: the ones that change a first-shot table's factors. One struct from the
+/// scene file to the table: the scene's `settings` block fills it (SettingsDesc below, docs/scene-format.md),
+/// firstshot-preprocess's command line overrides it and its automatic values are resolved, both in one
+/// function (preprocess/preprocessor.h, resolveSettings), and the .fsd keeps it as resolved (its SETT
+/// section and settings hash, common/firstshot.h). Each field means the same everywhere; a 0 that says
+/// "automatic" below is replaced by its value in resolveSettings (common/patch_size.h, resolvePatchSizes),
+/// so a table holds the sizes its factors were made with.
+struct FirstShotSettings {
+  uint32_t resolution = 256;       ///< R: pixels across a full cube face of the item buffers, even (scene: item_buffer_resolution)
+  std::string window = "hemicube"; ///< the window at area-light vertices: hemicube | tetra
+  std::string backend = "gl";      ///< item buffers: gl | embree | auto (per light sample, preprocess/preprocessor.cpp autoBackend); command line only
+  double patchSize = 0;            ///< longest patch edge of the coarse mesh adaptive refinement starts from, m; 0: automatic, from the scene's faces (common/patch_size.h)
+  double minPatchSize = 0;         ///< smallest patch edge refinement may reach, m; 0: patchSize/kDefaultRefineRatio; ≥ patchSize: a uniform mesh (taken as patchSize)
+  double refineTolerance = 0.02;   ///< split a patch whose shadow-edge measure exceeds this fraction of its irradiance (docs/firstshot-format.md)
+  double lightPatchSize = 0;       ///< longest edge of an area light's tessellation, m; 0: automatic from lightTolerance (stays 0: a rule, not a length)
   double lightTolerance = 0.01;    ///< automatic light tessellation: relative error of the vertex rule at the nearest receiver
+  double smallLightMaxSolidAngle = 1.0;  ///< sr: an "auto" area light is small up to this solid angle; see docs/scene-format.md
+  std::string estimator = "analytic";  ///< analytic: closed form × visible fraction (preprocess/coverage.h) | pixels: Σ pixel weights; command line only
+  uint64_t rotationSeed = 0;       ///< 0: windows aligned with the light frame; else a random rotation per sample; command line only (--seed)
+  /// A hash of every field, written into the .fsd's header (common/firstshot.cpp).
+  uint64_t hash() const;
+};
+
+/// The scene file's `settings` block: the preprocessor's settings (FirstShotSettings, whose fields it
+/// reads as they are: scene.settings.patchSize is the table's patchSize before resolving) and the
+/// renderer's. Command-line options override them: firstshot-preprocess's in resolveSettings,
+/// firstshot-render's in render/main.cpp.
+struct SettingsDesc : FirstShotSettings {
   int spp = 64;                    ///< samples per pixel
-  uint64_t seed = 1;
+  uint64_t seed = 1;               ///< the renderer's random seed (not the preprocessor's rotationSeed)
   int maxDepth = 16;               ///< longest path, in bounces
-  int itemBufferResolution = 256;  ///< R: pixels across a full cube face
-  std::string window = "hemicube"; ///< hemicube | tetra
-  double smallLightMaxSolidAngle = 1.0;  ///< sr; see docs/scene-format.md
 };
 
 /// The whole scene.

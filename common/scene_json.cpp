@@ -319,7 +319,7 @@ void parseSettings(const Reader& r, const Json& j, SettingsDesc& s) {
   if (j.contains("seed")) s.seed = uint64_t(r.integer(j["seed"], w + ".seed", 0, INT64_MAX));
   if (j.contains("max_depth")) s.maxDepth = int(r.integer(j["max_depth"], w + ".max_depth", 0, 1024));
   if (j.contains("item_buffer_resolution"))
-    s.itemBufferResolution = int(r.integer(j["item_buffer_resolution"], w + ".item_buffer_resolution", 2, 8192));
+    s.resolution = uint32_t(r.integer(j["item_buffer_resolution"], w + ".item_buffer_resolution", 2, 8192));
   if (j.contains("window")) {
     s.window = r.string(j["window"], w + ".window");
     if (s.window != "hemicube" && s.window != "tetra") r.fail(w + ".window", "expected \"hemicube\" or \"tetra\"");

@@ -56,34 +56,34 @@ int main(int argc, char** argv) {
   fs::installInterruptHandlers();  // SIGINT/SIGTERM: stop, write nothing, exit 130/143 (common/interrupt.h)
   return fs::runTool("firstshot-preprocess", comm, [&] {
     CLI::App app{"firstshot-preprocess: computes the first-shot factors of a scene's small lights (.fsd)"};
-    std::string scenePath, out, dump, window, backend = "gl", gl = "osmesa", estimator = "analytic";
-    double patchSize = 0, minPatchSize = 0, refineTolerance = 0, lightPatchSize = 0, lightTolerance = 0, timeLimit = 0;
-    int resolution = 0, threads = 0;
-    uint64_t seed = 0;
+    std::string scenePath, out, dump, gl = "osmesa";
+    fs::SettingsOverrides cli;  // the settings given here; the scene's (or their defaults) for the rest
+    double timeLimit = 0;
+    int threads = 0;
     bool stats = false, quiet = false;
     app.add_option("scene", scenePath, "scene file (.json, .obj, .gltf, .glb, .ply)");
     app.add_option("-o,--output", out, "the first-shot file to write (.fsd)");
-    app.add_option("--resolution", resolution, "R: pixels across a full cube face (default: settings.item_buffer_resolution)")
+    app.add_option("--resolution", cli.resolution, "R: pixels across a full cube face (default: settings.item_buffer_resolution)")
         ->check(CLI::Range(2, 8192));
-    app.add_option("--window", window, "area-light window: hemicube | tetra (default: settings.window)")
+    app.add_option("--window", cli.window, "area-light window: hemicube | tetra (default: settings.window)")
         ->check(CLI::IsMember({"hemicube", "tetra"}));
-    app.add_option("--backend", backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree)")
+    app.add_option("--backend", cli.backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree)")
         ->check(CLI::IsMember({"gl", "embree", "auto"}));
     app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
-    app.add_option("--patch-size", patchSize, "longest patch edge in metres (default: settings.patch_size, else automatic from the scene's faces)")->check(CLI::PositiveNumber);
-    app.add_option("--light-patch-size", lightPatchSize, "area-light tessellation in metres (default: settings.light_patch_size)")
+    app.add_option("--patch-size", cli.patchSize, "longest patch edge in metres (default: settings.patch_size, else automatic from the scene's faces)")->check(CLI::PositiveNumber);
+    app.add_option("--light-patch-size", cli.lightPatchSize, "area-light tessellation in metres (default: settings.light_patch_size)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--min-patch-size", minPatchSize, "smallest patch edge adaptive refinement may reach, m (default: settings.min_patch_size)")
+    app.add_option("--min-patch-size", cli.minPatchSize, "smallest patch edge adaptive refinement may reach, m (default: settings.min_patch_size)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--refine-tolerance", refineTolerance, "split patches whose shadow-edge measure exceeds this fraction of their irradiance (default: settings.refine_tolerance)")
+    app.add_option("--refine-tolerance", cli.refineTolerance, "split patches whose shadow-edge measure exceeds this fraction of their irradiance (default: settings.refine_tolerance)")
         ->check(CLI::PositiveNumber);
-    app.add_option("--light-tolerance", lightTolerance, "automatic area-light tessellation: relative error at the nearest receiver (default: settings.light_tolerance)")
+    app.add_option("--light-tolerance", cli.lightTolerance, "automatic area-light tessellation: relative error at the nearest receiver (default: settings.light_tolerance)")
         ->check(CLI::PositiveNumber);
     app.add_option("--threads", threads, "workers, one GL context each, and the cap on every parallel loop "
                                          "(default: one per core)")->check(CLI::NonNegativeNumber);
-    app.add_option("--seed", seed, "0: windows aligned with each light's frame; else rotate each sample's window randomly about its axis (not an IES light's: its table fixes the frame)");
+    app.add_option("--seed", cli.rotationSeed, "0: windows aligned with each light's frame; else rotate each sample's window randomly about its axis (not an IES light's: its table fixes the frame)");
     app.add_option("--time", timeLimit, "give up (writing nothing) after this many seconds")->check(CLI::NonNegativeNumber);
-    app.add_option("--estimator", estimator, "analytic: closed form times the visible fraction (default) | pixels: plain pixel sums")
+    app.add_option("--estimator", cli.estimator, "analytic: closed form times the visible fraction (default) | pixels: plain pixel sums")
         ->check(CLI::IsMember({"analytic", "pixels"}));
     app.add_option("--dump-csv", dump, "print one CSV row per non-zero factor of an .fsd file and exit");
     app.add_flag("--stats", stats, "load the scene, build the patches, print their statistics and exit");
@@ -99,23 +99,12 @@ int main(int argc, char** argv) {
     }
     if (scenePath.empty()) throw fs::InputError("", "command line", "no scene file given (see --help)");
     const fs::SceneDesc scene = fs::loadScene(scenePath);
-    fs::PreprocessOptions o = fs::defaultOptions(scene);
-    if (patchSize > 0) o.settings.patchSize = patchSize;
-    o.settings.minPatchSize =
-        fs::minPatchSizeFor(o.settings.patchSize, minPatchSize > 0 ? minPatchSize : scene.settings.minPatchSize);
-    if (refineTolerance > 0) o.settings.refineTolerance = refineTolerance;
-    if (lightPatchSize > 0) o.settings.lightPatchSize = lightPatchSize;
-    if (lightTolerance > 0) o.settings.lightTolerance = lightTolerance;
-    if (resolution > 0) o.settings.resolution = static_cast<uint32_t>(resolution);
-    if (!window.empty()) o.settings.window = window;
-    if (o.settings.resolution % 2) throw fs::InputError("", "--resolution", "must be even (the hemicube's side faces are R/2 high)");
-    o.settings.backend = backend;
-    o.settings.rotationSeed = seed;
-    o.settings.estimator = estimator;
+    fs::PreprocessOptions o;
+    o.settings = fs::resolveSettings(scene, cli);  // the scene's settings, the command line's on top, resolved
     o.gl = gl, o.threads = threads, o.quiet = quiet || !comm.root(), o.timeLimit = timeLimit;
     o.comm = &comm;
     if (stats) {
-      if (comm.root()) printStats(scene, scenePath, o.settings.patchSize, patchSize <= 0 && scene.settings.patchSize <= 0);
+      if (comm.root()) printStats(scene, scenePath, o.settings.patchSize, !cli.patchSize && !(scene.settings.patchSize > 0));
       return 0;
     }
     if (out.empty()) throw fs::InputError("", "command line", "no output file given (-o OUT.fsd)");

@@ -35,16 +35,26 @@
 
 namespace fs {
 
+FirstShotSettings resolveSettings(const SceneDesc& scene, const SettingsOverrides& cli) {
+  FirstShotSettings s = scene.settings;  // the scene's values, or the defaults where it gives none
+  if (cli.resolution) s.resolution = static_cast<uint32_t>(*cli.resolution);
+  if (cli.window) s.window = *cli.window;
+  if (cli.backend) s.backend = *cli.backend;
+  if (cli.patchSize) s.patchSize = *cli.patchSize;
+  if (cli.minPatchSize) s.minPatchSize = *cli.minPatchSize;
+  if (cli.refineTolerance) s.refineTolerance = *cli.refineTolerance;
+  if (cli.lightPatchSize) s.lightPatchSize = *cli.lightPatchSize;
+  if (cli.lightTolerance) s.lightTolerance = *cli.lightTolerance;
+  if (cli.estimator) s.estimator = *cli.estimator;
+  if (cli.rotationSeed) s.rotationSeed = *cli.rotationSeed;
+  resolvePatchSizes(scene, s);
+  if (s.resolution % 2) throw InputError("", "--resolution", "must be even (the hemicube's side faces are R/2 high)");
+  return s;
+}
+
 PreprocessOptions defaultOptions(const SceneDesc& scene) {
   PreprocessOptions o;
-  o.settings.resolution = static_cast<uint32_t>(scene.settings.itemBufferResolution);
-  o.settings.window = scene.settings.window;
-  o.settings.patchSize = resolvePatchSize(scene);
-  o.settings.minPatchSize = minPatchSizeFor(o.settings.patchSize, scene.settings.minPatchSize);
-  o.settings.refineTolerance = scene.settings.refineTolerance;
-  o.settings.lightPatchSize = scene.settings.lightPatchSize;
-  o.settings.lightTolerance = scene.settings.lightTolerance;
-  o.settings.smallLightMaxSolidAngle = scene.settings.smallLightMaxSolidAngle;
+  o.settings = resolveSettings(scene);
   return o;
 }
 
@@ -300,7 +310,9 @@ void checkItemBufferSize(const SceneDesc& scene, const PreprocessOptions& option
 
 }  // namespace
 
-FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& options, PreprocessStats* stats) {
+FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& given, PreprocessStats* stats) {
+  PreprocessOptions options = given;
+  resolvePatchSizes(scene, options.settings);  // a caller's automatic sizes (0), as resolveSettings resolves them
   checkItemBufferSize(scene, options);
   Progress timer("", 0, true);
   FirstShotTable t;
@@ -405,7 +417,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
                                                          std::chrono::duration<double>(options.timeLimit > 0 ? options.timeLimit : 1e9))};
   std::vector<Task> tasks(t.samples.size());
   for (size_t i = 0; i < tasks.size(); ++i) tasks[i].sample = static_cast<uint32_t>(i);
-  const bool refine = options.settings.minPatchSize > 0 && options.settings.minPatchSize < options.settings.patchSize;
+  const bool refine = options.settings.minPatchSize < options.settings.patchSize;  // equal (resolved): a uniform mesh
   if (refine && options.keepItemBuffers && !t.samples.empty()) {
     shooter.kept.resize(t.samples.size());
     shooter.keptBytesPerSample = kKeptItemBufferBytes / t.samples.size();

@@ -3,6 +3,7 @@
 /// The preprocessing stage as a library: scene → patches → light samples → item buffers →
 /// first-shot table (common/firstshot.h).
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "common/comm.h"
@@ -11,8 +12,32 @@
 
 namespace fs {
 
+/// The settings a command line gives (firstshot-preprocess's options); each one not given leaves the
+/// scene's. Fields as in FirstShotSettings (common/scene_desc.h), of the same meaning.
+struct SettingsOverrides {
+  std::optional<int> resolution;                     ///< --resolution
+  std::optional<std::string> window;                 ///< --window
+  std::optional<std::string> backend;                ///< --backend
+  std::optional<double> patchSize;                   ///< --patch-size
+  std::optional<double> minPatchSize;                ///< --min-patch-size
+  std::optional<double> refineTolerance;             ///< --refine-tolerance
+  std::optional<double> lightPatchSize;              ///< --light-patch-size
+  std::optional<double> lightTolerance;              ///< --light-tolerance
+  std::optional<std::string> estimator;              ///< --estimator
+  std::optional<uint64_t> rotationSeed;              ///< --seed
+};
+
+/// The preprocessor's settings, the one place they are put together: the scene's (scene.settings, a
+/// FirstShotSettings: the file's values or the documented defaults), each one @p cli gives replaced by
+/// it, then the automatic patch sizes resolved (common/patch_size.h, resolvePatchSizes: patchSize 0 from
+/// the scene's faces, minPatchSize 0 = patchSize/kDefaultRefineRatio, at most patchSize).
+/// @throws InputError if the resolution is odd (the hemicube's side faces are R/2 high).
+FirstShotSettings resolveSettings(const SceneDesc& scene, const SettingsOverrides& cli = {});
+
 struct PreprocessOptions {
-  FirstShotSettings settings;     ///< resolution, window, backend, patch sizes, small-light rule
+  /// resolution, window, backend, patch sizes, small-light rule (resolveSettings); automatic patch sizes
+  /// left in them (0) are resolved by preprocessScene the same way
+  FirstShotSettings settings;
   std::string gl = "osmesa";      ///< OpenGL back end for backend "gl": osmesa | egl
   int threads = 0;                ///< workers (0 = one per core); each has its own GL context
   bool quiet = true;              ///< no progress on stderr (common/progress.h; the tool: unless --quiet)
@@ -36,17 +61,8 @@ struct PreprocessStats {
   std::string renderer;           ///< e.g. "gl/osmesa (llvmpipe ...)" or "embree"
 };
 
-/// min_patch_size when the scene does not give it: patch_size / this (adaptive refinement by up to
-/// log2 of it levels).
-constexpr double kDefaultRefineRatio = 16.0;
-
-/// The smallest patch edge refinement may reach for coarse patches of @p patchSize (m): @p given if
-/// positive (at most patchSize), else patchSize / kDefaultRefineRatio.
-inline double minPatchSizeFor(double patchSize, double given) {
-  return given > 0 ? (given < patchSize ? given : patchSize) : patchSize / kDefaultRefineRatio;
-}
-
-/// Options from the scene's settings (command-line values are applied on top by the caller).
+/// Options at the scene's settings: resolveSettings(scene) and the defaults of the rest (the library's
+/// callers change fields on top; firstshot-preprocess passes its command line to resolveSettings).
 PreprocessOptions defaultOptions(const SceneDesc& scene);
 
 /// Computes the first-shot table of the scene's small lights. The result does not depend on the

@@ -31,7 +31,7 @@ SceneDesc cornell(bool glossy) {
 FirstShotTable preprocess(const SceneDesc& desc) {
   PreprocessOptions o = defaultOptions(desc);
   o.settings.resolution = 64;
-  o.settings.patchSize = 0.025, o.settings.minPatchSize = 0;  // uniform 0.025 m: grouping is about one mesh's factors
+  o.settings.patchSize = o.settings.minPatchSize = 0.025;  // uniform 0.025 m: grouping is about one mesh's factors
   o.threads = 2;
   o.quiet = true;
   return preprocessScene(desc, o);

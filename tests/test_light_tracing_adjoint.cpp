@@ -74,7 +74,7 @@ FloorFlux cornellFloorFlux(int depth, uint64_t particles, int points) {
 FirstShotTable table(const SceneDesc& s) {
   PreprocessOptions o = defaultOptions(s);
   o.settings.backend = "embree";
-  o.settings.minPatchSize = 0;
+  o.settings.minPatchSize = o.settings.patchSize;  // uniform
   o.quiet = true;
   return preprocessScene(s, o);
 }

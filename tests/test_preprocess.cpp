@@ -23,7 +23,7 @@ FirstShotTable run(const SceneDesc& s, int R, const std::string& backend = "gl",
   PreprocessOptions o = defaultOptions(s);
   o.settings.resolution = R;
   o.settings.backend = backend;
-  o.settings.minPatchSize = 0;  // a uniform mesh: these tests compare estimators and back ends on one mesh
+  o.settings.minPatchSize = o.settings.patchSize;  // a uniform mesh: these tests compare estimators and back ends on one mesh
   if (lightPatch > 0) o.settings.lightPatchSize = lightPatch;
   o.threads = threads;
   o.quiet = true;
@@ -311,7 +311,7 @@ TEST(Preprocess, AnalyticEstimatorUnderPartialOcclusion) {
   for (int e = 0; e < 2; ++e) {
     PreprocessOptions o = defaultOptions(s);
     o.settings.resolution = 512, o.settings.estimator = names[e], o.quiet = true;
-    o.settings.minPatchSize = 0;  // uniform: the test knows each patch's exact share
+    o.settings.minPatchSize = o.settings.patchSize;  // uniform: the test knows each patch's exact share
     t[e] = preprocessScene(s, o);
   }
   for (uint32_t j = 0; j < t[0].mesh.size(); ++j) {

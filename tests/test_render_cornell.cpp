@@ -24,7 +24,7 @@ FirstShotTable preprocessCornell(const SceneDesc& desc, double patchSize) {
   po.settings.backend = "embree";
   po.settings.resolution = 256;
   po.settings.patchSize = patchSize;
-  po.settings.minPatchSize = 0;  // uniform: the test studies the patch size
+  po.settings.minPatchSize = patchSize;  // uniform: the test studies the patch size
   po.settings.lightPatchSize = 0.05;
   po.quiet = true;
   return preprocessScene(desc, po);

@@ -2,11 +2,13 @@
 // patches in millimetres and kilometres), an emissive mesh sampled as its receivers need, whatever
 // its triangle count.
 #include "common/analytic.h"
+#include "common/error.h"
 #include "common/patch_size.h"
 #include "common/patches.h"
 #include "common/scene_shapes.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/light_tessellation.h"
+#include "preprocess/preprocessor.h"
 #include "render/camera.h"
 #include "render/integrator.h"
 #include "render/render_scene.h"
@@ -173,6 +175,78 @@ TEST(EmissiveMesh, FirstShotImageAgreesWithNee) {
   fmt::print("first-shot − NEE = {:+.3f}% ± {:.3f}% of the image mean\n", 100 * m.relative(), 100 * m.relativeSe());
   EXPECT_LT(std::abs(m.relative()) + 3 * m.relativeSe(), 0.003);
   EXPECT_LT(m.relativeSe(), 0.001);
+}
+
+// One settings route on the preprocess side (issue 38): the scene's settings, the command line's on
+// top, then the automatic patch sizes resolved, all in resolveSettings; each field one meaning.
+TEST(PreprocessSettings, SceneThenCommandLineThenAutomaticSizes) {
+  SceneDesc d = cornellWithoutPatchSize();
+  const FirstShotSettings defaults;  // the documented defaults, as the scene's settings start
+  FirstShotSettings s = resolveSettings(d);
+  EXPECT_DOUBLE_EQ(s.patchSize, autoPatchSize(d));  // 0: automatic
+  EXPECT_DOUBLE_EQ(s.minPatchSize, s.patchSize / kDefaultRefineRatio);  // 0: patchSize/16
+  EXPECT_EQ(s.resolution, defaults.resolution);
+  EXPECT_EQ(s.window, "hemicube");
+  EXPECT_EQ(s.backend, "gl");
+  EXPECT_EQ(s.estimator, "analytic");
+  EXPECT_EQ(s.rotationSeed, 0u);
+  EXPECT_DOUBLE_EQ(s.refineTolerance, defaults.refineTolerance);
+  EXPECT_DOUBLE_EQ(s.lightPatchSize, 0.0);  // automatic light tessellation stays 0: a rule, not a length
+  EXPECT_EQ(defaultOptions(d).settings.hash(), s.hash());
+
+  // The scene's values.
+  d.settings.patchSize = 0.2, d.settings.minPatchSize = 0.05, d.settings.resolution = 128, d.settings.window = "tetra";
+  d.settings.lightTolerance = 0.03;
+  s = resolveSettings(d);
+  EXPECT_DOUBLE_EQ(s.patchSize, 0.2);
+  EXPECT_DOUBLE_EQ(s.minPatchSize, 0.05);
+  EXPECT_EQ(s.resolution, 128u);
+  EXPECT_EQ(s.window, "tetra");
+  EXPECT_DOUBLE_EQ(s.lightTolerance, 0.03);
+
+  // The command line's over them; the scene's min_patch_size is taken against the command line's
+  // patch size, at most that (a uniform mesh).
+  SettingsOverrides cli;
+  cli.patchSize = 0.01, cli.estimator = "pixels", cli.rotationSeed = 7, cli.backend = "embree";
+  s = resolveSettings(d, cli);
+  EXPECT_DOUBLE_EQ(s.patchSize, 0.01);
+  EXPECT_DOUBLE_EQ(s.minPatchSize, 0.01);
+  EXPECT_EQ(s.estimator, "pixels");
+  EXPECT_EQ(s.rotationSeed, 7u);
+  EXPECT_EQ(s.backend, "embree");
+  EXPECT_EQ(s.window, "tetra");
+  EXPECT_EQ(s.resolution, 128u);
+  cli.minPatchSize = 0.004, cli.resolution = 64, cli.window = "hemicube";
+  s = resolveSettings(d, cli);
+  EXPECT_DOUBLE_EQ(s.minPatchSize, 0.004);
+  EXPECT_EQ(s.resolution, 64u);
+  EXPECT_EQ(s.window, "hemicube");
+
+  // Resolved settings resolve to themselves (preprocessScene resolves a library caller's 0s again).
+  FirstShotSettings again = s;
+  resolvePatchSizes(d, again);
+  EXPECT_EQ(again.hash(), s.hash());
+  EXPECT_DOUBLE_EQ(resolvePatchSize(d), 0.2);
+
+  cli.resolution = 33;
+  EXPECT_THROW(resolveSettings(d, cli), InputError);  // the hemicube's side faces are R/2 high
+}
+
+// A library caller's automatic sizes (0) reach the table resolved, as the command line's do.
+TEST(PreprocessSettings, TableHoldsTheResolvedSizes) {
+  const SceneDesc d = test::sceneFromJson(R"({
+    "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+    "shapes": [{"type": "quad", "material": "m", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}],
+    "lights": [{"type": "point", "position": [0, 1, 0], "power": 1}]})");
+  PreprocessOptions o = defaultOptions(d);
+  o.settings.backend = "embree", o.settings.resolution = 16, o.threads = 1, o.quiet = true;
+  const FirstShotTable resolved = preprocessScene(d, o);
+  o.settings.patchSize = o.settings.minPatchSize = 0;
+  const FirstShotTable automatic = preprocessScene(d, o);
+  EXPECT_DOUBLE_EQ(automatic.settings.patchSize, autoPatchSize(d));
+  EXPECT_DOUBLE_EQ(automatic.settings.minPatchSize, automatic.settings.patchSize / kDefaultRefineRatio);
+  EXPECT_EQ(automatic.settings.hash(), resolved.settings.hash());
+  EXPECT_EQ(automatic.factor, resolved.factor);
 }
 
 }  // namespace
