@@ -8,7 +8,7 @@ namespace fs {
 void BundleIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
   firstShot_.build(scene);
-  transfer_.build(scene, settings_, options_.comm);
+  transfer_.build(scene, settings_, options_.comm, options_.maxDepth);
   seed_ = 0;
   const auto& lights = scene.lights().lights();
   neeLights_.assign(lights.size(), 0);
@@ -33,7 +33,7 @@ void BundleIntegrator::beginPass(int sampleIndex, uint64_t seed) const {
   while (transfer_.iterations() <= k && !stop()) transfer_.iterate(seed);
 }
 
-Color BundleIntegrator::surface(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
+Color BundleIntegrator::surface(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, int vertex,
                                 Sampler& sampler, uint64_t& rays) const {
   if (woLocal.z == 0.0f) return Color(0.0f);
   const BundleTransfer& t = transfer_;
@@ -41,7 +41,9 @@ Color BundleIntegrator::surface(const Hit& hit, const Frame& frame, const Vec3& 
   const int side = woLocal.z > 0.0f ? 0 : 1;
   const Color fIn = bsdf.eval(BSDFQuery(frame.toLocal(t.incomingDirection(t.elements()[e].normal, side)), woLocal));
   const bool exact = options_.primary == PrimaryMode::Exact;
-  Color L = (2.0f * kPiF) * fIn * (exact ? t.incoming(e, side) : t.incoming(e, side) + t.incomingPoint(e, side));
+  // Light that arrives after b reflections makes b + 1 bounces at this vertex: b ≤ D − 1 − vertex.
+  const Color in = t.incoming(e, side, options_.maxDepth - 1 - vertex);
+  Color L = (2.0f * kPiF) * fIn * (exact ? in : in + t.incomingPoint(e, side));
   if (exact) {
     if (anyNee_) {
       DirectLightOptions o;
@@ -78,14 +80,15 @@ Color BundleIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* i
       info->albedo = bsdf.albedo();
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
     }
-    if (maxComponent(bsdf.albedo()) <= 0.0f) break;
+    // Vertex `depth` scatters (reflects the transfer's light, takes NEE, follows a mirror) only below
+    // the max depth; its emission above counts up to it (docs/irradiance-cache.md, "What --max-depth counts").
+    if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
     const Frame frame(hit.ng);  // not flipped: the dielectric needs the outward normal
     const Vec3 woLocal = frame.toLocal(wo);
     if (!bsdf.hasDelta()) {
-      L += beta * surface(hit, frame, woLocal, bsdf, sampler, rays);
+      L += beta * surface(hit, frame, woLocal, bsdf, depth, sampler, rays);
       break;
     }
-    if (depth >= options_.maxDepth) break;
     BSDFQuery q(woLocal);
     const Color weight = bsdf.sample(q, sampler.next2D());
     if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) break;

@@ -5,9 +5,10 @@
 /// and an image estimate per camera sample; the film's running mean over the iterations is the image.
 ///
 /// Image estimate of iteration k: the camera ray follows delta bounces (mirror, glass; glass branch
-/// chosen with the pixel's sampler) up to maxDepth; emission met on the way counts. At the first
-/// non-delta hit x (element j, side s facing the eye):
-///   2π f_r(x; ω_in, ω_eye)·I_k(j, s)                       the exact BSDF at x, ω_in = ±ω_k on side s
+/// chosen with the pixel's sampler), each a bounce; emission met at path vertex ≤ maxDepth counts.
+/// At the first non-delta hit x (element j, side s facing the eye), path vertex v < maxDepth:
+///   2π f_r(x; ω_in, ω_eye)·I_k(j, s)                       the exact BSDF at x, ω_in = ±ω_k on side s,
+///                                                          I_k of the orders ≤ maxDepth − 1 − v (BundleTransfer)
 ///   + PrimaryMode::Exact: NEE (shadow rays, render/direct_light.h estimateDirect) to every light the
 ///     bundle does not carry as emitting geometry: the first-shot table's replaced lights and the
 ///     kept point, spot and directional lights — their patch-level terms (first-shot, P_k, D_k) stay
@@ -15,7 +16,8 @@
 ///   + PrimaryMode::Patch: those terms at patch level: the first-shot term at x (FirstShotLighting),
 ///     2π f_r·P_k(j, s) and f_r(−d, ω_eye)·D_k(l, j) — the paper's plain method without a table.
 /// Kept area lights reach x through the bundle in both modes (as in the paper). Both modes
-/// therefore converge to the same solution as path tracing, up to the patch discretisation of the
+/// therefore converge to the same solution as path tracing at the same max depth (up to
+/// BundleTransfer::kMaxOrders; deeper: every bounce), up to the patch discretisation of the
 /// global part (and, for Patch, of the direct light of the point-like lights).
 #include <cstdint>
 #include <vector>
@@ -46,9 +48,10 @@ class BundleIntegrator : public Integrator {
   const BundleTransfer& transfer() const { return transfer_; }
 
  private:
-  /// The radiance leaving a non-delta hit towards the eye (everything but its own emission).
-  Color surface(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, Sampler& sampler,
-                uint64_t& rays) const;
+  /// The radiance leaving a non-delta hit, path vertex @p vertex (< maxDepth), towards the eye
+  /// (everything but its own emission): the transfer's light of orders ≤ maxDepth − 1 − @p vertex.
+  Color surface(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, int vertex,
+                Sampler& sampler, uint64_t& rays) const;
 
   IntegratorOptions options_;
   BundleSettings settings_;

@@ -26,9 +26,11 @@ int sideFacing(const Vec3& n, const Vec3& w) {
 
 }  // namespace
 
-void BundleTransfer::build(const RenderScene& scene, const BundleSettings& settings, Comm* comm) {
+void BundleTransfer::build(const RenderScene& scene, const BundleSettings& settings, Comm* comm, int maxDepth) {
   scene_ = &scene;
   settings_ = settings;
+  lumped_ = maxDepth > kMaxOrders;
+  orders_ = lumped_ ? 1 : std::max(1, maxDepth);  // depth 0 reflects nothing: order 0 is kept, never read
   comm_ = comm && comm->size() > 1 ? comm : nullptr;
   exchangeBytes_ = 0;
   exchangeSeconds_ = 0;
@@ -47,15 +49,15 @@ void BundleTransfer::build(const RenderScene& scene, const BundleSettings& setti
 
 void BundleTransfer::reset() {
   const size_t slots = 2 * size_t(elements_.size());
-  for (auto* v : {&incoming_, &point_, &prevIncoming_, &prevPoint_, &outgoing_}) v->assign(slots, Color(0.0f));
+  for (auto* v : {&incoming_, &outgoing_}) v->assign(slots * size_t(orders_), Color(0.0f));
+  for (auto* v : {&outgoingTotal_, &point_, &prevPoint_}) v->assign(slots, Color(0.0f));
   dirIrradiance_.assign(directional_.size() * elements_.size(), Color(0.0f));
   dir_ = prevDir_ = Vec3(0.0f, 0.0f, 1.0f);
   done_ = rays_ = 0;
 }
 
 void BundleTransfer::iterate(uint64_t seed) {
-  std::swap(prevIncoming_, incoming_);
-  std::swap(prevPoint_, point_);
+  std::swap(prevPoint_, point_);  // incoming_ stays the previous iteration's until the links are summed
   prevDir_ = dir_;
   dir_ = bundleDirection(settings_.directions, seed, done_);
   rays_ = 0;
@@ -65,34 +67,45 @@ void BundleTransfer::iterate(uint64_t seed) {
   ++done_;
 }
 
-Color BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w) const {
+void BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w, Color* out) const {
+  // Order 0 is the emission; the direct terms (first-shot, directional, the point lights' P) and the
+  // reflection of I^(0) are order 1, the reflection of I^(b−1) order b. Lumped: all in out[0].
   const RenderScene& scene = *scene_;
   const BundleElement& el = elements_[e];
   const size_t slot = 2 * size_t(e) + side;
-  Color L(0.0f);
+  const Color* prev = &incoming_[slot * size_t(orders_)];  // I^(b) of the previous iteration
+  const int direct = lumped_ ? 0 : 1;                      // where order-1 light goes (none if orders_ == 1)
+  for (int b = 0; b < orders_; ++b) out[b] = Color(0.0f);
   if (el.light != kNoId && side == 0) {
     const RenderLight& light = scene.lights().lights()[el.light];
-    if (!light.replaced) L += light.radiance;  // a replaced light's first reflection is the first-shot term
+    if (!light.replaced) out[0] += light.radiance;  // a replaced light's first reflection is the first-shot term
   }
   const BSDF& bsdf = scene.bsdf(el.material);
-  if (bsdf.hasDelta() || maxComponent(bsdf.albedo()) <= 0.0f) return L;
+  if (bsdf.hasDelta() || maxComponent(bsdf.albedo()) <= 0.0f || direct >= orders_) return;
   const FirstShotTable* table = scene.firstShot();
   const bool firstShot = table && e < table->mesh.size();
   if (bsdf.isDiffuse()) {  // f = ρ/π for every direction on side s: the sum of irradiances, no frames
-    Color E = (2.0f * kPiF) * (prevIncoming_[slot] + prevPoint_[slot]);
+    const Color rho = bsdf.albedo() * kInvPiF;
+    Color E = (2.0f * kPiF) * (prev[0] + prevPoint_[slot]);
     if (firstShot) E += sideIrradiance_[slot];
     for (size_t d = 0; d < directional_.size(); ++d)
       if (sideFacing(el.normal, -scene.lights().lights()[directional_[d]].direction) == side) E += directionalIrradiance(d, e);
-    return L + bsdf.albedo() * kInvPiF * E;
+    out[direct] += rho * E;
+    for (int b = 2; b < orders_; ++b) out[b] = rho * ((2.0f * kPiF) * prev[b - 1]);
+    return;
   }
   const Frame frame(el.normal);
   const Vec3 wo = frame.toLocal(w);
   // What the previous iteration brought, from ±ω_{k−1} on this side.
-  const Color in = prevIncoming_[slot] + prevPoint_[slot];
+  Color in(0.0f);
+  for (int b = 0; b < orders_; ++b) in += prev[b];
+  in += prevPoint_[slot];
   if (maxComponent(in) > 0.0f) {
     const bool onFront = glm::dot(el.normal, prevDir_) > 0.0f;
     const Vec3 wi = (onFront == (side == 0)) ? prevDir_ : -prevDir_;
-    L += (2.0f * kPiF) * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo)) * in;
+    const Color r = (2.0f * kPiF) * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
+    out[direct] += r * (prev[0] + prevPoint_[slot]);
+    for (int b = 2; b < orders_; ++b) out[b] = r * prev[b - 1];
   }
   // First-shot: the patch average per light sample, directions from the centroid.
   if (firstShot) {
@@ -100,17 +113,16 @@ Color BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w) const {
     for (uint64_t k = table->rowStart[e]; k < table->rowStart[e + 1]; ++k) {
       const LightSample& s = table->samples[table->sampleIndex[k]];
       const Vec3 wi = s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - c);
-      L += s.emission * table->factor[k] * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
+      out[direct] += s.emission * table->factor[k] * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
     }
   }
   for (size_t d = 0; d < directional_.size(); ++d) {
     const Color& E = directionalIrradiance(d, e);
     if (maxComponent(E) > 0.0f) {
       const Vec3 wi = -scene.lights().lights()[directional_[d]].direction;
-      L += bsdf.eval(BSDFQuery(frame.toLocal(wi), wo)) * E;
+      out[direct] += bsdf.eval(BSDFQuery(frame.toLocal(wi), wo)) * E;
     }
   }
-  return L;
 }
 
 void BundleTransfer::computeOutgoing() {
@@ -118,9 +130,18 @@ void BundleTransfer::computeOutgoing() {
     for (uint32_t e = r.begin(); e < r.end(); ++e) {
       const Vec3& n = elements_[e].normal;
       const int front = sideFacing(n, dir_);  // the side ω_k leaves from
-      for (int side = 0; side < 2; ++side)
-        outgoing_[2 * size_t(e) + side] =
-            front < 0 ? Color(0.0f) : outgoingOf(e, side, side == front ? dir_ : -dir_);
+      for (int side = 0; side < 2; ++side) {
+        const size_t slot = 2 * size_t(e) + side;
+        Color* out = &outgoing_[slot * size_t(orders_)];
+        if (front < 0) {
+          for (int b = 0; b < orders_; ++b) out[b] = Color(0.0f);
+        } else {
+          outgoingOf(e, side, side == front ? dir_ : -dir_, out);
+        }
+        Color total(0.0f);
+        for (int b = 0; b < orders_; ++b) total += out[b];
+        outgoingTotal_[slot] = total;
+      }
     }
   });
 }
@@ -152,7 +173,7 @@ void BundleTransfer::traceDirectional(uint64_t seed) {
       }
       rays += n;
     });
-    rays_ += shareChunks(rays);
+    rays_ += shareChunks(chunks_, rays);
     Color* D = &dirIrradiance_[d * elements_.size()];
     std::fill(D, D + elements_.size(), Color(0.0f));
     for (const auto& chunk : chunks_)
@@ -167,11 +188,11 @@ void BundleTransfer::traceBundle(uint64_t seed) {
   const int B = settings_.resolution;
   const Vec2 offset(hashToUnit(seed, kBundleKey, done_, 1, 0), hashToUnit(seed, kBundleKey, done_, 1, 1));
   const BundleGrid grid(dir_, elements_.center(), elements_.radius(), B, offset);
-  chunks_.resize(size_t(B));
+  links_.resize(size_t(B));
   std::atomic<uint64_t> rays{0};
   tbb::parallel_for(0, B, [&](int a) {
     enableFlushToZero();
-    std::vector<Deposit>& out = chunks_[size_t(a)];
+    std::vector<Link>& out = links_[size_t(a)];
     out.clear();
     if (comm_ && !comm_->mine(uint64_t(a))) return;  // another rank's row
     struct Crossing {
@@ -207,15 +228,14 @@ void BundleTransfer::traceBundle(uint64_t seed) {
       for (size_t i = 0; i + 1 < along.size(); ++i) {
         const Crossing near = along[i], far = along[i + 1];
         const uint32_t nearSlot = 2 * near.e + uint32_t(near.side), farSlot = 2 * far.e + uint32_t(1 - far.side);
-        const Color& forward = outgoing_[nearSlot];  // travels along +ω_k into far's side facing −ω_k
-        const Color& backward = outgoing_[farSlot];  // travels along −ω_k into near's side facing +ω_k
-        if (maxComponent(forward) > 0.0f) out.push_back({farSlot, forward});
-        if (maxComponent(backward) > 0.0f) out.push_back({nearSlot, backward});
+        // near's outgoing travels along +ω_k into far's side facing −ω_k, far's along −ω_k into near's.
+        if (maxComponent(outgoingTotal_[nearSlot]) > 0.0f) out.push_back({farSlot, nearSlot});
+        if (maxComponent(outgoingTotal_[farSlot]) > 0.0f) out.push_back({nearSlot, farSlot});
       }
     }
     rays += n;
   });
-  rays_ += shareChunks(rays);
+  rays_ += shareChunks(links_, rays);
 
   // The kept point and spot lights: one line each way along ±ω_k from the light.
   pointDeposits_.clear();
@@ -233,20 +253,21 @@ void BundleTransfer::traceBundle(uint64_t seed) {
       if (maxComponent(I) > 0.0f) pointDeposits_.push_back({2 * e + uint32_t(1 - side), I});
     }
   }
-  gather(incoming_, grid.cellArea(), false);
-  gather(point_, 1.0f, true);
+  gatherLinks(grid.cellArea());
+  gatherPoints();
 }
 
-uint64_t BundleTransfer::shareChunks(uint64_t rays) {
+template <typename T>
+uint64_t BundleTransfer::shareChunks(std::vector<std::vector<T>>& chunks, uint64_t rays) {
   if (!comm_) return rays;
   const auto start = std::chrono::steady_clock::now();
   // Per rank: its rays, then per row of its own, in order: the row and its deposits.
   ByteWriter out;
   out.put<uint64_t>(rays);
-  for (size_t a = 0; a < chunks_.size(); ++a)
+  for (size_t a = 0; a < chunks.size(); ++a)
     if (comm_->mine(a)) {
       out.put<uint32_t>(uint32_t(a));
-      out.putVector(chunks_[a]);
+      out.putVector(chunks[a]);
     }
   const uint64_t before = comm_->bytesSent();
   const std::vector<Bytes> all = comm_->allGather(out.bytes());
@@ -258,28 +279,41 @@ uint64_t BundleTransfer::shareChunks(uint64_t rays) {
     if (r == comm_->rank()) continue;
     while (!in.done()) {
       const uint32_t a = in.get<uint32_t>();
-      if (a >= chunks_.size() || comm_->owner(a) != r)
+      if (a >= chunks.size() || comm_->owner(a) != r)
         throw std::runtime_error("bundle transfer: exchange between ranks out of order");
-      chunks_[a] = in.getVector<Deposit>();
+      chunks[a] = in.getVector<T>();
     }
   }
   exchangeSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return total;
 }
 
-void BundleTransfer::gather(std::vector<Color>& target, float scale, bool pointLines) {
-  std::fill(target.begin(), target.end(), Color(0.0f));
-  if (pointLines) {
-    for (const Deposit& d : pointDeposits_) target[d.slot] += d.value;
-  } else {
-    for (const auto& chunk : chunks_)
-      for (const Deposit& d : chunk) target[d.slot] += d.value;
-  }
+void BundleTransfer::gatherPoints() {
+  std::fill(point_.begin(), point_.end(), Color(0.0f));
+  for (const Deposit& d : pointDeposits_) point_[d.slot] += d.value;
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, elements_.size(), 4096), [&](const tbb::blocked_range<uint32_t>& r) {
+    for (uint32_t e = r.begin(); e < r.end(); ++e) {
+      const float a = elements_[e].area, f = a > 0.0f ? 1.0f / a : 0.0f;
+      point_[2 * size_t(e)] *= f;
+      point_[2 * size_t(e) + 1] *= f;
+    }
+  });
+}
+
+void BundleTransfer::gatherLinks(float scale) {
+  // In row order, every order of a link at once: the same sums for any number of threads or ranks.
+  const size_t O = size_t(orders_);
+  std::fill(incoming_.begin(), incoming_.end(), Color(0.0f));
+  for (const auto& chunk : links_)
+    for (const Link& l : chunk) {
+      Color* to = &incoming_[size_t(l.target) * O];
+      const Color* from = &outgoing_[size_t(l.source) * O];
+      for (size_t b = 0; b < O; ++b) to[b] += from[b];
+    }
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, elements_.size(), 4096), [&](const tbb::blocked_range<uint32_t>& r) {
     for (uint32_t e = r.begin(); e < r.end(); ++e) {
       const float a = elements_[e].area, f = a > 0.0f ? scale / a : 0.0f;
-      target[2 * size_t(e)] *= f;
-      target[2 * size_t(e) + 1] *= f;
+      for (size_t k = 2 * size_t(e) * O; k < (2 * size_t(e) + 2) * O; ++k) incoming_[k] *= f;
     }
   });
 }

@@ -28,11 +28,21 @@
 /// first hit gets D_k += E⊥·δA⊥/A_j, an unbiased estimate of its patch-averaged direct irradiance.
 /// Delta surfaces (mirror, glass) block lines and neither reflect nor pass radiance in the transfer.
 ///
+/// Bounce orders (--max-depth, docs/irradiance-cache.md "What --max-depth counts"): with orders()
+/// = O the state is kept per order b = 0 .. O − 1, the number of reflections the light made before
+/// it arrives: I^(b) is the transfer of L^(b), L^(0) = Le, L^(1) = first-shot + f_r·D + 2π f_r·(I^(0)
+/// + P), L^(b) = 2π f_r·I^(b−1); light of order O and more is never made. A surface seen at path
+/// vertex k then takes orders b ≤ D − 1 − k, exactly the path tracer's depth D. With O = 1 and
+/// lumped() every order is in one state (the recurrence above summed over b): every bounce, for
+/// depths beyond kMaxOrders.
+///
 /// Deterministic: lines are traced in parallel in fixed chunks (a grid row each) that record their
-/// deposits; the deposits are then summed chunk by chunk in row order, so the state is bit-identical
-/// for any number of threads. With several MPI ranks (build()'s @p comm) each rank traces the rows
-/// comm.mine() deals to it and the rows' deposits are exchanged before the sum, so every rank holds
+/// exchanges (links: target and source slot); the links are then summed chunk by chunk in row order,
+/// every order at once, so the state is bit-identical for any number of threads. With several MPI
+/// ranks (build()'s @p comm) each rank traces the rows comm.mine() deals to it and the rows' links
+/// (and the directional lights' deposits) are exchanged before the sum, so every rank holds
 /// the state of one process, bit for bit (the point lights' few lines are traced by every rank).
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -56,10 +66,17 @@ struct BundleSettings {
 
 class BundleTransfer {
  public:
+  /// The most bounce orders kept apart (a --max-depth up to this is followed exactly); deeper
+  /// depths carry every order in one state. The state takes 2·O + 3 colours per element side.
+  static constexpr int kMaxOrders = 16;
+
   /// Prepares the elements, the lights and the first-shot sums of @p scene (which must outlive this).
   /// With @p comm (several ranks; null: this process alone) every iterate() is collective: all
-  /// ranks run the same iterations, in the same order.
-  void build(const RenderScene& scene, const BundleSettings& settings, Comm* comm = nullptr);
+  /// ranks run the same iterations, in the same order. @p maxDepth: the longest path in bounces the
+  /// image will take (IntegratorOptions::maxDepth): orders 0 .. maxDepth − 1 kept apart if
+  /// maxDepth ≤ kMaxOrders, else one lumped state (every bounce).
+  void build(const RenderScene& scene, const BundleSettings& settings, Comm* comm = nullptr,
+             int maxDepth = kMaxOrders + 1);
   /// Forgets all iterations (the state of "iteration −1": no incoming radiance).
   void reset();
   /// Runs the next iteration (number iterations()) with random numbers keyed by @p seed.
@@ -76,15 +93,29 @@ class BundleTransfer {
     const bool onFront = glm::dot(n, dir_) > 0.0f;
     return (onFront == (side == 0)) ? dir_ : -dir_;
   }
-  /// I_k(e, side): what the bundle of the last iteration brought from the other surfaces, W/(m² sr).
-  const Color& incoming(uint32_t e, int side) const { return incoming_[2 * size_t(e) + side]; }
+  /// Bounce orders kept apart (1 when lumped()).
+  int orders() const { return orders_; }
+  /// True if the one state holds every order (a depth beyond kMaxOrders).
+  bool lumped() const { return lumped_; }
+  /// I_k(e, side): what the bundle of the last iteration brought from the other surfaces, W/(m² sr),
+  /// all orders kept.
+  Color incoming(uint32_t e, int side) const { return incoming(e, side, orders_ - 1); }
+  /// The same, orders 0 .. @p maxOrder only (light reflected at most @p maxOrder times before it
+  /// arrives; lumped(): every order whatever @p maxOrder).
+  Color incoming(uint32_t e, int side, int maxOrder) const {
+    const Color* I = &incoming_[(2 * size_t(e) + size_t(side)) * size_t(orders_)];
+    Color sum(0.0f);
+    for (int b = 0; b <= std::min(maxOrder, orders_ - 1); ++b) sum += I[b];
+    return sum;
+  }
   /// P_k(e, side): the same from the kept point and spot lights' own lines, W/(m² sr).
   const Color& incomingPoint(uint32_t e, int side) const { return point_[2 * size_t(e) + side]; }
   /// Kept directional lights (LightSet indices) and their per-element irradiance D_k, W/m².
   const std::vector<uint32_t>& directionalLights() const { return directional_; }
   const Color& directionalIrradiance(size_t d, uint32_t e) const { return dirIrradiance_[d * elements_.size() + e]; }
-  /// Outgoing radiance of the last iteration of element @p e on side @p side towards ±ω_k, W/(m² sr).
-  const Color& outgoing(uint32_t e, int side) const { return outgoing_[2 * size_t(e) + side]; }
+  /// Outgoing radiance of the last iteration of element @p e on side @p side towards ±ω_k, W/(m² sr),
+  /// all orders.
+  const Color& outgoing(uint32_t e, int side) const { return outgoingTotal_[2 * size_t(e) + side]; }
   /// Lines traced by the last iteration (rays, including successive-hit continuations), summed
   /// over the ranks (the point lights' lines, traced by every rank, counted once).
   uint64_t lastRays() const { return rays_; }
@@ -98,16 +129,24 @@ class BundleTransfer {
     uint32_t slot;  ///< 2·element + side
     Color value;
   };
+  /// One exchange of the transfer: slot @c source's outgoing radiance (every order) arrives at slot @c target.
+  struct Link {
+    uint32_t target, source;  ///< 2·element + side
+  };
   void traceDirectional(uint64_t seed);
   void computeOutgoing();
-  /// Outgoing radiance of element @p e on side @p side towards @p w.
-  Color outgoingOf(uint32_t e, int side, const Vec3& w) const;
+  /// Outgoing radiance of element @p e on side @p side towards @p w, per order, into @p out[0 .. orders_ − 1]
+  /// (from the incoming state of the previous iteration).
+  void outgoingOf(uint32_t e, int side, const Vec3& w, Color* out) const;
   void traceBundle(uint64_t seed);
-  /// Several ranks: sends this rank's rows of chunks_ and its @p rays to every rank, fills in the
+  /// Several ranks: sends this rank's rows of @p chunks and its @p rays to every rank, fills in the
   /// other ranks' rows; returns the rays of all ranks. One rank: returns @p rays.
-  uint64_t shareChunks(uint64_t rays);
-  /// Sums the chunks' deposits in chunk order into @p target, times @p scale / A_element.
-  void gather(std::vector<Color>& target, float scale, bool pointLines);
+  template <typename T>
+  uint64_t shareChunks(std::vector<std::vector<T>>& chunks, uint64_t rays);
+  /// Sums the point lights' deposits into point_, times 1 / A_element.
+  void gatherPoints();
+  /// Sums the links of links_ in row order into incoming_ (every order), times @p scale / A_element.
+  void gatherLinks(float scale);
 
   const RenderScene* scene_ = nullptr;
   BundleSettings settings_;
@@ -118,10 +157,17 @@ class BundleTransfer {
   std::vector<Color> sideIrradiance_;  ///< first-shot, 2 per patch (FirstShotTable::sideIrradiance)
   std::vector<uint32_t> points_;       ///< kept point and spot lights (LightSet indices)
   std::vector<uint32_t> directional_;  ///< kept directional lights
-  std::vector<Color> incoming_, point_, prevIncoming_, prevPoint_, outgoing_, dirIrradiance_;
+  int orders_ = 1;
+  bool lumped_ = true;
+  /// Per slot (2·element + side) and order b: incoming_[slot·orders_ + b], outgoing_ likewise.
+  /// computeOutgoing() reads incoming_ as the previous iteration's state before the links overwrite it.
+  std::vector<Color> incoming_, outgoing_;
+  std::vector<Color> outgoingTotal_;  ///< per slot: Σ over the orders
+  std::vector<Color> point_, prevPoint_, dirIrradiance_;
   Vec3 dir_{0.0f, 0.0f, 1.0f}, prevDir_{0.0f, 0.0f, 1.0f};
   uint64_t done_ = 0, rays_ = 0;
-  std::vector<std::vector<Deposit>> chunks_;  ///< per grid row: transfer deposits
+  std::vector<std::vector<Deposit>> chunks_;  ///< per grid row: the directional lights' deposits
+  std::vector<std::vector<Link>> links_;      ///< per grid row: the transfer's exchanges
   std::vector<Deposit> pointDeposits_;        ///< the point lights' lines
 };
 
