@@ -18,8 +18,8 @@ struct PatchNeighbours {
   std::vector<uint32_t> adjacent;
 };
 
-/// The neighbours of every patch of @p mesh (a uniform grid of cells about twice the median patch
-/// size proposes the pairs; built in parallel).
+/// The neighbours of every patch of @p mesh (a uniform grid of cells three times the median patch
+/// size proposes the pairs, each cell's patches tested pair by pair once; built in parallel).
 PatchNeighbours patchNeighbours(const PatchMesh& mesh);
 
 }  // namespace fs

@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 #include "common/patches.h"
 #include "common/rng.h"
@@ -56,51 +55,65 @@ void LightSampler::buildVisibility() {
   // such patches with the smallest hash of their ID (a deterministic, spread-out choice).
   // A patch longer than a cell (a face traced whole, without a table) offers the centroids of its
   // cell-sized pieces instead of its own, so every cell it crosses gets points of its own.
+  // Per cell (a flat array over the grid): its candidates ordered by key, equal keys in the order
+  // they came, the first kPointsPerCell kept.
   struct Candidate {
     uint64_t key;
     Receiver r;
   };
-  std::map<size_t, std::vector<Candidate>> chosen;
+  struct Chosen {
+    Candidate c[kPointsPerCell];
+    int count = 0;
+    void offer(const Candidate& candidate) {
+      int at = count;
+      while (at > 0 && c[at - 1].key > candidate.key) --at;
+      if (at == kPointsPerCell) return;
+      for (int m = std::min(count, kPointsPerCell - 1); m > at; --m) c[m] = c[m - 1];
+      c[at] = candidate;
+      count = std::min(count + 1, kPointsPerCell);
+    }
+  };
+  std::vector<Chosen> chosen(grid_.row.size());
   std::vector<std::vector<Vec3d>> pieces;
+  std::vector<size_t> cells;
   for (uint32_t j = 0; j < mesh.size(); ++j) {
     const Patch& patch = mesh.patches[j];
     Vec3d v[4];
     double longestEdge = 0;
     for (uint32_t i = 0; i < patch.count; ++i) v[i] = Vec3d(patch.v[i]);
     for (uint32_t i = 0; i < patch.count; ++i) longestEdge = std::max(longestEdge, glm::length(v[(i + 1) % patch.count] - v[i]));
-    pieces.clear();
-    if (longestEdge > grid_.cell * (1 + 1e-4))  // (a patch of the size the cell was made from stays whole)
+    const bool whole = !(longestEdge > grid_.cell * (1 + 1e-4));  // (a patch of the size the cell was made from stays whole)
+    if (!whole) {
+      pieces.clear();
       subdividePolygon(v, int(patch.count), grid_.cell, pieces);
-    else
-      pieces.emplace_back(v, v + patch.count);
-    for (size_t k = 0; k < pieces.size(); ++k) {
-      Vec3 plo(pieces[k][0]), phi = plo;
+    }
+    const size_t pieceCount = whole ? 1 : pieces.size();
+    for (size_t k = 0; k < pieceCount; ++k) {
+      const Vec3d* piece = whole ? v : pieces[k].data();
+      const size_t corners = whole ? patch.count : pieces[k].size();
+      Vec3 plo(piece[0]), phi = plo;
       Vec3d centroid(0.0);
-      for (const Vec3d& p : pieces[k]) plo = glm::min(plo, Vec3(p)), phi = glm::max(phi, Vec3(p)), centroid += p;
-      const Receiver r{pieces.size() == 1 ? patch.centroid : Vec3(centroid / double(pieces[k].size())), patch.normal};
-      const uint64_t key = pieces.size() == 1 ? hashKeys(kSeed, j) : hashKeys(kSeed, j, k);
+      for (size_t i = 0; i < corners; ++i)
+        plo = glm::min(plo, Vec3(piece[i])), phi = glm::max(phi, Vec3(piece[i])), centroid += piece[i];
+      const Receiver r{pieceCount == 1 ? patch.centroid : Vec3(centroid / double(corners)), patch.normal};
+      const uint64_t key = pieceCount == 1 ? hashKeys(kSeed, j) : hashKeys(kSeed, j, k);
       const Vec3 step(grid_.cell);
-      std::vector<size_t> cells;
+      cells.clear();
       for (float z = plo.z; z < phi.z + step.z; z += step.z)
         for (float y = plo.y; y < phi.y + step.y; y += step.y)
           for (float x = plo.x; x < phi.x + step.x; x += step.x)
             cells.push_back(grid_.cellOf(glm::min(Vec3(x, y, z), phi)));
       std::sort(cells.begin(), cells.end());
       cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-      for (size_t cell : cells) {
-        auto& list = chosen[cell];
-        list.push_back({key, r});
-        std::stable_sort(list.begin(), list.end(), [](const Candidate& a, const Candidate& b) { return a.key < b.key; });
-        if (list.size() > size_t(kPointsPerCell)) list.pop_back();
-      }
+      for (size_t cell : cells) chosen[cell].offer({key, r});
     }
   }
   std::vector<std::vector<Receiver>> receivers;
-  for (const auto& [cell, list] : chosen) {
+  for (size_t cell = 0; cell < chosen.size(); ++cell) {
+    if (chosen[cell].count == 0) continue;
     grid_.row[cell] = static_cast<int32_t>(receivers.size());
-    std::vector<Receiver> r;
-    for (const Candidate& c : list) r.push_back(c.r);
-    receivers.push_back(std::move(r));
+    receivers.emplace_back();
+    for (int m = 0; m < chosen[cell].count; ++m) receivers.back().push_back(chosen[cell].c[m].r);
   }
   grid_.rows = receivers.size();
   const float offset = 1e-4f * glm::length(extent);

@@ -2,6 +2,7 @@
 // (table_visibility.h).
 #include "render/table_visibility.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -9,6 +10,7 @@
 #include <cmath>
 
 #include "common/patch_neighbours.h"
+#include "render/ray.h"
 
 namespace fs {
 
@@ -23,43 +25,62 @@ void TableVisibilityMap::build(const FirstShotTable& t, const std::vector<float>
       single[i] = 1;
     }
   }
+  start_.clear();
+  entries_.clear();
+  if (std::find(single.begin(), single.end(), 1) == single.end()) return;  // no point or spot light: Unknown
   const PatchNeighbours nb = patchNeighbours(t.mesh);
   const std::vector<uint64_t>& nStart = nb.start;
   const std::vector<uint32_t>& adjacent = nb.adjacent;
+  // Per factor: its sample, with kWhole set where the patch sees it whole; kNoId for the samples
+  // that are not one point or spot light.
+  std::vector<uint32_t> code(t.sampleIndex.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, code.size()), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k < r.end(); ++k) {
+      const uint32_t i = t.sampleIndex[k];
+      code[k] = !single[i] ? kNoId : i | (std::abs(visible[k] - 1.0f) <= kVisibleTolerance ? kWhole : 0u);
+    }
+  });
   // Per patch: the samples of its own row and its neighbours' rows, each with the number of those
   // patches that see it whole (dense counters per thread, reset through the list of samples touched).
+  // The entries of a block of patches go one after the other into the block's list.
   struct Counters {
     std::vector<uint32_t> present, whole, touched;
   };
   tbb::enumerable_thread_specific<Counters> counters;
-  std::vector<std::vector<uint32_t>> rows(n);
-  tbb::parallel_for(uint32_t(0), n, [&](uint32_t j) {
+  constexpr uint32_t kBlock = 4096;
+  std::vector<std::vector<uint32_t>> blocks((n + kBlock - 1) / kBlock);
+  start_.assign(size_t(n) + 1, 0);
+  tbb::parallel_for(size_t(0), blocks.size(), [&](size_t block) {
     Counters& c = counters.local();
     if (c.present.empty()) c.present.assign(t.samples.size(), 0), c.whole.assign(t.samples.size(), 0);
+    std::vector<uint32_t>& out = blocks[block];
+    uint32_t *present = c.present.data(), *whole = c.whole.data();
     auto add = [&](uint32_t patch) {
       for (uint64_t k = t.rowStart[patch]; k < t.rowStart[patch + 1]; ++k) {
-        const uint32_t i = t.sampleIndex[k];
-        if (!single[i]) continue;
-        if (c.present[i]++ == 0) c.touched.push_back(i);
-        c.whole[i] += std::abs(visible[k] - 1.0f) <= kVisibleTolerance;
+        const uint32_t e = code[k], i = e & ~kWhole;
+        if (e == kNoId) continue;
+        if (present[i]++ == 0) c.touched.push_back(i);
+        whole[i] += e >> 31;
       }
     };
-    add(j);
-    for (uint64_t a = nStart[j]; a < nStart[j + 1]; ++a) add(adjacent[a]);
-    std::sort(c.touched.begin(), c.touched.end());
-    const uint32_t patches = static_cast<uint32_t>(nStart[j + 1] - nStart[j]) + 1;
-    std::vector<uint32_t>& row = rows[j];
-    row.reserve(c.touched.size());
-    for (const uint32_t i : c.touched) {
-      row.push_back(i | (c.whole[i] == patches ? kWhole : 0u));
-      c.present[i] = c.whole[i] = 0;
+    for (uint32_t j = uint32_t(block * kBlock); j < std::min(n, uint32_t((block + 1) * kBlock)); ++j) {
+      add(j);
+      for (uint64_t a = nStart[j]; a < nStart[j + 1]; ++a) add(adjacent[a]);
+      std::sort(c.touched.begin(), c.touched.end());
+      const uint32_t patches = static_cast<uint32_t>(nStart[j + 1] - nStart[j]) + 1;
+      for (const uint32_t i : c.touched) {
+        out.push_back(i | (c.whole[i] == patches ? kWhole : 0u));
+        c.present[i] = c.whole[i] = 0;
+      }
+      start_[j + 1] = c.touched.size();
+      c.touched.clear();
     }
-    c.touched.clear();
   });
-  start_.assign(size_t(n) + 1, 0);
-  for (uint32_t j = 0; j < n; ++j) start_[j + 1] = start_[j] + rows[j].size();
+  for (uint32_t j = 0; j < n; ++j) start_[j + 1] += start_[j];
   entries_.resize(start_[n]);
-  for (uint32_t j = 0; j < n; ++j) std::copy(rows[j].begin(), rows[j].end(), entries_.begin() + int64_t(start_[j]));
+  tbb::parallel_for(size_t(0), blocks.size(), [&](size_t block) {
+    std::copy(blocks[block].begin(), blocks[block].end(), entries_.begin() + int64_t(start_[block * kBlock]));
+  });
 }
 
 TableVisibility TableVisibilityMap::query(uint32_t patch, uint32_t light) const { return cursor(patch).next(light); }
