@@ -1,7 +1,7 @@
 #pragma once
 /// @file analytic.h
 /// Closed-form radiometry from ../shared/REFERENCE.md, for the small-light rule, the first-shot
-/// factors (preprocess/coverage.h) and their per-point evaluation (render/direct_light.h), and tests.
+/// factors (preprocess/coverage.h) and their per-point evaluation (render/firstshot/lighting.h), and tests.
 #include <cmath>
 #include <vector>
 

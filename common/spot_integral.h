@@ -3,7 +3,7 @@
 /// U_ij of a spot light (cone or IES table): the unoccluded integral of its kernel over a patch,
 /// which has no closed form (the profile is a smoothstep in cos θ, or a table). The preprocessor's analytic estimator writes
 /// r_ij = (1/∫profile)·V_ij·U_ij/A_j with this U (preprocess/sample_shot.cpp), and the renderer
-/// recovers V_ij = r_ij·A_j·∫profile/U_ij with the same function (render/direct_light.cpp), so both
+/// recovers V_ij = r_ij·A_j·∫profile/U_ij with the same function (render/firstshot/lighting.cpp), so both
 /// stages agree to the float rounding of r_ij.
 #include "common/emission_profile.h"
 #include "common/firstshot.h"

@@ -4,7 +4,7 @@
 /// behind a partition built against it. No ray from the rest of the scene reaches them, so the
 /// renderer never shades them; a visible fraction that counted them as lit area that happens to be
 /// occluded would darken the exposed rest of the patch (the first-shot term at x is V_ij × the
-/// unoccluded irradiance at x, render/direct_light.h). The analytic estimator therefore takes the
+/// unoccluded irradiance at x, render/firstshot/lighting.h). The analytic estimator therefore takes the
 /// visible fraction over the exposed part of a patch only (preprocess/coverage.h).
 ///
 /// Test (the rule of lightmap bakers): a point is buried on one side of its patch when most of the

@@ -238,7 +238,7 @@ struct Shooter {
 /// (0 < V_ij < 1), measured as Σ_i E⁰_ij·V_ij(1 − V_ij) / Σ_i E⁰_ij with E⁰_ij the unoccluded
 /// irradiance (luminance) sample i would bring; above the tolerance, and while the children stay
 /// at least settings.minPatchSize. The renderer evaluates the unoccluded term exactly at each point
-/// (render/direct_light.h), so smooth variation near a light needs no split: only V does, which the
+/// (render/firstshot/lighting.h), so smooth variation near a light needs no split: only V does, which the
 /// table holds per patch.
 std::vector<uint8_t> splitFlags(const AdaptiveMesh& adaptive, const std::vector<std::vector<Entry>>& results,
                                 const std::vector<LightSample>& samples, const FirstShotSettings& settings) {

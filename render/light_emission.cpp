@@ -6,7 +6,7 @@
 
 #include "common/lights.h"
 #include "common/sampling.h"
-#include "render/patch_emitters.h"
+#include "render/firstshot/patch_emitters.h"
 #include "render/render_scene.h"
 
 namespace fs {

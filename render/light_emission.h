@@ -11,7 +11,7 @@
 /// Replaced (first-shot) lights are emitted like the others: shooting does not use the table.
 ///
 /// Table mode (the second constructor): the lights a first-shot table replaces leave, and every
-/// lit patch side joins as an emitter (render/patch_emitters.h): a point uniform on the patch, a
+/// lit patch side joins as an emitter (render/firstshot/patch_emitters.h): a point uniform on the patch, a
 /// cosine-distributed direction into the side's half-space, the first-shot radiance it sends there
 /// (Φ ≈ albedo·E·A for the choice). Emitters are numbered lights first (LightSet indices), then
 /// the patch sides.

@@ -5,7 +5,8 @@
 #include <cmath>
 
 #include "common/sampling.h"
-#include "render/patch_emitters.h"
+#include "render/direct_light.h"
+#include "render/firstshot/patch_emitters.h"
 
 namespace fs {
 

@@ -26,7 +26,7 @@
 
 #include "common/bsdf.h"
 #include "common/rng.h"
-#include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/light_tree.h"
 #include "render/ray.h"
 #include "render/render_scene.h"

@@ -19,6 +19,7 @@
 #include "common/rng.h"
 #include "common/sampling.h"
 #include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/embree_scene.h"
 #include "render/light_sampler.h"
 

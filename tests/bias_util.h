@@ -15,7 +15,7 @@
 #include "common/emission_profile.h"
 #include "preprocess/preprocessor.h"
 #include "render/camera.h"
-#include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/integrator.h"
 #include "render/render_scene.h"
 #include "tests/test_util.h"

@@ -11,7 +11,7 @@
 #include "common/photometry.h"
 #include "common/rng.h"
 #include "preprocess/preprocessor.h"
-#include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/sensors.h"
 #include "tests/bias_util.h"
 #include "tests/block_compare.h"

@@ -1,4 +1,4 @@
-// NearTerms (render/near_terms.h): the per-point sum of a patch's near first-shot terms against the
+// NearTerms (render/firstshot/near_terms.h): the per-point sum of a patch's near first-shot terms against the
 // closed forms of a point light and an area-light vertex, its sides and padding, and the SSE sum
 // against the portable one bit for bit.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "render/near_terms.h"
+#include "render/firstshot/near_terms.h"
 
 using namespace fs;
 

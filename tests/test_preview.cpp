@@ -254,7 +254,7 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   const std::string common = cornell() + " --firstshot " + fsd + " --width 64 --height 64";
   // Direct light only, first-shot at the camera-visible patch. The instant picture is flat per
   // patch side (the patch-averaged irradiance, FirstShotTable::sideIrradiance); the offline render
-  // evaluates the first-shot term per point (render/direct_light.h), whose average over a patch is
+  // evaluates the first-shot term per point (render/firstshot/lighting.h), whose average over a patch is
   // that same value. With every light of the Cornell box replaced there is no noise, and the two
   // pictures agree on the whole up to how unevenly the pixels sample each patch (0.1 m patches:
   // the flat picture measured 5.3% darker, the bias that per-point evaluation removes).

@@ -123,7 +123,7 @@ TEST(DirectLight, AreaLightOverPlane) {
 
 /// The point light replaced by an exact first-shot table (r_j = Ω_j/(4π A_j)), first-shot at the
 /// camera hit: the term is evaluated per point (visible fraction × the exact unoccluded
-/// irradiance at the hit, render/direct_light.h), so each pixel is the analytic ρ/π·E(x) over its
+/// irradiance at the hit, render/firstshot/lighting.h), so each pixel is the analytic ρ/π·E(x) over its
 /// footprint whatever the patch size, with no patch-scale bias left (patch-averaged irradiance
 /// used to be off by up to ρ/π·|∇E|max·diam(patch)).
 TEST(DirectLight, PointLightFirstShotPatchMode) {

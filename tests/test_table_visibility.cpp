@@ -1,4 +1,4 @@
-// Visibility from the first-shot table (render/table_visibility.h, --table-visibility): a small point
+// Visibility from the first-shot table (render/firstshot/table_visibility.h, --table-visibility): a small point
 // or spot light the table finds visible from a whole patch and its neighbours, or from none of them,
 // needs no shadow ray at the camera-visible surfaces. The classes must agree with shadow rays at
 // points of the patches, only patches at a shadow edge may be left to rays, and images must not change.
@@ -12,6 +12,7 @@
 
 #include "common/scene_desc.h"
 #include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "render/integrator.h"
 #include "render/render_scene.h"

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/integrator.h"
 #include "render/light_sampler.h"
 

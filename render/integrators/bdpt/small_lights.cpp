@@ -1,6 +1,8 @@
 // Table mode of bidirectional path tracing: the small lights' own part of a sample.
 #include "render/integrators/bdpt/small_lights.h"
 
+#include "render/direct_light.h"
+
 namespace fs {
 
 void SmallLightsExact::build(const RenderScene& scene, const FirstShotLighting& lighting,

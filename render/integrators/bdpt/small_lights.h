@@ -5,7 +5,7 @@
 ///
 /// In table mode the small lights leave the emission sampler; their first reflection comes from
 /// the lit patches, which emit it at camera vertices after x_m, the first non-delta vertex of the
-/// camera subpath (render/patch_emitters.h). What is left for the lights themselves is, as in the
+/// camera subpath (render/firstshot/patch_emitters.h). What is left for the lights themselves is, as in the
 /// path tracer's exact primary mode (PrimaryMode::Exact):
 ///   - a small area light met by the camera subpath up to x_m (through mirrors and glass): weight 1;
 ///   - the direct light at x_m: next-event estimation to the small lights (LightSampler), and a

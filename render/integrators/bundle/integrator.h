@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/integrator.h"
 #include "render/integrators/bundle/transfer.h"
 

@@ -48,7 +48,7 @@
 #include <string>
 #include <vector>
 
-#include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/integrators/irradiance_cache/cache.h"

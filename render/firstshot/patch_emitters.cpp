@@ -1,5 +1,5 @@
 // The lit first-shot patches as light sources (patch_emitters.h).
-#include "render/patch_emitters.h"
+#include "render/firstshot/patch_emitters.h"
 
 #include <algorithm>
 

@@ -1,6 +1,6 @@
 // Visibility of the small lights from the patches, certain where the patch and its neighbours agree
 // (table_visibility.h).
-#include "render/table_visibility.h"
+#include "render/firstshot/table_visibility.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>

@@ -9,7 +9,7 @@
 /// albedo · E_js · A_j, the weight with which emitters are chosen (any positive weight keeps the
 /// estimators unbiased: they divide by the probability they used).
 #include "common/patches.h"
-#include "render/direct_light.h"
+#include "render/firstshot/lighting.h"
 #include "render/render_scene.h"
 
 namespace fs {

@@ -1,5 +1,5 @@
-// Near first-shot terms in structure-of-arrays blocks (render/near_terms.h).
-#include "render/near_terms.h"
+// Near first-shot terms in structure-of-arrays blocks (render/firstshot/near_terms.h).
+#include "render/firstshot/near_terms.h"
 
 #include <algorithm>
 #include <cmath>
