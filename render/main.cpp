@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
     CLI::App app{"firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights "
                  "by their first-shot factors"};
     std::string scenePath, fsdPath, integratorName = "path", primary = "exact", lightSampler = "tree", patchNee = "off",
-                lightVisibility = "on", shootFirstShot = "patches", tableVisibility = "on";
+                lightVisibility = "on", shootFirstShot = "patches", tableVisibility = "on",
+                samplerName = "independent";
     std::vector<std::string> outputs;
     int spp = 0, threads = 0, maxDepth = -1, width = 0, height = 0, lightPaths = 0;
     double timeLimit = 0, patchSize = 0;
@@ -81,6 +82,10 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "worker threads (default: one per core); the image does not depend on it")
         ->check(CLI::Range(0, 4096));
     app.add_option("--seed", seed, "random seed (default: the scene's settings.seed)");
+    app.add_option("--sampler", samplerName, "camera samples' numbers: independent (a hash per pixel, sample and "
+                                             "dimension) or sobol (per pixel Owen-scrambled Sobol' pairs, stratified "
+                                             "over the samples; common/rng.h)")
+        ->check(CLI::IsMember({"independent", "sobol"}))->capture_default_str();
     app.add_option("--max-depth", maxDepth, "longest path in bounces (default: the scene's settings.max_depth)")
         ->check(CLI::Range(0, 1 << 30));
     app.add_option("--exposure", exposure, "PNG exposure in stops (scale by 2^exposure)");
@@ -129,6 +134,8 @@ int main(int argc, char** argv) {
           throw fs::InputError("", option, fmt::format("not available in an MPI run of {} ranks (run it with one)", comm.size()));
     quiet = quiet || !comm.root();  // rank 0 shows progress and prints the results
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
+    if (preview && samplerName != "independent")
+      throw fs::InputError("", "--sampler", "--sampler sobol is not available with --preview yet");
     for (const std::string* png : {&screenshot, &windowGrab}) {
       if (png->empty()) continue;
       const std::string ext = std::filesystem::path(*png).extension().string();
@@ -217,6 +224,7 @@ int main(int argc, char** argv) {
     ro.spp = spp > 0 ? spp : scene.settings.spp;
     ro.timeLimit = timeLimit;
     ro.seed = app.count("--seed") ? seed : scene.settings.seed;
+    ro.sampler = samplerName == "sobol" ? fs::SamplerMode::Sobol : fs::SamplerMode::Independent;
     ro.threads = threads;
     ro.quiet = quiet;
     ro.comm = &comm;

@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "common/comm.h"
+#include "common/rng.h"
 #include "render/camera.h"
 #include "render/film.h"
 #include "render/integrator.h"
@@ -18,6 +19,10 @@ struct RenderOptions {
   int spp = 16;            ///< samples per pixel (ignored when timeLimit > 0)
   double timeLimit = 0;    ///< seconds; > 0: whole passes of 1 spp until the time is up (at least one)
   uint64_t seed = 1;
+  /// How the camera samples' numbers are drawn (common/rng.h; --sampler): independent hashes, or
+  /// per pixel stratified Sobol' points over the sample index. The image stays a function of
+  /// (seed, pixel, sample index) in both.
+  SamplerMode sampler = SamplerMode::Independent;
   int threads = 0;         ///< worker threads; 0 = one per core
   int tileSize = 16;       ///< pixels along a tile's side
   bool quiet = true;       ///< no progress bar

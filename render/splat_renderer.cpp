@@ -84,7 +84,7 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
         if (!comm.mine(uint64_t(y))) continue;  // another rank's row
         for (int x = 0; x < w; ++x) {
           const uint64_t pixel = uint64_t(y) * uint64_t(w) + uint64_t(x);
-          Sampler sampler(options.seed, pixel, pass);
+          Sampler sampler = Sampler::make(options.sampler, options.seed, pixel, pass);
           const Vec2 jitter = sampler.next2D();
           SampleInfo info;
           Color L = integrator.Li(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, &info);
