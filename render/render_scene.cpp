@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "render/firstshot/table_rows.h"
 
 namespace fs {
 
@@ -23,14 +24,7 @@ RenderScene::RenderScene(SceneDesc scene, FirstShotTable table, const std::strin
   const uint64_t sceneHash = hashScene(desc_);
   if (t.sceneHash != sceneHash)
     fail("header", "made for a different scene (the scene's geometry, materials or lights changed): run firstshot-preprocess again");
-  const uint32_t n = t.mesh.size();
-  if (t.rowStart.size() != size_t(n) + 1 || t.rowStart.front() != 0 || t.rowStart.back() != t.factor.size() ||
-      t.sampleIndex.size() != t.factor.size())
-    fail("factors", "table sizes do not match the patch count");
-  for (size_t j = 0; j < n; ++j)
-    if (t.rowStart[j] > t.rowStart[j + 1]) fail("factors", "row starts are not increasing");
-  for (uint32_t i : t.sampleIndex)
-    if (i >= t.samples.size()) fail("factors", "a factor refers to a light sample that does not exist");
+  if (const char* wrong = TableRows::check(t)) fail("factors", wrong);
   for (const LightSample& s : t.samples)
     if (s.light >= desc_.lights.size()) fail("samples", "a light sample refers to a light the scene does not have");
   for (uint32_t l : t.replacedLights)

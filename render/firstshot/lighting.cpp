@@ -93,10 +93,12 @@ void FirstShotLighting::build(const RenderScene& scene) {
   near_.clear();
   nearSpotStart_.clear();
   nearSpot_.clear();
+  rows_ = TableRows();
   if (!t) return;
+  rows_ = TableRows(*t);
   const uint32_t n = t->mesh.size();
   side_.assign(2 * size_t(n), SideTerm());
-  visible_.assign(t->factor.size(), -1.0f);
+  visible_.assign(rows_.factors(), -1.0f);
   spots_.assign(t->samples.size(), SpotKernel());
   for (size_t i = 0; i < t->samples.size(); ++i)
     if (t->samples[i].kind == LightSampleKind::Spot) {
@@ -104,8 +106,8 @@ void FirstShotLighting::build(const RenderScene& scene) {
       k.profile = EmissionProfile(scene.desc().lights[t->samples[i].light]);
       k.invIntegral = k.profile.integral() > 0 ? float(1.0 / k.profile.integral()) : 0.0f;
     }
-  std::vector<uint8_t> near(t->factor.size(), 0);
-  const bool haveVisible = t->visible.size() == t->factor.size();
+  std::vector<uint8_t> near(rows_.factors(), 0);
+  const bool haveVisible = rows_.hasStoredVisible();
   tbb::parallel_for(uint32_t(0), n, [&](uint32_t j) {
     const Patch& p = t->mesh.patches[j];
     Vec3d poly[4];
@@ -115,19 +117,20 @@ void FirstShotLighting::build(const RenderScene& scene) {
       for (uint32_t l = k + 1; l < p.count; ++l) diameter = std::max(diameter, glm::length(poly[l] - poly[k]));
     const Vec3d c(p.centroid), normal = glm::normalize(Vec3d(p.normal));
     Vec3d gradient[2][3] = {};
-    for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k) {
-      const LightSample& s = t->samples[t->sampleIndex[k]];
+    for (const TableFactor f : rows_[j]) {
+      const uint64_t k = f.index;
+      const LightSample& s = t->samples[f.sample];
       const int side = sampleSide(s, p);
       if (side < 0) continue;
       // V_ij = r_ij A_j / (scale_i U_ij): points and area vertices by the preprocessor's closed forms
       // (as the reader already did, if it did), spots by their integrated kernel.
       double v = -1.0;
       if (s.kind == LightSampleKind::Spot) {
-        const SpotKernel& spot = spots_[t->sampleIndex[k]];
+        const SpotKernel& spot = spots_[f.sample];
         const double scaledU = spotPatchIntegral(s, spot.profile, p, side) * spot.invIntegral;
-        v = scaledU > 0 ? double(t->factor[k]) * p.area / scaledU : -1.0;
+        v = scaledU > 0 ? double(f.r) * p.area / scaledU : -1.0;
       } else if (s.kind != LightSampleKind::Directional) {
-        v = haveVisible ? t->visible[k] : recoveredVisible(t->factor[k], s, t->areaEyeOffset, p);
+        v = haveVisible ? rows_.storedVisible(k) : recoveredVisible(f.r, s, t->areaEyeOffset, p);
       }
       if (v >= 0 && v <= kMaxVisible) {
         visible_[k] = float(v);
@@ -136,12 +139,12 @@ void FirstShotLighting::build(const RenderScene& scene) {
           continue;
         }
         const Vec3d nSide = side == 0 ? normal : -normal;
-        Vec3d g = v * (s.kind == LightSampleKind::Spot ? spotKernelGradient(s, spots_[t->sampleIndex[k]], c, nSide)
+        Vec3d g = v * (s.kind == LightSampleKind::Spot ? spotKernelGradient(s, spots_[f.sample], c, nSide)
                                                        : kernelGradient(s, c, nSide));
         g -= glm::dot(g, normal) * normal;  // in the plane
         for (int ch = 0; ch < 3; ++ch) gradient[side][ch] += double(s.emission[ch]) * g;
       }
-      side_[2 * size_t(j) + side].average += s.emission * t->factor[k];
+      side_[2 * size_t(j) + side].average += s.emission * f.r;
     }
     for (int side = 0; side < 2; ++side)
       for (int ch = 0; ch < 3; ++ch) side_[2 * size_t(j) + side].gradient[ch] = Vec3(gradient[side][ch]);
@@ -149,9 +152,10 @@ void FirstShotLighting::build(const RenderScene& scene) {
   visibilityMap_.build(*t, visible_, scene.desc().lights.size());
   nearSpotStart_.assign(size_t(n) + 1, 0);
   for (uint32_t j = 0; j < n; ++j) {
-    for (uint64_t k = t->rowStart[j]; k < t->rowStart[j + 1]; ++k) {
+    for (const TableFactor f : rows_[j]) {
+      const uint64_t k = f.index;
       if (!near[k]) continue;
-      const LightSample& s = t->samples[t->sampleIndex[k]];
+      const LightSample& s = t->samples[f.sample];
       if (s.kind == LightSampleKind::Spot)
         nearSpot_.push_back(k);
       else if (s.kind == LightSampleKind::Point)
@@ -173,10 +177,10 @@ Color FirstShotLighting::irradiance(const Hit& hit, bool front) const {
   const float sign = front ? 1.0f : -1.0f;
   e += near_.sum(hit.patch, hit.p, hit.ng * sign);
   for (uint64_t m = nearSpotStart_[hit.patch], end = nearSpotStart_[hit.patch + 1]; m < end; ++m) {
-    const uint64_t k = nearSpot_[m];
-    const LightSample& s = t.samples[t.sampleIndex[k]];
+    const TableFactor f = rows_.at(nearSpot_[m]);
+    const LightSample& s = t.samples[f.sample];
     Vec3 wi;
-    e += s.emission * (visible_[k] * sampleKernel(s, spots_[t.sampleIndex[k]], hit.p, hit.ng, sign, wi));
+    e += s.emission * (visible_[f.index] * sampleKernel(s, spots_[f.sample], hit.p, hit.ng, sign, wi));
   }
   return e;
 }
@@ -191,13 +195,14 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
   // Other BSDFs depend on each sample's direction: one term per factor, per point where V_ij is known.
   const FirstShotTable& t = *scene_->firstShot();
   Color sum(0.0f);
-  for (uint64_t k = t.rowStart[hit.patch], end = t.rowStart[hit.patch + 1]; k < end; ++k) {
-    const LightSample& s = t.samples[t.sampleIndex[k]];
+  for (const TableFactor factor : rows_[hit.patch]) {
+    const LightSample& s = t.samples[factor.sample];
     Vec3 wi = s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - hit.p);
-    float e = t.factor[k];
-    if (visible_[k] >= 0.0f) {  // the kernel on the sample's side of the plane
+    float e = factor.r;
+    const float v = visible_[factor.index];
+    if (v >= 0.0f) {  // the kernel on the sample's side of the plane
       const float sign = glm::dot(s.position - hit.p, hit.ng) >= 0.0f ? 1.0f : -1.0f;
-      e = visible_[k] * sampleKernel(s, spots_[t.sampleIndex[k]], hit.p, hit.ng, sign, wi);
+      e = v * sampleKernel(s, spots_[factor.sample], hit.p, hit.ng, sign, wi);
       if (!(e > 0.0f)) continue;
     }
     const Color f = bsdf.eval(BSDFQuery(frame.toLocal(wi), woLocal));

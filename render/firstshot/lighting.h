@@ -15,6 +15,7 @@
 #include "common/lights.h"
 #include "common/math.h"
 #include "render/firstshot/near_terms.h"
+#include "render/firstshot/table_rows.h"
 #include "render/firstshot/table_visibility.h"
 #include "render/ray.h"
 #include "render/render_scene.h"
@@ -71,12 +72,13 @@ class FirstShotLighting {
     Vec3 gradient[3] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};  ///< per channel, in the patch's plane, W/m³
   };
   const RenderScene* scene_ = nullptr;
+  TableRows rows_;  ///< the table's factors by patch
   std::vector<SideTerm> side_;  ///< 2j: samples in front of patch j's plane, 2j+1: behind it
-  /// Per factor (the table's CSR order): V_ij, or a negative value for a patch-average entry.
+  /// Per factor (TableFactor::index): V_ij, or a negative value for a patch-average entry.
   std::vector<float> visible_;
   std::vector<SpotKernel> spots_;  ///< by light sample: the spot profile (default for other kinds)
   NearTerms near_;  ///< per patch: its near point lights and area vertices, evaluated per point
-  /// CSR over patches of their near spots (indices into the table's factors): per point through sampleKernel.
+  /// CSR over patches of their near spots (TableFactor::index): per point through sampleKernel.
   std::vector<uint64_t> nearSpotStart_, nearSpot_;
   TableVisibilityMap visibilityMap_;
 };

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "common/patch_neighbours.h"
+#include "render/firstshot/table_rows.h"
 #include "render/ray.h"
 
 namespace fs {
@@ -33,10 +34,11 @@ void TableVisibilityMap::build(const FirstShotTable& t, const std::vector<float>
   const std::vector<uint32_t>& adjacent = nb.adjacent;
   // Per factor: its sample, with kWhole set where the patch sees it whole; kNoId for the samples
   // that are not one point or spot light.
-  std::vector<uint32_t> code(t.sampleIndex.size());
+  const TableRows rows(t);
+  std::vector<uint32_t> code(rows.factors());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, code.size()), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k < r.end(); ++k) {
-      const uint32_t i = t.sampleIndex[k];
+      const uint32_t i = rows.at(k).sample;
       code[k] = !single[i] ? kNoId : i | (std::abs(visible[k] - 1.0f) <= kVisibleTolerance ? kWhole : 0u);
     }
   });
@@ -56,8 +58,8 @@ void TableVisibilityMap::build(const FirstShotTable& t, const std::vector<float>
     std::vector<uint32_t>& out = blocks[block];
     uint32_t *present = c.present.data(), *whole = c.whole.data();
     auto add = [&](uint32_t patch) {
-      for (uint64_t k = t.rowStart[patch]; k < t.rowStart[patch + 1]; ++k) {
-        const uint32_t e = code[k], i = e & ~kWhole;
+      for (const TableFactor f : rows[patch]) {
+        const uint32_t e = code[f.index], i = e & ~kWhole;
         if (e == kNoId) continue;
         if (present[i]++ == 0) c.touched.push_back(i);
         whole[i] += e >> 31;

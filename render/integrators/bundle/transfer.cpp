@@ -10,6 +10,7 @@
 
 #include "common/lights.h"
 #include "common/rng.h"
+#include "render/firstshot/table_rows.h"
 
 namespace fs {
 
@@ -110,10 +111,10 @@ void BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w, Color* out)
   // First-shot: the patch average per light sample, directions from the centroid.
   if (firstShot) {
     const Vec3 c = table->mesh.patches[e].centroid;
-    for (uint64_t k = table->rowStart[e]; k < table->rowStart[e + 1]; ++k) {
-      const LightSample& s = table->samples[table->sampleIndex[k]];
+    for (const TableFactor f : TableRows(*table)[e]) {
+      const LightSample& s = table->samples[f.sample];
       const Vec3 wi = s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - c);
-      out[direct] += s.emission * table->factor[k] * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
+      out[direct] += s.emission * f.r * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
     }
   }
   for (size_t d = 0; d < directional_.size(); ++d) {

@@ -9,6 +9,7 @@
 #include "common/interrupt.h"
 #include "common/sampling.h"
 #include "render/embree_scene.h"
+#include "render/firstshot/table_rows.h"
 #include "render/integrators/irradiance_cache/hemisphere_samples.h"
 #include "render/integrators/irradiance_cache/context.h"
 
@@ -21,9 +22,7 @@ uint64_t tableHash(const FirstShotTable& t) {
   Hasher h;
   h.add(t.sceneHash).add(t.settings.hash()).add(hashPatches(t.mesh));
   for (const LightSample& s : t.samples) h.add(s.kind).add(s.light).add(s.position).add(s.normal).add(s.emission).add(s.weight);
-  h.bytes(t.rowStart.data(), t.rowStart.size() * sizeof(uint64_t));
-  h.bytes(t.sampleIndex.data(), t.sampleIndex.size() * sizeof(uint32_t));
-  h.bytes(t.factor.data(), t.factor.size() * sizeof(float));
+  TableRows::hash(t, h);
   return h.value();
 }
 
