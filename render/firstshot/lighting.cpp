@@ -197,7 +197,7 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
   Color sum(0.0f);
   for (const TableFactor factor : rows_[hit.patch]) {
     const LightSample& s = t.samples[factor.sample];
-    Vec3 wi = s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - hit.p);
+    Vec3 wi = firstShotDirection(s, hit.p);
     float e = factor.r;
     const float v = visible_[factor.index];
     if (v >= 0.0f) {  // the kernel on the sample's side of the plane

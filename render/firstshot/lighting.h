@@ -22,6 +22,13 @@
 
 namespace fs {
 
+/// ω'_i of the first-shot term: the unit direction from @p x towards light sample @p s (against the
+/// travel direction for a directional light). The renderer's two evaluations of the term, per point
+/// (FirstShotLighting::eval) and per patch at its centroid (the bundle transfer), take it from here.
+inline Vec3 firstShotDirection(const LightSample& s, const Vec3& x) {
+  return s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - x);
+}
+
 /// A spot sample's normalised intensity profile I(ω)/Φ = profile(ω)/∫profile, in 1/sr, for the
 /// world direction ω emitted (cone or IES table, common/emission_profile.h).
 struct SpotKernel {

@@ -10,6 +10,7 @@
 
 #include "common/lights.h"
 #include "common/rng.h"
+#include "render/firstshot/lighting.h"
 #include "render/firstshot/table_rows.h"
 
 namespace fs {
@@ -113,7 +114,7 @@ void BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w, Color* out)
     const Vec3 c = table->mesh.patches[e].centroid;
     for (const TableFactor f : TableRows(*table)[e]) {
       const LightSample& s = table->samples[f.sample];
-      const Vec3 wi = s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - c);
+      const Vec3 wi = firstShotDirection(s, c);
       out[direct] += s.emission * f.r * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
     }
   }
