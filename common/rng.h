@@ -72,14 +72,21 @@ inline uint32_t prefixHash(uint32_t x, uint32_t seed) {
 /// Hash-based Owen (nested uniform) scramble of the base-2 fraction x / 2^32.
 inline uint32_t owenScramble(uint32_t x, uint32_t seed) { return reverseBits32(prefixHash(reverseBits32(x), seed)); }
 
-/// The second dimension of the Sobol' sequence: x = sum over set bits k of i of v_k, with
-/// v_0 = 2^31 and v_{k+1} = v_k ^ (v_k >> 1) (the generator matrix is Pascal's triangle mod 2).
-inline uint32_t sobolSecond(uint32_t i) {
-  uint32_t x = 0;
-  for (uint32_t v = 0x80000000u; i != 0; i >>= 1, v ^= v >> 1)
-    if (i & 1u) x ^= v;
-  return x;
+/// The second dimension of the Sobol' sequence (sobolSecond): x = XOR over the set bits k of i of v_k, with
+/// v_0 = 2^31 and v_{k+1} = v_k ^ (v_k >> 1), i.e. v_k's bit 31 − r is binom(k, r) mod 2 (Pascal's
+/// triangle), which is 1 iff r's bits are a subset of k's (Lucas). So bit 31 − r of x is the XOR of
+/// i's bits k ⊇ r: a superset-XOR transform over the five bits of the position, one shift, mask and
+/// XOR per position bit, then reversed. (tests/test_sampler.cpp checks it against the recurrence.)
+/// This is reverseBits32(sobolSecond(i)), the form the scramble takes.
+inline uint32_t sobolSecondReversed(uint32_t i) {
+  i ^= (i >> 1) & 0x55555555u;
+  i ^= (i >> 2) & 0x33333333u;
+  i ^= (i >> 4) & 0x0f0f0f0fu;
+  i ^= (i >> 8) & 0x00ff00ffu;
+  i ^= (i >> 16) & 0x0000ffffu;
+  return i;
 }
+inline uint32_t sobolSecond(uint32_t i) { return reverseBits32(sobolSecondReversed(i)); }
 
 inline uint64_t hashKeysImpl(uint64_t h) { return h; }
 template <typename... Rest>
@@ -127,7 +134,7 @@ class Sampler {
   /// of one (seed, pixel, stream) are stratified (file comment). Only the low 32 bits of the index count.
   static Sampler sobol(uint64_t seed, uint64_t pixel, uint64_t sampleIndex, uint64_t stream = 0) {
     Sampler s(hashKeys(seed, pixel, stream, detail::kSobolSalt));
-    s.index_ = static_cast<uint32_t>(sampleIndex);
+    s.index_ = detail::reverseBits32(static_cast<uint32_t>(sampleIndex));
     s.mode_ = SamplerMode::Sobol;
     return s;
   }
@@ -142,7 +149,7 @@ class Sampler {
   /// 64 random bits of the current dimension; advances by one dimension. Random (not stratified)
   /// in both modes: meant for keys of other samplers.
   uint64_t nextBits() {
-    const uint64_t key = mode_ == SamplerMode::Sobol ? hashKeys(key_, index_) : key_;
+    const uint64_t key = mode_ == SamplerMode::Sobol ? hashKeys(key_, detail::reverseBits32(index_)) : key_;
     return Hasher::mix(key + (++dim_) * detail::kWeyl);
   }
   /// Uniform float in [0, 1) (24-bit resolution, never 1.0f); advances by one dimension.
@@ -153,12 +160,15 @@ class Sampler {
   /// Two uniform floats in [0, 1)²; advances by two dimensions (x first).
   Vec2 next2D() {
     if (mode_ == SamplerMode::Sobol) {
+      // owen(vdc(j)) = reverse(prefixHash(j)) and owen(sobol1(j)) = reverse(prefixHash(reverse(sobol1(j)))),
+      // with j = reverse(prefixHash(reverse(i))): the file comment's formula with fewer reversals.
       const uint64_t h = dimensionHash(dim_);
       const uint64_t h2 = Hasher::mix(h);
       dim_ += 2;
-      const uint32_t j = detail::owenScramble(index_, static_cast<uint32_t>(h));
-      const uint32_t x = detail::owenScramble(detail::reverseBits32(j), static_cast<uint32_t>(h >> 32));
-      const uint32_t y = detail::owenScramble(detail::sobolSecond(j), static_cast<uint32_t>(h2));
+      const uint32_t j = shuffledIndex(h);
+      const uint32_t x = detail::reverseBits32(detail::prefixHash(j, static_cast<uint32_t>(h >> 32)));
+      const uint32_t y = detail::reverseBits32(
+          detail::prefixHash(detail::sobolSecondReversed(j), static_cast<uint32_t>(h2)));
       return {static_cast<float>(x >> 8) * 0x1p-24f, static_cast<float>(y >> 8) * 0x1p-24f};
     }
     const float x = next1D();
@@ -194,13 +204,16 @@ class Sampler {
   /// Sobol' mode: 32 bits of the scrambled van der Corput point of the current dimension; advances.
   uint32_t sobol1D() {
     const uint64_t h = dimensionHash(dim_++);
-    const uint32_t j = detail::owenScramble(index_, static_cast<uint32_t>(h));
-    return detail::owenScramble(detail::reverseBits32(j), static_cast<uint32_t>(h >> 32));
+    return detail::reverseBits32(detail::prefixHash(shuffledIndex(h), static_cast<uint32_t>(h >> 32)));
+  }
+  /// Sobol' mode: the shuffled index j = owen(i, low32(h)) of the file comment (index_ is i reversed).
+  uint32_t shuffledIndex(uint64_t h) const {
+    return detail::reverseBits32(detail::prefixHash(index_, static_cast<uint32_t>(h)));
   }
 
   uint64_t key_ = 0;
   uint64_t dim_ = 0;  ///< next dimension; x_d uses the counter value d + 1
-  uint32_t index_ = 0;  ///< Sobol' mode: the sample index (low 32 bits)
+  uint32_t index_ = 0;  ///< Sobol' mode: the sample index's low 32 bits, reversed
   SamplerMode mode_ = SamplerMode::Independent;
 };
 

@@ -56,6 +56,22 @@ bool isZeroTwoNet(const std::vector<Vec2>& pts, int k, std::string& why) {
 
 }  // namespace
 
+TEST(SobolSampler, SecondDimensionMatchesItsRecurrence) {
+  auto byRecurrence = [](uint32_t i) {
+    uint32_t x = 0;
+    for (uint32_t v = 0x80000000u; i != 0; i >>= 1, v ^= v >> 1)
+      if (i & 1u) x ^= v;
+    return x;
+  };
+  for (uint32_t i = 0; i < 4096; ++i) ASSERT_EQ(detail::sobolSecond(i), byRecurrence(i)) << i;
+  for (uint64_t k = 0; k < 100000; ++k) {
+    const uint32_t i = static_cast<uint32_t>(Hasher::mix(k));
+    ASSERT_EQ(detail::sobolSecond(i), byRecurrence(i)) << i;
+  }
+  EXPECT_EQ(detail::reverseBits32(1u), 0x80000000u);
+  EXPECT_EQ(detail::reverseBits32(0x12345678u), 0x1e6a2c48u);
+}
+
 TEST(SobolSampler, PairsAreZeroTwoStratified) {
   for (uint64_t p : {0ull, 1ull, 12345ull, 99999999ull})
     for (uint64_t d : {0ull, 2ull, 3ull, 5ull, 20ull})  // any start dimension: setDimension needs no alignment
@@ -321,3 +337,22 @@ TEST(SobolSampler, DirectLightErrorBelowIndependent) {
   EXPECT_GT(ind, kBound) << "the bound no longer separates the samplers: the independent one meets it";
 
 }
+
+#ifdef FIRSTSHOT_RENDER_EXE
+TEST(SobolSampler, RenderOption) {
+  const std::string dir = test::tempDir(), render = FIRSTSHOT_RENDER_EXE;
+  const std::string common = render + " " + test::source("scenes/cornell.json") + " --spp 4 --width 24 --height 20 -q";
+  auto image = [&](const std::string& extra, const std::string& name) {
+    const auto r = test::run(common + extra + " -o " + dir + "/" + name);
+    EXPECT_EQ(r.exitCode, 0) << r.output;
+    return test::readFile(dir + "/" + name);
+  };
+  const std::string one = image(" --sampler sobol --threads 1", "s1.exr");
+  EXPECT_FALSE(one.empty());
+  EXPECT_EQ(image(" --sampler sobol --threads 2", "s2.exr"), one) << "--sampler sobol depends on the threads";
+  EXPECT_NE(image(" --sampler independent", "i.exr"), one);
+  EXPECT_EQ(image("", "d.exr"), test::readFile(dir + "/i.exr")) << "the default is not independent";
+  const auto bad = test::run(common + " --sampler halton -o " + dir + "/x.exr");
+  EXPECT_EQ(bad.exitCode, 2) << bad.output;
+}
+#endif
