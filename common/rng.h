@@ -32,7 +32,9 @@
 /// the indices [0, 2^k) onto one aligned block: the first 2^k samples of a pixel are stratified
 /// in every pair of dimensions drawn by next2D (and in every 1D dimension). Pairs from different
 /// start dimensions are scrambled independently (a pair's key is its first dimension, so the
-/// callers' setDimension jumps need no alignment). Floats keep the top 24 of the 32 bits.
+/// callers' setDimension jumps need no alignment). Floats keep the top 24 of the 32 bits;
+/// nextIndex(n) is floor(n · u) of next1D's 32 bits u / 2^32; next1Dd takes those 32 bits and then
+/// the top 21 of h' (random below the stratification).
 /// nextBits stays random in this mode (it derives keys): mix(hashKeys(pk, i) + (d + 1) * kWeyl).
 #include <cstdint>
 
