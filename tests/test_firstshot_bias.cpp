@@ -54,6 +54,7 @@ SceneDesc named(const std::string& name) {
   if (std::getenv("FSBIAS_PS")) d.settings.patchSize = std::atof(std::getenv("FSBIAS_PS"));
   if (std::getenv("FSBIAS_MPS")) d.settings.minPatchSize = std::atof(std::getenv("FSBIAS_MPS"));
   if (std::getenv("FSBIAS_TOL")) d.settings.refineTolerance = std::atof(std::getenv("FSBIAS_TOL"));
+  if (std::getenv("FSBIAS_LTOL")) d.settings.lightTolerance = std::atof(std::getenv("FSBIAS_LTOL"));
   return d;
 }
 
@@ -285,7 +286,7 @@ TEST(FirstShotBias, SpotIrradianceIsEvaluatedPerPoint) {
 ///   FSBIAS_SCENES  comma-separated: cornell, cornell-metre, many-lights, ... (default all three)
 ///   FSBIAS_BACKEND gl | embree;  FSBIAS_SPP camera samples per pixel (256);  FSBIAS_MC points per patch (64)
 ///   FSBIAS_DEPTH   max depth (3);  FSBIAS_PS / FSBIAS_MPS / FSBIAS_LPS patch / smallest patch / light patch size, m
-///   FSBIAS_TOL     refinement tolerance
+///   FSBIAS_TOL     refinement tolerance;  FSBIAS_LTOL light tolerance
 ///   FSBIAS_TIME    also time first-shot and NEE renders;  FSBIAS_MAP print 8×8 blocks of the difference
 ///   FSBIAS_POINT   per-point first-shot − exact irradiance by shape (FSBIAS_EXPOSED: points inside closed objects left out);  FSBIAS_WORST=N per-shape sums and the N worst patches
 TEST(FirstShotBias, DISABLED_Measure) {
