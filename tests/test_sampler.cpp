@@ -292,7 +292,7 @@ TEST(SobolSampler, ImageIndependentOfThreadsTilesAndPasses) {
 }
 
 TEST(SobolSampler, PathTracedCornellAgreesWithIndependent) {
-  FIRSTSHOT_STATISTICS_ONLY("SobolSampler.DirectLightErrorBelowIndependent");
+  FIRSTSHOT_STATISTICS_ONLY("SobolSampler.ImageIndependentOfThreadsTilesAndPasses");
   const SceneDesc d = cornell(64, 48, -1);
   const RenderScene scene(d);
   auto pt = makeIntegrator("path", IntegratorOptions{});
@@ -323,6 +323,7 @@ TEST(SobolSampler, DirectLightErrorBelowIndependent) {
   // the independent sampler's error, whose spread over seeds is a few per cent with 6912 pixel
   // values, is 6× above it, and the Sobol' one 5× below, which leaves room for a changed noise
   // level of either (e.g. another light sampler) without making the test flaky.
+  FIRSTSHOT_STATISTICS_ONLY("SobolSampler.ImageIndependentOfThreadsTilesAndPasses");
   const SceneDesc d = cornell(48, 48, 1);
   const RenderScene scene(d);
   auto pt = makeIntegrator("path", IntegratorOptions{.maxDepth = 1});
