@@ -184,8 +184,8 @@ TEST(HardCases, AlbedoOneBoxStopsAtMaxDepth) {
     test::expectFiniteImage(run);
     EXPECT_GT(test::channelMean(run.film, 0).mean, expected) << "more bounces, more light";
   }
-  // Stochastic iteration has no depth limit: with albedo 1 its estimate grows with the iterations
-  // (the mean of K iterations' estimates ≈ Le·(K+1)/2), but every iteration ends and stays finite.
+  // Stochastic iteration keeps light by bounce order up to max depth 16 (docs/bundle.md): with albedo 1
+  // its estimate grows with the iterations until they reach max depth, and every iteration ends finite.
   const auto bundle = test::makeBundle(scene, io, 32);
   for (int K : {8, 32}) {
     const auto run = test::renderWith(*bundle, scene, K);
