@@ -1,6 +1,6 @@
 #pragma once
 /// @file analytic.h
-/// Closed-form radiometry from ../shared/REFERENCE.md, for the small-light rule, the first-shot
+/// Closed-form radiometry (docs/firstshot-format.md, "Estimators"), for the small-light rule, the first-shot
 /// factors (preprocess/coverage.h) and their per-point evaluation (render/firstshot/lighting.h), and tests.
 #include <cmath>
 #include <vector>

@@ -8,7 +8,7 @@
 /// with ω'_i the direction from x to the sample (for directional lights, against the light's direction).
 /// The average is over the patch's exposed part (docs/firstshot-format.md, "Buried parts"); the
 /// renderer spreads it over the patch by the exact per-point term (render/firstshot/lighting.h).
-/// Units of emission and r_ij by kind (see ../shared/REFERENCE.md and docs/firstshot-format.md):
+/// Units of emission and r_ij by kind (docs/firstshot-format.md, "What it holds"):
 ///   Point, Spot:  emission = power Φ [W],        r_ij = Σ_p δω_p·I(p)/Φ / A_j      [1/m²]
 ///   Directional:  emission = irradiance E⊥ [W/m²], r_ij = Σ_p δA⊥_p / A_j           [1]
 ///   AreaVertex:   emission = radiance Le [W/m²sr], r_ij = (S_i/3)/A_j · Σ_p δω_p cosθL [sr]

@@ -1,6 +1,6 @@
 #pragma once
 /// @file coverage.h
-/// The remedy for item-buffer aliasing (../shared/REFERENCE.md, "Aliasing"): the item buffer only
+/// The remedy for item-buffer aliasing (docs/firstshot-format.md, "Estimators"): the item buffer only
 /// estimates WHICH PART of a patch is visible; how much light the whole patch would receive comes
 /// from closed-form integrals. For a patch j seen from a light sample,
 ///   r_ij = U_j · V_j,   V_j = Σ_{pixels showing j} w_p / Σ_{pixel centres inside j's projection} w_p,

@@ -8,7 +8,7 @@
 ///   Hemicube:    δω·cosθL                               (Σ = π)    area-light vertices
 ///   Tetrahedron: δω·cosθL on the triangular regions     (Σ = π)    area-light vertices
 ///   Ortho:       δA⊥, the pixel's area in m²            (Σ = covered area)  directional lights
-/// See ../../shared/REFERENCE.md, "First-shot factors".
+/// See docs/firstshot-format.md, "What it holds" (the weights per window) and "Estimators".
 #include <string>
 #include <vector>
 
