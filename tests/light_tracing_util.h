@@ -9,7 +9,7 @@
 #include <functional>
 #include <vector>
 
-#include "render/integrators/light/light_path.h"
+#include "render/integrators/common/light_path.h"
 #include "render/integrators/light/light_tracer.h"
 
 namespace fs::test {

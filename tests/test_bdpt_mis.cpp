@@ -37,8 +37,8 @@ double weightSum(const char* wall, bool point, int& strategies) {
                                     return (l.type == LightType::Point) == point;
                                   }) - lights.begin());
 
-  using Kind = BdptVertex::Kind;
-  BdptVertex cam, x1, x2, yLight, ySurface;
+  using Kind = SubpathVertex::Kind;
+  SubpathVertex cam, x1, x2, yLight, ySurface;
   cam.kind = Kind::Camera, cam.hit.p = camera.position();
   x1.hit.p = Vec3(0.3f, 0.0f, -0.2f), x1.hit.ng = Vec3(0, 1, 0), x1.hit.patch = 0;
   x1.material = uint32_t(d.findMaterial("d"));
@@ -53,20 +53,20 @@ double weightSum(const char* wall, bool point, int& strategies) {
   ySurface.material = uint32_t(d.findMaterial("lamp"));
 
   // The subpaths of strategy (s, t), with the directions to their previous vertices and densities.
-  auto subpath = [&](std::vector<BdptVertex> v) {
+  auto subpath = [&](std::vector<SubpathVertex> v) {
     if (v.empty()) return v;
     for (size_t k = 1; k < v.size(); ++k) v[k].wi = glm::normalize(v[k - 1].hit.p - v[k].hit.p);
     if (v[0].kind == Kind::Light) v[0].pdfFwd = dens.pdfOrigin(v[0]);
     dens.setDensities(v);
     return v;
   };
-  const std::vector<BdptVertex> eye = {cam, x1, x2, ySurface}, fromLight = {yLight, x2, x1};
+  const std::vector<SubpathVertex> eye = {cam, x1, x2, ySurface}, fromLight = {yLight, x2, x1};
   double sum = 0;
   strategies = 0;
   for (int s = 0; s <= 3; ++s) {
     const int t = 4 - s;
-    const auto l = subpath(std::vector<BdptVertex>(fromLight.begin(), fromLight.begin() + s));
-    const auto c = subpath(std::vector<BdptVertex>(eye.begin(), eye.begin() + t));
+    const auto l = subpath(std::vector<SubpathVertex>(fromLight.begin(), fromLight.begin() + s));
+    const auto c = subpath(std::vector<SubpathVertex>(eye.begin(), eye.begin() + t));
     if (s == 0 && point) continue;                       // a point light cannot be hit
     if ((s > 0 && l[size_t(s - 1)].delta) || c[size_t(t - 1)].delta) continue;  // no connection through a delta
     const float w = misWeight(dens, l, c, s, t);

@@ -63,7 +63,7 @@ FloorFlux cornellFloorFlux(int depth, uint64_t particles, int points) {
     const Vec3 n = p.normal.y > 0 ? p.normal : -p.normal;  // into the room
     const Vec3 q = test::samplePatch(p, s.next2D());
     uint64_t rays = 0;
-    const Color L = pt.trace(Ray(q + 1e-3f * n, -n), Color(1.0f), 0, PathVertex(), true, s, rays);
+    const Color L = pt.walk().trace(Ray(q + 1e-3f * n, -n), Color(1.0f), 0, PathVertex(), true, s, rays);
     y[size_t(i)] = area * kPi * test::gray(L / rho);
   });
   for (double v : y) r.gathering.add(v);

@@ -1,9 +1,5 @@
-// Path tracing with NEE + MIS + Russian roulette, the first-shot term for small lights and the
-// lit patches as sampled emitters.
+// Path tracing: each camera ray's path walk.
 #include "render/integrators/path.h"
-
-#include <algorithm>
-#include <cmath>
 
 #include "render/embree_scene.h"
 
@@ -11,25 +7,13 @@ namespace fs {
 
 void PathIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
-  firstShot_.build(scene);
-  lights_.build(scene, firstShot_, options_.lightSampler, options_.patchNee != PatchNee::Off, options_.lightVisibility);
-}
-
-float PathIntegrator::emissionWeight(const PathVertex& prev, const Hit& hit) const {
-  if (prev.delta) return 1.0f;  // no light sampling could have found it
-  if (!hit.onPatch()) {
-    const LightSet& lights = scene_->lights();
-    const RenderLight& light = lights.emitterLight(hit.emitter);
-    if (light.replaced && prev.usedTable) return 0.0f;  // the first-shot term of prev holds it
-    if (prev.counted && (*prev.counted)[size_t(&light - lights.lights().data())]) return 0.0f;
-  }
-  const float pdf = lights_.pdf(prev.p, prev.n, prev.nee, hit);
-  return pdf > 0.0f ? powerHeuristic(prev.pdf, pdf) : 1.0f;
+  lighting_.build(scene);
+  walk_.build(scene, lighting_, options_);
 }
 
 Color PathIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* info) const {
   uint64_t rays = 0;
-  const Color L = trace(cameraRay, Color(1.0f), 0, PathVertex(), true, sampler, rays, info);
+  const Color L = walk_.trace(cameraRay, Color(1.0f), 0, PathVertex(), true, sampler, rays, info);
   if (info) info->rays = rays;
   return L;
 }
@@ -42,83 +26,10 @@ void PathIntegrator::LiBlock(const Ray* rays, const bool* traced, const bool* wa
   for (int k = 0; k < count; ++k) {
     if (!wanted[k]) continue;
     uint64_t n = 1;  // the camera ray
-    L[k] = found[k] ? trace(rays[k], Color(1.0f), 0, PathVertex(), true, samplers[k], n, &infos[k], &hits[k])
+    L[k] = found[k] ? walk_.trace(rays[k], Color(1.0f), 0, PathVertex(), true, samplers[k], n, &infos[k], &hits[k])
                     : Color(0.0f);
     infos[k].rays = n;
   }
-}
-
-Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, bool specularChain, Sampler& sampler,
-                            uint64_t& rays, SampleInfo* info, const Hit* first) const {
-  const RenderScene& scene = *scene_;
-  const bool haveTable = scene.firstShot() != nullptr;
-  bool sampledPatches = false;  // a vertex of this path sampled the lit patches (PatchNee::First: once)
-  Color L(0.0f);
-
-  for (;; ++depth) {
-    Hit hit;
-    if (first) {
-      hit = *first;
-      first = nullptr;
-    } else {
-      ++rays;
-      if (!scene.intersect(ray, hit)) break;
-    }
-    const Vec3 wo = -glm::normalize(ray.d);
-
-    // Emission of area lights met by the path.
-    if (!hit.onPatch()) {
-      const Color Le = scene.lights().emitted(hit.emitter, hit.ng, wo);
-      if (maxComponent(Le) > 0.0f) L += beta * Le * emissionWeight(prev, hit);
-    }
-
-    const BSDF& bsdf = scene.bsdf(scene.material(hit));
-    if (info && depth == 0) {
-      info->albedo = bsdf.albedo();
-      info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
-    }
-    if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
-
-    const Frame frame(hit.ng);  // no flip: the BSDFs are two-sided and the dielectric needs the outward normal
-    const Vec3 woLocal = frame.toLocal(wo);
-    const bool useTable = haveTable && !(options_.primary == PrimaryMode::Exact && specularChain);
-    NeeRequest nee;
-    if (!bsdf.hasDelta()) {
-      // The first-shot term here is the emission of a lit patch, met from prev.
-      if (useTable && hit.onPatch()) L += beta * firstShot(hit, frame, woLocal, bsdf) * emissionWeight(prev, hit);
-      nee.kept = true;
-      nee.replaced = !useTable;
-      nee.tableVisibility = haveTable && options_.tableVisibility;
-      nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
-                    (options_.patchNee == PatchNee::Every || !sampledPatches);
-      sampledPatches = sampledPatches || nee.patches;
-      L += beta * lights_.sample(hit, frame, woLocal, bsdf, nee, sampler, rays);
-    }
-
-    // Continue the path by sampling the BSDF.
-    BSDFQuery q(woLocal);
-    const Color weight = bsdf.sample(q, sampler.next2D());
-    if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) break;
-    const Vec3 wi = frame.toWorld(q.wi);
-    beta *= weight;
-    prev.delta = q.specular;
-    prev.usedTable = useTable;
-    prev.pdf = q.pdf;
-    prev.p = hit.p;
-    prev.n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;
-    prev.nee = nee;
-    prev.counted = nullptr;
-    specularChain = specularChain && q.specular;
-    ray = Ray(hit.spawnOrigin(wi), wi);
-
-    // Russian roulette on the throughput.
-    if (depth + 1 >= options_.rrDepth) {
-      const float survive = std::min(0.95f, maxComponent(beta));
-      if (!(sampler.next1D() < survive)) break;
-      beta *= 1.0f / survive;
-    }
-  }
-  return L;
 }
 
 }  // namespace fs

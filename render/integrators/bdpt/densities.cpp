@@ -8,15 +8,15 @@ namespace fs {
 namespace {
 
 /// Unit direction from @p from to @p to (a directional light's vertex lies "against its travel").
-Vec3 directionTo(const BdptVertex& from, const BdptVertex& to) {
-  if (to.kind == BdptVertex::Kind::Light && to.deltaDirection) return -to.hit.ng;
+Vec3 directionTo(const SubpathVertex& from, const SubpathVertex& to) {
+  if (to.kind == SubpathVertex::Kind::Light && to.deltaDirection) return -to.hit.ng;
   return glm::normalize(to.hit.p - from.hit.p);
 }
 
 }  // namespace
 
-float BdptDensities::pdf(const BdptVertex* prev, const BdptVertex& cur, const BdptVertex& next) const {
-  using Kind = BdptVertex::Kind;
+float BdptDensities::pdf(const SubpathVertex* prev, const SubpathVertex& cur, const SubpathVertex& next) const {
+  using Kind = SubpathVertex::Kind;
   const bool toDirectional = next.kind == Kind::Light && next.deltaDirection;
   const Vec3 d = next.hit.p - cur.hit.p;
   const float dist2 = glm::dot(d, d);
@@ -47,7 +47,7 @@ float BdptDensities::pdf(const BdptVertex* prev, const BdptVertex& cur, const Bd
   return 0.0f;
 }
 
-uint32_t BdptDensities::lightOf(const BdptVertex& v) const {
+uint32_t BdptDensities::lightOf(const SubpathVertex& v) const {
   if (v.hit.onPatch()) {
     const uint32_t side = glm::dot(v.wi, scene_.mesh().patches[v.hit.patch].normal) >= 0.0f ? 0 : 1;
     return emission_.patchEmitter(v.hit.patch, side);
@@ -56,12 +56,12 @@ uint32_t BdptDensities::lightOf(const BdptVertex& v) const {
   return uint32_t(&lights.emitterLight(v.hit.emitter) - lights.lights().data());
 }
 
-float BdptDensities::pdfOrigin(const BdptVertex& v) const {
-  const uint32_t e = v.kind == BdptVertex::Kind::Light ? v.light : lightOf(v);
+float BdptDensities::pdfOrigin(const SubpathVertex& v) const {
+  const uint32_t e = v.kind == SubpathVertex::Kind::Light ? v.light : lightOf(v);
   return e == kNoId ? 0.0f : emission_.pdfChoice(e) * emission_.pdfPosition(e);
 }
 
-void BdptDensities::setDensities(std::vector<BdptVertex>& path) const {
+void BdptDensities::setDensities(std::vector<SubpathVertex>& path) const {
   const size_t n = path.size();
   for (size_t k = 1; k < n; ++k) path[k].pdfFwd = pdf(k >= 2 ? &path[k - 2] : nullptr, path[k - 1], path[k]);
   for (size_t k = 0; k + 2 < n; ++k) path[k].pdfRev = pdf(&path[k + 2], path[k + 1], path[k]);

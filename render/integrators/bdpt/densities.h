@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "render/camera.h"
-#include "render/integrators/bdpt/vertex.h"
+#include "render/integrators/common/subpath_vertex.h"
 #include "render/light_emission.h"
 #include "render/render_scene.h"
 
@@ -23,16 +23,16 @@ class BdptDensities {
   /// a directional light). Camera: the pinhole's direction density over the whole film,
   /// 1/(A_film·cos³θ); light: the emission direction's (directional: the beam's area density
   /// p_pos·|cos| at @p next); surface: the BSDF's, 0 for a delta BSDF. Light choice not included.
-  float pdf(const BdptVertex* prev, const BdptVertex& cur, const BdptVertex& next) const;
+  float pdf(const SubpathVertex* prev, const SubpathVertex& cur, const SubpathVertex& next) const;
   /// Density of @p v as a light subpath's origin, p_light·p_pos (1/m²): a Kind::Light vertex, or a
   /// surface vertex on an emitter (the camera subpath meeting it); 0 if it is none.
-  float pdfOrigin(const BdptVertex& v) const;
+  float pdfOrigin(const SubpathVertex& v) const;
   /// The emitter index (EmissionSampler) of a surface vertex on an area light's geometry, or on a
   /// lit patch in table mode (the side facing v.wi; kNoId if that side does not emit).
-  uint32_t lightOf(const BdptVertex& v) const;
+  uint32_t lightOf(const SubpathVertex& v) const;
   /// Sets pdfFwd (from vertex 1 on) and the pdfRev that the subpath itself determines (vertices
   /// 0 … n−3) of a traced subpath; vertex 0's pdfFwd is left as it is.
-  void setDensities(std::vector<BdptVertex>& path) const;
+  void setDensities(std::vector<SubpathVertex>& path) const;
 
   const RenderScene& scene() const { return scene_; }
   const EmissionSampler& emission() const { return emission_; }

@@ -6,12 +6,14 @@
 #include "render/integrators/bdpt/mis.h"
 #include "render/integrators/bdpt/strategies.h"
 #include "render/integrators/bdpt/subpaths.h"
+#include "render/integrators/common/camera_splat.h"
 
 namespace fs {
 
 void BdptIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
-  light_.preprocess(scene);  // in table mode its emitters are the kept lights and the lit patch sides
+  lighting_.build(scene);
+  shooting_.build(scene, lighting_, options_);  // in table mode: the kept lights and the lit patch sides
 }
 
 Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
@@ -43,10 +45,11 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   const Ray ray = camera.generateRay(float(pixel % uint32_t(camera.width())) + jitter.x,
                                      float(pixel / uint32_t(camera.width())) + jitter.y);
   traceCameraPath(densities, ray, maxDepth + 1, options_.rrDepth, sampler, ws.camera, rays);
-  if (!traceLightPath(*scene_, emission(), light_.pathOptions(), sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
+  const LightPathOptions walk{maxDepth, options_.rrDepth};
+  if (!traceLightPath(*scene_, emission(), walk, sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
   toBdptLightPath(densities, ws.lightRaw, ws.light);
   const int nt = int(ws.camera.size()), ns = int(ws.light.size());
-  const std::span<const BdptVertex> cameraPath(ws.camera), lightPath(ws.light);
+  const std::span<const SubpathVertex> cameraPath(ws.camera), lightPath(ws.light);
   // x_m, the first non-delta camera vertex: in table mode, lit patches emit only after it.
   size_t m = 1;
   while (m < ws.camera.size() && ws.camera[m].delta) ++m;
@@ -58,18 +61,18 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   // t ≥ 2: this pixel's sample.
   Color L(0.0f);
   for (int t = 2; t <= nt; ++t) {
-    const BdptVertex& pt = ws.camera[size_t(t - 1)];
+    const SubpathVertex& pt = ws.camera[size_t(t - 1)];
     for (int s = 0; s <= std::max(ns, 1) && s + t - 2 <= maxDepth; ++s) {
       Color c(0.0f);
       if (s == 0) {
         if (t - 2 + (pt.hit.onPatch() ? 1 : 0) > maxDepth) continue;  // a lit patch's emission
-        c = connectEmission(densities, pt, light_.tableMode() && size_t(t - 1) > m);
+        c = connectEmission(densities, pt, shooting_.tableMode() && size_t(t - 1) > m);
         if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, 0, t);
       } else if (s == 1) {
-        BdptVertex sampled;
+        SubpathVertex sampled;
         c = connectLightSample(densities, pt, sampler, sampled, rays);
         if (t - 1 + (em.isPatch(sampled.light) ? 1 : 0) > maxDepth) c = Color(0.0f);
-        if (maxComponent(c) > 0.0f) c *= misWeight(densities, std::span<const BdptVertex>(&sampled, 1), cameraPath, 1, t);
+        if (maxComponent(c) > 0.0f) c *= misWeight(densities, std::span<const SubpathVertex>(&sampled, 1), cameraPath, 1, t);
       } else if (s + t - 2 + lightExtra > maxDepth) {
         continue;
       } else {
@@ -81,15 +84,15 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   }
   // x_m's direct light is a bounce at x_m (camera vertex m is the path tracer's vertex m − 1): only
   // while m ≤ D; past it the small lights count only where the delta chain meets them.
-  if (light_.tableMode())
-    L += light_.smallLights().estimate(cameraPath, int(m) <= maxDepth ? m : cameraPath.size(), sampler, rays);
+  if (shooting_.tableMode())
+    L += shooting_.smallLights().estimate(cameraPath, int(m) <= maxDepth ? m : cameraPath.size(), sampler, rays);
   out.push_back(Splat{pixel, L});
 
   // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.
   const float invN = 1.0f / float(particlesPerPass(camera));
   for (int s = 2; s <= ns && s - 1 + lightExtra <= maxDepth; ++s) {
     Splat splat;
-    if (!light_.connect(ws.lightRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays)) continue;
+    if (!connectToCamera(*scene_, ws.lightRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays)) continue;
     splat.L *= misWeight(densities, lightPath, cameraPath.first(1), s, 1) * invN;
     out.push_back(splat);
   }

@@ -2,11 +2,13 @@
 /// @file integrator.h
 /// Bidirectional path tracing (Veach 1997; Lafortune & Willems 1993), docs/bdpt.md.
 ///
-/// A sample of pixel j in pass k is a camera subpath through pixel j and a light subpath (light
-/// tracing's traceLightPath), both keyed by Sampler(seed, j, k, kStream). Every strategy (s, t) of
+/// A sample of pixel j in pass k is a camera subpath through pixel j and a light subpath (the
+/// shared traceLightPath, render/integrators/common/light_path.h), both keyed by
+/// Sampler(seed, j, k, kStream). Every strategy (s, t) of
 /// s light and t camera vertices is evaluated — s = 0 (the camera path meets an area light),
 /// s = 1 (a new light sample), s ≥ 2 with t ≥ 2 (a shadow ray between the subpaths), and t = 1 (a
-/// light vertex joined to the pinhole, splatted where it projects, as light tracing does) — and
+/// light vertex joined to the pinhole, splatted where it projects as light tracing does:
+/// connectToCamera, common/camera_splat.h) — and
 /// weighted by the power heuristic over all strategies of the same path (misWeight). Paths of
 /// more than IntegratorOptions::maxDepth bounces (s + t − 2) are left out (docs/irradiance-cache.md,
 /// "What --max-depth counts").
@@ -18,22 +20,24 @@
 ///
 /// With a first-shot table and IntegratorOptions::shootFromPatches (table mode): the small lights'
 /// light subpaths start from the patches the table lights — the table is their first bounce. The
-/// emitters are the kept lights and the lit patch sides (EmissionSampler's table mode): light
+/// emitters are the kept lights and the lit patch sides (common/shooting_emitters.h): light
 /// subpaths leave them, s = 1 samples them, and a camera vertex after x_m (the first non-delta one)
 /// on a lit patch meets its first-shot radiance (s = 0). The small lights themselves add their
-/// direct light at x_m and what no table can hold (SmallLightsExact). Without the option the table
+/// direct light at x_m and what no table can hold (SmallLightsExact, common/small_lights.h). Without the option the table
 /// is ignored: the small lights are shot and sampled like all others (unbiased, as light tracing).
 #include <vector>
 
+#include "render/firstshot/lighting.h"
 #include "render/integrator.h"
 #include "render/integrators/bdpt/densities.h"
-#include "render/integrators/light/light_tracer.h"
+#include "render/integrators/common/light_path.h"
+#include "render/integrators/common/shooting_emitters.h"
 
 namespace fs {
 
 class BdptIntegrator : public Integrator {
  public:
-  explicit BdptIntegrator(const IntegratorOptions& options) : options_(options), light_(options) {}
+  explicit BdptIntegrator(const IntegratorOptions& options) : options_(options) {}
   void preprocess(const RenderScene& scene) override;
   /// The AOVs of the camera ray's first hit; radiance 0 (the splats carry it).
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
@@ -53,7 +57,7 @@ class BdptIntegrator : public Integrator {
  private:
   /// Subpaths of one sample, reused across the particles of a chunk.
   struct Workspace {
-    std::vector<BdptVertex> camera, light;
+    std::vector<SubpathVertex> camera, light;
     std::vector<LightVertex> lightRaw;
   };
   /// One sample of pixel @p pixel: appends its splats to @p out.
@@ -61,13 +65,13 @@ class BdptIntegrator : public Integrator {
               uint64_t& rays) const;
 
   /// The emitters light subpaths leave and s = 1 samples (in table mode the lit patch sides too).
-  const EmissionSampler& emission() const { return light_.emission(); }
+  const EmissionSampler& emission() const { return shooting_.emission(); }
 
   IntegratorOptions options_;
   const RenderScene* scene_ = nullptr;
-  /// Emission, light subpaths and the t = 1 connection; in table mode also the lit patches'
-  /// emitters and the small lights' own part (SmallLightsExact).
-  LightTracingIntegrator light_;
+  FirstShotLighting lighting_;  ///< the table's lighting (table mode: the lit patches' emission)
+  /// The emitters; in table mode also the lit patches' emitters and the small lights' own part.
+  ShootingEmitters shooting_;
 };
 
 }  // namespace fs

@@ -10,13 +10,13 @@ float remap0(float p) { return p != 0.0f ? p : 1.0f; }
 
 }  // namespace
 
-float misWeight(const BdptDensities& densities, std::span<const BdptVertex> light, std::span<const BdptVertex> camera,
+float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> light, std::span<const SubpathVertex> camera,
                 int s, int t) {
   if (s + t == 2) return 1.0f;
-  const BdptVertex& pt = camera[size_t(t - 1)];
-  const BdptVertex* ptMinus = t > 1 ? &camera[size_t(t - 2)] : nullptr;
-  const BdptVertex* qs = s > 0 ? &light[size_t(s - 1)] : nullptr;
-  const BdptVertex* qsMinus = s > 1 ? &light[size_t(s - 2)] : nullptr;
+  const SubpathVertex& pt = camera[size_t(t - 1)];
+  const SubpathVertex* ptMinus = t > 1 ? &camera[size_t(t - 2)] : nullptr;
+  const SubpathVertex* qs = s > 0 ? &light[size_t(s - 1)] : nullptr;
+  const SubpathVertex* qsMinus = s > 1 ? &light[size_t(s - 2)] : nullptr;
 
   // Reverse densities of the connection vertices and their predecessors under this strategy.
   float ptRev = 0, ptMinusRev = 0, qsRev = 0, qsMinusRev = 0;
@@ -26,8 +26,8 @@ float misWeight(const BdptDensities& densities, std::span<const BdptVertex> ligh
     qsRev = densities.pdf(ptMinus, pt, *qs);
     if (qsMinus) qsMinusRev = densities.pdf(&pt, *qs, *qsMinus);
   } else {  // s = 0: pt lies on an area light, which could have emitted it
-    BdptVertex asLight = pt;
-    asLight.kind = BdptVertex::Kind::Light;
+    SubpathVertex asLight = pt;
+    asLight.kind = SubpathVertex::Kind::Light;
     asLight.light = densities.lightOf(pt);
     ptRev = densities.pdfOrigin(asLight);
     if (ptMinus) ptMinusRev = densities.pdf(nullptr, asLight, *ptMinus);

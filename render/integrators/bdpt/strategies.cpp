@@ -9,8 +9,8 @@
 
 namespace fs {
 
-Color connectEmission(const BdptDensities& densities, const BdptVertex& pt, bool patchEmits) {
-  if (pt.kind != BdptVertex::Kind::Surface) return Color(0.0f);
+Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, bool patchEmits) {
+  if (pt.kind != SubpathVertex::Kind::Surface) return Color(0.0f);
   const EmissionSampler& emission = densities.emission();
   if (pt.hit.onPatch()) {
     if (!patchEmits) return Color(0.0f);
@@ -21,15 +21,15 @@ Color connectEmission(const BdptDensities& densities, const BdptVertex& pt, bool
   return pt.beta * densities.scene().lights().emitted(pt.hit.emitter, pt.hit.ng, pt.wi);
 }
 
-Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, Sampler& sampler, BdptVertex& sampled,
+Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler, SubpathVertex& sampled,
                          uint64_t& rays) {
   const double u = sampler.next1Dd();
   const Vec2 uPos = sampler.next2D();
   EmissionSample es;
   const EmissionSampler& emission = densities.emission();
   if (pt.delta || !emission.sampleOrigin(u, uPos, es)) return Color(0.0f);
-  sampled = BdptVertex();
-  sampled.kind = BdptVertex::Kind::Light;
+  sampled = SubpathVertex();
+  sampled.kind = SubpathVertex::Kind::Light;
   sampled.light = es.light;
   sampled.hit.p = es.p;
   sampled.hit.ng = es.n;
@@ -83,7 +83,7 @@ Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, S
   return L;
 }
 
-Color connectVertices(const BdptDensities& densities, const BdptVertex& qs, const BdptVertex& pt, uint64_t& rays) {
+Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt, uint64_t& rays) {
   if (qs.delta || pt.delta) return Color(0.0f);
   const Vec3 d = qs.hit.p - pt.hit.p;
   const float dist2 = glm::dot(d, d);

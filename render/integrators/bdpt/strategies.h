@@ -15,16 +15,16 @@ namespace fs {
 /// s = 0: the emitted radiance of camera vertex t−1 towards vertex t−2, times its throughput: an
 /// area light's front side that the emission sampler emits from, or (table mode, if @p patchEmits)
 /// a lit patch's first-shot radiance; 0 otherwise.
-Color connectEmission(const BdptDensities& densities, const BdptVertex& pt, bool patchEmits);
+Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, bool patchEmits);
 
 /// s = 1: samples a light vertex with the emission sampler's light choice and position (3
 /// sampler dimensions, always drawn) into @p sampled and joins it to @p pt. 0 if @p pt is delta,
 /// the light sends nothing towards it, or the segment is blocked. @p rays counts the shadow ray.
-Color connectLightSample(const BdptDensities& densities, const BdptVertex& pt, Sampler& sampler, BdptVertex& sampled,
+Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler, SubpathVertex& sampled,
                          uint64_t& rays);
 
 /// s ≥ 2, t ≥ 2: light vertex @p qs joined to camera vertex @p pt (0 if either is delta or the
 /// segment is blocked). @p rays counts the shadow ray.
-Color connectVertices(const BdptDensities& densities, const BdptVertex& qs, const BdptVertex& pt, uint64_t& rays);
+Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt, uint64_t& rays);
 
 }  // namespace fs

@@ -6,11 +6,11 @@
 namespace fs {
 
 void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int maxHits, int rrDepth, Sampler& sampler,
-                     std::vector<BdptVertex>& path, uint64_t& rays) {
+                     std::vector<SubpathVertex>& path, uint64_t& rays) {
   const RenderScene& scene = densities.scene();
   path.clear();
-  BdptVertex v0;
-  v0.kind = BdptVertex::Kind::Camera;
+  SubpathVertex v0;
+  v0.kind = SubpathVertex::Kind::Camera;
   v0.hit.p = cameraRay.o;
   v0.beta = Color(1.0f);
   v0.pdfFwd = 1.0f;
@@ -22,7 +22,7 @@ void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int m
     Hit hit;
     ++rays;
     if (!scene.intersect(ray, hit)) break;
-    BdptVertex v;
+    SubpathVertex v;
     v.hit = hit;
     v.wi = -glm::normalize(ray.d);
     v.beta = beta;
@@ -48,17 +48,17 @@ void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int m
   densities.setDensities(path);
 }
 
-void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in, std::vector<BdptVertex>& out) {
+void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in, std::vector<SubpathVertex>& out) {
   out.clear();
   for (size_t k = 0; k < in.size(); ++k) {
     const LightVertex& lv = in[k];
-    BdptVertex v;
+    SubpathVertex v;
     v.hit = lv.hit;
     v.wi = lv.wi;
     v.beta = lv.beta;
     v.material = lv.material;
     if (k == 0) {
-      v.kind = BdptVertex::Kind::Light;
+      v.kind = SubpathVertex::Kind::Light;
       v.light = lv.light;
       v.deltaLight = lv.delta;
       v.deltaDirection = densities.emission().isDirectional(lv.light);

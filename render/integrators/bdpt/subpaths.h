@@ -7,7 +7,7 @@
 
 #include "common/rng.h"
 #include "render/integrators/bdpt/densities.h"
-#include "render/integrators/light/light_path.h"
+#include "render/integrators/common/light_path.h"
 
 namespace fs {
 
@@ -16,10 +16,10 @@ namespace fs {
 /// once @p rrDepth hits are made. Draws 2 sampler dimensions per bounce, +1 for roulette. Sets the
 /// densities (BdptDensities::setDensities). @p rays counts the closest-hit rays.
 void traceCameraPath(const BdptDensities& densities, const Ray& ray, int maxHits, int rrDepth, Sampler& sampler,
-                     std::vector<BdptVertex>& path, uint64_t& rays);
+                     std::vector<SubpathVertex>& path, uint64_t& rays);
 
 /// The bidirectional form of a light subpath of traceLightPath() (empty stays empty): vertex 0 a
 /// Kind::Light vertex, densities set (pdfFwd of vertex 0: p_light·p_pos).
-void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in, std::vector<BdptVertex>& out);
+void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in, std::vector<SubpathVertex>& out);
 
 }  // namespace fs

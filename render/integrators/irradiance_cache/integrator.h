@@ -18,8 +18,9 @@
 ///   light plus their own cached indirect light) and the emission of large area lights (§5).
 ///   Level ℓ uses a·1.4^ℓ and half the samples of level ℓ−1 (§3.4). Past the last level the
 ///   irradiance is estimated without bias by one path per evaluation, π·L(ω) for a cosine-
-///   distributed ω, L traced by the path integrator (its NEE, first-shot patches as emitters,
-///   Russian roulette), so the cache converges to what path tracing does; or, on request, it is
+///   distributed ω, L traced by the path walk (render/integrators/common/path_walk.h: its NEE,
+///   first-shot patches as emitters, Russian roulette, over this integrator's first-shot
+///   lighting), so the cache converges to what path tracing does; or, on request, it is
 ///   π·ambient (Ward's ambient term, biased).
 /// - Direct light at a vertex is next-event estimation through a LightSampler built over the
 ///   direct lights only: one light chosen by a light tree (IntegratorOptions::lightSampler =
@@ -52,7 +53,7 @@
 #include "render/film.h"
 #include "render/integrator.h"
 #include "render/integrators/irradiance_cache/cache.h"
-#include "render/integrators/path.h"
+#include "render/integrators/common/path_walk.h"
 
 namespace fs {
 
@@ -194,8 +195,8 @@ class IrradianceCacheIntegrator : public Integrator {
   IntegratorOptions options_;
   IrradianceCacheSettings settings_;
   const RenderScene* scene_ = nullptr;
-  FirstShotLighting firstShot_;
-  std::unique_ptr<PathIntegrator> continuation_;  ///< traces the light past the last level
+  FirstShotLighting firstShot_;           ///< built once per preprocess(); the continuation's too
+  PathWalk continuation_;                 ///< traces the light past the last level
   LightSampler directLights_;             ///< NEE over the direct lights (and the lit patches)
   std::vector<uint8_t> gathered_;         ///< per light: emission gathered by the cache (large area lights)
   std::vector<uint8_t> direct_;           ///< per light: NEE / first-shot (the others)

@@ -95,8 +95,7 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
                      "the one-pass irradiance cache depends on the thread schedule and cannot be split over MPI ranks; "
                      "use the two-pass fill (the default)");
   firstShot_.build(scene);
-  continuation_ = std::make_unique<PathIntegrator>(options_);
-  continuation_->preprocess(scene);
+  continuation_.build(scene, firstShot_, options_);
   if (!(settings_.patchNee >= 0.0f)) throw std::invalid_argument("irradiance cache: invalid settings");
 
   // Large area lights are gathered by the cache (§5); every other light is direct light.

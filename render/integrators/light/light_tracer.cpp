@@ -4,23 +4,18 @@
 #include <algorithm>
 #include <cmath>
 
-#include "render/direct_light.h"
-#include "render/lights.h"
+#include "render/integrators/common/camera_splat.h"
 
 namespace fs {
 
 void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
-  fallback_.preprocess(scene);
-  table_ = options_.shootFromPatches && scene.firstShot() != nullptr;
+  lighting_.build(scene);
+  fallback_.build(scene, lighting_, options_);
+  shooting_.build(scene, lighting_, options_);
   mirrors_ = false;
   for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
-  if (!table_) {
-    emission_ = EmissionSampler(scene.lights(), scene.desc());
-    return;
-  }
-  emission_ = EmissionSampler(scene, fallback_.lighting());
-  small_.build(scene, fallback_.lighting(), options_);
+  if (!shooting_.tableMode()) return;
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
   smallAreaLights_ = deltaFirst_.totalPower() > 0;
   deltaParticles_ = smallAreaLights_ && mirrors_;
@@ -38,9 +33,10 @@ Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* i
   if (info) info->rays = 1;
   if (!scene_->intersect(ray, hit)) return Color(0.0f);
   const BSDF& bsdf = scene_->bsdf(scene_->material(hit));
-  if (bsdf.hasDelta()) {
-    const Color L = fallback_.Li(ray, sampler, info);
-    if (info) ++info->rays;
+  if (bsdf.hasDelta()) {  // the path tracer's estimate, the first hit traced again (as PathIntegrator::Li)
+    uint64_t rays = 0;
+    const Color L = fallback_.trace(ray, Color(1.0f), 0, PathVertex(), true, sampler, rays, info);
+    if (info) info->rays = rays + 1;
     return L;
   }
   if (info) {
@@ -48,7 +44,7 @@ Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* i
     info->albedo = bsdf.albedo();
     info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
   }
-  if (!table_) return Color(0.0f);
+  if (!shooting_.tableMode()) return Color(0.0f);
   uint64_t rays = 0;
   const Color L = smallLightsAt(ray, hit, sampler, rays);
   if (info) info->rays += uint32_t(rays);
@@ -59,20 +55,21 @@ Color LightTracingIntegrator::smallLightsAt(const Ray& ray, const Hit& x, Sample
   // The camera subpath: the pinhole, x, and — if a replaced light has a surface to meet — the hit
   // of x's BSDF sample (a small area light seen from x through mirrors and glass comes from the
   // delta-first particles instead).
-  thread_local std::vector<BdptVertex> path;
+  thread_local std::vector<SubpathVertex> path;
   path.clear();
-  BdptVertex v;
-  v.kind = BdptVertex::Kind::Camera;
+  SubpathVertex v;
+  v.kind = SubpathVertex::Kind::Camera;
   v.hit.p = ray.o;
   v.beta = Color(1.0f);
   path.push_back(v);
-  v = BdptVertex();
+  v = SubpathVertex();
   v.hit = x;
   v.wi = -glm::normalize(ray.d);
   v.beta = Color(1.0f);
   v.material = scene_->material(x);
   path.push_back(v);
-  if (options_.maxDepth < 1) return small_.estimate(path, path.size(), sampler, rays);  // x's own emission only
+  const SmallLightsExact& small = shooting_.smallLights();
+  if (options_.maxDepth < 1) return small.estimate(path, path.size(), sampler, rays);  // x's own emission only
   const BSDF& bsdf = scene_->bsdf(path[1].material);
   if (smallAreaLights_ && maxComponent(bsdf.albedo()) > 0.0f) {
     const Frame frame(x.ng);
@@ -81,7 +78,7 @@ Color LightTracingIntegrator::smallLightsAt(const Ray& ray, const Hit& x, Sample
     const Vec3 wi = frame.toWorld(q.wi);
     Hit hit;
     if (q.pdf > 0.0f && maxComponent(weight) > 0.0f && (++rays, scene_->intersect(Ray(x.spawnOrigin(wi), wi), hit))) {
-      v = BdptVertex();
+      v = SubpathVertex();
       v.hit = hit;
       v.wi = -wi;
       v.beta = weight;
@@ -90,39 +87,17 @@ Color LightTracingIntegrator::smallLightsAt(const Ray& ray, const Hit& x, Sample
       path.push_back(v);
     }
   }
-  return small_.estimate(path, 1, sampler, rays);
+  return small.estimate(path, 1, sampler, rays);
 }
 
 void LightTracingIntegrator::splatPath(const std::vector<LightVertex>& path, size_t first, const Camera& camera,
                                        float invN, std::vector<Splat>& out, uint64_t& rays) const {
   for (size_t k = first; k < path.size(); ++k) {
     Splat s;
-    if (!connect(path[k], camera, s.pixel, s.L, rays)) continue;
+    if (!connectToCamera(*scene_, path[k], camera, s.pixel, s.L, rays)) continue;
     s.L *= invN;
     out.push_back(s);  // the renderer counts and drops non-finite ones
   }
-}
-
-bool LightTracingIntegrator::connect(const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L,
-                                     uint64_t& rays) const {
-  if (v.delta) return false;
-  CameraConnection c;
-  if (!camera.connect(v.hit.p, c)) return false;
-  float cosX = glm::dot(v.hit.ng, c.wi);
-  if (v.material == kNoId) {  // vertex 0 on an area light: Le towards the camera, front side only
-    if (!(cosX > 0.0f)) return false;
-    L = v.beta * (cosX * c.importance);
-  } else {
-    const Frame frame(v.hit.ng);
-    const BSDFQuery q(frame.toLocal(v.wi), frame.toLocal(c.wi), TransportMode::Importance);
-    const Color f = scene_->bsdf(v.material).eval(q);
-    if (!(maxComponent(f) > 0.0f)) return false;
-    L = v.beta * f * (std::abs(cosX) * c.importance);
-  }
-  ++rays;
-  if (scene_->occluded(shadowRay(v.hit, c.wi, c.distance))) return false;
-  pixel = uint32_t(c.raster.y) * uint32_t(camera.width()) + uint32_t(c.raster.x);
-  return true;
 }
 
 void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin,
@@ -136,11 +111,11 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
   deltaFirst.deltaFirstHitOnly = true;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler(seed, i, pass, kParticleStream);
-    if (traceLightPath(*scene_, emission_, po, sampler, path, rays, i, n)) {
+    if (traceLightPath(*scene_, shooting_.emission(), po, sampler, path, rays, i, n)) {
       // A patch particle (table mode) starts one bounce in (traceLightPath stops it a hit earlier):
       // its vertex 0, the first-shot radiance at the camera's first hit, is the small lights'
       // direct light that Li() takes exactly.
-      splatPath(path, emission_.isPatch(path[0].light) ? 1 : 0, camera, invN, out, rays);
+      splatPath(path, shooting_.emission().isPatch(path[0].light) ? 1 : 0, camera, invN, out, rays);
     }
     // Table mode with mirrors or glass: a small area light's particle whose first hit is a delta
     // surface (no table holds that bounce). Its vertex 0 seen by the camera comes from Li().

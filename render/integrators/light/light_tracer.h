@@ -3,27 +3,27 @@
 /// Light tracing (particle tracing with connections to the camera): the shooting estimator of the
 /// adjoint identity <L, W_e> = <L_e, W> (Dutré et al., docs/light-tracing.md).
 ///
-/// Each pass traces particlesPerPass() = k·width·height light subpaths (render/integrators/light/
+/// Each pass traces particlesPerPass() = k·width·height light subpaths (render/integrators/common/
 /// light_path.h), k = pathsPerPixel(), and one camera sample per pixel. Every vertex that can
 /// reach the pinhole — an area light's vertex 0 and every non-delta surface vertex — is connected
 /// to it by a shadow ray and splats
 ///     beta · f(ω_light, ω_camera) · |cosθ_x| · W_e·cosθ_c/d²  / N
-/// into the pixel it projects to (CameraConnection: the same box filter as the jittered camera
+/// into the pixel it projects to (connectToCamera, common/camera_splat.h; CameraConnection: the same box filter as the jittered camera
 /// rays of the gathering integrators), N the particles of the pass. The pass's splat sums are one
 /// sample of every pixel, so the film's mean and variance are per pass.
 ///
 /// Paths a pinhole cannot close from the light side are gathered instead, per pixel, in Li():
 /// camera samples whose first hit is a delta surface (mirror, glass) take the path tracer's
-/// estimate; the splats skip them (they start from non-delta vertices only), so the two parts
+/// estimate (the path walk, common/path_walk.h, over the integrator's first-shot lighting); the splats skip them (they start from non-delta vertices only), so the two parts
 /// partition the pixel's paths. Point and spot lights are not seen by the camera (as in gathering).
 ///
 /// With a first-shot table and IntegratorOptions::shootFromPatches (table mode) the small lights
 /// are not shot: particles leave the kept lights and the lit patch sides (EmissionSampler's table
-/// mode), so the table is the small lights' first bounce. A patch particle's vertex 0 is not
+/// mode, common/shooting_emitters.h), so the table is the small lights' first bounce. A patch particle's vertex 0 is not
 /// splatted, and its vertex k makes a path of k + 1 bounces. What the small lights give the
 /// camera directly — their direct light at the first hit x (next-event estimation, exact shadows,
 /// MIS with x's BSDF sample for area lights) and their emission seen at x — comes from Li() per
-/// pixel (SmallLightsExact). A small area light's light whose first bounce is a mirror or glass
+/// pixel (SmallLightsExact, common/small_lights.h, shared with BDPT). A small area light's light whose first bounce is a mirror or glass
 /// (no table holds it) comes from a second particle per particle index when the scene has both:
 /// shot from the small area lights, stopped at a first hit that is not delta. This is the path
 /// space of the path tracer with the same table and PrimaryMode::Exact. Without the option the
@@ -31,17 +31,18 @@
 /// the path-traced delta pixels read the table.
 #include <vector>
 
+#include "render/firstshot/lighting.h"
 #include "render/integrator.h"
-#include "render/integrators/bdpt/small_lights.h"
-#include "render/integrators/light/light_path.h"
-#include "render/integrators/path.h"
+#include "render/integrators/common/light_path.h"
+#include "render/integrators/common/path_walk.h"
+#include "render/integrators/common/shooting_emitters.h"
 #include "render/light_emission.h"
 
 namespace fs {
 
 class LightTracingIntegrator : public Integrator {
  public:
-  explicit LightTracingIntegrator(const IntegratorOptions& options) : options_(options), fallback_(options) {}
+  explicit LightTracingIntegrator(const IntegratorOptions& options) : options_(options) {}
   void preprocess(const RenderScene& scene) override;
   /// The camera-side part of a sample: the AOVs, and the path tracer's radiance for a ray whose
   /// first hit is a delta surface; otherwise, in table mode, the small lights' own part, and 0
@@ -63,17 +64,9 @@ class LightTracingIntegrator : public Integrator {
   void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
                       std::vector<Splat>& out, uint64_t& rays) const override;
 
-  /// The splat of light-path vertex @p v to the camera, unscaled by 1/N: false if it cannot
-  /// reach the pinhole (delta, behind the camera, off the film, occluded, or on the far side).
-  /// @p pixel receives y·width + x. @p rays counts the shadow ray.
-  bool connect(const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L, uint64_t& rays) const;
-
   /// The emitters particles leave: every light, or in table mode the kept lights and lit patch sides.
-  const EmissionSampler& emission() const { return emission_; }
-  /// Table mode: a first-shot table is loaded and IntegratorOptions::shootFromPatches is set.
-  bool tableMode() const { return table_; }
-  /// Table mode: the small lights' own part of a camera subpath (built in preprocess()).
-  const SmallLightsExact& smallLights() const { return small_; }
+  const EmissionSampler& emission() const { return shooting_.emission(); }
+  /// The light subpaths' walk: IntegratorOptions::maxDepth and rrDepth.
   LightPathOptions pathOptions() const { return {options_.maxDepth, options_.rrDepth}; }
 
   /// pathsPerPixel() of the automatic setting in scenes without mirrors or glass: the error at a
@@ -100,14 +93,13 @@ class LightTracingIntegrator : public Integrator {
 
   IntegratorOptions options_;
   const RenderScene* scene_ = nullptr;
-  EmissionSampler emission_;
-  PathIntegrator fallback_;  ///< for camera rays whose first hit is a delta surface; its table lighting
-  bool table_ = false;
+  FirstShotLighting lighting_;  ///< the table's lighting, built once: the emitters' and the fallback's
+  PathWalk fallback_;           ///< for camera rays whose first hit is a delta surface
+  ShootingEmitters shooting_;   ///< the emitters, table mode and the small lights' own part
   bool mirrors_ = false;  ///< the scene has a delta (mirror, glass) material
   bool smallAreaLights_ = false;  ///< table mode: a replaced light has a surface (a BSDF sample can meet it)
   bool deltaParticles_ = false;   ///< table mode: small area lights and delta surfaces: shoot deltaFirst_ too
   EmissionSampler deltaFirst_;    ///< table mode: the replaced area lights, for particles whose first hit is delta
-  SmallLightsExact small_;
 };
 
 }  // namespace fs

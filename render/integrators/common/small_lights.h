@@ -1,7 +1,8 @@
 #pragma once
 /// @file small_lights.h
-/// Bidirectional path tracing with a first-shot table (table mode, docs/bdpt.md): the part of a
-/// sample that the small (replaced) lights still contribute as themselves.
+/// The shooting integrators with a first-shot table (table mode: bidirectional path tracing,
+/// docs/bdpt.md, and light tracing): the part of a camera subpath that the small (replaced) lights
+/// still contribute as themselves.
 ///
 /// In table mode the small lights leave the emission sampler; their first reflection comes from
 /// the lit patches, which emit it at camera vertices after x_m, the first non-delta vertex of the
@@ -12,14 +13,14 @@
 ///     small area light met by the subpath's BSDF sample from x_m, weighted against it by the
 ///     power heuristic;
 ///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1.
-/// Light tracing's table mode uses it too (render/integrators/light/light_tracer.h), with a camera
-/// subpath of x_m (the camera's first hit) and the hit of x_m's BSDF sample only: light reflected by
+/// BDPT passes its whole camera subpath. Light tracing (render/integrators/light/light_tracer.h)
+/// passes x_m (the camera's first hit) and the hit of x_m's BSDF sample only: light reflected by
 /// mirrors and glass before x_m comes from its delta-first particles there.
 #include <span>
 
 #include "common/rng.h"
 #include "render/integrator.h"
-#include "render/integrators/bdpt/vertex.h"
+#include "render/integrators/common/subpath_vertex.h"
 #include "render/light_sampler.h"
 
 namespace fs {
@@ -31,7 +32,7 @@ class SmallLightsExact {
   /// The small lights' contribution to the camera subpath @p camera (vertex 0 the pinhole) whose
   /// first non-delta vertex is @p m (camera.size() if none), W/(m² sr). Draws the NEE sample's
   /// dimensions from @p sampler; @p rays counts the shadow rays.
-  Color estimate(std::span<const BdptVertex> camera, size_t m, Sampler& sampler, uint64_t& rays) const;
+  Color estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler, uint64_t& rays) const;
 
  private:
   const RenderScene* scene_ = nullptr;

@@ -1,5 +1,5 @@
 // Light subpaths: emission, then adjoint BSDF sampling with Russian roulette.
-#include "render/integrators/light/light_path.h"
+#include "render/integrators/common/light_path.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,8 @@
 #pragma once
-/// @file vertex.h
-/// A vertex of a bidirectional path: either subpath's (camera or light), with the area densities
-/// of having been sampled from either side, which the MIS weights of every strategy are built from.
+/// @file subpath_vertex.h
+/// A vertex of a camera or light subpath, with the area densities of having been sampled from
+/// either side, which bidirectional path tracing's MIS weights are built from (docs/bdpt.md). The
+/// camera-side small lights (small_lights.h) read camera subpaths of it, for BDPT and light tracing.
 #include <cstdint>
 
 #include "common/math.h"
@@ -11,7 +12,7 @@ namespace fs {
 
 /// One vertex of a camera or light subpath (docs/bdpt.md). Subpaths are ordered from their
 /// endpoint: vertex 0 is the pinhole (camera subpath) or the point on the light (light subpath).
-struct BdptVertex {
+struct SubpathVertex {
   enum class Kind : uint8_t { Camera, Light, Surface };
   Kind kind = Kind::Surface;
   /// p and ng (area light: front normal; directional light: the travel direction), eps, emitter.

@@ -1,5 +1,5 @@
-// Table mode of bidirectional path tracing: the small lights' own part of a sample.
-#include "render/integrators/bdpt/small_lights.h"
+// Table mode of the shooting integrators: the small lights' own part of a camera subpath.
+#include "render/integrators/common/small_lights.h"
 
 #include "render/direct_light.h"
 
@@ -12,18 +12,18 @@ void SmallLightsExact::build(const RenderScene& scene, const FirstShotLighting& 
   request_.tableVisibility = options.tableVisibility;
 }
 
-Color SmallLightsExact::estimate(std::span<const BdptVertex> camera, size_t m, Sampler& sampler,
+Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler,
                                  uint64_t& rays) const {
   const LightSet& lights = scene_->lights();
   Color L(0.0f);
   for (size_t i = 1; i < camera.size(); ++i) {
-    const BdptVertex& v = camera[i];
+    const SubpathVertex& v = camera[i];
     if (v.hit.onPatch() || !lights.emitterLight(v.hit.emitter).replaced) continue;
     const Color Le = lights.emitted(v.hit.emitter, v.hit.ng, v.wi);
     if (!(maxComponent(Le) > 0.0f)) continue;
     float weight = 1.0f;
     if (i == m + 1) {  // the BSDF sample of x_m against its next-event estimation
-      const BdptVertex& x = camera[m];
+      const SubpathVertex& x = camera[m];
       const Frame frame(x.hit.ng);
       const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
       const float pdfBsdf = scene_->bsdf(x.material).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
@@ -36,7 +36,7 @@ Color SmallLightsExact::estimate(std::span<const BdptVertex> camera, size_t m, S
     L += v.beta * Le * weight;
   }
   if (m < camera.size()) {
-    const BdptVertex& x = camera[m];
+    const SubpathVertex& x = camera[m];
     const Frame frame(x.hit.ng);
     L += x.beta * lights_.sample(x.hit, frame, frame.toLocal(x.wi), scene_->bsdf(x.material), request_, sampler, rays);
   }

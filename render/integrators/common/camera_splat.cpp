@@ -1,0 +1,32 @@
+// A light-subpath vertex joined to the pinhole camera.
+#include "render/integrators/common/camera_splat.h"
+
+#include <cmath>
+
+#include "render/direct_light.h"
+
+namespace fs {
+
+bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L,
+                     uint64_t& rays) {
+  if (v.delta) return false;
+  CameraConnection c;
+  if (!camera.connect(v.hit.p, c)) return false;
+  float cosX = glm::dot(v.hit.ng, c.wi);
+  if (v.material == kNoId) {  // vertex 0 on an area light: Le towards the camera, front side only
+    if (!(cosX > 0.0f)) return false;
+    L = v.beta * (cosX * c.importance);
+  } else {
+    const Frame frame(v.hit.ng);
+    const BSDFQuery q(frame.toLocal(v.wi), frame.toLocal(c.wi), TransportMode::Importance);
+    const Color f = scene.bsdf(v.material).eval(q);
+    if (!(maxComponent(f) > 0.0f)) return false;
+    L = v.beta * f * (std::abs(cosX) * c.importance);
+  }
+  ++rays;
+  if (scene.occluded(shadowRay(v.hit, c.wi, c.distance))) return false;
+  pixel = uint32_t(c.raster.y) * uint32_t(camera.width()) + uint32_t(c.raster.x);
+  return true;
+}
+
+}  // namespace fs
