@@ -88,9 +88,22 @@ struct Splat {
 /// sampler that ray's later Li() call will be given, and li returns the radiance.
 using RayTask = std::function<void(size_t task, const std::function<Color(const Ray&, Sampler&)>& li)>;
 
+/// How an integrator renders: which render loop drives it (render/renderer.h's render()).
+enum class IntegratorKind : uint8_t {
+  Sampling,   ///< a radiance estimate per camera sample, Li() (path, irradiance-cache)
+  Splatting,  ///< a SplattingIntegrator: each pass also traces particles splatted into the pixels (light, bdpt)
+  PerPass,    ///< a PassIntegrator: a global state per sample index, advanced by beginPass() (bundle)
+};
+
+/// The interface every integrator has: preprocess(), then Li() per camera sample. kind() says
+/// which render loop it takes; the splatting and per-pass ones derive from SplattingIntegrator
+/// and PassIntegrator, which add what their loop calls. No integrator holds another: what two
+/// share is a component of render/integrators/common/ (docs/architecture.md).
 class Integrator {
  public:
   virtual ~Integrator() = default;
+  /// Sampling, unless the integrator derives from SplattingIntegrator or PassIntegrator.
+  virtual IntegratorKind kind() const { return IntegratorKind::Sampling; }
   /// Called once before rendering; @p scene must outlive the integrator's use.
   virtual void preprocess(const RenderScene& scene) = 0;
   /// Instead of preprocess() when the rays do not start at the scene's camera (sensors): an
@@ -120,26 +133,32 @@ class Integrator {
   virtual bool hasRecords() const { return false; }
   /// The records stored so far, for display. The preview calls it between render passes only.
   virtual std::vector<IntegratorRecord> records() const { return {}; }
+};
 
-  /// Splatting integrators (light tracing): each pass, besides one Li() per pixel, traces
-  /// particlesPerPass() particles whose splats are summed into the pass's pixel estimates
-  /// (render/splat_renderer.h). False by default.
-  virtual bool splats() const { return false; }
+/// Splatting integrators (light tracing, BDPT): each pass, besides one Li() per pixel, traces
+/// particlesPerPass() particles whose splats are summed into the pass's pixel estimates
+/// (render/splat_renderer.h).
+class SplattingIntegrator : public Integrator {
+ public:
+  IntegratorKind kind() const final { return IntegratorKind::Splatting; }
   /// Particles per pass for @p camera.
-  virtual uint64_t particlesPerPass(const Camera& /*camera*/) const { return 0; }
+  virtual uint64_t particlesPerPass(const Camera& camera) const = 0;
   /// Traces particles [begin, end) of pass @p pass, each keyed by (seed, particle, pass), appending
   /// their splats to @p out in particle order. Thread-safe. @p rays counts the rays traced. The
   /// renderer drops (and counts in RenderStats::nonFinite) splats that are NaN or Inf.
-  virtual void splatParticles(const Camera& /*camera*/, uint64_t /*seed*/, uint64_t /*pass*/, uint64_t /*begin*/,
-                              uint64_t /*end*/, std::vector<Splat>& /*out*/, uint64_t& /*rays*/) const {}
+  virtual void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
+                              std::vector<Splat>& out, uint64_t& rays) const = 0;
+};
 
-  /// True for integrators with a global state per sample index (ray-bundle stochastic iteration):
-  /// render() then takes one sample per pixel per pass and calls beginPass() before each pass.
-  virtual bool perPass() const { return false; }
+/// Integrators with a global state per sample index (ray-bundle stochastic iteration): render()
+/// takes one sample per pixel per pass and calls beginPass() before each pass.
+class PassIntegrator : public Integrator {
+ public:
+  IntegratorKind kind() const final { return IntegratorKind::PerPass; }
   /// Called by render() before the camera samples of sample index @p sampleIndex, inside the
-  /// render's thread arena and never while Li() runs: the integrator may update its (mutable)
-  /// per-pass state here. Default: nothing.
-  virtual void beginPass(int /*sampleIndex*/, uint64_t /*seed*/) const {}
+  /// render's thread arena and never while Li() runs: the integrator updates its (mutable)
+  /// per-pass state here.
+  virtual void beginPass(int sampleIndex, uint64_t seed) const = 0;
 };
 
 /// The names makeIntegrator accepts, in the order the preview offers them (keys 1, 2, ...).

@@ -88,7 +88,13 @@ bool renderTile(const Integrator& integrator, const Camera& camera, Film& film, 
 RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options) {
   if (film.width() != camera.width() || film.height() != camera.height())
     throw std::invalid_argument("render: film and camera sizes differ");
-  if (integrator.splats()) return renderSplatting(integrator, camera, film, options);
+  // The render loop by how the integrator renders: splatting integrators have their own; per-pass
+  // ones take the sampling loop one sample index at a time, each after their beginPass().
+  if (integrator.kind() == IntegratorKind::Splatting)
+    return renderSplatting(static_cast<const SplattingIntegrator&>(integrator), camera, film, options);
+  const PassIntegrator* perPass = integrator.kind() == IntegratorKind::PerPass
+                                      ? static_cast<const PassIntegrator*>(&integrator)
+                                      : nullptr;
   Comm& comm = options.comm ? *options.comm : serialComm();
   // This rank's tiles (dealt round-robin over the ranks; all of them with one rank).
   // Tiles of a multiple of 4 pixels, so that renderTile's 4 × 4 blocks lie on the image's grid of blocks
@@ -129,14 +135,14 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
   };
   // Integrators with a per-pass state: one sample index at a time, each after its beginPass().
   auto pass = [&](int s0, int s1, Progress& progress) {
-    if (!integrator.perPass()) return tilePass(s0, s1, progress);
+    if (!perPass) return tilePass(s0, s1, progress);
     for (int s = s0; s < s1; ++s) {
       // Every rank runs each beginPass (the integrator's exchanges are collective), so all stop together.
       if (comm.any(cancelled)) {
         cancelled = true;
         break;
       }
-      arena.execute([&] { integrator.beginPass(s, options.seed); });
+      arena.execute([&] { perPass->beginPass(s, options.seed); });
       if (options.cancel && options.cancel->load()) cancelled = true;  // beginPass may have stopped early
       if (comm.any(cancelled)) {
         cancelled = true;

@@ -60,8 +60,9 @@ struct RenderStats {
 };
 
 /// Renders into @p film (which must be camera.width() × camera.height()). The integrator must
-/// have been preprocessed. With a time limit the image depends on how many passes fit. An integrator
-/// with Integrator::perPass() gets beginPass(s, seed) before the camera samples of each sample index s.
+/// have been preprocessed. With a time limit the image depends on how many passes fit. The loop
+/// follows Integrator::kind(): a splatting integrator's is renderSplatting() (render/splat_renderer.h);
+/// a per-pass one (PassIntegrator) gets beginPass(s, seed) before the camera samples of each sample index s.
 RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options);
 
 }  // namespace fs

@@ -122,7 +122,7 @@ void preprocessSensors(Integrator& integrator, const RenderScene& scene, const s
 
 /// Estimates the irradiance at @p sensors. @p integrator must be preprocessed for @p scene (by
 /// preprocessSensors for these sensors, or preprocess() for a path tracer) and
-/// estimate radiance per ray (not splats() or perPass()). Polls the interrupt flag between passes.
+/// estimate radiance per ray (IntegratorKind::Sampling). Polls the interrupt flag between passes.
 std::vector<SensorResult> estimateSensors(const Integrator& integrator, const RenderScene& scene,
                                           const std::vector<Sensor>& sensors, const SensorOptions& options,
                                           SensorStats* stats = nullptr);

@@ -38,7 +38,7 @@ void exchangeSplats(Comm& comm, std::vector<std::vector<Splat>>& splats) {
 /// several ranks, each traces the particle chunks and renders the image rows dealt to it; the
 /// splats are exchanged, so every rank sums all of them in the same order.
 /// @return false if cancelled on any rank (the film is then untouched).
-bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options,
+bool splatPass(const SplattingIntegrator& integrator, const Camera& camera, Film& film, const RenderOptions& options,
                uint64_t pass, tbb::task_arena& arena, std::atomic<uint64_t>& rays, std::atomic<uint64_t>& nonFinite,
                Comm& comm) {
   const int w = camera.width(), h = camera.height();
@@ -102,7 +102,8 @@ bool splatPass(const Integrator& integrator, const Camera& camera, Film& film, c
 
 }  // namespace
 
-RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options) {
+RenderStats renderSplatting(const SplattingIntegrator& integrator, const Camera& camera, Film& film,
+                            const RenderOptions& options) {
   Comm& comm = options.comm ? *options.comm : serialComm();
   std::vector<PixelRect> mine;  // this rank's image rows
   for (int y = 0; y < camera.height(); ++y)

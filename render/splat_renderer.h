@@ -1,6 +1,6 @@
 #pragma once
 /// @file splat_renderer.h
-/// The render loop of splatting integrators (Integrator::splats(), e.g. light tracing), called by
+/// The render loop of splatting integrators (IntegratorKind::Splatting, e.g. light tracing), called by
 /// render() for them. Pass k (= sample index k) traces the integrator's particles in fixed chunks
 /// of kSplatChunk particles, in parallel; the chunks' splats are then summed into the pass image
 /// in chunk order (a sequential merge), and every pixel receives one film sample: its splat sum
@@ -17,6 +17,7 @@ inline constexpr uint64_t kSplatChunk = 1024;
 
 /// render() for a splatting integrator: same options, same statistics (cameraSamples counts the
 /// pixel samples; rays include the particles' rays; nonFinite counts NaN/Inf splats and pixel samples).
-RenderStats renderSplatting(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options);
+RenderStats renderSplatting(const SplattingIntegrator& integrator, const Camera& camera, Film& film,
+                            const RenderOptions& options);
 
 }  // namespace fs

@@ -23,36 +23,59 @@ namespace {
 
 constexpr int kWidth = 32, kHeight = 24, kSpp = 4;
 
-/// Forwards to @p inner and raises @p flag after @p limit calls of Li() or splatParticles():
-/// the render then stops wherever it is, as after SIGINT.
-class CancelAfter : public Integrator {
+/// Forwards to @p inner (its interface @p Base) and raises @p flag after @p limit calls of Li() or
+/// splatParticles(): the render then stops wherever it is, as after SIGINT.
+template <class Base>
+class CancelAfter : public Base {
  public:
-  CancelAfter(const Integrator& inner, std::atomic<bool>& flag, uint64_t limit) : inner_(inner), flag_(flag), limit_(limit) {}
+  CancelAfter(const Base& inner, std::atomic<bool>& flag, uint64_t limit) : inner_(inner), flag_(flag), limit_(limit) {}
   void preprocess(const RenderScene&) override {}
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info) const override {
     count();
     return inner_.Li(ray, sampler, info);
   }
   std::string name() const override { return inner_.name(); }
-  bool splats() const override { return inner_.splats(); }
+
+ protected:
+  void count() const {
+    if (++calls_ > limit_) flag_ = true;
+  }
+  const Base& inner_;
+
+ private:
+  std::atomic<bool>& flag_;
+  uint64_t limit_;
+  mutable std::atomic<uint64_t> calls_{0};
+};
+
+class CancelSplatsAfter : public CancelAfter<SplattingIntegrator> {
+ public:
+  using CancelAfter::CancelAfter;
   uint64_t particlesPerPass(const Camera& camera) const override { return inner_.particlesPerPass(camera); }
   void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
                       std::vector<Splat>& out, uint64_t& rays) const override {
     count();
     inner_.splatParticles(camera, seed, pass, begin, end, out, rays);
   }
-  bool perPass() const override { return inner_.perPass(); }
-  void beginPass(int sampleIndex, uint64_t seed) const override { inner_.beginPass(sampleIndex, seed); }
-
- private:
-  void count() const {
-    if (++calls_ > limit_) flag_ = true;
-  }
-  const Integrator& inner_;
-  std::atomic<bool>& flag_;
-  uint64_t limit_;
-  mutable std::atomic<uint64_t> calls_{0};
 };
+
+class CancelPassesAfter : public CancelAfter<PassIntegrator> {
+ public:
+  using CancelAfter::CancelAfter;
+  void beginPass(int sampleIndex, uint64_t seed) const override { inner_.beginPass(sampleIndex, seed); }
+};
+
+/// The CancelAfter of @p inner's kind.
+std::unique_ptr<Integrator> cancelAfter(const Integrator& inner, std::atomic<bool>& flag, uint64_t limit) {
+  switch (inner.kind()) {
+    case IntegratorKind::Splatting:
+      return std::make_unique<CancelSplatsAfter>(static_cast<const SplattingIntegrator&>(inner), flag, limit);
+    case IntegratorKind::PerPass:
+      return std::make_unique<CancelPassesAfter>(static_cast<const PassIntegrator&>(inner), flag, limit);
+    case IntegratorKind::Sampling: break;
+  }
+  return std::make_unique<CancelAfter<Integrator>>(inner, flag, limit);
+}
 
 std::unique_ptr<Integrator> makePreprocessed(const std::string& name, const RenderScene& scene) {
   auto it = makeIntegrator(name, IntegratorOptions());
@@ -100,13 +123,14 @@ TEST_P(CheckpointResume, StoppedMidPassSavedRestoredAndResumedEqualsUninterrupte
   // so that pass 1 is dropped when its first particle chunk sees the flag).
   const auto inner = makePreprocessed(GetParam(), scene);
   std::atomic<bool> stop{false};
-  const uint64_t limit = inner->splats() ? (inner->particlesPerPass(camera) + kSplatChunk - 1) / kSplatChunk
-                                         : uint64_t(kWidth * kHeight) * 3 / 2;
-  CancelAfter cancelling(*inner, stop, limit);
+  const auto* splatting = dynamic_cast<const SplattingIntegrator*>(inner.get());
+  const uint64_t limit = splatting ? (splatting->particlesPerPass(camera) + kSplatChunk - 1) / kSplatChunk
+                                   : uint64_t(kWidth * kHeight) * 3 / 2;
+  const auto cancelling = cancelAfter(*inner, stop, limit);
   Film partial(kWidth, kHeight);
   RenderOptions ro = options(2);
   ro.cancel = &stop;
-  const RenderStats st = render(cancelling, camera, partial, ro);
+  const RenderStats st = render(*cancelling, camera, partial, ro);
   EXPECT_TRUE(st.cancelled);
   const std::string file = test::tempDir() + "/a.checkpoint";
   writeCheckpoint(file, kKey, partial);
@@ -117,7 +141,7 @@ TEST_P(CheckpointResume, StoppedMidPassSavedRestoredAndResumedEqualsUninterrupte
   const int passes = readCheckpoint(file, kKey, film);
   uint32_t most = 0;
   for (const uint32_t c : film.sums().count) most = std::max(most, c);
-  if (inner->splats()) {  // a splat pass is kept whole or dropped
+  if (splatting) {  // a splat pass is kept whole or dropped
     EXPECT_EQ(passes, 1);
     EXPECT_EQ(most, 1u);
   } else {  // stopped with some pixels further than others (tile by tile, or in the second pass)

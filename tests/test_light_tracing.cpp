@@ -6,6 +6,7 @@
 
 #include "common/sampling.h"
 #include "preprocess/preprocessor.h"
+#include "render/integrators/common/camera_splat.h"
 #include "tests/block_compare.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
@@ -97,7 +98,7 @@ TEST(LightTracing, TransportPathWeighsTheSameBothWays) {
   uint32_t pixel = 0;
   Color light(0.0f);
   uint64_t rays = 0;
-  ASSERT_TRUE(lt.connect(v, camera, pixel, light, rays));
+  ASSERT_TRUE(connectToCamera(scene, v, camera, pixel, light, rays));
   // Camera side, from the camera's own description.
   const Vec3 wc = glm::normalize(x2 - c), fwd = glm::normalize(Vec3(d.camera.lookAt) - c);
   const float cosC = glm::dot(wc, fwd), tanHalf = std::tan(glm::radians(float(d.camera.fovYDeg)) * 0.5f);

@@ -35,7 +35,7 @@
 
 namespace fs {
 
-class BdptIntegrator : public Integrator {
+class BdptIntegrator : public SplattingIntegrator {
  public:
   explicit BdptIntegrator(const IntegratorOptions& options) : options_(options) {}
   void preprocess(const RenderScene& scene) override;
@@ -43,7 +43,6 @@ class BdptIntegrator : public Integrator {
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "bdpt"; }
 
-  bool splats() const override { return true; }
   uint64_t particlesPerPass(const Camera& camera) const override {
     return uint64_t(camera.width()) * uint64_t(camera.height());
   }

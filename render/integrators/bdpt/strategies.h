@@ -3,8 +3,9 @@
 /// The unweighted contributions of the strategies (s, t) with t ≥ 2 (a camera subpath of at
 /// least one hit): s = 0 the camera subpath meets an area light, s = 1 a new light sample is
 /// joined to camera vertex t−1 (next-event estimation), s ≥ 2 light vertex s−1 is joined to camera
-/// vertex t−1 by a shadow ray. t = 1 (light vertices joined to the pinhole) is light tracing's
-/// LightTracingIntegrator::connect. All in W/(m² sr) (camera throughput × radiance).
+/// vertex t−1 by a shadow ray. t = 1 (light vertices joined to the pinhole) is the shared
+/// connectToCamera (render/integrators/common/camera_splat.h). All in W/(m² sr) (camera throughput ×
+/// radiance).
 #include <span>
 
 #include "common/rng.h"

@@ -2,7 +2,8 @@
 /// @file subpaths.h
 /// The two subpaths of a bidirectional sample: the camera subpath (a random walk from the
 /// pinhole, BSDF sampling in radiance mode with Russian roulette, like the path tracer) and the
-/// light subpath (traceLightPath of light tracing, converted), both with their area densities.
+/// light subpath (the shared traceLightPath, common/light_path.h, converted), both with their
+/// area densities.
 #include <vector>
 
 #include "common/rng.h"

@@ -29,7 +29,7 @@
 
 namespace fs {
 
-class BundleIntegrator : public Integrator {
+class BundleIntegrator : public PassIntegrator {
  public:
   explicit BundleIntegrator(const IntegratorOptions& options) : options_(options) {}
   /// Settings for the next preprocess().
@@ -39,7 +39,6 @@ class BundleIntegrator : public Integrator {
   void preprocess(const RenderScene& scene) override;
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "bundle"; }
-  bool perPass() const override { return true; }
   /// Brings the transfer to iteration @p sampleIndex: one iteration when called for successive
   /// indices; a restart from iteration 0 (same seed: the same states) when the index goes back
   /// or the seed changes.

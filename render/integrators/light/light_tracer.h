@@ -40,7 +40,7 @@
 
 namespace fs {
 
-class LightTracingIntegrator : public Integrator {
+class LightTracingIntegrator : public SplattingIntegrator {
  public:
   explicit LightTracingIntegrator(const IntegratorOptions& options) : options_(options) {}
   void preprocess(const RenderScene& scene) override;
@@ -50,7 +50,6 @@ class LightTracingIntegrator : public Integrator {
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "light"; }
 
-  bool splats() const override { return true; }
   uint64_t particlesPerPass(const Camera& camera) const override {
     return uint64_t(pathsPerPixel(camera)) * uint64_t(camera.width()) * uint64_t(camera.height());
   }
