@@ -72,7 +72,8 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
         SubpathVertex sampled;
         c = connectLightSample(densities, pt, sampler, sampled, rays);
         if (t - 1 + (em.isPatch(sampled.light) ? 1 : 0) > maxDepth) c = Color(0.0f);
-        if (maxComponent(c) > 0.0f) c *= misWeight(densities, std::span<const SubpathVertex>(&sampled, 1), cameraPath, 1, t);
+        if (maxComponent(c) > 0.0f)
+          c *= misWeight(densities, std::span<const SubpathVertex>(&sampled, 1), cameraPath, 1, t);
       } else if (s + t - 2 + lightExtra > maxDepth) {
         continue;
       } else {

@@ -4,14 +4,13 @@
 ///
 /// A sample of pixel j in pass k is a camera subpath through pixel j and a light subpath (the
 /// shared traceLightPath, render/integrators/common/light_path.h), both keyed by
-/// Sampler(seed, j, k, kStream). Every strategy (s, t) of
-/// s light and t camera vertices is evaluated — s = 0 (the camera path meets an area light),
-/// s = 1 (a new light sample), s ≥ 2 with t ≥ 2 (a shadow ray between the subpaths), and t = 1 (a
-/// light vertex joined to the pinhole, splatted where it projects as light tracing does:
-/// connectToCamera, common/camera_splat.h) — and
-/// weighted by the power heuristic over all strategies of the same path (misWeight). Paths of
-/// more than IntegratorOptions::maxDepth bounces (s + t − 2) are left out (docs/irradiance-cache.md,
-/// "What --max-depth counts").
+/// Sampler(seed, j, k, kStream). Every strategy (s, t) of s light and t camera vertices is evaluated — s = 0 (the
+/// camera path meets an area light), s = 1 (a new light sample), s ≥ 2 with t ≥ 2 (a shadow ray
+/// between the subpaths), and t = 1 (a light vertex joined to the pinhole, splatted where it
+/// projects as light tracing does: connectToCamera, common/camera_splat.h) — and weighted by the
+/// power heuristic over all strategies of the same path (misWeight). Paths of more than
+/// IntegratorOptions::maxDepth bounces (s + t − 2) are left out (docs/irradiance-cache.md, "What
+/// --max-depth counts").
 ///
 /// The whole sample is a particle of the deterministic splat loop (render/splat_renderer.h): the
 /// t ≥ 2 strategies go to pixel j as one splat (one sample per pixel per pass), the t = 1 ones to
@@ -23,8 +22,9 @@
 /// emitters are the kept lights and the lit patch sides (common/shooting_emitters.h): light
 /// subpaths leave them, s = 1 samples them, and a camera vertex after x_m (the first non-delta one)
 /// on a lit patch meets its first-shot radiance (s = 0). The small lights themselves add their
-/// direct light at x_m and what no table can hold (SmallLightsExact, common/small_lights.h). Without the option the table
-/// is ignored: the small lights are shot and sampled like all others (unbiased, as light tracing).
+/// direct light at x_m and what no table can hold (SmallLightsExact, common/small_lights.h).
+/// Without the option the table is ignored: the small lights are shot and sampled like all others
+/// (unbiased, as light tracing).
 #include <vector>
 
 #include "render/firstshot/lighting.h"

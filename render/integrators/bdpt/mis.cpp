@@ -10,8 +10,8 @@ float remap0(float p) { return p != 0.0f ? p : 1.0f; }
 
 }  // namespace
 
-float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> light, std::span<const SubpathVertex> camera,
-                int s, int t) {
+float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> light,
+                std::span<const SubpathVertex> camera, int s, int t) {
   if (s + t == 2) return 1.0f;
   const SubpathVertex& pt = camera[size_t(t - 1)];
   const SubpathVertex* ptMinus = t > 1 ? &camera[size_t(t - 2)] : nullptr;

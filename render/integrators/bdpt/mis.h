@@ -15,7 +15,7 @@ namespace fs {
 /// delta vertex (BSDF, or the light's position or direction) and t = 0 (the pinhole cannot be hit)
 /// are left out of the sum; s + t = 2 has weight 1 (the area light seen directly is strategy (0, 2)
 /// alone).
-float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> light, std::span<const SubpathVertex> camera,
-                int s, int t);
+float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> light,
+                std::span<const SubpathVertex> camera, int s, int t);
 
 }  // namespace fs

@@ -21,8 +21,8 @@ Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, b
   return pt.beta * densities.scene().lights().emitted(pt.hit.emitter, pt.hit.ng, pt.wi);
 }
 
-Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler, SubpathVertex& sampled,
-                         uint64_t& rays) {
+Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler,
+                         SubpathVertex& sampled, uint64_t& rays) {
   const double u = sampler.next1Dd();
   const Vec2 uPos = sampler.next2D();
   EmissionSample es;
@@ -83,7 +83,8 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
   return L;
 }
 
-Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt, uint64_t& rays) {
+Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt,
+                      uint64_t& rays) {
   if (qs.delta || pt.delta) return Color(0.0f);
   const Vec3 d = qs.hit.p - pt.hit.p;
   const float dist2 = glm::dot(d, d);

@@ -21,11 +21,12 @@ Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, b
 /// s = 1: samples a light vertex with the emission sampler's light choice and position (3
 /// sampler dimensions, always drawn) into @p sampled and joins it to @p pt. 0 if @p pt is delta,
 /// the light sends nothing towards it, or the segment is blocked. @p rays counts the shadow ray.
-Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler, SubpathVertex& sampled,
-                         uint64_t& rays);
+Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler,
+                         SubpathVertex& sampled, uint64_t& rays);
 
 /// s ≥ 2, t ≥ 2: light vertex @p qs joined to camera vertex @p pt (0 if either is delta or the
 /// segment is blocked). @p rays counts the shadow ray.
-Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt, uint64_t& rays);
+Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt,
+                      uint64_t& rays);
 
 }  // namespace fs

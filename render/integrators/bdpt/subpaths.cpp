@@ -48,7 +48,8 @@ void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int m
   densities.setDensities(path);
 }
 
-void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in, std::vector<SubpathVertex>& out) {
+void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in,
+                     std::vector<SubpathVertex>& out) {
   out.clear();
   for (size_t k = 0; k < in.size(); ++k) {
     const LightVertex& lv = in[k];

@@ -21,6 +21,7 @@ void traceCameraPath(const BdptDensities& densities, const Ray& ray, int maxHits
 
 /// The bidirectional form of a light subpath of traceLightPath() (empty stays empty): vertex 0 a
 /// Kind::Light vertex, densities set (pdfFwd of vertex 0: p_light·p_pos).
-void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in, std::vector<SubpathVertex>& out);
+void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in,
+                     std::vector<SubpathVertex>& out);
 
 }  // namespace fs

@@ -244,7 +244,8 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     prev.n = n;
     prev.pdf = squareToCosineHemispherePdf(Vec3(0.0f, 0.0f, glm::dot(w, n)));
     prev.counted = &direct_;
-    return kPiF * continuation_.trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, sampler, ctx.rays);
+    return kPiF *
+           continuation_.trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, sampler, ctx.rays);
   };
   if (level >= settings_.bounces) return settings_.pathContinuation ? pathIrradiance() : kPiF * settings_.ambient;
   // Drawn whether or not a record is made, so that the path does not depend on the cache.

@@ -4,31 +4,34 @@
 /// adjoint identity <L, W_e> = <L_e, W> (Dutré et al., docs/light-tracing.md).
 ///
 /// Each pass traces particlesPerPass() = k·width·height light subpaths (render/integrators/common/
-/// light_path.h), k = pathsPerPixel(), and one camera sample per pixel. Every vertex that can
-/// reach the pinhole — an area light's vertex 0 and every non-delta surface vertex — is connected
-/// to it by a shadow ray and splats
+/// light_path.h), k = pathsPerPixel(), and one camera sample per pixel. Every vertex that can reach
+/// the pinhole — an area light's vertex 0 and every non-delta surface vertex — is connected to it
+/// by a shadow ray and splats
 ///     beta · f(ω_light, ω_camera) · |cosθ_x| · W_e·cosθ_c/d²  / N
-/// into the pixel it projects to (connectToCamera, common/camera_splat.h; CameraConnection: the same box filter as the jittered camera
-/// rays of the gathering integrators), N the particles of the pass. The pass's splat sums are one
-/// sample of every pixel, so the film's mean and variance are per pass.
+/// into the pixel it projects to (connectToCamera, common/camera_splat.h; CameraConnection: the
+/// same box filter as the jittered camera rays of the gathering integrators), N the particles of
+/// the pass. The pass's splat sums are one sample of every pixel, so the film's mean and variance
+/// are per pass.
 ///
 /// Paths a pinhole cannot close from the light side are gathered instead, per pixel, in Li():
 /// camera samples whose first hit is a delta surface (mirror, glass) take the path tracer's
-/// estimate (the path walk, common/path_walk.h, over the integrator's first-shot lighting); the splats skip them (they start from non-delta vertices only), so the two parts
-/// partition the pixel's paths. Point and spot lights are not seen by the camera (as in gathering).
+/// estimate (the path walk, common/path_walk.h, over the integrator's first-shot lighting); the
+/// splats skip them (they start from non-delta vertices only), so the two parts partition the
+/// pixel's paths. Point and spot lights are not seen by the camera (as in gathering).
 ///
 /// With a first-shot table and IntegratorOptions::shootFromPatches (table mode) the small lights
 /// are not shot: particles leave the kept lights and the lit patch sides (EmissionSampler's table
-/// mode, common/shooting_emitters.h), so the table is the small lights' first bounce. A patch particle's vertex 0 is not
-/// splatted, and its vertex k makes a path of k + 1 bounces. What the small lights give the
-/// camera directly — their direct light at the first hit x (next-event estimation, exact shadows,
-/// MIS with x's BSDF sample for area lights) and their emission seen at x — comes from Li() per
-/// pixel (SmallLightsExact, common/small_lights.h, shared with BDPT). A small area light's light whose first bounce is a mirror or glass
-/// (no table holds it) comes from a second particle per particle index when the scene has both:
-/// shot from the small area lights, stopped at a first hit that is not delta. This is the path
-/// space of the path tracer with the same table and PrimaryMode::Exact. Without the option the
-/// table's small lights are shot like the others (shooting is exact without the table), and only
-/// the path-traced delta pixels read the table.
+/// mode, common/shooting_emitters.h), so the table is the small lights' first bounce. A patch
+/// particle's vertex 0 is not splatted, and its vertex k makes a path of k + 1 bounces. What the
+/// small lights give the camera directly — their direct light at the first hit x (next-event
+/// estimation, exact shadows, MIS with x's BSDF sample for area lights) and their emission seen at
+/// x — comes from Li() per pixel (SmallLightsExact, common/small_lights.h, shared with BDPT). A
+/// small area light's light whose first bounce is a mirror or glass (no table holds it) comes from
+/// a second particle per particle index when the scene has both: shot from the small area lights,
+/// stopped at a first hit that is not delta. This is the path space of the path tracer with the
+/// same table and PrimaryMode::Exact. Without the option the table's small lights are shot like the
+/// others (shooting is exact without the table), and only the path-traced delta pixels read the
+/// table.
 #include <vector>
 
 #include "render/firstshot/lighting.h"
