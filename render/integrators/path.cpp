@@ -23,7 +23,7 @@ float PathIntegrator::emissionWeight(const PathVertex& prev, const Hit& hit) con
     if (light.replaced && prev.usedTable) return 0.0f;  // the first-shot term of prev holds it
     if (prev.counted && (*prev.counted)[size_t(&light - lights.lights().data())]) return 0.0f;
   }
-  const float pdf = lights_.pdf(prev.p, prev.n, prev.nee, hit);
+  const float pdf = nextEventPdf(lights_, prev.p, prev.n, prev.nee, hit);
   return pdf > 0.0f ? powerHeuristic(prev.pdf, pdf) : 1.0f;
 }
 
@@ -92,7 +92,7 @@ Color PathIntegrator::trace(Ray ray, Color beta, int depth, PathVertex prev, boo
       nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
                     (options_.patchNee == PatchNee::Every || !sampledPatches);
       sampledPatches = sampledPatches || nee.patches;
-      L += beta * lights_.sample(hit, frame, woLocal, bsdf, nee, sampler, rays);
+      L += beta * nextEvent(lights_, hit, frame, woLocal, bsdf, nee, sampler, rays);
     }
 
     // Continue the path by sampling the BSDF.

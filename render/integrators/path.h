@@ -1,6 +1,6 @@
 #pragma once
 /// @file path.h
-/// Unidirectional path tracing with next-event estimation (render/light_sampler.h: NEE to every
+/// Unidirectional path tracing with next-event estimation (render/next_event.h: NEE to every
 /// light or one light chosen by a light tree), multiple importance sampling (power heuristic)
 /// against BSDF sampling for area emitters, and Russian roulette.
 ///
@@ -15,7 +15,7 @@
 /// glass), or from a vertex that sampled it by NEE (PrimaryMode::Exact).
 #include <vector>
 
-#include "render/direct_light.h"
+#include "render/next_event.h"
 #include "render/firstshot/lighting.h"
 #include "render/integrator.h"
 #include "render/light_sampler.h"

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "render/direct_light.h"
+#include "render/next_event.h"
 #include "render/lights.h"
 
 namespace fs {
