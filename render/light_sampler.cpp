@@ -1,11 +1,10 @@
-// Next-event estimation over lights and first-shot patches (light_sampler.h).
+// Light sampling: the emitters, their trees, and the choice of one (light_sampler.h).
 #include "render/light_sampler.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "common/sampling.h"
-#include "render/direct_light.h"
 #include "render/firstshot/patch_emitters.h"
 
 namespace fs {
@@ -161,170 +160,44 @@ float LightSampler::selectProbability(const Group& g, const Vec3& x, const Vec3&
   return (1.0f - g.pDirectional()) * g.tree.pmf(x, n, emitter);
 }
 
-float LightSampler::pdf(const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y) const {
-  const Vec3 d = y.p - x;
-  const float dist2 = glm::dot(d, d);
-  if (!(dist2 > 0.0f)) return 0.0f;
-  const float cosY = std::abs(glm::dot(y.ng, d)) / std::sqrt(dist2);
-  if (!(cosY > 0.0f)) return 0.0f;
+float LightSampler::pmf(const Vec3& x, const Vec3& n, const Hit& y, float& area) const {
   if (y.onPatch()) {
-    if (!request.patches) return 0.0f;
     const uint32_t e = patchEmitter(y, x);
     if (e == kNoId) return 0.0f;
     const Group& g = groups_[patchGroup_];
-    return selectProbability(g, x, n, e) * dist2 / (cosY * g.emitters[e].area);
+    area = g.emitters[e].area;
+    return selectProbability(g, x, n, e);
   }
   const LightSet& lights = scene_->lights();
-  const RenderLight& light = lights.emitterLight(y.emitter);
-  if (!(light.replaced ? request.replaced : request.kept)) return 0.0f;
-  const uint32_t l = static_cast<uint32_t>(&light - lights.lights().data());
+  const uint32_t l = static_cast<uint32_t>(&lights.emitterLight(y.emitter) - lights.lights().data());
   if (!included_[l]) return 0.0f;
-  if (glm::dot(y.ng, d) >= 0.0f) return 0.0f;  // one-sided: x is behind the emitter
-  if (strategy_ == LightStrategy::All) return lights.pdf(light, x, y.p, y.ng);
+  if (strategy_ == LightStrategy::All) {
+    area = float(lights.lights()[l].area);
+    return 1.0f;
+  }
   const Group& g = groups_[lightGroup_[l]];
   const uint32_t e = lightFirst_[l] + y.triangle;
-  return selectProbability(g, x, n, e) * dist2 / (cosY * g.emitters[e].area);
+  area = g.emitters[e].area;
+  return selectProbability(g, x, n, e);
 }
 
-Color LightSampler::sample(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                           const NeeRequest& request, Sampler& sampler, uint64_t& rays) const {
-  const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the side that reflects towards the viewer
-  Color sum(0.0f);
-  auto fromGroup = [&](GroupId id) {
-    if (groups_[id].empty()) {  // skip its three dimensions without drawing them (images stay the same)
-      sampler.setDimension(sampler.dimension() + 3);
-      return;
-    }
-    const Vec2 a = sampler.next2D();
-    const float b = sampler.next1D();
-    sum += sampleGroup(groups_[id], hit, frame, woLocal, bsdf, n, Vec3(a, b), request, rays);
-  };
-  if (strategy_ == LightStrategy::All) {
-    if (request.kept || request.replaced) {
-      // Light l takes dimensions d0 + 2l and d0 + 2l + 1, so later dimensions do not shift; the lights
-      // not requested skip theirs without drawing them.
-      const std::vector<RenderLight>& lights = scene_->lights().lights();
-      const uint64_t d0 = sampler.dimension();
-      for (uint32_t l = 0; l < lights.size(); ++l) {
-        if (!included_[l] || !(lights[l].replaced ? request.replaced : request.kept)) continue;
-        sampler.setDimension(d0 + 2 * uint64_t(l));
-        const Vec2 u = sampler.next2D();
-        sum += contribution({Emitter::Kind::Light, l, 0, 0.0f}, 1.0f, hit, frame, woLocal, bsdf, u, request, rays);
-      }
-      sampler.setDimension(d0 + 2 * uint64_t(lights.size()));
-    }
-  } else {
-    if (request.kept) fromGroup(kKept);
-    if (request.replaced) fromGroup(kReplaced);
-  }
-  if (request.patches && patchGroup_ == kPatches) fromGroup(kPatches);
-  return sum;
-}
-
-Color LightSampler::sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                                const BSDF& bsdf, const Vec3& n, const Vec3& u, const NeeRequest& request,
-                                uint64_t& rays) const {
-  float uSelect = u.x;
+bool LightSampler::sample(LightGroup group, const Vec3& x, const Vec3& n, float u, SampledEmitter& out) const {
+  const Group& g = groups_[size_t(group)];
+  float uSelect = u;
   const float pDir = g.pDirectional();
   if (pDir > 0.0f) {
     if (uSelect < pDir) {
       const uint32_t count = static_cast<uint32_t>(g.directional.size());
       const uint32_t k = std::min(count - 1, static_cast<uint32_t>(uSelect / pDir * float(count)));
-      return contribution({Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count), hit, frame, woLocal,
-                          bsdf, Vec2(u.y, u.z), request, rays);
+      out = {{Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count)};
+      return true;
     }
     uSelect = std::min((uSelect - pDir) / (1.0f - pDir), 0x1.fffffep-1f);
   }
   uint32_t e;
   float pmf;
-  if (!g.tree.sample(hit.p, n, uSelect, e, pmf)) return Color(0.0f);
-  const Emitter& em = g.emitters[e];
-  return contribution(em, pmf * (1.0f - pDir), hit, frame, woLocal, bsdf, Vec2(u.y, u.z), request, rays);
-}
-
-Color LightSampler::contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame,
-                                 const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, const NeeRequest& request,
-                                 uint64_t& rays) const {
-  const LightSet& lights = scene_->lights();
-  LightRecord rec;
-  bool delta = false;
-  TableVisibility seen = TableVisibility::Unknown;
-  switch (e.kind) {
-    case Emitter::Kind::Light: {
-      const RenderLight& light = lights.lights()[e.index];
-      if (request.tableVisibility && light.replaced && hit.onPatch()) {
-        seen = firstShot_->visibility(hit.patch, e.index);
-        if (seen == TableVisibility::Hidden) return Color(0.0f);
-      }
-      if (!lights.sample(light, hit.p, u, rec)) return Color(0.0f);
-      rec.value /= pSelect;
-      rec.pdf *= pSelect;
-      delta = light.isDelta();
-      break;
-    }
-    case Emitter::Kind::Triangle: {
-      const RenderLight& light = lights.lights()[e.index];
-      const Vec3 d = emitterPoint(e, u) - hit.p;
-      const float dist2 = glm::dot(d, d);
-      if (!(dist2 > 0.0f)) return Color(0.0f);
-      rec.distance = std::sqrt(dist2);
-      rec.wi = d * (1.0f / rec.distance);  // one division, not three (a hot path)
-      const float cosL = -glm::dot(triangles_[e.sub].n, rec.wi);
-      if (!(cosL > 0.0f)) return Color(0.0f);
-      // pdf and 1/pdf from the same inputs: two independent divisions instead of one after the other.
-      rec.pdf = pSelect * dist2 / (cosL * e.area);
-      rec.value = light.radiance * (cosL * e.area / (pSelect * dist2));
-      break;
-    }
-    case Emitter::Kind::Patch: {
-      Color Le;
-      if (!patchPoint(e, pSelect, hit.p, u, rec, Le)) return Color(0.0f);
-      break;
-    }
-  }
-  if (!std::isfinite(rec.pdf) || !(maxComponent(rec.value) > 0.0f) || !std::isfinite(maxComponent(rec.value)))
-    return Color(0.0f);
-  const BSDFQuery q(frame.toLocal(rec.wi), woLocal);
-  const Color f = bsdf.eval(q);
-  if (!(maxComponent(f) > 0.0f)) return Color(0.0f);
-  if (seen != TableVisibility::Visible) {
-    ++rays;
-    if (scene_->occluded(shadowRay(hit, rec.wi, rec.distance))) return Color(0.0f);
-  }
-  const float weight = delta || !request.mis ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
-  return f * (std::abs(q.wi.z) * weight) * rec.value;
-}
-
-bool LightSampler::patchPoint(const Emitter& e, float pSelect, const Vec3& x, const Vec2& u, LightRecord& rec,
-                              Color& Le) const {
-  const Patch& p = scene_->mesh().patches[e.index];
-  const Vec3 y = emitterPoint(e, u);
-  const Vec3 d = y - x;
-  const float dist2 = glm::dot(d, d);
-  if (!(dist2 > 0.0f)) return false;
-  rec.distance = std::sqrt(dist2);
-  rec.wi = d / rec.distance;
-  const float cosY = -glm::dot(patchSideNormal(p, e.sub), rec.wi);
-  if (!(cosY > 0.0f)) return false;  // x is on the other side: that side is another emitter
-  Le = patchRadiance(*scene_, *firstShot_, e.index, y, -rec.wi);
-  if (!(maxComponent(Le) > 0.0f)) return false;
-  rec.pdf = pSelect * dist2 / (cosY * e.area);
-  rec.value = Le / rec.pdf;
-  return true;
-}
-
-bool LightSampler::samplePatch(const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s) const {
-  if (patchGroup_ == kNone) return false;
-  const Group& g = groups_[patchGroup_];  // patches only: no directional lights beside the tree
-  uint32_t e;
-  float pmf;
-  if (!g.tree.sample(x, n, u.x, e, pmf)) return false;
-  LightRecord rec;
-  if (!patchPoint(g.emitters[e], pmf, x, Vec2(u.y, u.z), rec, s.Le)) return false;
-  if (!std::isfinite(rec.pdf) || !std::isfinite(maxComponent(rec.value))) return false;
-  s.wi = rec.wi;
-  s.distance = rec.distance;
-  s.pdf = rec.pdf;
+  if (!g.tree.sample(x, n, uSelect, e, pmf)) return false;
+  out = {g.emitters[e], pmf * (1.0f - pDir)};
   return true;
 }
 

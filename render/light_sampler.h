@@ -1,31 +1,29 @@
 #pragma once
 /// @file light_sampler.h
-/// Next-event estimation over everything that emits: the lights the renderer keeps, the small
-/// lights a first-shot table replaces (for vertices that still sample them), and the first-shot
-/// patches as area emitters.
+/// Light sampling: which emitter next-event estimation (render/next_event.h) takes at a shading
+/// point, and with what probability (as pbrt-v4's LightSampler). It chooses only; the point on the
+/// emitter, the shadow ray, the BSDF and the MIS weight are next_event.cpp's.
 ///
-/// A lit patch j emits on side s (s = 0: the side its normal faces) the first-shot radiance
-/// Σ_i e_i r_ij f_r(ω'_i, y, ω) of FirstShotLighting: a smooth, spatially extended source of power
-/// ≈ albedo · E_js · A_j. Sampling it directly is what turns the table's smoothness into lower
-/// variance: a path no longer has to hit the lit patches by chance.
+/// The emitters: the lights the renderer keeps, the small lights a first-shot table replaces (for
+/// vertices that still sample them), and the lit first-shot patch sides. A lit patch j emits on
+/// side s (s = 0: the side its normal faces) the first-shot radiance Σ_i e_i r_ij f_r(ω'_i, y, ω)
+/// of FirstShotLighting: a smooth, spatially extended source of power ≈ albedo · E_js · A_j.
+/// Sampling it directly is what turns the table's smoothness into lower variance: a path no longer
+/// has to hit the lit patches by chance.
 ///
-/// Strategies (LightStrategy):
-/// - All: one sample of every requested light (NEE to every light).
-/// - Tree: one light chosen by a light tree (light_tree.h) over the kept lights, and one from a
-///   tree over the replaced lights when those are requested; area lights enter the trees triangle
-///   by triangle. Directional lights are chosen uniformly beside a tree with probability
-///   n_dir/(n_dir + 1).
-/// Either way, when the patches are requested, one patch chosen by a tree over the patch emitters.
-/// Area emitters (area-light triangles, patches) are weighted against BSDF sampling by the power
-/// heuristic: a path that meets one must weight it with pdf() of the vertex it came from
-/// (unless NeeRequest::mis is false: then weight 1, and BSDF sampling must not count them).
+/// They fall into three groups (LightGroup: kept lights, replaced lights, patches); a vertex asks
+/// for one emitter of each group it takes. Strategies (LightStrategy):
+/// - Tree: in each light group, one light chosen by a light tree (light_tree.h); area lights enter
+///   the trees triangle by triangle. Directional lights are chosen uniformly beside a tree with
+///   probability n_dir/(n_dir + 1).
+/// - All: no light is chosen: NEE takes every light with probability 1 (nextEventEveryLight).
+/// Either way the patches group is a tree over the patch emitters. The trees' top levels are
+/// weighted by the visibility of their emitters from each grid cell (light_sampler_visibility.cpp).
 /// A sampler may be built over a subset of the lights (build()'s @c include mask; the irradiance
-/// cache samples only its direct lights): the others are never chosen and have pdf() 0.
+/// cache samples only its direct lights): the others are never chosen and have pmf() 0.
 #include <cstdint>
 #include <vector>
 
-#include "common/bsdf.h"
-#include "common/rng.h"
 #include "render/firstshot/lighting.h"
 #include "render/light_tree.h"
 #include "render/ray.h"
@@ -35,25 +33,26 @@ namespace fs {
 
 enum class LightStrategy : uint8_t { All, Tree };
 
-/// What one vertex takes by next-event estimation.
-struct NeeRequest {
-  bool kept = false;      ///< the lights the table does not replace (every light without a table)
-  bool replaced = false;  ///< the table's small lights (a vertex that does not use the table)
-  bool patches = false;   ///< the first-shot patches
-  /// Weight area emitters against BSDF sampling (power heuristic); false: weight 1, for callers
-  /// whose BSDF-sampled rays never count these emitters.
-  bool mis = true;
-  /// Replaced point and spot lights at a hit on a patch: no shadow ray where the table finds the
-  /// light visible from the whole patch or from none of it (FirstShotLighting::visibility).
-  bool tableVisibility = false;
+/// The groups a LightSampler chooses one emitter in (NeeRequest::kept, replaced, patches).
+enum class LightGroup : uint8_t { Kept = 0, Replaced = 1, Patches = 2 };
+
+/// Something a LightSampler chooses.
+struct Emitter {
+  enum class Kind : uint8_t { Light, Triangle, Patch } kind = Kind::Light;
+  uint32_t index = 0;  ///< LightSet index (Light, Triangle) or patch ID
+  uint32_t sub = 0;    ///< Triangle: LightSampler::triangle() index; Patch: the side (0 front, 1 back)
+  float area = 0.0f;   ///< m² (Triangle, Patch)
 };
 
-/// One point of a lit first-shot patch chosen for a receiver (LightSampler::samplePatch).
-struct PatchSample {
-  Vec3 wi{0.0f};        ///< unit direction from the receiver to the point
-  float distance = 0;   ///< m
-  Color Le{0.0f};       ///< first-shot radiance the point sends towards the receiver, W/(m² sr)
-  float pdf = 0;        ///< solid-angle density of wi (emitter choice included), sr⁻¹
+/// An emitter chosen for a shading point and the probability of that choice (pbrt-v4's SampledLight).
+struct SampledEmitter {
+  Emitter emitter;
+  float p = 0.0f;  ///< probability of the choice, > 0
+};
+
+/// An area light's triangle as NEE samples it: vertex a, edges b − a and c − a, unit normal.
+struct TriangleEmitter {
+  Vec3 a, e1, e2, n;
 };
 
 class LightSampler {
@@ -69,39 +68,33 @@ class LightSampler {
              bool visibility = true, const std::vector<uint8_t>* include = nullptr);
 
   LightStrategy strategy() const { return strategy_; }
+  const RenderScene& scene() const { return *scene_; }
+  /// The first-shot radiance of the patch emitters, and the table's visibility of the small lights.
+  const FirstShotLighting& lighting() const { return *firstShot_; }
+  /// Per LightSet light: 1 if this sampler may choose it (build()'s @c include).
+  const std::vector<uint8_t>& included() const { return included_; }
   /// True if patch emitters exist (a table with lit patches and patch emitters asked for).
   bool hasPatchEmitters() const { return patchCount_ > 0; }
+  /// True if the patches group was built (patch emitters asked for, with a table), lit patches or not.
+  bool hasPatchGroup() const { return patchGroup_ != kNone; }
+  /// Group @p g has nothing to choose (always so for the light groups under LightStrategy::All).
+  bool empty(LightGroup g) const { return groups_[size_t(g)].empty(); }
 
-  /// NEE at a non-delta vertex: Σ f·|cos θ_i|·L/pdf over the chosen emitters that are unoccluded,
-  /// area emitters weighted against BSDF sampling. @p rays counts the shadow rays.
-  Color sample(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, const NeeRequest& request,
-               Sampler& sampler, uint64_t& rays) const;
+  /// Chooses one emitter of group @p g for the receiver at @p x with receiving side normal @p n
+  /// from @p u ∈ [0,1). @return false if the group has none that can light @p x.
+  bool sample(LightGroup g, const Vec3& x, const Vec3& n, float u, SampledEmitter& out) const;
+  /// The probability with which sample() at @p x, @p n chooses the emitter that the hit @p y lies
+  /// on (an area-light triangle, or the side of a patch that faces @p x), that emitter's area in
+  /// @p area (m²); 1 for an included light under LightStrategy::All. 0 where @p y is on no emitter
+  /// of this sampler. Whether the emitter's group was asked for is the caller's matter.
+  float pmf(const Vec3& x, const Vec3& n, const Hit& y, float& area) const;
 
-  /// Solid-angle density with which sample() at @p x, receiving side normal @p n, under
-  /// @p request, picks the point of @p y: a hit on an area light or on a patch. 0 where that
-  /// emitter is not requested (or not an emitter).
-  float pdf(const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y) const;
-
-  /// Chooses a point of a lit patch for the receiver at @p x with receiving side normal @p n from
-  /// @p u ∈ [0,1)³ (u.x the patch, u.yz the point), as sample() does for NeeRequest::patches,
-  /// without a shadow ray. @return false if none was chosen or it sends nothing towards @p x;
-  /// otherwise @p s.pdf equals pdf(x, n, {patches}, hit at the point).
-  bool samplePatch(const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s) const;
-
-  /// The emitter index of a hit on a patch seen from @p x in its group's tree, or kNoId.
-  uint32_t patchEmitter(const Hit& y, const Vec3& x) const;
+  /// A point of emitter @p e for @p u ∈ [0,1)² (uniform by area; the position of a point light).
+  Vec3 emitterPoint(const Emitter& e, const Vec2& u) const;
+  /// The triangle of a Triangle emitter.
+  const TriangleEmitter& triangle(const Emitter& e) const { return triangles_[e.sub]; }
 
  private:
-  struct Emitter {
-    enum class Kind : uint8_t { Light, Triangle, Patch } kind = Kind::Light;
-    uint32_t index = 0;  ///< LightSet index (Light, Triangle) or patch ID
-    uint32_t sub = 0;    ///< Triangle: index in triangles_; Patch: the side (0 front, 1 back)
-    float area = 0.0f;   ///< m² (Triangle, Patch)
-  };
-  /// An area light's triangle as NEE samples it: vertex a, edges b − a and c − a, unit normal.
-  struct TriangleEmitter {
-    Vec3 a, e1, e2, n;
-  };
   /// A tree and the emitters it chooses from, with the directional lights beside it.
   struct Group {
     LightTree tree;
@@ -115,17 +108,9 @@ class LightSampler {
 
   void addLight(Group& g, GroupId id, uint32_t l, std::vector<LightBounds>& bounds);
   void addPatches(Group& g, GroupId id, std::vector<LightBounds>& bounds);
-  /// One emitter of group @p g, chosen from u[0], its point from u[1..2]: its weighted contribution.
-  Color sampleGroup(const Group& g, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                    const Vec3& n, const Vec3& u, const NeeRequest& request, uint64_t& rays) const;
-  Color contribution(const Emitter& e, float pSelect, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                     const BSDF& bsdf, const Vec2& u, const NeeRequest& request, uint64_t& rays) const;
-  /// The point of patch emitter @p e for @p u, seen from @p x: rec.value = Le/pdf. False if it
-  /// sends nothing towards @p x.
-  bool patchPoint(const Emitter& e, float pSelect, const Vec3& x, const Vec2& u, LightRecord& rec, Color& Le) const;
   float selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const;
-  /// A point of emitter @p e for @p u ∈ [0,1)² (uniform by area; the position of a point light).
-  Vec3 emitterPoint(const Emitter& e, const Vec2& u) const;
+  /// The emitter index of a hit on a patch seen from @p x in its group's tree, or kNoId.
+  uint32_t patchEmitter(const Hit& y, const Vec3& x) const;
   /// Builds grid_ and sets every tree's visibility factors (light_sampler_visibility.cpp).
   void buildVisibility();
 

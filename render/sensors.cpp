@@ -18,7 +18,7 @@
 #include "common/progress.h"
 #include "common/rng.h"
 #include "common/sampling.h"
-#include "render/direct_light.h"
+#include "render/next_event.h"
 #include "render/firstshot/lighting.h"
 #include "render/embree_scene.h"
 #include "render/light_sampler.h"
@@ -54,7 +54,7 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   nee.kept = true;
   nee.replaced = true;  // a table's small lights exactly, as at a camera-visible point
   nee.mis = false;      // the cosine ray below never counts the emission it meets first
-  Color E = kPiF * lights.sample(hit, frame, woLocal, white, nee, sampler, rays);
+  Color E = kPiF * nextEvent(lights, hit, frame, woLocal, white, nee, sampler, rays);
 
   const Vec3 wi = frame.toWorld(squareToCosineHemisphere(sampler.next2D()));
   const Ray ray(hit.spawnOrigin(wi), wi);

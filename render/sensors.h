@@ -5,7 +5,7 @@
 ///     E(x, n) = ∫_{H(n)} L_in(x, ω) cos θ dω      (W/m² per RGB channel)
 /// is estimated per sample as
 ///     π · NEE(x, n)  +  π · L_r(y → x),
-/// the first term next-event estimation to every light (LightSampler with a Lambertian of
+/// the first term next-event estimation to the lights (nextEvent, render/next_event.h, with a Lambertian of
 /// albedo 1, so f·cos/pdf = cos/(π pdf); small lights of a first-shot table sampled exactly, as at a
 /// camera-visible point; MIS off, so the second term leaves out the emission it meets directly),
 /// the second one cosine-distributed direction ω (pdf cos θ/π) whose radiance arriving at x is the

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "common/scene_desc.h"
-#include "render/direct_light.h"
+#include "render/next_event.h"
 #include "render/firstshot/lighting.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "render/integrator.h"
@@ -114,7 +114,7 @@ TEST(TableVisibility, ClassesAgreeWithShadowRays) {
   }
 }
 
-// Path tracing (light sampler: every light) and the irradiance cache (estimateDirect at the camera
+// Path tracing (light sampler: every light) and the irradiance cache (nextEventEveryLight at the camera
 // vertex) with the table and --primary exact: the same seed with and without visibility from the
 // table gives the same image (the classes agree with the shadow rays they replace, and the random
 // numbers do not shift), with fewer rays.
@@ -154,7 +154,7 @@ TEST(TableVisibility, ImageIsTheImageOfShadowRays) {
   }
 }
 
-// The cursor (estimateDirect's lookups, lights in ascending order) answers as query() does, in any
+// The cursor (nextEventEveryLight's lookups, lights in ascending order) answers as query() does, in any
 // order; on the 64 point lights of many-lights every class occurs.
 TEST(TableVisibility, CursorAnswersAsQuery) {
   const SceneDesc desc = loadScene(test::source("scenes/many-lights.json"));

@@ -193,22 +193,16 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
     return f * irradiance(hit, front);
   }
   // Other BSDFs depend on each sample's direction: one term per factor, per point where V_ij is known.
-  const FirstShotTable& t = *scene_->firstShot();
-  Color sum(0.0f);
-  for (const TableFactor factor : rows_[hit.patch]) {
-    const LightSample& s = t.samples[factor.sample];
-    Vec3 wi = firstShotDirection(s, hit.p);
-    float e = factor.r;
+  auto weight = [&](const TableFactor& factor, const LightSample& s, Vec3& wi, float& e) {
     const float v = visible_[factor.index];
-    if (v >= 0.0f) {  // the kernel on the sample's side of the plane
-      const float sign = glm::dot(s.position - hit.p, hit.ng) >= 0.0f ? 1.0f : -1.0f;
-      e = v * sampleKernel(s, spots_[factor.sample], hit.p, hit.ng, sign, wi);
-      if (!(e > 0.0f)) continue;
-    }
-    const Color f = bsdf.eval(BSDFQuery(frame.toLocal(wi), woLocal));
-    sum += s.emission * (e * f);
-  }
-  return sum;
+    if (!(v >= 0.0f)) return true;  // the patch average r_ij
+    // The kernel on the sample's side of the plane.
+    const float sign = glm::dot(s.position - hit.p, hit.ng) >= 0.0f ? 1.0f : -1.0f;
+    e = v * sampleKernel(s, spots_[factor.sample], hit.p, hit.ng, sign, wi);
+    return e > 0.0f;
+  };
+  return sumReflectedFirstShot(scene_->firstShot()->samples, rows_[hit.patch], hit.p, frame, woLocal, bsdf,
+                               FirstShotProduct::EmissionLast, Color(0.0f), weight);
 }
 
 }  // namespace fs

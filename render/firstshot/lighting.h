@@ -6,7 +6,8 @@
 /// First-shot term on patch j (see common/firstshot.h): Σ_i emission_i · r_ij · f_r(ω'_i, x, ω),
 /// with ω'_i the direction from x to light sample i (against the travel direction for
 /// directional lights). The BSDF's side test makes a sample on the other side of the patch than
-/// the viewer contribute nothing.
+/// the viewer contribute nothing. The sum over a patch's factors is render/firstshot/reflected.h's,
+/// which the bundle transfer shares (at the patch centroid, with the patch averages r_ij).
 #include <cstdint>
 #include <vector>
 
@@ -15,19 +16,13 @@
 #include "common/lights.h"
 #include "common/math.h"
 #include "render/firstshot/near_terms.h"
+#include "render/firstshot/reflected.h"
 #include "render/firstshot/table_rows.h"
 #include "render/firstshot/table_visibility.h"
 #include "render/ray.h"
 #include "render/render_scene.h"
 
 namespace fs {
-
-/// ω'_i of the first-shot term: the unit direction from @p x towards light sample @p s (against the
-/// travel direction for a directional light). The renderer's two evaluations of the term, per point
-/// (FirstShotLighting::eval) and per patch at its centroid (the bundle transfer), take it from here.
-inline Vec3 firstShotDirection(const LightSample& s, const Vec3& x) {
-  return s.kind == LightSampleKind::Directional ? -s.normal : glm::normalize(s.position - x);
-}
 
 /// A spot sample's normalised intensity profile I(ω)/Φ = profile(ω)/∫profile, in 1/sr, for the
 /// world direction ω emitted (cone or IES table, common/emission_profile.h).

@@ -1,7 +1,7 @@
 #pragma once
 /// @file patch_emitters.h
 /// The lit first-shot patches as light sources: what every user of them (next-event estimation in
-/// LightSampler, the light subpaths of bidirectional path tracing in EmissionSampler) needs to
+/// render/next_event.h, the light subpaths of bidirectional path tracing in EmissionSampler) needs to
 /// know about one patch side as an emitter.
 ///
 /// Side s of patch j (s = 0: the side its normal faces) sends the first-shot radiance

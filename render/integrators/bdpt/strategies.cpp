@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "common/lights.h"
-#include "render/direct_light.h"
+#include "render/next_event.h"
 
 namespace fs {
 

@@ -46,11 +46,11 @@ Color BundleIntegrator::surface(const Hit& hit, const Frame& frame, const Vec3& 
   Color L = (2.0f * kPiF) * fIn * (exact ? in : in + t.incomingPoint(e, side));
   if (exact) {
     if (anyNee_) {
-      DirectLightOptions o;
-      o.include = &neeLights_;
+      NeeRequest o;
+      o.kept = o.replaced = true;
       o.mis = false;  // the bundle never carries these lights' emission: no other technique counts them
-      if (scene_->firstShot() && options_.tableVisibility) o.tableVisibility = &firstShot_;
-      L += estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, rays);
+      o.tableVisibility = scene_->firstShot() && options_.tableVisibility;
+      L += nextEventEveryLight(*scene_, firstShot_, &neeLights_, hit, frame, woLocal, bsdf, o, sampler, rays);
     }
     return L;
   }

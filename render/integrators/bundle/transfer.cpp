@@ -10,7 +10,7 @@
 
 #include "common/lights.h"
 #include "common/rng.h"
-#include "render/firstshot/lighting.h"
+#include "render/firstshot/reflected.h"
 #include "render/firstshot/table_rows.h"
 
 namespace fs {
@@ -111,12 +111,9 @@ void BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w, Color* out)
   }
   // First-shot: the patch average per light sample, directions from the centroid.
   if (firstShot) {
-    const Vec3 c = table->mesh.patches[e].centroid;
-    for (const TableFactor f : TableRows(*table)[e]) {
-      const LightSample& s = table->samples[f.sample];
-      const Vec3 wi = firstShotDirection(s, c);
-      out[direct] += s.emission * f.r * bsdf.eval(BSDFQuery(frame.toLocal(wi), wo));
-    }
+    auto patchAverage = [](const TableFactor&, const LightSample&, Vec3&, float&) { return true; };  // w_i = r_ij
+    out[direct] = sumReflectedFirstShot(table->samples, TableRows(*table)[e], table->mesh.patches[e].centroid, frame,
+                                        wo, bsdf, FirstShotProduct::EmissionFirst, out[direct], patchAverage);
   }
   for (size_t d = 0; d < directional_.size(); ++d) {
     const Color& E = directionalIrradiance(d, e);

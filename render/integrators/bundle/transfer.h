@@ -48,7 +48,7 @@
 
 #include "common/comm.h"
 #include "common/math.h"
-#include "render/direct_light.h"
+#include "render/next_event.h"
 #include "render/integrators/bundle/bundle_grid.h"
 #include "render/integrators/bundle/elements.h"
 #include "render/render_scene.h"

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "render/direct_light.h"
+#include "render/next_event.h"
 
 namespace fs {
 

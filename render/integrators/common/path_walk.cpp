@@ -22,7 +22,7 @@ float PathWalk::emissionWeight(const PathVertex& prev, const Hit& hit) const {
     if (light.replaced && prev.usedTable) return 0.0f;  // the first-shot term of prev holds it
     if (prev.counted && (*prev.counted)[size_t(&light - lights.lights().data())]) return 0.0f;
   }
-  const float pdf = lights_.pdf(prev.p, prev.n, prev.nee, hit);
+  const float pdf = nextEventPdf(lights_, prev.p, prev.n, prev.nee, hit);
   return pdf > 0.0f ? powerHeuristic(prev.pdf, pdf) : 1.0f;
 }
 
@@ -70,7 +70,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
                     (options_.patchNee == PatchNee::Every || !sampledPatches);
       sampledPatches = sampledPatches || nee.patches;
-      L += beta * lights_.sample(hit, frame, woLocal, bsdf, nee, sampler, rays);
+      L += beta * nextEvent(lights_, hit, frame, woLocal, bsdf, nee, sampler, rays);
     }
 
     // Continue the path by sampling the BSDF.

@@ -5,7 +5,7 @@
 /// camera rays whose first hit is a mirror or glass, and the irradiance cache for the light past
 /// its last cached level.
 ///
-/// The walk does next-event estimation (render/light_sampler.h: NEE to every light or one light
+/// The walk does next-event estimation (render/next_event.h: NEE to every light or one light
 /// chosen by a light tree), multiple importance sampling (power heuristic) against BSDF sampling
 /// for area emitters, and Russian roulette.
 ///
@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "render/direct_light.h"
+#include "render/next_event.h"
 #include "render/firstshot/lighting.h"
 #include "render/integrator.h"
 #include "render/light_sampler.h"

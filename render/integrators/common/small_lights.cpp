@@ -1,7 +1,7 @@
 // Table mode of the shooting integrators: the small lights' own part of a camera subpath.
 #include "render/integrators/common/small_lights.h"
 
-#include "render/direct_light.h"
+#include "render/next_event.h"
 
 namespace fs {
 
@@ -28,7 +28,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
       const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
       const float pdfBsdf = scene_->bsdf(x.material).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
       const Vec3 n = glm::dot(x.wi, x.hit.ng) >= 0.0f ? x.hit.ng : -x.hit.ng;
-      const float pdfLight = lights_.pdf(x.hit.p, n, request_, v.hit);
+      const float pdfLight = nextEventPdf(lights_, x.hit.p, n, request_, v.hit);
       weight = pdfLight > 0.0f ? powerHeuristic(pdfBsdf, pdfLight) : 1.0f;
     } else if (i > m + 1 && !camera[i - 1].delta) {
       continue;  // the table holds it
@@ -38,7 +38,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
   if (m < camera.size()) {
     const SubpathVertex& x = camera[m];
     const Frame frame(x.hit.ng);
-    L += x.beta * lights_.sample(x.hit, frame, frame.toLocal(x.wi), scene_->bsdf(x.material), request_, sampler, rays);
+    L += x.beta * nextEvent(lights_, x.hit, frame, frame.toLocal(x.wi), scene_->bsdf(x.material), request_, sampler, rays);
   }
   return L;
 }

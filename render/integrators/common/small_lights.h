@@ -9,7 +9,7 @@
 /// camera subpath (render/firstshot/patch_emitters.h). What is left for the lights themselves is, as in the
 /// path tracer's exact primary mode (PrimaryMode::Exact):
 ///   - a small area light met by the camera subpath up to x_m (through mirrors and glass): weight 1;
-///   - the direct light at x_m: next-event estimation to the small lights (LightSampler), and a
+///   - the direct light at x_m: next-event estimation to the small lights (nextEvent), and a
 ///     small area light met by the subpath's BSDF sample from x_m, weighted against it by the
 ///     power heuristic;
 ///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1.
@@ -22,6 +22,7 @@
 #include "render/integrator.h"
 #include "render/integrators/common/subpath_vertex.h"
 #include "render/light_sampler.h"
+#include "render/next_event.h"
 
 namespace fs {
 

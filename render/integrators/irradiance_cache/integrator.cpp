@@ -174,10 +174,10 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
     if (bsdf.isDiffuse()) break;
 
     // The non-diffuse part f − ρd/π: NEE + MIS for the gathered lights, then one BSDF sample.
-    DirectLightOptions o;
-    o.include = &gathered_;
+    NeeRequest o;
+    o.kept = o.replaced = true;
     o.nonDiffuseOnly = true;
-    L += beta * estimateDirect(scene, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
+    L += beta * nextEventEveryLight(scene, firstShot_, &gathered_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
     BSDFQuery q(woLocal);
     bsdf.sample(q, sampler.next2D());
     if (!(q.pdf > 0.0f)) break;
@@ -210,19 +210,19 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
   if (cameraVertex) {
     // What the camera sees keeps its direct light from NEE to every direct light: no cache averages
     // it there, and one light per sample (the tree) left 4x the noise of the image mean on many-lights.
-    DirectLightOptions o;
-    o.skipReplaced = useTable;
-    o.include = &direct_;
+    NeeRequest o;
+    o.kept = true;
+    o.replaced = !useTable;
     o.mis = false;  // cache and BSDF rays never count the direct lights
-    if (scene_->firstShot() && options_.tableVisibility) o.tableVisibility = &firstShot_;
-    L += estimateDirect(*scene_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
+    o.tableVisibility = scene_->firstShot() && options_.tableVisibility;
+    L += nextEventEveryLight(*scene_, firstShot_, &direct_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
   } else {
     // Inside gathers the hemisphere averages many vertices: the light sampler (--light-sampler).
     NeeRequest nee;  // the direct lights (directLights_ holds no others), replaced ones where the table is not used
     nee.kept = true;
     nee.replaced = !useTable;  // only off the patches: no table visibility there
     nee.mis = false;
-    L += directLights_.sample(hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
+    L += nextEvent(directLights_, hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
   }
   const Color rho = bsdf.diffuseAlbedo();
   if (maxComponent(rho) > 0.0f) {

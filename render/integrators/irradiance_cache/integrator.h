@@ -22,7 +22,7 @@
 ///   first-shot patches as emitters, Russian roulette, over this integrator's first-shot
 ///   lighting), so the cache converges to what path tracing does; or, on request, it is
 ///   π·ambient (Ward's ambient term, biased).
-/// - Direct light at a vertex is next-event estimation through a LightSampler built over the
+/// - Direct light at a vertex is next-event estimation (nextEvent) through a LightSampler built over the
 ///   direct lights only: one light chosen by a light tree (IntegratorOptions::lightSampler =
 ///   Tree), or one sample of every direct light (All); weight 1 (mis off), since the cache's and
 ///   BSDF rays never count those lights.

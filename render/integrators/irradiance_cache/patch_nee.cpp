@@ -3,7 +3,7 @@
 //
 // Two techniques estimate the first-shot part of E = ∫ L cosθ dω: the record's MN stratified
 // hemisphere rays (density cosθ/π per ray, each stratum's density being MN·cosθ/π over 1/MN of
-// the hemisphere) and K patch NEE samples (density p_l, LightSampler::samplePatch). With
+// the hemisphere) and K patch NEE samples (density p_l, samplePatchEmitter, render/next_event.h). With
 // multi-sample MIS each technique weights its own samples by
 //   w_h = (MN·cosθ/π)² / ((MN·cosθ/π)² + (K·p_l)²),   w_l = 1 − w_h at the same direction,
 // so E = π/(MN) Σ_rays (L − (1 − w_h)·L_fs) + (1/K) Σ_samples w_l·L_fs·cosθ/p_l is unbiased:
@@ -40,7 +40,7 @@ float IrradianceCacheIntegrator::hemisphereWeight(const Vec3& x, const Vec3& n, 
                                                   float cosTheta) const {
   NeeRequest request;
   request.patches = true;
-  const double pl = directLights_.pdf(x, n, request, y);
+  const double pl = nextEventPdf(directLights_, x, n, request, y);
   if (!(pl > 0.0)) return 1.0f;
   const int K = neeSampleCount(settings_.patchNee, cells);
   return float(power2(double(cells) * double(cosTheta) * kInvPi, double(K) * pl));
@@ -55,7 +55,7 @@ Color IrradianceCacheIntegrator::patchNeeIrradiance(const Hit& hit, const Vec3& 
     const Vec2 uv = s.next2D();
     const float uSelect = std::min((float(i) + s.next1D()) / float(K), 0x1.fffffep-1f);
     PatchSample ps;
-    if (!directLights_.samplePatch(hit.p, n, Vec3(uSelect, uv), ps)) continue;
+    if (!samplePatchEmitter(directLights_, hit.p, n, Vec3(uSelect, uv), ps)) continue;
     const float cosTheta = glm::dot(ps.wi, n);
     if (!(cosTheta > 0.0f)) continue;  // below the record's hemisphere: no irradiance
     ++ctx.rays;
