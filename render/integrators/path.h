@@ -45,6 +45,7 @@ class PathIntegrator : public Integrator {
   void LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count, Sampler* samplers,
                SampleInfo* infos, Color* L) const override;
   std::string name() const override { return "path"; }
+  bool supportsSensors() const override { return true; }
 
   /// Radiance along @p ray times @p beta, for a path whose next hit is vertex number @p depth
   /// (0: seen from the camera) and leaves @p prev. @p specularChain: only delta bounces since the
