@@ -81,7 +81,7 @@ class IntegratorCli {
 /// One line of the table of integrators.
 struct IntegratorEntry {
   const char* name;         ///< --integrator NAME
-  const char* description;  ///< for --help: what it is, and where it is documented
+  const char* description;  ///< for --help: what it is and where it is documented (empty: the name says it)
   /// A fresh command line of the integrator.
   std::unique_ptr<IntegratorCli> (*cli)();
 };

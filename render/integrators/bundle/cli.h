@@ -22,12 +22,11 @@ class BundleCli : public IntegratorCli {
   BundleSettings settings;
   int iterations = 0;
   std::string directions = "random";
-  std::vector<CLI::Option*> options;
   CLI::Option* iterationsOption = nullptr;
   bool configured = false;  ///< configure() ran: make() hands the settings to the integrator
 
   void add(CLI::App& app) override {
-    options = {
+    const std::vector<CLI::Option*> declared = {
         iterationsOption = app.add_option("--iterations", iterations, "bundle: iterations (one global transfer and one "
                                                                       "image estimate each; the same as --spp)"),
         app.add_option("--bundle-resolution", settings.resolution, "bundle: B, the grid of B×B parallel lines per "
@@ -37,7 +36,7 @@ class BundleCli : public IntegratorCli {
                                                           "or halton (low-discrepancy, rotated per seed)")
             ->capture_default_str(),
     };
-    for (const CLI::Option* o : options) own_.push_back(o->get_name());
+    for (const CLI::Option* o : declared) own_.push_back(o->get_name());
   }
 
   /// Checks the values, keeps the settings for make() and turns --iterations into the setup's spp.

@@ -23,13 +23,12 @@ class IrradianceCacheCli : public IntegratorCli {
   IrradianceCacheSettings settings;
   std::string ambient = "0", gradients = "on", clampFootprint = "1.5,100", neighbourClamp = "on", showRecords;
   bool twoPass = false, onePass = false;
-  std::vector<CLI::Option*> options;
   CLI::Option* ambientOption = nullptr;
   bool configured = false;  ///< configure() ran: make() hands the settings to the integrator
 
   void add(CLI::App& app) override {
     auto onOff = CLI::IsMember({"on", "off"});
-    options = {
+    const std::vector<CLI::Option*> declared = {
         app.add_option("--accuracy", settings.accuracy, "irradiance cache: a, the accuracy of eq. 5 (smaller: more records)")
             ->check(CLI::Range(1e-4, 10.0))->capture_default_str(),
         app.add_option("--ic-samples", settings.samples, "irradiance cache: hemisphere samples per level-0 record "
@@ -62,7 +61,7 @@ class IrradianceCacheCli : public IntegratorCli {
         app.add_option("--show-records", showRecords, "irradiance cache: also write the image with the camera-visible "
                                                       "record positions in blue (.png or .exr)"),
     };
-    for (const CLI::Option* o : options) own_.push_back(o->get_name());
+    for (const CLI::Option* o : declared) own_.push_back(o->get_name());
   }
 
   /// Checks the values and keeps the settings for make(). @throws InputError for a bad value.
