@@ -108,7 +108,7 @@ struct FirstShotSettings {
 /// The scene file's `settings` block: the preprocessor's settings (FirstShotSettings, whose fields it
 /// reads as they are: scene.settings.patchSize is the table's patchSize before resolving) and the
 /// renderer's. Command-line options override them: firstshot-preprocess's in resolveSettings,
-/// firstshot-render's in render/main.cpp.
+/// firstshot-render's in render/cli/render_command.cpp.
 struct SettingsDesc : FirstShotSettings {
   int spp = 64;                    ///< samples per pixel
   uint64_t seed = 1;               ///< the renderer's random seed (not the preprocessor's rotationSeed)

@@ -1,24 +1,55 @@
-// The integrator factory.
+// The table of integrators: one line each (render/integrator_cli.h), and the factory that reads it.
 #include "render/integrator.h"
 
+#include <fmt/core.h>
+
 #include "common/error.h"
-#include "render/integrators/bdpt/integrator.h"
-#include "render/integrators/bundle/integrator.h"
-#include "render/integrators/irradiance_cache/integrator.h"
-#include "render/integrators/light/light_tracer.h"
-#include "render/integrators/path.h"
+#include "render/integrator_cli.h"
+#include "render/integrators/bdpt/cli.h"
+#include "render/integrators/bundle/cli.h"
+#include "render/integrators/irradiance_cache/cli.h"
+#include "render/integrators/light/cli.h"
+#include "render/integrators/path_cli.h"
 
 namespace fs {
 
-std::vector<std::string> integratorNames() { return {"path", "irradiance-cache", "light", "bundle", "bdpt"}; }
+namespace {
+
+template <class Cli>
+std::unique_ptr<IntegratorCli> makeCli() {
+  return std::make_unique<Cli>();
+}
+
+}  // namespace
+
+const std::vector<IntegratorEntry>& integratorTable() {
+  static const std::vector<IntegratorEntry> table = {
+      {"path", "", makeCli<PathCli>},
+      {"irradiance-cache", "", makeCli<IrradianceCacheCli>},
+      {"light", "light tracing, docs/light-tracing.md", makeCli<LightCli>},
+      {"bundle", "ray-bundle stochastic iteration, docs/bundle.md", makeCli<BundleCli>},
+      {"bdpt", "bidirectional path tracing, docs/bdpt.md", makeCli<BdptCli>},
+  };
+  return table;
+}
+
+const IntegratorEntry& integratorEntry(const std::string& name) {
+  std::string names;
+  for (const IntegratorEntry& e : integratorTable()) {
+    if (name == e.name) return e;
+    names += fmt::format("{}{}", names.empty() ? "" : ", ", e.name);
+  }
+  throw InputError("", "--integrator", fmt::format("unknown integrator \"{}\" (available: {})", name, names));
+}
+
+std::vector<std::string> integratorNames() {
+  std::vector<std::string> names;
+  for (const IntegratorEntry& e : integratorTable()) names.emplace_back(e.name);
+  return names;
+}
 
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options) {
-  if (name == "path") return std::make_unique<PathIntegrator>(options);
-  if (name == "irradiance-cache") return std::make_unique<IrradianceCacheIntegrator>(options);
-  if (name == "light") return std::make_unique<LightTracingIntegrator>(options);
-  if (name == "bundle") return std::make_unique<BundleIntegrator>(options);
-  if (name == "bdpt") return std::make_unique<BdptIntegrator>(options);
-  throw InputError("", "--integrator", "unknown integrator \"" + name + "\" (available: path, irradiance-cache, light, bundle, bdpt)");
+  return integratorEntry(name).cli()->make(options);
 }
 
 }  // namespace fs

@@ -129,6 +129,12 @@ class Integrator {
       if (wanted[k]) L[k] = Li(rays[k], samplers[k], &infos[k]);
   }
   virtual std::string name() const = 0;
+  /// True if Li() alone estimates the radiance along any ray (no splats, no per-pass state): the
+  /// sensor mode needs it (render/sensors.h). False by default.
+  virtual bool supportsSensors() const { return false; }
+  /// Why a checkpointed render with this integrator would not resume to the same image, bit for
+  /// bit (render/checkpoint.h); empty (the default): it would.
+  virtual std::string notResumable() const { return {}; }
   /// True for integrators that store records (irradiance caching); false by default.
   virtual bool hasRecords() const { return false; }
   /// The records stored so far, for display. The preview calls it between render passes only.
@@ -164,7 +170,8 @@ class PassIntegrator : public Integrator {
 /// The names makeIntegrator accepts, in the order the preview offers them (keys 1, 2, ...).
 std::vector<std::string> integratorNames();
 
-/// An integrator by name ("path"). @throws InputError for an unknown name.
+/// An integrator by name ("path"), with its default settings (its line of integratorTable(),
+/// render/integrator_cli.h). @throws InputError for an unknown name.
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);
 
 }  // namespace fs

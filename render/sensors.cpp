@@ -73,8 +73,7 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
 
 void requireSensorIntegrator(const Integrator& integrator) {
   // Light tracing and BDPT splat, the ray bundles need per-pass state: none has a per-ray Li().
-  if ((integrator.name() != "path" && integrator.name() != "irradiance-cache") ||
-      integrator.kind() != IntegratorKind::Sampling)
+  if (!integrator.supportsSensors())
     throw InputError("", "--integrator", fmt::format("{}: sensors support --integrator path or irradiance-cache",
                                                      integrator.name()));
 }

@@ -208,7 +208,7 @@ TEST(BundleCli, RendersAndRejectsBadValues) {
   }
   const auto other = test::run(render + " " + scene + " --bundle-resolution 8 --width 8 --height 8 -q -o " + dir + "/y.exr");
   EXPECT_EQ(other.exitCode, 2);
-  EXPECT_THAT(other.output, HasSubstr("only with --integrator bundle"));
+  EXPECT_THAT(other.output, HasSubstr("--bundle-resolution: not used by --integrator path (used by: bundle)"));
 }
 
 /// One all-hits query per line (EmbreeScene::allHits) finds the same crossings as successive

@@ -1,4 +1,4 @@
-// firstshot-render's photometric outputs (render/falsecolor_cli.h): --units luminance (cd/m² EXR)
+// firstshot-render's photometric outputs (render/cli/falsecolor_cli.h): --units luminance (cd/m² EXR)
 // against K·Y of the radiance image and against the analytic luminance of a lit diffuse plane;
 // --falsecolor of an image and of a grid (sizes, colours from the CSV's lux); bad values.
 #include <fmt/core.h>

@@ -19,7 +19,7 @@ using namespace fs;
 
 namespace {
 
-/// A scene and a grid on its floor, with the integrator options of the sensor mode (render/main.cpp:
+/// A scene and a grid on its floor, with the integrator options of the sensor mode (render/cli/render_command.cpp:
 /// the sensor is vertex 0, so the depth counts from its rays' first hits).
 struct Grid {
   SceneDesc desc;

@@ -22,6 +22,7 @@ class PathIntegrator : public Integrator {
   void LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count, Sampler* samplers,
                SampleInfo* infos, Color* L) const override;
   std::string name() const override { return "path"; }
+  bool supportsSensors() const override { return true; }
 
   /// The walk each camera ray's path takes (after preprocess()).
   const PathWalk& walk() const { return walk_; }

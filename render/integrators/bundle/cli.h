@@ -1,8 +1,8 @@
 #pragma once
 /// @file cli.h
-/// The command-line options of the ray-bundle integrator for firstshot-render (header-only,
-/// included by render/main.cpp, which links CLI11): declaring them and handing them to the
-/// integrator before preprocess().
+/// The ray-bundle integrator's command line (render/integrator_cli.h; header-only, included by the
+/// table in render/integrator.cpp): its options and the integrator made with them. Of the shared
+/// options it reads --primary and --table-visibility (NEE at camera-visible points, docs/bundle.md).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -10,21 +10,23 @@
 #include <vector>
 
 #include "common/error.h"
+#include "render/integrator_cli.h"
 #include "render/integrators/bundle/integrator.h"
 
 namespace fs {
 
-struct BundleCli {
+class BundleCli : public IntegratorCli {
+ public:
   /// Largest accepted B (B² lines per bundle).
   static constexpr int kMaxResolution = 16384;
   BundleSettings settings;
   int iterations = 0;
   std::string directions = "random";
-  std::vector<CLI::Option*> options;
   CLI::Option* iterationsOption = nullptr;
+  bool configured = false;  ///< configure() ran: make() hands the settings to the integrator
 
-  void add(CLI::App& app) {
-    options = {
+  void add(CLI::App& app) override {
+    const std::vector<CLI::Option*> declared = {
         iterationsOption = app.add_option("--iterations", iterations, "bundle: iterations (one global transfer and one "
                                                                       "image estimate each; the same as --spp)"),
         app.add_option("--bundle-resolution", settings.resolution, "bundle: B, the grid of B×B parallel lines per "
@@ -34,23 +36,17 @@ struct BundleCli {
                                                           "or halton (low-discrepancy, rotated per seed)")
             ->capture_default_str(),
     };
+    for (const CLI::Option* o : declared) own_.push_back(o->get_name());
   }
 
-  /// Hands the settings to @p integrator if it is the bundle integrator and turns --iterations into
-  /// @p spp. @throws InputError for a bad value, for --iterations with --spp or --time, or for any
-  /// of these options given with another integrator.
-  void configure(Integrator& integrator, int& spp, const CLI::App& app) {
-    auto* bundle = dynamic_cast<BundleIntegrator*>(&integrator);
-    if (!bundle) {
-      for (const CLI::Option* o : options)
-        if (o->count() > 0) throw InputError("", o->get_name(), "only with --integrator bundle");
-      return;
-    }
+  /// Checks the values, keeps the settings for make() and turns --iterations into the setup's spp.
+  /// @throws InputError for a bad value, or for --iterations with --spp or --time.
+  void configure(IntegratorSetup& setup) override {
     if (iterationsOption->count() > 0) {
-      if (app.count("--spp") || app.count("--time"))
+      if (setup.app->count("--spp") || setup.app->count("--time"))
         throw InputError("", "--iterations", "give one of --iterations, --spp and --time");
       if (iterations < 1) throw InputError("", "--iterations", fmt::format("must be at least 1, got {}", iterations));
-      spp = iterations;
+      setup.spp = iterations;
     }
     if (settings.resolution < 1 || settings.resolution > kMaxResolution)
       throw InputError("", "--bundle-resolution",
@@ -63,7 +59,21 @@ struct BundleCli {
     } else {
       throw InputError("", "--bundle-directions", "expected random or halton, got \"" + directions + "\"");
     }
-    bundle->setSettings(settings);
+    configured = true;
+  }
+
+  std::unique_ptr<Integrator> make(const IntegratorOptions& options) const override {
+    auto bundle = std::make_unique<BundleIntegrator>(options);
+    if (configured) bundle->setSettings(settings);
+    return bundle;
+  }
+
+  bool needsPatches() const override { return true; }
+
+ protected:
+  std::vector<std::string> shared() const override {
+    using namespace integrator_option;
+    return {kPrimary, kTableVisibility};
   }
 };
 

@@ -1,8 +1,9 @@
 #pragma once
 /// @file cli.h
-/// The command-line options of the irradiance cache integrator for firstshot-render (header-only,
-/// included by render/main.cpp, which links CLI11): declaring them, handing them to the
-/// integrator before preprocess(), and the outputs after the render.
+/// The irradiance cache's command line (render/integrator_cli.h; header-only, included by the table
+/// in render/integrator.cpp): its options, the integrator made with them, and its outputs after the
+/// render. Of the shared options it reads all but --shoot-firstshot (--patch-nee: in the paths that
+/// continue past the last cached bounce).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -12,22 +13,22 @@
 
 #include "common/error.h"
 #include "render/film.h"
+#include "render/integrator_cli.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 
 namespace fs {
 
-struct IrradianceCacheCli {
+class IrradianceCacheCli : public IntegratorCli {
+ public:
   IrradianceCacheSettings settings;
   std::string ambient = "0", gradients = "on", clampFootprint = "1.5,100", neighbourClamp = "on", showRecords;
   bool twoPass = false, onePass = false;
-  std::vector<CLI::Option*> options;
   CLI::Option* ambientOption = nullptr;
-  const CLI::App* tool = nullptr;  ///< the tool's command line, for its --quiet
+  bool configured = false;  ///< configure() ran: make() hands the settings to the integrator
 
-  void add(CLI::App& app) {
-    tool = &app;
+  void add(CLI::App& app) override {
     auto onOff = CLI::IsMember({"on", "off"});
-    options = {
+    const std::vector<CLI::Option*> declared = {
         app.add_option("--accuracy", settings.accuracy, "irradiance cache: a, the accuracy of eq. 5 (smaller: more records)")
             ->check(CLI::Range(1e-4, 10.0))->capture_default_str(),
         app.add_option("--ic-samples", settings.samples, "irradiance cache: hemisphere samples per level-0 record "
@@ -60,18 +61,11 @@ struct IrradianceCacheCli {
         app.add_option("--show-records", showRecords, "irradiance cache: also write the image with the camera-visible "
                                                       "record positions in blue (.png or .exr)"),
     };
+    for (const CLI::Option* o : declared) own_.push_back(o->get_name());
   }
 
-  /// Hands the settings to @p integrator if it is the irradiance cache. @throws InputError for
-  /// a bad value, or for any of these options given with another integrator.
-  void configure(Integrator& integrator, uint64_t seed, int threads) {
-    auto* ic = dynamic_cast<IrradianceCacheIntegrator*>(&integrator);
-    if (!ic) {
-      for (const CLI::Option* o : options)
-        if (o->count() > 0)
-          throw InputError("", o->get_name(), "only with --integrator irradiance-cache");
-      return;
-    }
+  /// Checks the values and keeps the settings for make(). @throws InputError for a bad value.
+  void configure(IntegratorSetup& setup) override {
     if (twoPass && onePass) throw InputError("", "--one-pass", "not with --two-pass");
     settings.twoPass = !onePass;
     settings.ambient = parseColor(ambient, "--ambient");
@@ -98,15 +92,24 @@ struct IrradianceCacheCli {
       if (!dir.empty() && !std::filesystem::is_directory(dir))
         throw InputError(settings.cacheFile, "--cache-file", "the folder does not exist");
     }
-    settings.seed = seed;
-    settings.threads = threads;
-    settings.quiet = tool->count("--quiet") > 0;  // the fill's progress (rank 0's alone: the integrator knows its ranks)
-    ic->setSettings(settings);
+    settings.seed = setup.seed;
+    settings.threads = setup.threads;
+    settings.quiet = setup.app->count("--quiet") > 0;  // the fill's progress (rank 0's alone: the integrator knows its ranks)
+    configured = true;
   }
+
+  std::unique_ptr<Integrator> make(const IntegratorOptions& options) const override {
+    auto ic = std::make_unique<IrradianceCacheIntegrator>(options);
+    if (configured) ic->setSettings(settings);
+    return ic;
+  }
+
+  std::string inputFile() const override { return settings.cacheFile; }
 
   /// After the render: writes the cache file and the record image (unless @p film is null: sensors),
   /// and prints a summary.
-  void finish(const Integrator& integrator, const Film* film, float exposure, double renderSeconds, bool quiet) const {
+  void finish(const Integrator& integrator, const Film* film, float exposure, double renderSeconds,
+              bool quiet) const override {
     const auto* ic = dynamic_cast<const IrradianceCacheIntegrator*>(&integrator);
     if (!ic) return;
     if (!settings.cacheFile.empty()) ic->saveCache(settings.cacheFile);
@@ -124,6 +127,12 @@ struct IrradianceCacheCli {
                  s.privateRecords, film ? "render" : "sensor estimate");
     if (!film) fmt::print(stderr, ", {} lookups without a record took a path", s.missPaths);
     fmt::print(stderr, "\n");
+  }
+
+ protected:
+  std::vector<std::string> shared() const override {
+    using namespace integrator_option;
+    return {kPrimary, kLightSampler, kPatchNee, kLightVisibility, kTableVisibility};
   }
 
  private:

@@ -127,6 +127,12 @@ class IrradianceCacheIntegrator : public Integrator {
   void LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count, Sampler* samplers,
                SampleInfo* infos, Color* L) const override;
   std::string name() const override { return "irradiance-cache"; }
+  bool supportsSensors() const override { return true; }
+  std::string notResumable() const override {
+    return settings_.twoPass ? std::string()
+                             : "the one-pass irradiance cache depends on the thread schedule and cannot resume exactly: "
+                               "drop --one-pass";
+  }
   bool hasRecords() const override { return true; }
   /// Level-0 records (radius = a·R_i, the valid domain).
   std::vector<IntegratorRecord> records() const override;

@@ -1,6 +1,6 @@
 #pragma once
 /// @file sensors_cli.h
-/// firstshot-render's sensor mode (header-only, included by render/main.cpp, which links CLI11):
+/// firstshot-render's sensor mode (header-only, included by render/cli/render_command.cpp, which links CLI11):
 /// --sensors FILE and --grid SPEC choose the points, --samples/--time the effort, -o OUT.csv or
 /// OUT.json receives one row per sensor; the summary per set (E_min, E_avg, E_max, U0) goes to
 /// stdout and into the JSON (README.md, "Illuminance at sensors"; docs/photometry.md).
@@ -32,7 +32,7 @@ struct SensorsCli {
   CLI::Option* gridOption = nullptr;
   CLI::Option* quadOption = nullptr;
   /// Called by run() with the sets and every sensor's illuminance (lx, in the sets' order) before
-  /// the outputs are written (the false-colour picture of a grid, render/falsecolor_cli.h).
+  /// the outputs are written (the false-colour picture of a grid, render/cli/falsecolor_cli.h).
   std::function<void(const std::vector<SensorSet>&, const std::vector<double>&)> onResults;
 
   void add(CLI::App& app) {
@@ -55,7 +55,7 @@ struct SensorsCli {
   void checkOptions(const CLI::App& app, const std::vector<std::string>& outputs) const {
     if (!active()) {
       if (app.count("--samples")) throw InputError("", "--samples", "only with --sensors, --grid or --grid-quad");
-      // --efficacy also serves --units luminance and --falsecolor: checked in render/falsecolor_cli.h
+      // --efficacy also serves --units luminance and --falsecolor: checked in render/cli/falsecolor_cli.h
       return;
     }
     for (const char* o : {"--spp", "--preview", "--checkpoint", "--resume", "--aov", "--exposure", "--show-records"})
@@ -120,7 +120,7 @@ struct SensorsCli {
                  summaries[k].uniformity);
     if (st.nonFinite > 0)
       fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
-    if (!options.quiet && integrator.name() != "path")
+    if (!options.quiet && integrator.hasRecords())  // its cache was filled from the sensors' rays
       fmt::print(stderr, "{} preprocess for the sensors: {:.3f} s\n", integrator.name(), prepSeconds);
     if (!options.quiet)
       fmt::print(stderr, "{} sensors at {} samples in {:.3f} s: {:.2f} Mrays/s\n", all.size(), st.samples, st.seconds,

@@ -1,7 +1,7 @@
 #pragma once
 /// @file checkpoint_cli.h
 /// firstshot-render's --checkpoint, --checkpoint-file and --resume (header-only, included by
-/// render/main.cpp, which links CLI11): the options, the key of what decides the image, and the
+/// render/cli/render_command.cpp, which links CLI11): the options, the key of what decides the image, and the
 /// render loop that saves and restores checkpoints (render/checkpoint.h; docs/robustness.md).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -16,7 +16,7 @@
 #include "common/interrupt.h"
 #include "common/scene_desc.h"
 #include "render/checkpoint.h"
-#include "render/integrators/irradiance_cache/integrator.h"
+#include "render/integrator.h"
 #include "render/renderer.h"
 
 namespace fs {
@@ -44,9 +44,8 @@ struct CheckpointCli {
     if (!file.empty() && !active()) throw InputError("", "--checkpoint-file", "only with --checkpoint or --resume");
     if (!active()) return;
     if (app.count("--preview")) throw InputError("", "--checkpoint", "not available with --preview");
-    if (const auto* ic = dynamic_cast<const IrradianceCacheIntegrator*>(&integrator); ic && !ic->settings().twoPass)
-      throw InputError("", every > 0 ? "--checkpoint" : "--resume",
-                       "the one-pass irradiance cache depends on the thread schedule and cannot resume exactly: drop --one-pass");
+    if (const std::string why = integrator.notResumable(); !why.empty())
+      throw InputError("", every > 0 ? "--checkpoint" : "--resume", why);
     if (file.empty()) file = outputs.empty() ? std::string() : outputs.front() + ".checkpoint";
     const auto dir = std::filesystem::path(file).parent_path();
     if (!dir.empty() && !std::filesystem::is_directory(dir)) throw InputError(file, "--checkpoint-file", "the folder does not exist");
@@ -55,7 +54,7 @@ struct CheckpointCli {
   /// The key: content hashes of the inputs, the resolved values and every option that can change
   /// the image (all but those listed below, which only change outputs, speed or the sample count).
   void makeKey(const CLI::App& app, const std::string& scenePath, const SceneDesc& scene, const std::string& fsdPath,
-               const std::string& integratorName, uint64_t seed, int maxDepth, const std::string& cacheFile) {
+               const std::string& integratorName, uint64_t seed, int maxDepth, const std::string& inputFile) {
     key = {{"scene-file", fileContentHash(scenePath)},
            {"scene", fmt::format("{:016x}", hashScene(scene))},
            {"firstshot", fileContentHash(fsdPath)},
@@ -64,7 +63,7 @@ struct CheckpointCli {
            {"height", std::to_string(scene.camera.height)},
            {"seed", std::to_string(seed)},
            {"max-depth", std::to_string(maxDepth)},
-           {"cache-file", fileContentHash(cacheFile)}};
+           {"cache-file", fileContentHash(inputFile)}};
     static const char* const kIgnored[] = {"scene", "--firstshot", "--integrator", "--spp", "--time", "--iterations",
                                            "--output", "--threads", "--seed", "--max-depth", "--width", "--height",
                                            "--exposure", "--aov", "--quiet", "--help", "--preview", "--frames",

@@ -1,7 +1,7 @@
 #pragma once
 /// @file falsecolor_cli.h
-/// firstshot-render's photometric outputs (header-only, included by render/main.cpp, which links
-/// CLI11): --units luminance (EXR outputs in cd/m²) and --falsecolor OUT.png with --falsecolor-scale,
+/// firstshot-render's photometric outputs (header-only, included by render/cli/render_command.cpp,
+/// which links CLI11): --units luminance (EXR outputs in cd/m²) and --falsecolor OUT.png with --falsecolor-scale,
 /// --falsecolor-range and --falsecolor-contours, of the image's luminance or of a --grid's
 /// illuminance (README.md, "Photometric outputs"; docs/photometry.md; render/falsecolor.h).
 #include <CLI/CLI.hpp>

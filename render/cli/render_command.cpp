@@ -1,0 +1,236 @@
+// firstshot-render's command line: the steps of RenderCommand::run().
+#include "render/cli/render_command.h"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <filesystem>
+
+#include "common/cli.h"
+#include "common/firstshot.h"
+#include "common/interrupt.h"
+#include "common/patch_size.h"
+#include "render/camera.h"
+#include "render/film.h"
+#include "render/preview/preview_app.h"
+#include "render/renderer.h"
+
+namespace fs {
+
+RenderCommand::RenderCommand(Comm& comm)
+    : comm_(comm),
+      app_("firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights by "
+           "their first-shot factors") {}
+
+int RenderCommand::run(int argc, char** argv) {
+  declareOptions();
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app_.exit(e) == 0 ? 0 : kExitBadInput;
+  }
+  // SIGINT/SIGTERM: stop, write no image (a checkpoint with --checkpoint), exit 130/143 (docs/robustness.md).
+  if (!preview_) installInterruptHandlers();
+  checkOptions();
+  loadScene();
+  makeIntegrator();
+  buildRenderScene();
+  if (sensors_.active()) return renderSensors();
+  if (preview_) return runPreview();
+  return renderImage();
+}
+
+void RenderCommand::declareOptions() {
+  CLI::App& app = app_;
+  app.add_option("scene", scenePath_, "scene file (.json, .obj, .gltf, .glb, .ply)")->required();
+  app.add_option("--firstshot", fsdPath_, "first-shot table from firstshot-preprocess (.fsd)");
+  integrators_.addShared(app);
+  auto* sppOpt = app.add_option("--spp", spp_, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
+  app.add_option("--time", timeLimit_, "render passes of 1 spp until this many seconds have passed (the image then "
+                                       "depends on how many passes fit)")
+      ->check(CLI::Range(1e-3, 1e9))->excludes(sppOpt);
+  auto* outOpt = app.add_option("-o,--output", outputs_, "output image, .exr (linear float) or .png (sRGB); may be repeated "
+                                                         "(required without --preview)");
+  app.add_option("--threads", threads_, "worker threads (default: one per core); the image does not depend on it")
+      ->check(CLI::Range(0, 4096));
+  app.add_option("--seed", seed_, "random seed (default: the scene's settings.seed)");
+  app.add_option("--sampler", samplerName_, "camera samples' numbers: independent (a hash per pixel, sample and "
+                                            "dimension) or sobol (per pixel Owen-scrambled Sobol' pairs, stratified "
+                                            "over the samples; common/rng.h)")
+      ->check(CLI::IsMember({"independent", "sobol"}))->capture_default_str();
+  app.add_option("--max-depth", maxDepth_, "longest path in bounces (default: the scene's settings.max_depth)")
+      ->check(CLI::Range(0, 1 << 30));
+  app.add_option("--exposure", exposure_, "PNG exposure in stops (scale by 2^exposure)");
+  app.add_flag("--aov", aov_, "EXR: add albedo and normal layers for external denoisers");
+  app.add_option("--width", width_, "image width (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
+  app.add_option("--height", height_, "image height (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
+  app.add_option("--patch-size", patchSize_, "without --firstshot: longest patch edge in metres (default: every face as it is; --integrator bundle: "
+                                             "the scene's patch_size, else automatic as the preprocessor's)")
+      ->check(CLI::Range(1e-6, 1e6));
+  app.add_flag("-q,--quiet", quiet_, "no progress bar or summary");
+  auto* previewOpt = app.add_flag("--preview", preview_, "open the interactive preview window (needs a display; keys: H)")
+                         ->excludes(outOpt);
+  app.add_option("--frames", frames_, "with --preview: scripted run: refine for this many frames (1 spp each; the image "
+                                      "then equals an offline render with --spp frames), save --screenshot, exit")
+      ->check(CLI::Range(0, 1 << 30))->needs(previewOpt);
+  app.add_option("--screenshot", screenshot_, "with --preview: screenshot file OUT.png (OUT.exr is written beside it); "
+                                              "key P saves OUT-NNN.png")
+      ->needs(previewOpt);
+  app.add_option("--window-grab", windowGrab_, "with --preview --frames: save the window's pixels as shown (.png), for tests")
+      ->needs(previewOpt);
+  integrators_.addOwn(app);  // --light-paths, --accuracy, ..., --iterations, ... (render/integrators/*/cli.h)
+  checkpoint_.add(app);
+  sensors_.add(app);
+  photometric_.add(app);
+}
+
+void RenderCommand::checkOptions() {
+  integrators_.requireUsed(app_);
+  sensors_.checkOptions(app_, outputs_);
+  sensorSets_ = sensors_.sets();  // --grid-quad sets join once the scene is loaded
+  photometric_.checkOptions(app_, sensors_.active(), sensorSets_, outputs_);
+  if (!preview_ && outputs_.empty()) throw InputError("", "--output", "an output image is required (or use --preview)");
+  if (comm_.size() > 1)  // docs/mpi.md: what is split over ranks
+    for (const char* option : {"--preview", "--checkpoint", "--resume"})
+      if (app_.count(option))
+        throw InputError("", option, fmt::format("not available in an MPI run of {} ranks (run it with one)", comm_.size()));
+  quiet_ = quiet_ || !comm_.root();  // rank 0 shows progress and prints the results
+  if (preview_ && app_.count("--time")) throw InputError("", "--time", "not available with --preview (use --spp)");
+  if (preview_ && samplerName_ != "independent")
+    throw InputError("", "--sampler", "--sampler sobol is not available with --preview yet");
+  for (const std::string* png : {&screenshot_, &windowGrab_}) {
+    if (png->empty()) continue;
+    const std::string ext = std::filesystem::path(*png).extension().string();
+    if (ext != ".png" && ext != ".PNG") throw InputError(*png, "", "the screenshot must be a .png file");
+    const auto dir = std::filesystem::path(*png).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir)) throw InputError(*png, "", "the output folder does not exist");
+  }
+}
+
+void RenderCommand::loadScene() {
+  scene_ = fs::loadScene(scenePath_);
+  sensors_.addQuadGrids(scene_, sensorSets_);  // --grid-quad: on the scene's quads
+  if (width_ > 0) scene_.camera.width = width_;
+  if (height_ > 0) scene_.camera.height = height_;
+  if (!preview_ && !sensors_.active()) Film::requireFits(scene_.camera.width, scene_.camera.height, scene_.file);  // before any other work
+}
+
+uint64_t RenderCommand::seed() const { return app_.count("--seed") ? seed_ : scene_.settings.seed; }
+
+void RenderCommand::makeIntegrator() {
+  int maxDepth = maxDepth_ >= 0 ? maxDepth_ : scene_.settings.maxDepth;
+  // A sensor is a camera-visible point (vertex 0): its cosine rays' first hits are bounce 1.
+  if (sensors_.active()) maxDepth = std::max(0, maxDepth - 1);
+  integratorOptions_ = integrators_.options(maxDepth);
+  integratorOptions_.comm = &comm_;
+  IntegratorSetup setup{&app_, &scene_, seed(), threads_, spp_};
+  IntegratorCli& cli = integrators_.chosen();
+  cli.configure(setup);
+  spp_ = setup.spp;
+  integrator_ = cli.make(integratorOptions_);
+  checkpoint_.configure(app_, outputs_, *integrator_);
+  if (sensors_.active()) requireSensorIntegrator(*integrator_);
+  checkImageOutputs();
+}
+
+void RenderCommand::buildRenderScene() {
+  if (!fsdPath_.empty())
+    renderScene_.emplace(scene_, readFirstShot(fsdPath_, hashScene(scene_)), fsdPath_);
+  else
+    renderScene_.emplace(scene_, patchSize_ > 0 || !integrators_.chosen().needsPatches() ? patchSize_ : resolvePatchSize(scene_));
+}
+
+void RenderCommand::checkImageOutputs() const {
+  if (sensors_.active()) return;
+  for (const auto& out : outputs_) {
+    const auto dot = out.rfind('.');
+    const std::string ext = dot == std::string::npos ? "" : out.substr(dot);
+    if (ext != ".exr" && ext != ".png" && ext != ".EXR" && ext != ".PNG")
+      throw InputError(out, "", "unsupported image type (expected .exr or .png)");
+    const auto dir = std::filesystem::path(out).parent_path();
+    if (!dir.empty() && !std::filesystem::is_directory(dir)) throw InputError(out, "", "the output folder does not exist");
+  }
+}
+
+int RenderCommand::renderSensors() {  // sensors_.run preprocesses the integrator for the sensors' rays
+  SensorOptions so;
+  so.timeLimit = timeLimit_;
+  so.seed = seed();
+  so.threads = threads_;
+  so.quiet = quiet_;
+  so.lightSampler = integratorOptions_.lightSampler;
+  so.comm = &comm_;
+  if (photometric_.active())
+    sensors_.onResults = [&](const auto& sets, const auto& lux) { photometric_.writeGrid(sets, lux); };
+  const int rc = sensors_.run(*integrator_, *renderScene_, sensorSets_, outputs_, so);
+  if (comm_.root()) integrators_.chosen().finish(*integrator_, nullptr, 0.0f, 0.0, quiet_);  // --cache-file, the record counts
+  return rc;
+}
+
+int RenderCommand::runPreview() {
+  PreviewOptions po;
+  po.integrator = integrators_.name;
+  po.integratorOptions = integratorOptions_;
+  po.seed = seed();
+  // Keys 1..n switch integrators: each is configured like the offline render's (the others' own
+  // options are not given: their defaults).
+  for (const auto& cli : integrators_.clis)
+    if (cli.get() != &integrators_.chosen()) {
+      IntegratorSetup setup{&app_, &scene_, po.seed, threads_, spp_};
+      cli->configure(setup);
+    }
+  po.factory = [this](const std::string& name) { return integrators_.cli(name).make(integratorOptions_); };
+  po.threads = threads_;
+  po.spp = spp_ > 0 ? spp_ : scene_.settings.spp;
+  po.frames = frames_;
+  po.screenshot = screenshot_;
+  po.windowGrab = windowGrab_;
+  po.exposure = exposure_;
+  po.quiet = quiet_;
+  return fs::runPreview(*renderScene_, po);
+}
+
+int RenderCommand::renderImage() {
+  RenderOptions ro;
+  ro.spp = spp_ > 0 ? spp_ : scene_.settings.spp;
+  ro.timeLimit = timeLimit_;
+  ro.seed = seed();
+  ro.sampler = samplerName_ == "sobol" ? SamplerMode::Sobol : SamplerMode::Independent;
+  ro.threads = threads_;
+  ro.quiet = quiet_;
+  ro.comm = &comm_;
+  const IntegratorCli& cli = integrators_.chosen();
+  if (checkpoint_.active())
+    checkpoint_.makeKey(app_, scenePath_, scene_, fsdPath_, integrators_.name, ro.seed, integratorOptions_.maxDepth,
+                        cli.inputFile());
+  integrator_->preprocess(*renderScene_);
+
+  const Camera camera(scene_.camera);
+  Film film(camera.width(), camera.height());
+  RenderStats st;
+  try {
+    st = checkpoint_.render(*integrator_, camera, film, ro);
+    throwIfInterrupted("no output written");
+    if (!comm_.root()) return 0;  // rank 0's film holds every rank's pixels; it alone writes
+    const double cdPerW = photometric_.units == "luminance" ? sensors_.efficacy : 0.0;  // cd/m² per W/(m² sr)
+    for (const auto& out : outputs_) film.write(out, aov_, exposure_, cdPerW);
+    if (photometric_.active()) photometric_.writeImage(film, sensors_.efficacy);
+    cli.finish(*integrator_, &film, exposure_, st.seconds, quiet_);
+  } catch (const Interrupted& e) {
+    throw checkpoint_.saveAfterInterrupt(e, film);
+  }
+  checkpoint_.finished();
+
+  if (st.nonFinite > 0)
+    fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
+  if (!quiet_) {
+    const auto* t = renderScene_->firstShot();
+    fmt::print(stderr, "{}x{} at {} spp in {:.2f} s: {:.2f} Mrays/s; {} patches, {} lights ({} replaced by first-shot){}\n",
+               camera.width(), camera.height(), st.spp, st.seconds, st.seconds > 0 ? st.rays / st.seconds * 1e-6 : 0.0,
+               renderScene_->mesh().size(), scene_.lights.size(), t ? t->replacedLights.size() : 0,
+               comm_.size() > 1 ? fmt::format("; {} ranks, rank 0 sent {:.2f} MB", comm_.size(), comm_.bytesSent() / 1e6) : "");
+  }
+  return 0;
+}
+
+}  // namespace fs

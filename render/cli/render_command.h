@@ -1,0 +1,73 @@
+#pragma once
+/// @file render_command.h
+/// firstshot-render's command line in named steps (render/cli/main.cpp runs it): declare the options,
+/// parse and check them, load the scene, make the integrator, then one of three modes: sensors
+/// (render/cli/sensors_cli.h), the preview window (render/preview/) or an image (with checkpoints,
+/// render/cli/checkpoint_cli.h). The integrators' options: render/cli/integrator_options.h.
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/comm.h"
+#include "common/scene_desc.h"
+#include "render/cli/checkpoint_cli.h"
+#include "render/cli/falsecolor_cli.h"
+#include "render/cli/integrator_options.h"
+#include "render/cli/sensors_cli.h"
+#include "render/integrator.h"
+#include "render/render_scene.h"
+
+namespace fs {
+
+class RenderCommand {
+ public:
+  /// @p comm: the ranks of the run (docs/mpi.md).
+  explicit RenderCommand(Comm& comm);
+  /// Runs the tool on @p argv; returns its exit code. @throws InputError for bad input.
+  int run(int argc, char** argv);
+
+ private:
+  void declareOptions();
+  /// The checks that need no scene.
+  void checkOptions();
+  /// Loads the scene, resizes its camera and reads the sensor sets that need it.
+  void loadScene();
+  /// Checks the chosen integrator's options against the scene and makes it.
+  void makeIntegrator();
+  /// The scene the integrator traces: the table's patches, or the scene's faces (cut into patches
+  /// where the integrator needs them).
+  void buildRenderScene();
+  /// Rejects a bad image name before the render, not after.
+  void checkImageOutputs() const;
+  int renderSensors();
+  int runPreview();
+  int renderImage();
+  /// --seed, or the scene's.
+  uint64_t seed() const;
+
+  Comm& comm_;
+  CLI::App app_;
+  std::string scenePath_, fsdPath_, samplerName_ = "independent", screenshot_, windowGrab_;
+  std::vector<std::string> outputs_;
+  int spp_ = 0, threads_ = 0, maxDepth_ = -1, width_ = 0, height_ = 0, frames_ = -1;
+  double timeLimit_ = 0, patchSize_ = 0;
+  float exposure_ = 0;
+  uint64_t seed_ = 0;
+  bool quiet_ = false, aov_ = false, preview_ = false;
+  IntegratorOptionsCli integrators_;  // --integrator, --primary, ..., and each integrator's own
+  CheckpointCli checkpoint_;          // --checkpoint, --checkpoint-file, --resume
+  SensorsCli sensors_;                // --sensors, --grid, --samples, --efficacy
+  FalseColorCli photometric_;         // --units, --falsecolor, --falsecolor-*
+
+  std::vector<SensorSet> sensorSets_;
+  SceneDesc scene_;
+  IntegratorOptions integratorOptions_;
+  std::unique_ptr<Integrator> integrator_;
+  std::optional<RenderScene> renderScene_;
+};
+
+}  // namespace fs
