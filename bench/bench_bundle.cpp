@@ -19,7 +19,7 @@
 
 #include "common/scene_desc.h"
 #include "render/integrators/bundle/integrator.h"
-#include "render/render_scene.h"
+#include "render/scene/render_scene.h"
 
 namespace {
 

@@ -24,9 +24,9 @@
 
 #include "common/firstshot.h"
 #include "common/scene_desc.h"
-#include "render/camera.h"
+#include "render/scene/camera.h"
 #include "render/integrators/irradiance_cache/integrator.h"
-#include "render/render_scene.h"
+#include "render/scene/render_scene.h"
 
 using namespace fs;
 

@@ -29,10 +29,10 @@
 #include <vector>
 
 #include "preprocess/preprocessor.h"
-#include "render/camera.h"
+#include "render/scene/camera.h"
 #include "render/integrators/irradiance_cache/integrator.h"
-#include "render/integrators/path.h"
-#include "render/renderer.h"
+#include "render/integrators/path/integrator.h"
+#include "render/loop/renderer.h"
 
 using namespace fs;
 

@@ -20,12 +20,12 @@
 #include "common/rng.h"
 #include "common/sampling.h"
 #include "common/scene_desc.h"
-#include "render/camera.h"
-#include "render/embree_scene.h"
-#include "render/film.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
-#include "render/renderer.h"
+#include "render/scene/camera.h"
+#include "render/scene/embree_scene.h"
+#include "render/output/film.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
+#include "render/loop/renderer.h"
 
 namespace {
 

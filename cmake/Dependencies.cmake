@@ -8,7 +8,7 @@ find_package(pugixml REQUIRED)  # Mitsuba 3 XML scenes (common/scene_mitsuba.cpp
 find_package(TBB REQUIRED)
 find_package(embree 3 REQUIRED)
 find_package(OpenImageIO REQUIRED)  # bench/'s image comparison tool only (any format a user's reference is in)
-find_package(OpenEXR 3 CONFIG REQUIRED)  # the renderer's images (render/image_io.h)
+find_package(OpenEXR 3 CONFIG REQUIRED)  # the renderer's images (render/output/image_io.h)
 find_package(PNG REQUIRED)
 find_package(JPEG REQUIRED)  # with libpng: imported assets' texture images (common/texture_image.h)
 find_package(Freetype REQUIRED)  # the false-colour legend's text

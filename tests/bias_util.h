@@ -14,10 +14,10 @@
 #include "common/firstshot.h"
 #include "common/emission_profile.h"
 #include "preprocess/preprocessor.h"
-#include "render/camera.h"
+#include "render/scene/camera.h"
 #include "render/firstshot/lighting.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
 #include "tests/test_util.h"
 
 namespace fs::test {

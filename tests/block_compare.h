@@ -13,9 +13,9 @@
 
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
-#include "render/film.h"
-#include "render/integrator.h"
-#include "render/renderer.h"
+#include "render/output/film.h"
+#include "render/integrators/integrator.h"
+#include "render/loop/renderer.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"

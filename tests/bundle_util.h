@@ -8,10 +8,10 @@
 #include <memory>
 #include <vector>
 
-#include "render/camera.h"
-#include "render/film.h"
+#include "render/scene/camera.h"
+#include "render/output/film.h"
 #include "render/integrators/bundle/integrator.h"
-#include "render/renderer.h"
+#include "render/loop/renderer.h"
 
 namespace fs::test {
 

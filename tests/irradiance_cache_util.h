@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "render/camera.h"
-#include "render/integrator.h"
+#include "render/scene/camera.h"
+#include "render/integrators/integrator.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "render/integrators/common/light_path.h"
-#include "render/integrators/light/light_tracer.h"
+#include "render/integrators/light/integrator.h"
 
 namespace fs::test {
 

@@ -17,11 +17,11 @@
 #include "common/firstshot.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
-#include "render/camera.h"
-#include "render/film.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
-#include "render/renderer.h"
+#include "render/scene/camera.h"
+#include "render/output/film.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
+#include "render/loop/renderer.h"
 
 namespace fs::test {
 

@@ -9,11 +9,11 @@
 
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
-#include "render/camera.h"
-#include "render/film.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
-#include "render/renderer.h"
+#include "render/scene/camera.h"
+#include "render/output/film.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
+#include "render/loop/renderer.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 

@@ -1,4 +1,4 @@
-// Render checkpoints in-process (render/checkpoint.h): for every integrator, a render stopped in
+// Render checkpoints in-process (render/loop/checkpoint.h): for every integrator, a render stopped in
 // the middle of a pass, saved, restored into a new film and resumed ends with the same sums, bit
 // for bit, as an uninterrupted render; damaged, foreign and mismatched checkpoints are refused.
 #include <gmock/gmock.h>
@@ -10,9 +10,9 @@
 #include <fstream>
 
 #include "common/error.h"
-#include "render/checkpoint.h"
+#include "render/loop/checkpoint.h"
 #include "render/integrators/irradiance_cache/integrator.h"
-#include "render/splat_renderer.h"
+#include "render/loop/splat_renderer.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 

@@ -1,10 +1,10 @@
-// False-colour pictures (render/falsecolor.h): the colour map's order, nice ranges and ticks, known
+// False-colour pictures (render/output/falsecolor.h): the colour map's order, nice ranges and ticks, known
 // values at known pixels on log and linear scales, the legend's text, iso-lines at the ticks.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "render/falsecolor.h"
+#include "render/output/falsecolor.h"
 
 using namespace fs;
 using namespace fs::falsecolor;

@@ -11,8 +11,8 @@
 
 #include "common/math.h"
 #include "common/photometry.h"
-#include "render/falsecolor.h"
-#include "render/film.h"
+#include "render/output/falsecolor.h"
+#include "render/output/film.h"
 #include "test_util.h"
 
 using namespace fs;

@@ -10,7 +10,7 @@
 #include "common/firstshot_groups.h"
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
-#include "render/render_scene.h"
+#include "render/scene/render_scene.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 

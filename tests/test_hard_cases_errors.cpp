@@ -13,7 +13,7 @@
 
 #include "common/error.h"
 #include "common/memory_limit.h"
-#include "render/film.h"
+#include "render/output/film.h"
 #include "tests/hard_cases.h"
 
 using ::testing::HasSubstr;

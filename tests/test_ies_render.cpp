@@ -12,7 +12,7 @@
 #include "common/rng.h"
 #include "preprocess/preprocessor.h"
 #include "render/firstshot/lighting.h"
-#include "render/sensors.h"
+#include "render/sensors/sensors.h"
 #include "tests/bias_util.h"
 #include "tests/block_compare.h"
 #include "tests/ies_util.h"

@@ -1,11 +1,11 @@
-// Image files (render/image_io.h): EXR and PNG round trips, channel order, and bad files.
+// Image files (render/output/image_io.h): EXR and PNG round trips, channel order, and bad files.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "common/error.h"
-#include "render/image_io.h"
+#include "render/output/image_io.h"
 #include "test_util.h"
 
 using namespace fs;

@@ -1,4 +1,4 @@
-// firstshot-render's integrator options (render/cli/integrator_options.h, render/integrator_cli.h):
+// firstshot-render's integrator options (render/cli/integrator_options.h, render/integrators/integrator_cli.h):
 // every integrator accepts the options it reads and refuses, with exit code 2 and the option's
 // name, every other integrator's option (README.md, "Which integrator reads which option").
 #include <gmock/gmock.h>
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <regex>
 
-#include "render/film.h"
+#include "render/output/film.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;

@@ -13,7 +13,7 @@
 
 #include "preprocess/preprocessor.h"
 #include "render/integrators/irradiance_cache/integrator.h"
-#include "render/integrators/path.h"
+#include "render/integrators/path/integrator.h"
 #include "tests/irradiance_cache_util.h"
 
 using namespace fs;

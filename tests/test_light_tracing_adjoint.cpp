@@ -8,7 +8,7 @@
 #include "common/analytic.h"
 #include "common/sampling.h"
 #include "preprocess/preprocessor.h"
-#include "render/integrators/path.h"
+#include "render/integrators/path/integrator.h"
 #include "tests/bias_util.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"

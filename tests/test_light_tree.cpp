@@ -1,11 +1,11 @@
-// The light tree (render/light_tree.h): the probability a sample reports is the one pmf() gives
+// The light tree (render/lights/light_tree.h): the probability a sample reports is the one pmf() gives
 // for the same emitter, the probabilities sum to one, sampling frequencies follow them, and an
 // emitter that can light a point is never left out.
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "render/light_tree.h"
+#include "render/lights/light_tree.h"
 
 using namespace fs;
 

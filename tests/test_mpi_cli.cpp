@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "render/film.h"
+#include "render/output/film.h"
 #include "tests/test_util.h"
 
 namespace fs {

@@ -11,7 +11,7 @@
 
 #include "common/error.h"
 #include "common/interrupt.h"
-#include "render/camera.h"
+#include "render/scene/camera.h"
 #include "render/integrators/bundle/integrator.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/irradiance_cache_util.h"

@@ -1,5 +1,5 @@
 // Lit first-shot patches sampled as light sources and the light tree in the path tracer
-// (render/light_sampler.h): sampling them changes the noise, never the mean (3σ, σ from the
+// (render/lights/light_sampler.h): sampling them changes the noise, never the mean (3σ, σ from the
 // samples); the light tree's NEE agrees with NEE to every light; the irradiance cache's default
 // continuation past its last bounce agrees with path tracing; images do not depend on threads.
 #include <gtest/gtest.h>

@@ -14,9 +14,9 @@
 #include <filesystem>
 #include <numeric>
 
-#include "render/camera.h"
-#include "render/film.h"
-#include "render/integrators/path.h"
+#include "render/scene/camera.h"
+#include "render/output/film.h"
+#include "render/integrators/path/integrator.h"
 #include "render/preview/orbit_camera.h"
 #include "render/preview/preview_app.h"
 #include "tests/render_util.h"

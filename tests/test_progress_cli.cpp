@@ -11,7 +11,7 @@
 
 #include "common/firstshot.h"
 #include "preprocess/gl_context.h"
-#include "render/film.h"
+#include "render/output/film.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;

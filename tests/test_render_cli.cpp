@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "common/error.h"
-#include "render/film.h"
+#include "render/output/film.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;

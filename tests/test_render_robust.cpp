@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "preprocess/preprocessor.h"
-#include "render/embree_scene.h"
+#include "render/scene/embree_scene.h"
 #include "tests/bundle_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"

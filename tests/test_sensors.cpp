@@ -1,4 +1,4 @@
-// Illuminance at sensor points (render/sensors.h, firstshot-render --sensors/--grid): analytic
+// Illuminance at sensor points (render/sensors/sensors.h, firstshot-render --sensors/--grid): analytic
 // point-light values, indirect light from a lit floor, a grid against a cosine-ray reference,
 // thread independence, outputs and bad input.
 #include <fmt/core.h>
@@ -14,7 +14,7 @@
 #include "common/patch_size.h"
 #include "common/photometry.h"
 #include "common/sampling.h"
-#include "render/sensors.h"
+#include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "test_util.h"
 

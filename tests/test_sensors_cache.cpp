@@ -1,4 +1,4 @@
-// The irradiance cache at sensors (render/sensors.h preprocessSensors → Integrator::preprocessRays):
+// The irradiance cache at sensors (render/sensors/sensors.h preprocessSensors → Integrator::preprocessRays):
 // its records are filled from the sensors' own first samples, so those samples find them; results do not
 // depend on the thread count; and the grid's mean illuminance agrees with path tracing's. As in
 // test_irradiance_cache_bias, records are shared by all sensors of a run, so runs (independent seeds, each
@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "render/integrators/irradiance_cache/integrator.h"
-#include "render/sensors.h"
+#include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "test_util.h"
 

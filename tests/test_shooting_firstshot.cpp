@@ -11,7 +11,7 @@
 
 #include "preprocess/preprocessor.h"
 #include "render/integrators/bdpt/integrator.h"
-#include "render/light_emission.h"
+#include "render/lights/light_emission.h"
 #include "tests/block_compare.h"
 #include "tests/light_tracing_util.h"
 #include "tests/splat_checks.h"

@@ -11,11 +11,11 @@
 #include <string>
 
 #include "common/scene_desc.h"
-#include "render/next_event.h"
+#include "render/lights/next_event.h"
 #include "render/firstshot/lighting.h"
 #include "render/integrators/irradiance_cache/integrator.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"

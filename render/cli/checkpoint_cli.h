@@ -2,7 +2,7 @@
 /// @file checkpoint_cli.h
 /// firstshot-render's --checkpoint, --checkpoint-file and --resume (header-only, included by
 /// render/cli/render_command.cpp, which links CLI11): the options, the key of what decides the image, and the
-/// render loop that saves and restores checkpoints (render/checkpoint.h; docs/robustness.md).
+/// render loop that saves and restores checkpoints (render/loop/checkpoint.h; docs/robustness.md).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -15,9 +15,9 @@
 #include "common/error.h"
 #include "common/interrupt.h"
 #include "common/scene_desc.h"
-#include "render/checkpoint.h"
-#include "render/integrator.h"
-#include "render/renderer.h"
+#include "render/loop/checkpoint.h"
+#include "render/integrators/integrator.h"
+#include "render/loop/renderer.h"
 
 namespace fs {
 

@@ -3,7 +3,7 @@
 /// firstshot-render's photometric outputs (header-only, included by render/cli/render_command.cpp,
 /// which links CLI11): --units luminance (EXR outputs in cd/m²) and --falsecolor OUT.png with --falsecolor-scale,
 /// --falsecolor-range and --falsecolor-contours, of the image's luminance or of a --grid's
-/// illuminance (README.md, "Photometric outputs"; docs/photometry.md; render/falsecolor.h).
+/// illuminance (README.md, "Photometric outputs"; docs/photometry.md; render/output/falsecolor.h).
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "common/error.h"
-#include "render/falsecolor.h"
-#include "render/film.h"
-#include "render/sensors.h"
+#include "render/output/falsecolor.h"
+#include "render/output/film.h"
+#include "render/sensors/sensors.h"
 
 namespace fs {
 

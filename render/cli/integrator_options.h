@@ -2,7 +2,7 @@
 /// @file integrator_options.h
 /// firstshot-render's --integrator, the options that set IntegratorOptions (shared by several
 /// integrators, declared here once) and each integrator's own options (declared by its command line,
-/// render/integrator_cli.h, one per line of integratorTable()). An option given on the command line
+/// render/integrators/integrator_cli.h, one per line of integratorTable()). An option given on the command line
 /// that the chosen integrator does not read is an error that names it and the integrators that read
 /// it (header-only, included by render/cli/render_command.cpp, which links CLI11).
 #include <CLI/CLI.hpp>
@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "common/error.h"
-#include "render/integrator.h"
-#include "render/integrator_cli.h"
+#include "render/integrators/integrator.h"
+#include "render/integrators/integrator_cli.h"
 
 namespace fs {
 

@@ -10,10 +10,10 @@
 #include "common/firstshot.h"
 #include "common/interrupt.h"
 #include "common/patch_size.h"
-#include "render/camera.h"
-#include "render/film.h"
+#include "render/scene/camera.h"
+#include "render/output/film.h"
 #include "render/preview/preview_app.h"
-#include "render/renderer.h"
+#include "render/loop/renderer.h"
 
 namespace fs {
 

@@ -18,8 +18,8 @@
 #include "render/cli/falsecolor_cli.h"
 #include "render/cli/integrator_options.h"
 #include "render/cli/sensors_cli.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

@@ -18,7 +18,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/photometry.h"
-#include "render/sensors.h"
+#include "render/sensors/sensors.h"
 
 namespace fs {
 

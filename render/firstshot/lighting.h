@@ -19,8 +19,8 @@
 #include "render/firstshot/reflected.h"
 #include "render/firstshot/table_rows.h"
 #include "render/firstshot/table_visibility.h"
-#include "render/ray.h"
-#include "render/render_scene.h"
+#include "render/scene/ray.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file patch_emitters.h
 /// The lit first-shot patches as light sources: what every user of them (next-event estimation in
-/// render/next_event.h, the light subpaths of bidirectional path tracing in EmissionSampler) needs to
+/// render/lights/next_event.h, the light subpaths of bidirectional path tracing in EmissionSampler) needs to
 /// know about one patch side as an emitter.
 ///
 /// Side s of patch j (s = 0: the side its normal faces) sends the first-shot radiance
@@ -10,7 +10,7 @@
 /// estimators unbiased: they divide by the probability they used).
 #include "common/patches.h"
 #include "render/firstshot/lighting.h"
-#include "render/render_scene.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

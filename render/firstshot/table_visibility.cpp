@@ -11,7 +11,7 @@
 
 #include "common/patch_neighbours.h"
 #include "render/firstshot/table_rows.h"
-#include "render/ray.h"
+#include "render/scene/ray.h"
 
 namespace fs {
 

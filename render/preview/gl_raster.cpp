@@ -93,18 +93,23 @@ void main() {
   fragColor = vec4(uColor, 1.0);
 })";
 
+/// Throws with the info log when @p object's @p status is false, after deleting it.
+template <typename GetIv, typename GetLog, typename Delete>
+void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete del, const char* what) {
+  GLint ok = 0;
+  getIv(object, status, &ok);
+  if (ok) return;
+  char log[2048] = {};
+  getLog(object, sizeof log, nullptr, log);
+  del(object);
+  throw std::runtime_error(std::string("preview: shader ") + what + " failed: " + log);
+}
+
 GLuint compile(GLenum type, const char* src) {
   const GLuint s = glCreateShader(type);
   glShaderSource(s, 1, &src, nullptr);
   glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    glDeleteShader(s);
-    throw std::runtime_error(std::string("preview: shader compilation failed: ") + log);
-  }
+  requireStatus(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader, "compilation");
   return s;
 }
 
@@ -116,14 +121,7 @@ GLuint link(const char* vs, const char* fs) {
   glLinkProgram(p);
   glDeleteShader(v);
   glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {};
-    glGetProgramInfoLog(p, sizeof log, nullptr, log);
-    glDeleteProgram(p);
-    throw std::runtime_error(std::string("preview: shader linking failed: ") + log);
-  }
+  requireStatus(p, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram, "linking");
   return p;
 }
 

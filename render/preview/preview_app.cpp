@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "render/film.h"
-#include "render/image_io.h"
+#include "render/output/film.h"
+#include "render/output/image_io.h"
 #include "render/preview/gl_raster.h"
 #include "render/preview/gl_window.h"
 #include "render/preview/orbit_camera.h"

@@ -10,8 +10,8 @@
 #include <memory>
 #include <string>
 
-#include "render/integrator.h"
-#include "render/render_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

@@ -3,8 +3,8 @@
 
 #include <exception>
 
-#include "render/camera.h"
-#include "render/renderer.h"
+#include "render/scene/camera.h"
+#include "render/loop/renderer.h"
 
 namespace fs {
 

@@ -16,9 +16,9 @@
 #include <vector>
 
 #include "common/scene_desc.h"
-#include "render/film.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
+#include "render/output/film.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

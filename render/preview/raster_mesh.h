@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "common/math.h"
-#include "render/integrator.h"
-#include "render/render_scene.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

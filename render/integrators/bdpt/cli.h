@@ -1,6 +1,6 @@
 #pragma once
 /// @file cli.h
-/// BDPT's command line (render/integrator_cli.h): no options of its own. It reads the light
+/// BDPT's command line (render/integrators/integrator_cli.h): no options of its own. It reads the light
 /// sampler's options (its small lights' NEE in table mode), --table-visibility and
 /// --shoot-firstshot; not --primary or --patch-nee (the small lights are taken exactly at the first
 /// non-delta camera vertex, docs/bdpt.md).
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "render/integrator_cli.h"
+#include "render/integrators/integrator_cli.h"
 #include "render/integrators/bdpt/integrator.h"
 
 namespace fs {

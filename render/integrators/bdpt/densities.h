@@ -5,10 +5,10 @@
 /// densities of the subpaths and the MIS weights of every strategy (docs/bdpt.md).
 #include <vector>
 
-#include "render/camera.h"
+#include "render/scene/camera.h"
 #include "render/integrators/common/subpath_vertex.h"
-#include "render/light_emission.h"
-#include "render/render_scene.h"
+#include "render/lights/light_emission.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

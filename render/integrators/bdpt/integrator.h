@@ -12,7 +12,7 @@
 /// IntegratorOptions::maxDepth bounces (s + t − 2) are left out (docs/irradiance-cache.md, "What
 /// --max-depth counts").
 ///
-/// The whole sample is a particle of the deterministic splat loop (render/splat_renderer.h): the
+/// The whole sample is a particle of the deterministic splat loop (render/loop/splat_renderer.h): the
 /// t ≥ 2 strategies go to pixel j as one splat (one sample per pixel per pass), the t = 1 ones to
 /// the pixels they reach, over N = width·height. Images are bit-identical for any thread count.
 /// Li() gives only the AOVs.
@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "render/firstshot/lighting.h"
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 #include "render/integrators/bdpt/densities.h"
 #include "render/integrators/common/light_path.h"
 #include "render/integrators/common/shooting_emitters.h"

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "common/lights.h"
-#include "render/next_event.h"
+#include "render/lights/next_event.h"
 
 namespace fs {
 

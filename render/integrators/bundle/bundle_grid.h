@@ -10,7 +10,7 @@
 #include <cstdint>
 
 #include "common/math.h"
-#include "render/ray.h"
+#include "render/scene/ray.h"
 
 namespace fs {
 

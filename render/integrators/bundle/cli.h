@@ -1,7 +1,7 @@
 #pragma once
 /// @file cli.h
-/// The ray-bundle integrator's command line (render/integrator_cli.h; header-only, included by the
-/// table in render/integrator.cpp): its options and the integrator made with them. Of the shared
+/// The ray-bundle integrator's command line (render/integrators/integrator_cli.h; header-only, included by the
+/// table in render/integrators/integrator.cpp): its options and the integrator made with them. Of the shared
 /// options it reads --primary and --table-visibility (NEE at camera-visible points, docs/bundle.md).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "common/error.h"
-#include "render/integrator_cli.h"
+#include "render/integrators/integrator_cli.h"
 #include "render/integrators/bundle/integrator.h"
 
 namespace fs {

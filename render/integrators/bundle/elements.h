@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "common/math.h"
-#include "render/ray.h"
-#include "render/render_scene.h"
+#include "render/scene/ray.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

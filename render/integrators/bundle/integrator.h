@@ -9,7 +9,7 @@
 /// At the first non-delta hit x (element j, side s facing the eye), path vertex v < maxDepth:
 ///   2π f_r(x; ω_in, ω_eye)·I_k(j, s)                       the exact BSDF at x, ω_in = ±ω_k on side s,
 ///                                                          I_k of the orders ≤ maxDepth − 1 − v (BundleTransfer)
-///   + PrimaryMode::Exact: NEE (shadow rays, render/next_event.h nextEventEveryLight) to every light the
+///   + PrimaryMode::Exact: NEE (shadow rays, render/lights/next_event.h nextEventEveryLight) to every light the
 ///     bundle does not carry as emitting geometry: the first-shot table's replaced lights and the
 ///     kept point, spot and directional lights — their patch-level terms (first-shot, P_k, D_k) stay
 ///     in the transfer only;
@@ -22,9 +22,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "render/next_event.h"
+#include "render/lights/next_event.h"
 #include "render/firstshot/lighting.h"
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 #include "render/integrators/bundle/transfer.h"
 
 namespace fs {

@@ -48,10 +48,10 @@
 
 #include "common/comm.h"
 #include "common/math.h"
-#include "render/next_event.h"
+#include "render/lights/next_event.h"
 #include "render/integrators/bundle/bundle_grid.h"
 #include "render/integrators/bundle/elements.h"
-#include "render/render_scene.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

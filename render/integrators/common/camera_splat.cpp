@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "render/next_event.h"
+#include "render/lights/next_event.h"
 
 namespace fs {
 

@@ -4,9 +4,9 @@
 /// splat of every vertex, and bidirectional path tracing's strategies with one camera vertex.
 #include <cstdint>
 
-#include "render/camera.h"
+#include "render/scene/camera.h"
 #include "render/integrators/common/light_path.h"
-#include "render/render_scene.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

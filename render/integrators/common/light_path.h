@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "common/rng.h"
-#include "render/light_emission.h"
-#include "render/ray.h"
-#include "render/render_scene.h"
+#include "render/lights/light_emission.h"
+#include "render/scene/ray.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

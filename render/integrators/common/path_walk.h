@@ -1,11 +1,11 @@
 #pragma once
 /// @file path_walk.h
 /// The unidirectional path-tracing walk, a component the gathering integrators share: the path
-/// tracer (render/integrators/path.h) is a thin integrator over it, light tracing takes it for the
+/// tracer (render/integrators/path/integrator.h) is a thin integrator over it, light tracing takes it for the
 /// camera rays whose first hit is a mirror or glass, and the irradiance cache for the light past
 /// its last cached level.
 ///
-/// The walk does next-event estimation (render/next_event.h: NEE to every light or one light
+/// The walk does next-event estimation (render/lights/next_event.h: NEE to every light or one light
 /// chosen by a light tree), multiple importance sampling (power heuristic) against BSDF sampling
 /// for area emitters, and Russian roulette.
 ///
@@ -21,10 +21,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "render/next_event.h"
+#include "render/lights/next_event.h"
 #include "render/firstshot/lighting.h"
-#include "render/integrator.h"
-#include "render/light_sampler.h"
+#include "render/integrators/integrator.h"
+#include "render/lights/light_sampler.h"
 
 namespace fs {
 

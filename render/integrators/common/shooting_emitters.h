@@ -6,10 +6,10 @@
 /// (EmissionSampler's table mode), so the table is the small lights' first bounce, and the small
 /// lights' own part comes from the camera side (small_lights.h). Otherwise every light is shot.
 #include "render/firstshot/lighting.h"
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 #include "render/integrators/common/small_lights.h"
-#include "render/light_emission.h"
-#include "render/render_scene.h"
+#include "render/lights/light_emission.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 

@@ -1,7 +1,7 @@
 // Table mode of the shooting integrators: the small lights' own part of a camera subpath.
 #include "render/integrators/common/small_lights.h"
 
-#include "render/next_event.h"
+#include "render/lights/next_event.h"
 
 namespace fs {
 

@@ -13,16 +13,16 @@
 ///     small area light met by the subpath's BSDF sample from x_m, weighted against it by the
 ///     power heuristic;
 ///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1.
-/// BDPT passes its whole camera subpath. Light tracing (render/integrators/light/light_tracer.h)
+/// BDPT passes its whole camera subpath. Light tracing (render/integrators/light/integrator.h)
 /// passes x_m (the camera's first hit) and the hit of x_m's BSDF sample only: light reflected by
 /// mirrors and glass before x_m comes from its delta-first particles there.
 #include <span>
 
 #include "common/rng.h"
-#include "render/integrator.h"
+#include "render/integrators/integrator.h"
 #include "render/integrators/common/subpath_vertex.h"
-#include "render/light_sampler.h"
-#include "render/next_event.h"
+#include "render/lights/light_sampler.h"
+#include "render/lights/next_event.h"
 
 namespace fs {
 

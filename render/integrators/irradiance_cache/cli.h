@@ -1,7 +1,7 @@
 #pragma once
 /// @file cli.h
-/// The irradiance cache's command line (render/integrator_cli.h; header-only, included by the table
-/// in render/integrator.cpp): its options, the integrator made with them, and its outputs after the
+/// The irradiance cache's command line (render/integrators/integrator_cli.h; header-only, included by the table
+/// in render/integrators/integrator.cpp): its options, the integrator made with them, and its outputs after the
 /// render. Of the shared options it reads all but --shoot-firstshot (--patch-nee: in the paths that
 /// continue past the last cached bounce).
 #include <CLI/CLI.hpp>
@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "common/error.h"
-#include "render/film.h"
-#include "render/integrator_cli.h"
+#include "render/output/film.h"
+#include "render/integrators/integrator_cli.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 
 namespace fs {

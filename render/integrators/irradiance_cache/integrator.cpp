@@ -8,7 +8,7 @@
 
 #include "common/interrupt.h"
 #include "common/sampling.h"
-#include "render/embree_scene.h"
+#include "render/scene/embree_scene.h"
 #include "render/firstshot/table_rows.h"
 #include "render/integrators/irradiance_cache/hemisphere_samples.h"
 #include "render/integrators/irradiance_cache/context.h"

@@ -50,8 +50,8 @@
 #include <vector>
 
 #include "render/firstshot/lighting.h"
-#include "render/film.h"
-#include "render/integrator.h"
+#include "render/output/film.h"
+#include "render/integrators/integrator.h"
 #include "render/integrators/irradiance_cache/cache.h"
 #include "render/integrators/common/path_walk.h"
 

@@ -15,8 +15,8 @@
 #include "common/progress.h"
 #include "common/small_lights.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
-#include "render/camera.h"
-#include "render/embree_scene.h"
+#include "render/scene/camera.h"
+#include "render/scene/embree_scene.h"
 #include "render/integrators/irradiance_cache/context.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 

@@ -3,7 +3,7 @@
 //
 // Two techniques estimate the first-shot part of E = ∫ L cosθ dω: the record's MN stratified
 // hemisphere rays (density cosθ/π per ray, each stratum's density being MN·cosθ/π over 1/MN of
-// the hemisphere) and K patch NEE samples (density p_l, samplePatchEmitter, render/next_event.h). With
+// the hemisphere) and K patch NEE samples (density p_l, samplePatchEmitter, render/lights/next_event.h). With
 // multi-sample MIS each technique weights its own samples by
 //   w_h = (MN·cosθ/π)² / ((MN·cosθ/π)² + (K·p_l)²),   w_l = 1 − w_h at the same direction,
 // so E = π/(MN) Σ_rays (L − (1 − w_h)·L_fs) + (1/K) Σ_samples w_l·L_fs·cosθ/p_l is unbiased:

@@ -1,6 +1,6 @@
 #pragma once
 /// @file cli.h
-/// Light tracing's command line (render/integrator_cli.h): --light-paths. It reads every shared
+/// Light tracing's command line (render/integrators/integrator_cli.h): --light-paths. It reads every shared
 /// option: --shoot-firstshot, and the others through the small lights' NEE (table mode) and the
 /// path tracer it hands the pixels whose first hit is a mirror or glass (docs/light-tracing.md).
 #include <CLI/CLI.hpp>
@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "common/memory_limit.h"
-#include "render/integrator_cli.h"
-#include "render/integrators/light/light_tracer.h"
+#include "render/integrators/integrator_cli.h"
+#include "render/integrators/light/integrator.h"
 
 namespace fs {
 

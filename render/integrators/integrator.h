@@ -1,0 +1,177 @@
+#pragma once
+/// @file integrator.h
+/// The integrator interface (Nori / pbrt style): preprocess() once per scene, then a const,
+/// thread-safe radiance estimate per camera sample.
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/comm.h"
+#include "common/math.h"
+#include "common/rng.h"
+#include "render/scene/camera.h"
+#include "render/lights/light_sampler.h"
+#include "render/scene/ray.h"
+#include "render/scene/render_scene.h"
+
+namespace fs {
+
+/// Extras an integrator reports for one camera sample.
+struct SampleInfo {
+  Color albedo{0.0f};   ///< AOV: reflectance at the first hit (0 when the ray escapes)
+  Vec3 normal{0.0f};    ///< AOV: world-space geometric normal at the first hit, facing the camera
+  uint64_t rays = 0;    ///< rays traced for this sample (closest-hit and shadow)
+};
+
+/// How the camera-visible vertex (the first non-specular vertex) treats small lights when a
+/// first-shot table is present.
+enum class PrimaryMode : uint8_t {
+  Exact,  ///< shadow rays to the small lights: sharp shadows; first-shot from the next vertex on
+  Patch,  ///< first-shot there too: shadows blurred at patch scale, no shadow rays to small lights
+};
+
+/// Where a path samples the lit first-shot patches as light sources (render/lights/light_sampler.h).
+enum class PatchNee : uint8_t {
+  Off,    ///< nowhere: a lit patch counts only when a BSDF sample meets it
+  First,  ///< at the path's first non-delta vertex (its camera-visible surface), MIS against BSDF sampling
+  Every,  ///< at every non-delta vertex
+};
+
+/// Settings shared by the integrators.
+struct IntegratorOptions {
+  int maxDepth = 16;  ///< longest path in bounces: 0 = emitters seen directly only, 1 = direct lighting
+  int rrDepth = 3;    ///< Russian roulette from this many bounces on
+  PrimaryMode primary = PrimaryMode::Exact;
+  /// How NEE chooses lights: one sample of every light, or one light chosen by a light tree.
+  LightStrategy lightSampler = LightStrategy::Tree;
+  /// With a first-shot table: where to sample the lit patches as area emitters.
+  PatchNee patchNee = PatchNee::Off;
+  /// Weight the light trees by the visibility of their emitters, estimated per grid cell.
+  bool lightVisibility = true;
+  /// With a first-shot table, where the small lights are sampled with shadow rays (PrimaryMode::Exact):
+  /// no shadow ray to a point or spot light the table finds visible from the whole patch or from
+  /// none of it (FirstShotLighting::visibility).
+  bool tableVisibility = true;
+  /// Shooting integrators (light tracing, bidirectional path tracing) with a first-shot table: the
+  /// small lights' particles start from the patches the table lights and their direct light at the
+  /// first non-delta camera vertex is taken exactly (render/integrators/light/integrator.h);
+  /// false: the table is ignored (the small lights are shot like the others).
+  bool shootFromPatches = true;
+  /// Light tracing: light paths per pixel in each pass (the pass's one camera sample per pixel goes
+  /// with them). 0 = automatic: 8, or 1 when the scene has mirrors or glass (the camera samples then
+  /// carry what is seen through them).
+  int lightPathsPerPixel = 0;
+  /// The ranks of an MPI run sharing the work (common/comm.h; null: this process alone). Integrators
+  /// with a global state (the irradiance cache's two-pass fill, the bundle's transfer) split its
+  /// computation over the ranks and exchange the results, so that every rank holds the state one
+  /// process would make, bit for bit.
+  Comm* comm = nullptr;
+};
+
+/// A point an integrator has stored (an irradiance-cache record), for the preview's overlay.
+struct IntegratorRecord {
+  Vec3 position{0.0f};
+  Vec3 normal{0.0f, 0.0f, 1.0f};  ///< unit surface normal
+  float radius = 0.0f;            ///< radius of validity, m
+};
+
+/// A contribution a splatting integrator adds to one pixel in one pass.
+struct Splat {
+  uint32_t pixel = 0;  ///< y·width + x
+  Color L{0.0f};       ///< added to the pixel's estimate of the pass, W/(m² sr)
+};
+
+/// The rays of task @p task of a cache fill (RayTask): it calls @p li for each ray, with the
+/// sampler that ray's later Li() call will be given, and li returns the radiance.
+using RayTask = std::function<void(size_t task, const std::function<Color(const Ray&, Sampler&)>& li)>;
+
+/// How an integrator renders: which render loop drives it (render/loop/renderer.h's render()).
+enum class IntegratorKind : uint8_t {
+  Sampling,   ///< a radiance estimate per camera sample, Li() (path, irradiance-cache)
+  Splatting,  ///< a SplattingIntegrator: each pass also traces particles splatted into the pixels (light, bdpt)
+  PerPass,    ///< a PassIntegrator: a global state per sample index, advanced by beginPass() (bundle)
+};
+
+/// The interface every integrator has: preprocess(), then Li() per camera sample. kind() says
+/// which render loop it takes; the splatting and per-pass ones derive from SplattingIntegrator
+/// and PassIntegrator, which add what their loop calls. No integrator holds another: what two
+/// share is a component of render/integrators/common/ (docs/architecture.md).
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  /// Sampling, unless the integrator derives from SplattingIntegrator or PassIntegrator.
+  virtual IntegratorKind kind() const { return IntegratorKind::Sampling; }
+  /// Called once before rendering; @p scene must outlive the integrator's use.
+  virtual void preprocess(const RenderScene& scene) = 0;
+  /// Instead of preprocess() when the rays do not start at the scene's camera (sensors): an
+  /// integrator that caches what the rays meet (the irradiance cache in two-pass mode) fills its
+  /// cache from the rays of tasks 0 .. @p tasks − 1 instead of the camera's pixels, so that Li()
+  /// then finds its records for those rays (and, nearby, for others). @p rayAngle (rad) is the
+  /// angular footprint of one ray, the camera's pixel angle for such rays (the irradiance cache's
+  /// footprint clamp). Default: preprocess().
+  virtual void preprocessRays(const RenderScene& scene, size_t /*tasks*/, const RayTask& /*task*/, float /*rayAngle*/) {
+    preprocess(scene);
+  }
+  /// Radiance arriving at the camera along @p ray (d unit length), estimated with @p sampler.
+  /// Thread-safe. @p info, if given, receives the AOVs and the ray count.
+  virtual Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const = 0;
+  /// The camera rays of a 4 × 4 pixel block at one sample index (k = 4·row + column, k < @p count):
+  /// L[k] = Li(rays[k], samplers[k], &infos[k]) for every k with wanted[k]. An integrator may trace
+  /// the rays with traced[k] (a superset of the wanted ones: all of the block's pixels in the image,
+  /// so that what a ray meets never depends on which pixels are wanted) as one coherent packet;
+  /// rays[k] must then be finite for every k < @p count. Default: Li() per wanted ray.
+  virtual void LiBlock(const Ray* rays, const bool* /*traced*/, const bool* wanted, int count, Sampler* samplers,
+                       SampleInfo* infos, Color* L) const {
+    for (int k = 0; k < count; ++k)
+      if (wanted[k]) L[k] = Li(rays[k], samplers[k], &infos[k]);
+  }
+  virtual std::string name() const = 0;
+  /// True if Li() alone estimates the radiance along any ray (no splats, no per-pass state): the
+  /// sensor mode needs it (render/sensors/sensors.h). False by default.
+  virtual bool supportsSensors() const { return false; }
+  /// Why a checkpointed render with this integrator would not resume to the same image, bit for
+  /// bit (render/loop/checkpoint.h); empty (the default): it would.
+  virtual std::string notResumable() const { return {}; }
+  /// True for integrators that store records (irradiance caching); false by default.
+  virtual bool hasRecords() const { return false; }
+  /// The records stored so far, for display. The preview calls it between render passes only.
+  virtual std::vector<IntegratorRecord> records() const { return {}; }
+};
+
+/// Splatting integrators (light tracing, BDPT): each pass, besides one Li() per pixel, traces
+/// particlesPerPass() particles whose splats are summed into the pass's pixel estimates
+/// (render/loop/splat_renderer.h).
+class SplattingIntegrator : public Integrator {
+ public:
+  IntegratorKind kind() const final { return IntegratorKind::Splatting; }
+  /// Particles per pass for @p camera.
+  virtual uint64_t particlesPerPass(const Camera& camera) const = 0;
+  /// Traces particles [begin, end) of pass @p pass, each keyed by (seed, particle, pass), appending
+  /// their splats to @p out in particle order. Thread-safe. @p rays counts the rays traced. The
+  /// renderer drops (and counts in RenderStats::nonFinite) splats that are NaN or Inf.
+  virtual void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
+                              std::vector<Splat>& out, uint64_t& rays) const = 0;
+};
+
+/// Integrators with a global state per sample index (ray-bundle stochastic iteration): render()
+/// takes one sample per pixel per pass and calls beginPass() before each pass.
+class PassIntegrator : public Integrator {
+ public:
+  IntegratorKind kind() const final { return IntegratorKind::PerPass; }
+  /// Called by render() before the camera samples of sample index @p sampleIndex, inside the
+  /// render's thread arena and never while Li() runs: the integrator updates its (mutable)
+  /// per-pass state here.
+  virtual void beginPass(int sampleIndex, uint64_t seed) const = 0;
+};
+
+/// The names makeIntegrator accepts, in the order the preview offers them (keys 1, 2, ...).
+std::vector<std::string> integratorNames();
+
+/// An integrator by name ("path"), with its default settings (its line of integratorTable(),
+/// render/integrators/integrator_cli.h). @throws InputError for an unknown name.
+std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);
+
+}  // namespace fs

@@ -1,0 +1,209 @@
+// Emission sampling: a light by power, then a point and a direction.
+#include "render/lights/light_emission.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/lights.h"
+#include "common/sampling.h"
+#include "render/firstshot/patch_emitters.h"
+#include "render/scene/render_scene.h"
+
+namespace fs {
+
+namespace {
+
+float mean(const Color& c) { return (c.x + c.y + c.z) / 3.0f; }
+
+}  // namespace
+
+EmissionSampler::EmissionSampler(const LightSet& lights, const SceneDesc& scene, EmitterSet set) : lights_(&lights) {
+  setBounds(scene);
+  addLights(set);
+  finish();
+}
+
+EmissionSampler::EmissionSampler(const RenderScene& scene, const FirstShotLighting& lighting)
+    : lights_(&scene.lights()), scene_(&scene), lighting_(&lighting) {
+  setBounds(scene.desc());
+  addLights(EmitterSet::Kept);
+  const PatchMesh& mesh = scene.mesh();
+  sideEmitter_.assign(2 * size_t(mesh.size()), kNoId);
+  if (const FirstShotTable* table = scene.firstShot()) {
+    const std::vector<Color> side = table->sideIrradiance();
+    for (uint32_t j = 0; j < mesh.size(); ++j)
+      for (uint32_t sd = 0; sd < 2; ++sd) {
+        const float phi = patchSidePower(scene, side, j, sd);
+        if (!(phi > 0.0f)) continue;
+        sideEmitter_[2 * size_t(j) + sd] = uint32_t(power_.size());
+        patchSides_.push_back(2 * j + sd);
+        power_.push_back(phi);
+      }
+  }
+  finish();
+}
+
+void EmissionSampler::setBounds(const SceneDesc& scene) {
+  Vec3d lo, hi;
+  scene.bounds(lo, hi);
+  centre_ = Vec3(0.5 * (lo + hi));
+  radius_ = std::max(1e-6f, float(0.5 * glm::length(hi - lo)) * 1.01f);
+}
+
+void EmissionSampler::addLights(EmitterSet set) {
+  for (const RenderLight& l : lights_->lights()) {
+    double p = 0;
+    switch (l.type) {
+      case LightType::Point:
+      case LightType::Spot: p = mean(l.intensity) * l.profile.integral(); break;
+      case LightType::Directional: p = mean(l.irradiance) * kPi * double(radius_) * radius_; break;
+      case LightType::Area: p = mean(l.radiance) * l.area * kPi; break;
+    }
+    const bool emits = set == EmitterSet::All || (set == EmitterSet::Kept && !l.replaced) ||
+                       (set == EmitterSet::ReplacedAreaLights && l.replaced && l.type == LightType::Area);
+    power_.push_back(emits ? std::max(0.0, p) : 0.0);
+  }
+  lightCount_ = uint32_t(power_.size());
+}
+
+void EmissionSampler::finish() {
+  total_ = 0;
+  for (double p : power_) total_ += p;
+  double sum = 0;
+  cdf_.clear();
+  for (double p : power_) cdf_.push_back(total_ > 0 ? (sum += p) / total_ : 1.0);
+  if (!cdf_.empty()) cdf_.back() = 1.0;
+  const size_t n = std::max<size_t>(1, cdf_.size());
+  guide_.resize(n + 1);
+  for (size_t b = 0; b <= n; ++b)
+    guide_[b] = uint32_t(std::upper_bound(cdf_.begin(), cdf_.end(), double(b) / double(n)) - cdf_.begin());
+}
+
+bool EmissionSampler::isDirectional(uint32_t e) const {
+  return e < lightCount_ && lights_->lights()[e].type == LightType::Directional;
+}
+
+uint32_t EmissionSampler::patchEmitter(uint32_t j, uint32_t side) const {
+  return 2 * size_t(j) + side < sideEmitter_.size() ? sideEmitter_[2 * size_t(j) + side] : kNoId;
+}
+
+Vec3 EmissionSampler::patchNormal(uint32_t e) const {
+  const uint32_t ps = patchSides_[e - lightCount_];
+  return patchSideNormal(scene_->mesh().patches[ps / 2], ps % 2);
+}
+
+Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) const {
+  if (!(glm::dot(patchNormal(e), w) > 0.0f)) return Color(0.0f);
+  return fs::patchRadiance(*scene_, *lighting_, patchOf(e), y, w);
+}
+
+bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
+  if (!(total_ > 0)) return false;
+  // The answer of upper_bound over the whole CDF, searched between the guides around u's bucket.
+  const size_t n = guide_.size() - 1, b = std::min(size_t(std::max(u, 0.0) * double(n)), n - 1);
+  const auto lo = cdf_.begin() + guide_[b > 0 ? b - 1 : 0];
+  const auto hi = cdf_.begin() + std::min<size_t>(cdf_.size(), size_t(guide_[std::min(b + 2, n)]) + 1);
+  const size_t l = std::min(size_t(std::upper_bound(lo, hi, u) - cdf_.begin()), cdf_.size() - 1);
+  if (!(power_[l] > 0)) return false;
+  out = EmissionSample();
+  out.light = static_cast<uint32_t>(l);
+  out.pdfLight = float(power_[l] / total_);
+  out.pdfPos = pdfPosition(out.light);
+  if (isPatch(out.light)) {
+    out.p = samplePatchPoint(scene_->mesh().patches[patchOf(out.light)], uPos);
+    out.n = patchNormal(out.light);
+    return true;
+  }
+  const RenderLight& light = lights_->lights()[l];
+  switch (light.type) {
+    case LightType::Point:
+    case LightType::Spot:
+      out.p = light.position;
+      out.deltaPosition = true;
+      break;
+    case LightType::Directional: {
+      const Frame frame(light.direction);
+      const Vec2 disk = squareToUniformDiskConcentric(uPos) * radius_;
+      out.p = centre_ - radius_ * light.direction + frame.s * disk.x + frame.t * disk.y;
+      out.n = light.direction;
+      out.d = light.direction;
+      out.deltaDirection = true;
+      break;
+    }
+    case LightType::Area:
+      if (!lights_->samplePoint(light, uPos, out.p, out.n)) return false;
+      out.radiance = light.radiance / (out.pdfLight * out.pdfPos);
+      break;
+  }
+  return true;
+}
+
+float EmissionSampler::pdfPosition(uint32_t e) const {
+  if (isPatch(e)) return float(1.0 / scene_->mesh().patches[patchOf(e)].area);
+  const RenderLight& light = lights_->lights()[e];
+  switch (light.type) {
+    case LightType::Directional: return 1.0f / (kPiF * radius_ * radius_);
+    case LightType::Area: return float(1.0 / light.area);
+    default: return 1.0f;
+  }
+}
+
+float EmissionSampler::pdfDirection(uint32_t e, const Vec3& n, const Vec3& d) const {
+  if (isPatch(e)) return std::max(0.0f, glm::dot(patchNormal(e), d)) * kInvPiF;
+  const RenderLight& light = lights_->lights()[e];
+  switch (light.type) {
+    case LightType::Point: return squareToUniformSpherePdf();
+    case LightType::Spot: return float(light.profile.pdf(Vec3d(d)));
+    case LightType::Area: return std::max(0.0f, glm::dot(n, d)) * kInvPiF;
+    default: return 0.0f;
+  }
+}
+
+bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t stratum, uint64_t strata) const {
+  const double u = std::min((double(stratum) + sampler.next1Dd()) / double(strata), 1.0);
+  const Vec2 uPos = sampler.next2D();
+  const Vec2 uDir = sampler.next2D();
+  if (!sampleOrigin(u, uPos, out)) return false;
+  if (isPatch(out.light)) {
+    const Vec3 local = squareToCosineHemisphere(uDir);
+    out.d = Frame(out.n).toWorld(local);
+    out.pdfDir = squareToCosineHemispherePdf(local);
+    if (!(out.pdfDir > 0.0f)) return false;
+    out.power = patchRadiance(out.light, out.p, out.d) * (local.z / (out.pdfLight * out.pdfPos * out.pdfDir));
+    return maxComponent(out.power) > 0.0f;
+  }
+  const RenderLight& light = lights_->lights()[out.light];
+  switch (light.type) {
+    case LightType::Point: {
+      out.d = squareToUniformSphere(uDir);
+      out.pdfDir = squareToUniformSpherePdf();
+      out.power = light.intensity / (out.pdfLight * out.pdfDir);
+      break;
+    }
+    case LightType::Spot: {  // the profile's own distribution (cone or IES table), common/emission_profile.h
+      double pdf = 0;
+      const Vec3d d = light.profile.sample(uDir.x, uDir.y, pdf);
+      if (!(pdf > 0)) return false;
+      out.d = Vec3(d);
+      out.pdfDir = float(pdf);
+      out.power = light.intensity * float(light.profile(d) / pdf) / out.pdfLight;
+      break;
+    }
+    case LightType::Directional: {
+      out.pdfDir = 1.0f;
+      out.power = light.irradiance / (out.pdfLight * out.pdfPos);
+      break;
+    }
+    case LightType::Area: {
+      const Vec3 local = squareToCosineHemisphere(uDir);
+      out.d = Frame(out.n).toWorld(local);
+      out.pdfDir = squareToCosineHemispherePdf(local);
+      if (!(out.pdfDir > 0.0f)) return false;
+      out.power = out.radiance * (local.z / out.pdfDir);
+      break;
+    }
+  }
+  return maxComponent(out.power) > 0.0f;
+}
+
+}  // namespace fs

@@ -1,0 +1,130 @@
+#pragma once
+/// @file light_emission.h
+/// Emission sampling: particles leaving the lights of a LightSet, for shooting (light tracing,
+/// and the light subpaths of bidirectional methods). A light is chosen with probability
+/// proportional to its power (channel mean), then a point and a direction:
+///   - point:       isotropic direction, Φ = 4π·I;
+///   - spot:        direction uniform in the outer cone, weighted by the profile, Φ = I0·∫profile;
+///   - directional: a point uniform on a disk of the scene's bounding-sphere radius R, placed
+///                  R before the sphere's centre and facing the light's direction, Φ = E⊥·πR²;
+///   - area:        a point uniform by area, a cosine-distributed direction on the front side, Φ = Le·A·π.
+/// Replaced (first-shot) lights are emitted like the others: shooting does not use the table.
+///
+/// Table mode (the second constructor): the lights a first-shot table replaces leave, and every
+/// lit patch side joins as an emitter (render/firstshot/patch_emitters.h): a point uniform on the patch, a
+/// cosine-distributed direction into the side's half-space, the first-shot radiance it sends there
+/// (Φ ≈ albedo·E·A for the choice). Emitters are numbered lights first (LightSet indices), then
+/// the patch sides.
+#include <cstdint>
+#include <vector>
+
+#include "common/math.h"
+#include "common/rng.h"
+#include "common/scene_desc.h"
+#include "render/lights/lights.h"
+
+namespace fs {
+
+class FirstShotLighting;
+class RenderScene;
+
+/// One particle leaving a light.
+struct EmissionSample {
+  uint32_t light = 0;     ///< emitter index: a LightSet light (< EmissionSampler::lightCount()), or a patch side
+  Vec3 p{0.0f};           ///< origin, m
+  Vec3 n{0.0f};           ///< area light, patch: unit normal of the emitting side at p; directional: the travel direction; point, spot: 0
+  Vec3 d{0.0f};           ///< unit direction of travel
+  float pdfLight = 0;     ///< probability of having chosen the light
+  float pdfPos = 1;       ///< area density of p, 1/m² (1 for point and spot lights: a delta position)
+  float pdfDir = 0;       ///< solid-angle density of d, 1/sr (1 for directional lights: a delta direction)
+  /// Emitted radiance over the position's density: Le/(pdfLight·pdfPos), W/(m² sr)·m² (area lights);
+  /// the light vertex's weight when it is connected to the camera. 0 for the delta lights and for
+  /// patches (whose radiance depends on the direction: EmissionSampler::patchRadiance).
+  Color radiance{0.0f};
+  /// The particle's power: emitted radiance·|cosθ|/(pdfLight·pdfPos·pdfDir), W. The expected sum
+  /// over particles of their power is the scene's total emitted power.
+  Color power{0.0f};
+  bool deltaPosition = false;   ///< point and spot lights
+  bool deltaDirection = false;  ///< directional lights
+};
+
+/// Which lights of a LightSet an EmissionSampler emits from.
+enum class EmitterSet {
+  All,                 ///< every light
+  Kept,                ///< the lights a first-shot table does not replace (table mode)
+  ReplacedAreaLights,  ///< only the replaced area lights (light tracing's delta-first particles)
+};
+
+class EmissionSampler {
+ public:
+  EmissionSampler() = default;
+  /// @p lights must outlive the sampler; @p scene gives the bounding sphere for directional lights.
+  /// @p set: the lights that emit (the others keep their index with no power).
+  EmissionSampler(const LightSet& lights, const SceneDesc& scene, EmitterSet set = EmitterSet::All);
+  /// Table mode: the lights of @p scene that its first-shot table does not replace, and the lit
+  /// patch sides, with radiance from @p lighting (built for @p scene). Both must outlive the sampler.
+  EmissionSampler(const RenderScene& scene, const FirstShotLighting& lighting);
+
+  /// Draws a particle with 5 dimensions of @p sampler. The emitter is chosen by inverting the
+  /// power CDF at u = (@p stratum + ξ)/@p strata, ξ the first dimension: particles that take
+  /// strata 0..n−1 of one pass choose their emitters stratified (and in emitter order, which keeps
+  /// their memory accesses close); the default is an independent choice. @return false if nothing
+  /// was emitted (no light with power, or a zero-weight direction): the particle then counts zero.
+  bool sample(Sampler& sampler, EmissionSample& out, uint64_t stratum = 0, uint64_t strata = 1) const;
+  /// The origin part of sample(): a light by power with @p u, a point with @p uPos. Sets light, p,
+  /// n, pdfLight, pdfPos, radiance (area lights) and the delta flags, not d, pdfDir or power (the
+  /// NEE strategy s = 1 of bidirectional path tracing). @return false if no light has power.
+  bool sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const;
+
+  /// Probability of choosing emitter @p e (its share of the power).
+  float pdfChoice(size_t e) const { return total_ > 0 ? float(power_[e] / total_) : 0.0f; }
+  /// Area density of sampleOrigin()'s point on emitter @p e, 1/m² (1 for point and spot: a delta
+  /// position; directional: over the disk across the beam; area light, patch: 1/area).
+  float pdfPosition(uint32_t e) const;
+  /// Solid-angle density with which sample() emits direction @p d from a point of emitter @p e with
+  /// front normal @p n (area lights; a patch side knows its own), 1/sr; 0 outside a spot's cone,
+  /// behind an area light or patch side, and for directional lights (a delta direction).
+  float pdfDirection(uint32_t e, const Vec3& n, const Vec3& d) const;
+
+  /// Number of LightSet lights; emitters from this index on are patch sides.
+  uint32_t lightCount() const { return lightCount_; }
+  bool isPatch(uint32_t e) const { return e >= lightCount_; }
+  /// Number of patch-side emitters (table mode), after the lightCount() lights.
+  uint32_t patchSideCount() const { return uint32_t(patchSides_.size()); }
+  bool isDirectional(uint32_t e) const;
+  /// Table mode: the emitter of side @p side (0: the side the normal faces) of patch @p j, or kNoId.
+  uint32_t patchEmitter(uint32_t j, uint32_t side) const;
+  /// Patch emitter @p e: the first-shot radiance its point @p y sends in the unit direction @p w,
+  /// W/(m² sr); 0 into the other side's half-space.
+  Color patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) const;
+  /// The patch of patch emitter @p e and its emitting side's unit normal.
+  uint32_t patchOf(uint32_t e) const { return patchSides_[e - lightCount_] / 2; }
+  Vec3 patchNormal(uint32_t e) const;
+
+  /// Power of emitter @p e (channel mean), W.
+  double power(size_t e) const { return power_[e]; }
+  /// Total emitted power (channel mean), W.
+  double totalPower() const { return total_; }
+
+ private:
+  void setBounds(const SceneDesc& scene);
+  void addLights(EmitterSet set);
+  void finish();  ///< total and CDF from power_
+
+  const LightSet* lights_ = nullptr;
+  const RenderScene* scene_ = nullptr;            ///< table mode
+  const FirstShotLighting* lighting_ = nullptr;   ///< table mode
+  uint32_t lightCount_ = 0;
+  std::vector<uint32_t> patchSides_;    ///< by patch emitter: 2j + side
+  std::vector<uint32_t> sideEmitter_;   ///< table mode, by 2j + side: its emitter index or kNoId
+  std::vector<double> power_;  ///< by emitter
+  std::vector<double> cdf_;    ///< by emitter, last entry 1
+  /// guide_[b] = the first emitter whose CDF entry exceeds b/n (n = guide_.size() − 1): the
+  /// inversion at u searches only between the guides of u's bucket and its neighbours.
+  std::vector<uint32_t> guide_;
+  double total_ = 0;
+  Vec3 centre_{0.0f};          ///< bounding sphere, m
+  float radius_ = 0;
+};
+
+}  // namespace fs

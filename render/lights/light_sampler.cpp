@@ -1,0 +1,204 @@
+// Light sampling: the emitters, their trees, and the choice of one (light_sampler.h).
+#include "render/lights/light_sampler.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/sampling.h"
+#include "render/firstshot/patch_emitters.h"
+
+namespace fs {
+
+namespace {
+
+constexpr int kPatchLeaf = 8;  ///< patch emitters per leaf of a light tree at most
+
+inline float meanOf(const Color& c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
+
+LightBounds surfaceBounds(const Vec3* v, int count, const Vec3& normal, float phi) {
+  LightBounds b;
+  b.lo = b.hi = v[0];
+  for (int i = 1; i < count; ++i) b.lo = glm::min(b.lo, v[i]), b.hi = glm::max(b.hi, v[i]);
+  b.w = normal;
+  b.cosO = 1.0f;  // one normal
+  b.cosE = 0.0f;  // a hemisphere around it
+  b.phi = phi;
+  return b;
+}
+
+}  // namespace
+
+float LightSampler::Group::pDirectional() const {
+  if (directional.empty()) return 0.0f;
+  return float(directional.size()) / float(directional.size() + (tree.empty() ? 0 : 1));
+}
+
+void LightSampler::addLight(Group& g, GroupId id, uint32_t l, std::vector<LightBounds>& bounds) {
+  const LightSet& lights = scene_->lights();
+  const RenderLight& light = lights.lights()[l];
+  lightGroup_[l] = id;
+  lightFirst_[l] = static_cast<uint32_t>(g.emitters.size());
+  LightBounds b;
+  switch (light.type) {
+    case LightType::Directional:
+      g.directional.push_back(l);
+      return;
+    case LightType::Point:
+    case LightType::Spot:
+      b.lo = b.hi = light.position;
+      b.phi = meanOf(light.intensity) * 4.0f * kPiF;
+      if (light.type == LightType::Spot && !light.desc.ies) {  // IES tables: the whole sphere
+        const float inner = float(glm::radians(light.desc.innerAngleDeg));
+        const float outer = float(glm::radians(light.desc.outerAngleDeg));
+        b.w = light.direction;
+        b.cosO = std::cos(inner);
+        b.cosE = std::cos(std::max(outer - inner, 1e-3f));
+      }
+      g.emitters.push_back({Emitter::Kind::Light, l, 0, 0.0f});
+      bounds.push_back(b);
+      return;
+    case LightType::Area: {
+      const EmitterMesh& m = lights.emitterMeshes()[light.emitter];
+      for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+        const Vec3 v[3] = {m.vertices[m.indices[3 * t]], m.vertices[m.indices[3 * t + 1]], m.vertices[m.indices[3 * t + 2]]};
+        const Vec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
+        const float len = glm::length(c);
+        const float area = 0.5f * len;
+        const Vec3 normal = len > 0.0f ? c / len : Vec3(0, 0, 1);
+        triangles_.push_back({v[0], v[1] - v[0], v[2] - v[0], normal});
+        g.emitters.push_back({Emitter::Kind::Triangle, l, uint32_t(triangles_.size() - 1), area});
+        bounds.push_back(surfaceBounds(v, 3, normal, len > 0.0f ? meanOf(light.radiance) * kPiF * area : 0.0f));
+      }
+      return;
+    }
+  }
+}
+
+void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bounds) {
+  const FirstShotTable& table = *scene_->firstShot();
+  const std::vector<Color> side = table.sideIrradiance();
+  const PatchMesh& mesh = scene_->mesh();
+  patchGroup_ = id;
+  patchSide_.assign(2 * size_t(mesh.size()), kNoId);
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& p = mesh.patches[j];
+    for (uint32_t s = 0; s < 2; ++s) {
+      const float phi = patchSidePower(*scene_, side, j, s);  // 0 for mirrors and glass
+      if (!(phi > 0.0f)) continue;
+      patchSide_[2 * size_t(j) + s] = static_cast<uint32_t>(g.emitters.size());
+      g.emitters.push_back({Emitter::Kind::Patch, j, s, float(p.area)});
+      bounds.push_back(surfaceBounds(p.v, int(p.count), s == 0 ? p.normal : -p.normal, phi));
+      ++patchCount_;
+    }
+  }
+}
+
+void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
+                         bool patchEmitters, bool visibility, const std::vector<uint8_t>* include) {
+  scene_ = &scene;
+  firstShot_ = &firstShot;
+  strategy_ = strategy;
+  patchCount_ = 0;
+  patchGroup_ = kNone;
+  for (Group& g : groups_) g = Group();
+  triangles_.clear();
+  const size_t n = scene.lights().lights().size();
+  lightGroup_.assign(n, kNone);
+  lightFirst_.assign(n, 0);
+  included_.assign(n, 1);
+  if (include)
+    for (size_t l = 0; l < n; ++l) included_[l] = l < include->size() && (*include)[l] != 0;
+  std::vector<LightBounds> bounds[3];
+  if (strategy == LightStrategy::Tree)
+    for (uint32_t l = 0; l < n; ++l) {
+      if (!included_[l]) continue;
+      const GroupId id = scene.lights().lights()[l].replaced ? kReplaced : kKept;
+      addLight(groups_[id], id, l, bounds[id]);
+    }
+  if (patchEmitters && scene.firstShot()) {
+    addPatches(groups_[kPatches], kPatches, bounds[kPatches]);
+  }
+  for (int g = 0; g < 3; ++g) {
+    // Patches are small and many, and the triangles of one area light lie together: up to
+    // kPatchLeaf of either share a leaf, chosen there by power, which spares the descent.
+    std::vector<uint32_t> groupable(groups_[g].emitters.size(), 0);
+    for (size_t e = 0; e < groupable.size(); ++e) {
+      const Emitter& em = groups_[g].emitters[e];
+      if (em.kind == Emitter::Kind::Patch) groupable[e] = 1;  // a group of its own: no lights in it
+      if (em.kind == Emitter::Kind::Triangle) groupable[e] = em.index + 1;
+    }
+    groups_[g].tree = LightTree(bounds[g], &groupable, kPatchLeaf);
+  }
+  grid_ = VisibilityGrid();
+  if (visibility) buildVisibility();
+}
+
+Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
+  const LightSet& lights = scene_->lights();
+  switch (e.kind) {
+    case Emitter::Kind::Light:
+      return lights.lights()[e.index].position;
+    case Emitter::Kind::Triangle: {
+      const TriangleEmitter& t = triangles_[e.sub];
+      const Vec3 bary = squareToUniformTriangle(u);
+      return t.a + bary.y * t.e1 + bary.z * t.e2;
+    }
+    case Emitter::Kind::Patch:
+      return samplePatchPoint(scene_->mesh().patches[e.index], u);
+  }
+  return Vec3(0.0f);
+}
+
+uint32_t LightSampler::patchEmitter(const Hit& y, const Vec3& x) const {
+  if (patchGroup_ == kNone || !y.onPatch()) return kNoId;
+  const Patch& p = scene_->mesh().patches[y.patch];
+  const uint32_t side = glm::dot(x - y.p, p.normal) >= 0.0f ? 0 : 1;
+  return patchSide_[2 * size_t(y.patch) + side];
+}
+
+float LightSampler::selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const {
+  return (1.0f - g.pDirectional()) * g.tree.pmf(x, n, emitter);
+}
+
+float LightSampler::pmf(const Vec3& x, const Vec3& n, const Hit& y, float& area) const {
+  if (y.onPatch()) {
+    const uint32_t e = patchEmitter(y, x);
+    if (e == kNoId) return 0.0f;
+    const Group& g = groups_[patchGroup_];
+    area = g.emitters[e].area;
+    return selectProbability(g, x, n, e);
+  }
+  const LightSet& lights = scene_->lights();
+  const uint32_t l = static_cast<uint32_t>(&lights.emitterLight(y.emitter) - lights.lights().data());
+  if (!included_[l]) return 0.0f;
+  if (strategy_ == LightStrategy::All) {
+    area = float(lights.lights()[l].area);
+    return 1.0f;
+  }
+  const Group& g = groups_[lightGroup_[l]];
+  const uint32_t e = lightFirst_[l] + y.triangle;
+  area = g.emitters[e].area;
+  return selectProbability(g, x, n, e);
+}
+
+bool LightSampler::sample(LightGroup group, const Vec3& x, const Vec3& n, float u, SampledEmitter& out) const {
+  const Group& g = groups_[size_t(group)];
+  float uSelect = u;
+  const float pDir = g.pDirectional();
+  if (pDir > 0.0f) {
+    if (uSelect < pDir) {
+      const uint32_t count = static_cast<uint32_t>(g.directional.size());
+      const uint32_t k = std::min(count - 1, static_cast<uint32_t>(uSelect / pDir * float(count)));
+      out = {{Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count)};
+      return true;
+    }
+    uSelect = std::min((uSelect - pDir) / (1.0f - pDir), 0x1.fffffep-1f);
+  }
+  uint32_t e;
+  float pmf;
+  if (!g.tree.sample(x, n, uSelect, e, pmf)) return false;
+  out = {g.emitters[e], pmf * (1.0f - pDir)};
+  return true;
+}
+
+}  // namespace fs

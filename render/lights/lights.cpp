@@ -1,0 +1,141 @@
+// Light sampling for next-event estimation.
+#include "render/lights/lights.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "common/sampling.h"
+
+namespace fs {
+
+namespace {
+
+/// The emitting triangles of an emissive shape (quads split along v0–v2), vertices in float.
+EmitterMesh triangulate(const ShapeDesc& s) {
+  EmitterMesh m;
+  m.vertices.reserve(s.vertices.size());
+  for (const Vec3d& v : s.vertices) m.vertices.emplace_back(v);
+  for (const Face& f : s.faces) {
+    m.indices.insert(m.indices.end(), {f.v[0], f.v[1], f.v[2]});
+    if (f.count == 4) m.indices.insert(m.indices.end(), {f.v[0], f.v[2], f.v[3]});
+  }
+  return m;
+}
+
+}  // namespace
+
+LightSet::LightSet(const SceneDesc& scene, const std::vector<uint32_t>& replaced) {
+  for (uint32_t i = 0; i < scene.lights.size(); ++i) {
+    const LightDesc& d = scene.lights[i];
+    RenderLight l;
+    l.type = d.type;
+    l.sceneIndex = i;
+    l.replaced = std::find(replaced.begin(), replaced.end(), i) != replaced.end();
+    l.desc = d;
+    l.position = Vec3(d.position);
+    l.direction = Vec3(d.direction);
+    switch (d.type) {
+      case LightType::Point:
+      case LightType::Spot:
+        l.profile = EmissionProfile(d);
+        l.intensity = l.profile.peakIntensity(d);
+        break;
+      case LightType::Directional: l.irradiance = d.irradiance; break;
+      case LightType::Area: {
+        const ShapeDesc& shape = scene.shapes[size_t(d.shape)];
+        l.emitter = static_cast<uint32_t>(meshes_.size());
+        l.radiance = scene.materials[size_t(shape.material)].emission;
+        meshes_.push_back(triangulate(shape));
+        emitterLight_.push_back(static_cast<uint32_t>(lights_.size()));
+        const EmitterMesh& m = meshes_.back();
+        double sum = 0;
+        for (uint32_t t = 0; t < m.triangleCount(); ++t) {
+          const Vec3d a(m.vertices[m.indices[3 * t]]), b(m.vertices[m.indices[3 * t + 1]]), c(m.vertices[m.indices[3 * t + 2]]);
+          const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+          l.triangleArea.push_back(static_cast<float>(area));
+          sum += area;
+          l.cdf.push_back(static_cast<float>(sum));
+        }
+        l.area = sum;
+        for (float& c : l.cdf) c = sum > 0 ? static_cast<float>(c / sum) : 1.0f;
+        if (!l.cdf.empty()) l.cdf.back() = 1.0f;
+        break;
+      }
+    }
+    lights_.push_back(std::move(l));
+  }
+}
+
+size_t LightSet::unreplacedCount() const {
+  return static_cast<size_t>(std::count_if(lights_.begin(), lights_.end(), [](const RenderLight& l) { return !l.replaced; }));
+}
+
+bool LightSet::sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightRecord& out) const {
+  switch (l.type) {
+    case LightType::Point:
+    case LightType::Spot: {
+      const Vec3 d = l.position - x;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0f)) return false;
+      out.distance = std::sqrt(dist2);
+      out.wi = d / out.distance;
+      out.pdf = 0.0f;
+      Color intensity = l.intensity;
+      if (l.type == LightType::Spot) intensity *= l.profile(-out.wi);
+      out.value = intensity / dist2;
+      return maxComponent(out.value) > 0.0f;
+    }
+    case LightType::Directional:
+      out.wi = -l.direction;
+      out.distance = std::numeric_limits<float>::infinity();
+      out.pdf = 0.0f;
+      out.value = l.irradiance;
+      return maxComponent(out.value) > 0.0f;
+    case LightType::Area: {
+      Vec3 y, n;
+      if (!samplePoint(l, u, y, n)) return false;
+      const Vec3 d = y - x;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0f)) return false;
+      out.distance = std::sqrt(dist2);
+      out.wi = d / out.distance;
+      const float cosL = -glm::dot(n, out.wi);
+      if (!(cosL > 0.0f)) return false;  // one-sided: x is behind this triangle
+      out.pdf = static_cast<float>(dist2 / (cosL * l.area));
+      out.value = l.radiance / out.pdf;
+      return std::isfinite(out.pdf) && maxComponent(out.value) > 0.0f;
+    }
+  }
+  return false;
+}
+
+bool LightSet::samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n) const {
+  if (l.type != LightType::Area || l.cdf.empty() || !(l.area > 0)) return false;
+  // Choose a triangle by area, then reuse the remainder of u.x inside it.
+  const auto it = std::upper_bound(l.cdf.begin(), l.cdf.end(), u.x);
+  const size_t t = std::min(static_cast<size_t>(it - l.cdf.begin()), l.cdf.size() - 1);
+  const float lo = t > 0 ? l.cdf[t - 1] : 0.0f, hi = l.cdf[t];
+  const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
+  const EmitterMesh& m = meshes_[l.emitter];
+  const Vec3 a = m.vertices[m.indices[3 * t]], b = m.vertices[m.indices[3 * t + 1]], c = m.vertices[m.indices[3 * t + 2]];
+  const Vec3 bary = squareToUniformTriangle(Vec2(ux, u.y));
+  y = bary.x * a + bary.y * b + bary.z * c;
+  n = glm::normalize(glm::cross(b - a, c - a));
+  return true;
+}
+
+Color LightSet::emitted(uint32_t emitter, const Vec3& ng, const Vec3& wo) const {
+  return glm::dot(ng, wo) > 0.0f ? emitterLight(emitter).radiance : Color(0.0f);
+}
+
+float LightSet::pdf(const RenderLight& l, const Vec3& x, const Vec3& y, const Vec3& ng) const {
+  if (l.type != LightType::Area || !(l.area > 0)) return 0.0f;
+  const Vec3 d = y - x;
+  const float dist2 = glm::dot(d, d);
+  const float cosL = -glm::dot(ng, d) / std::sqrt(dist2);
+  if (!(cosL > 0.0f)) return 0.0f;
+  return static_cast<float>(dist2 / (cosL * l.area));
+}
+
+}  // namespace fs

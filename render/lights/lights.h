@@ -1,0 +1,83 @@
+#pragma once
+/// @file lights.h
+/// The renderer's lights: next-event estimation samples for point, spot, directional and area
+/// lights, and the emission of area-light geometry met by a path. Emission profiles come from
+/// common/emission_profile.h so that the preprocessor and the renderer agree.
+#include <cstdint>
+#include <vector>
+
+#include "common/emission_profile.h"
+#include "common/math.h"
+#include "common/scene_desc.h"
+#include "render/scene/embree_scene.h"
+
+namespace fs {
+
+/// One light as the renderer sees it.
+struct RenderLight {
+  LightType type = LightType::Point;
+  uint32_t sceneIndex = 0;  ///< index into SceneDesc::lights
+  bool replaced = false;    ///< a small light whose first reflection comes from the first-shot table
+  LightDesc desc;           ///< the scene's definition (spot profile, names for messages)
+  Vec3 position{0.0f};      ///< point, spot
+  Vec3 direction{0, -1, 0}; ///< spot: axis; directional: direction the light travels in
+  Color intensity{0.0f};    ///< point, spot: Φ/∫profile dω, the intensity where the profile is 1 (W/sr)
+  EmissionProfile profile;  ///< point, spot: relative intensity per world direction (common/emission_profile.h)
+  Color irradiance{0.0f};   ///< directional: E⊥ (W/m²)
+  // Area lights.
+  uint32_t emitter = 0;     ///< index of its EmitterMesh (Hit::emitter)
+  Color radiance{0.0f};     ///< Le, emitted from the front side only (W/(m² sr))
+  std::vector<float> cdf;   ///< area CDF over the emitter's triangles (last entry 1)
+  std::vector<float> triangleArea;
+  double area = 0;          ///< total area, m²
+
+  bool isDelta() const { return type != LightType::Area; }
+};
+
+/// A light sample seen from a shading point x.
+struct LightRecord {
+  Vec3 wi{0.0f};         ///< unit direction from x towards the light
+  float distance = 0;    ///< from x to the sampled point (infinity for a directional light)
+  Color value{0.0f};     ///< incident radiance over the sampling density: the contribution is f·|cos θ_i|·value
+  float pdf = 0;         ///< solid-angle density of wi (area lights); 0 for delta lights
+};
+
+/// All lights of a scene, with the triangle meshes of the area lights.
+class LightSet {
+ public:
+  LightSet() = default;
+  /// @param replaced indices into scene.lights of the small lights handled by a first-shot table
+  LightSet(const SceneDesc& scene, const std::vector<uint32_t>& replaced);
+
+  const std::vector<RenderLight>& lights() const { return lights_; }
+  /// The area light's triangles, indexed like Hit::emitter.
+  const std::vector<EmitterMesh>& emitterMeshes() const { return meshes_; }
+  /// The area light that owns emitter mesh @p emitter.
+  const RenderLight& emitterLight(uint32_t emitter) const { return lights_[emitterLight_[emitter]]; }
+  /// Number of lights not replaced by first-shot.
+  size_t unreplacedCount() const;
+
+  /// Samples light @p l from the shading point @p x with @p u ∈ [0,1)².
+  /// @return false when the light sends nothing towards x (outside a spot cone, behind an area
+  ///         light, degenerate geometry); out is then unspecified.
+  bool sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightRecord& out) const;
+
+  /// A point of area light @p l, uniform by area, from @p u ∈ [0,1)²: position @p y (m) and the
+  /// front side's unit normal @p n. @return false for a light without area.
+  bool samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n) const;
+
+  /// Radiance leaving emitter @p emitter at a point with geometric normal @p ng towards @p wo
+  /// (unit, pointing away from the emitter): Le on the front side, 0 behind.
+  Color emitted(uint32_t emitter, const Vec3& ng, const Vec3& wo) const;
+
+  /// Solid-angle density with which sample() picks the point @p y (normal @p ng) of area light
+  /// @p l, seen from @p x. Zero behind the light.
+  float pdf(const RenderLight& l, const Vec3& x, const Vec3& y, const Vec3& ng) const;
+
+ private:
+  std::vector<RenderLight> lights_;
+  std::vector<EmitterMesh> meshes_;
+  std::vector<uint32_t> emitterLight_;  ///< emitter mesh -> index into lights_
+};
+
+}  // namespace fs

@@ -1,0 +1,201 @@
+// Next-event estimation, for every integrator (next_event.h).
+#include "render/lights/next_event.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "render/firstshot/lighting.h"
+#include "render/firstshot/patch_emitters.h"
+#include "render/lights/light_sampler.h"
+
+namespace fs {
+
+namespace {
+
+/// The contribution f·|cos θ_i|·weight·rec.value of the light sample @p rec at the shading point,
+/// 0 if it is not finite, the BSDF sends nothing along it or (unless @p seen says Visible) a shadow
+/// ray finds it occluded. @p delta: the sample came from a delta light (weight 1).
+Color weighLightSample(const RenderScene& scene, const Hit& hit, const Frame& frame, const Vec3& woLocal,
+                       const BSDF& bsdf, const LightRecord& rec, bool delta, TableVisibility seen,
+                       const NeeRequest& request, uint64_t& rays) {
+  if (!std::isfinite(rec.pdf) || !(maxComponent(rec.value) > 0.0f) || !std::isfinite(maxComponent(rec.value)))
+    return Color(0.0f);
+  const BSDFQuery q(frame.toLocal(rec.wi), woLocal);
+  Color f = bsdf.eval(q);
+  if (request.nonDiffuseOnly && q.wi.z * q.wo.z > 0.0f)
+    f = glm::max(f - bsdf.diffuseAlbedo() * kInvPiF, Color(0.0f));
+  if (!(maxComponent(f) > 0.0f)) return Color(0.0f);
+  if (seen != TableVisibility::Visible) {
+    ++rays;
+    if (scene.occluded(shadowRay(hit, rec.wi, rec.distance))) return Color(0.0f);
+  }
+  const float weight = delta || !request.mis ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
+  return f * (std::abs(q.wi.z) * weight) * rec.value;
+}
+
+/// The point of patch emitter @p e chosen with probability @p pSelect for @p u, seen from @p x:
+/// rec.value = Le/pdf. False if it sends nothing towards @p x.
+bool patchPoint(const LightSampler& lights, const Emitter& e, float pSelect, const Vec3& x, const Vec2& u,
+                LightRecord& rec, Color& Le) {
+  const RenderScene& scene = lights.scene();
+  const Patch& p = scene.mesh().patches[e.index];
+  const Vec3 y = lights.emitterPoint(e, u);
+  const Vec3 d = y - x;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return false;
+  rec.distance = std::sqrt(dist2);
+  rec.wi = d / rec.distance;
+  const float cosY = -glm::dot(patchSideNormal(p, e.sub), rec.wi);
+  if (!(cosY > 0.0f)) return false;  // x is on the other side: that side is another emitter
+  Le = patchRadiance(scene, lights.lighting(), e.index, y, -rec.wi);
+  if (!(maxComponent(Le) > 0.0f)) return false;
+  rec.pdf = pSelect * dist2 / (cosY * e.area);
+  rec.value = Le / rec.pdf;
+  return true;
+}
+
+/// NEE to the chosen emitter @p c with the point from @p u ∈ [0,1)².
+Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, const Hit& hit, const Frame& frame,
+                          const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, const NeeRequest& request,
+                          uint64_t& rays) {
+  const RenderScene& scene = lights.scene();
+  const Emitter& e = c.emitter;
+  const float pSelect = c.p;
+  LightRecord rec;
+  bool delta = false;
+  TableVisibility seen = TableVisibility::Unknown;
+  switch (e.kind) {
+    case Emitter::Kind::Light: {
+      const RenderLight& light = scene.lights().lights()[e.index];
+      if (request.tableVisibility && light.replaced && hit.onPatch()) {
+        seen = lights.lighting().visibility(hit.patch, e.index);
+        if (seen == TableVisibility::Hidden) return Color(0.0f);
+      }
+      if (!scene.lights().sample(light, hit.p, u, rec)) return Color(0.0f);
+      rec.value /= pSelect;
+      rec.pdf *= pSelect;
+      delta = light.isDelta();
+      break;
+    }
+    case Emitter::Kind::Triangle: {
+      const RenderLight& light = scene.lights().lights()[e.index];
+      const Vec3 d = lights.emitterPoint(e, u) - hit.p;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0f)) return Color(0.0f);
+      rec.distance = std::sqrt(dist2);
+      rec.wi = d * (1.0f / rec.distance);  // one division, not three (a hot path)
+      const float cosL = -glm::dot(lights.triangle(e).n, rec.wi);
+      if (!(cosL > 0.0f)) return Color(0.0f);
+      // pdf and 1/pdf from the same inputs: two independent divisions instead of one after the other.
+      rec.pdf = pSelect * dist2 / (cosL * e.area);
+      rec.value = light.radiance * (cosL * e.area / (pSelect * dist2));
+      break;
+    }
+    case Emitter::Kind::Patch: {
+      Color Le;
+      if (!patchPoint(lights, e, pSelect, hit.p, u, rec, Le)) return Color(0.0f);
+      break;
+    }
+  }
+  return weighLightSample(scene, hit, frame, woLocal, bsdf, rec, delta, seen, request, rays);
+}
+
+}  // namespace
+
+Ray shadowRay(const Hit& hit, const Vec3& wi, float distance) {
+  const float tmax = std::isinf(distance) ? distance : distance * (1.0f - 1e-4f) - hit.eps;
+  return Ray(hit.spawnOrigin(wi), wi, 0.0f, tmax);
+}
+
+Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lighting,
+                          const std::vector<uint8_t>* include, const Hit& hit, const Frame& frame, const Vec3& woLocal,
+                          const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays) {
+  const LightSet& lights = scene.lights();
+  Color sum(0.0f);
+  // Light l takes dimensions d0 + 2l and d0 + 2l + 1 (later dimensions do not shift); the lights
+  // left out skip theirs without drawing them.
+  const uint64_t d0 = sampler.dimension();
+  const bool useTable = request.tableVisibility && hit.onPatch();
+  TableVisibilityMap::Cursor table;
+  if (useTable) table = lighting.visibilityCursor(hit.patch);
+  for (size_t l = 0; l < lights.lights().size(); ++l) {
+    const RenderLight& light = lights.lights()[l];
+    if (!(light.replaced ? request.replaced : request.kept)) continue;
+    if (include && !(*include)[l]) continue;
+    TableVisibility seen = TableVisibility::Unknown;
+    if (useTable && light.replaced) {
+      seen = table.next(static_cast<uint32_t>(l));
+      if (seen == TableVisibility::Hidden) continue;
+    }
+    sampler.setDimension(d0 + 2 * uint64_t(l));
+    const Vec2 u = sampler.next2D();
+    LightRecord rec;
+    if (!lights.sample(light, hit.p, u, rec)) continue;
+    sum += weighLightSample(scene, hit, frame, woLocal, bsdf, rec, light.isDelta(), seen, request, rays);
+  }
+  sampler.setDimension(d0 + 2 * uint64_t(lights.lights().size()));
+  return sum;
+}
+
+Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
+                const NeeRequest& request, Sampler& sampler, uint64_t& rays) {
+  const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the side that reflects towards the viewer
+  Color sum(0.0f);
+  auto fromGroup = [&](LightGroup g) {
+    if (lights.empty(g)) {  // skip its three dimensions without drawing them (images stay the same)
+      sampler.setDimension(sampler.dimension() + 3);
+      return;
+    }
+    const Vec2 a = sampler.next2D();
+    const float b = sampler.next1D();
+    SampledEmitter c;
+    if (lights.sample(g, hit.p, n, a.x, c))
+      sum += emitterContribution(lights, c, hit, frame, woLocal, bsdf, Vec2(a.y, b), request, rays);
+  };
+  if (lights.strategy() == LightStrategy::All) {
+    if (request.kept || request.replaced)
+      sum += nextEventEveryLight(lights.scene(), lights.lighting(), &lights.included(), hit, frame, woLocal, bsdf,
+                                 request, sampler, rays);
+  } else {
+    if (request.kept) fromGroup(LightGroup::Kept);
+    if (request.replaced) fromGroup(LightGroup::Replaced);
+  }
+  if (request.patches && lights.hasPatchGroup()) fromGroup(LightGroup::Patches);
+  return sum;
+}
+
+float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y) {
+  const Vec3 d = y.p - x;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return 0.0f;
+  const float cosY = std::abs(glm::dot(y.ng, d)) / std::sqrt(dist2);
+  if (!(cosY > 0.0f)) return 0.0f;
+  const RenderLight* light = nullptr;
+  if (y.onPatch()) {
+    if (!request.patches) return 0.0f;
+  } else {
+    light = &lights.scene().lights().emitterLight(y.emitter);
+    if (!(light->replaced ? request.replaced : request.kept)) return 0.0f;
+    if (glm::dot(y.ng, d) >= 0.0f) return 0.0f;  // one-sided: x is behind the emitter
+  }
+  float area = 0.0f;
+  const float p = lights.pmf(x, n, y, area);
+  if (!(p > 0.0f)) return 0.0f;
+  // Every light (p = 1): the light's own density of the point.
+  if (light && lights.strategy() == LightStrategy::All) return lights.scene().lights().pdf(*light, x, y.p, y.ng);
+  return p * dist2 / (cosY * area);
+}
+
+bool samplePatchEmitter(const LightSampler& lights, const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s) {
+  SampledEmitter c;
+  if (!lights.sample(LightGroup::Patches, x, n, u.x, c)) return false;  // patches only: no directional lights
+  LightRecord rec;
+  if (!patchPoint(lights, c.emitter, c.p, x, Vec2(u.y, u.z), rec, s.Le)) return false;
+  if (!std::isfinite(rec.pdf) || !std::isfinite(maxComponent(rec.value))) return false;
+  s.wi = rec.wi;
+  s.distance = rec.distance;
+  s.pdf = rec.pdf;
+  return true;
+}
+
+}  // namespace fs

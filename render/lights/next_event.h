@@ -1,0 +1,89 @@
+#pragma once
+/// @file next_event.h
+/// Next-event estimation (NEE), the one implementation every integrator calls: at a non-delta
+/// shading point, a point of each chosen light or emitter, a shadow ray towards it, the BSDF and
+/// the power-heuristic weight against BSDF sampling.
+///
+/// Which emitters a vertex takes comes from a LightSampler (render/lights/light_sampler.h), which only
+/// chooses: one emitter per requested group by a light tree (LightStrategy::Tree), or every light
+/// (LightStrategy::All, as nextEventEveryLight()). This file samples the point on the chosen
+/// emitter (LightSet::sample for a light, a uniform point of an area-light triangle or of a lit
+/// first-shot patch side, render/firstshot/patch_emitters.h) and weighs it; nextEventPdf() is the
+/// density the same choice gives a point met by a BSDF-sampled path, for its MIS weight.
+///
+/// Every light (nextEventEveryLight, and LightStrategy::All): light l takes the sampler's
+/// dimensions d0 + 2l and d0 + 2l + 1, drawn for the lights taken only, so later dimensions do not
+/// shift. One emitter per group (Tree): each requested group takes three dimensions (the choice,
+/// then the point), skipped without drawing when the group is empty.
+#include <cstdint>
+#include <vector>
+
+#include "common/bsdf.h"
+#include "common/math.h"
+#include "common/rng.h"
+#include "render/scene/ray.h"
+#include "render/scene/render_scene.h"
+
+namespace fs {
+
+class FirstShotLighting;  // render/firstshot/lighting.h
+class LightSampler;       // render/lights/light_sampler.h
+
+/// Power heuristic (β = 2) weight of a technique with density @p a against one with density @p b.
+inline float powerHeuristic(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
+
+/// A shadow ray from the hit towards a light @p distance away in direction @p wi. The far end
+/// stops short of the light, which may be emitter geometry itself.
+Ray shadowRay(const Hit& hit, const Vec3& wi, float distance);
+
+/// What one vertex takes by next-event estimation, and how it weights it.
+struct NeeRequest {
+  bool kept = false;      ///< the lights the table does not replace (every light without a table)
+  bool replaced = false;  ///< the table's small lights (a vertex that does not use the table)
+  bool patches = false;   ///< the first-shot patches (a LightSampler built with patch emitters)
+  /// Weight area emitters against BSDF sampling (power heuristic); false: weight 1, for callers
+  /// whose BSDF-sampled rays never count these emitters.
+  bool mis = true;
+  /// Replaced lights at a hit on a patch: no shadow ray where the table finds the light visible
+  /// from the whole patch or from none of it (FirstShotLighting::visibility).
+  bool tableVisibility = false;
+  /// Integrate only f − ρd/π, the BSDF without its Lambertian part (the part an irradiance cache
+  /// leaves out).
+  bool nonDiffuseOnly = false;
+};
+
+/// NEE at a non-delta vertex through @p lights: Σ f·|cos θ_i|·L/pdf over the chosen emitters that
+/// are unoccluded, area emitters weighted against BSDF sampling. @p rays counts the shadow rays.
+Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
+                const NeeRequest& request, Sampler& sampler, uint64_t& rays);
+
+/// NEE to every light of @p scene that @p request takes (kept, replaced) and @p include allows
+/// (nullptr: all; else (*include)[l] != 0, indexed like LightSet::lights()): one sample per light.
+/// @p lighting answers NeeRequest::tableVisibility (unused otherwise).
+Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lighting,
+                          const std::vector<uint8_t>* include, const Hit& hit, const Frame& frame, const Vec3& woLocal,
+                          const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays);
+
+/// Solid-angle density with which nextEvent() at @p x, receiving side normal @p n, under
+/// @p request, samples the point of @p y: a hit on an area light or on a patch. 0 where that
+/// emitter is not requested (or not an emitter).
+float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y);
+
+/// One point of a lit first-shot patch chosen for a receiver (samplePatchEmitter).
+struct PatchSample {
+  Vec3 wi{0.0f};        ///< unit direction from the receiver to the point
+  float distance = 0;   ///< m
+  Color Le{0.0f};       ///< first-shot radiance the point sends towards the receiver, W/(m² sr)
+  float pdf = 0;        ///< solid-angle density of wi (emitter choice included), sr⁻¹
+};
+
+/// Chooses a point of a lit patch for the receiver at @p x with receiving side normal @p n from
+/// @p u ∈ [0,1)³ (u.x the patch, u.yz the point), as nextEvent() does for NeeRequest::patches,
+/// without a shadow ray. @return false if none was chosen or it sends nothing towards @p x;
+/// otherwise @p s.pdf equals nextEventPdf(lights, x, n, {patches}, hit at the point).
+bool samplePatchEmitter(const LightSampler& lights, const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s);
+
+}  // namespace fs

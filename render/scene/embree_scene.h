@@ -1,0 +1,68 @@
+#pragma once
+/// @file embree_scene.h
+/// The renderer's ray tracing: Embree 3 over the patch mesh (geometry 0, primitive = patch ID) and
+/// the area-light triangles (one geometry per emitter). This is the only place that knows Embree.
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "common/math.h"
+#include "common/patches.h"
+#include "render/scene/ray.h"
+
+namespace fs {
+
+/// One area light's triangles in world space, counter-clockwise seen from the emitting side.
+struct EmitterMesh {
+  std::vector<Vec3> vertices;
+  std::vector<uint32_t> indices;  ///< three per triangle
+  uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
+};
+
+/// An immutable Embree scene. Queries are const and thread-safe.
+class EmbreeScene {
+ public:
+  /// Builds the BVH over @p patches (triangles and planar quads) and @p emitters.
+  /// @throws std::runtime_error if Embree fails.
+  EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters);
+  ~EmbreeScene();
+  EmbreeScene(const EmbreeScene&) = delete;
+  EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+  /// Closest hit in [ray.tmin, ray.tmax]; fills @p hit and returns true, or returns false.
+  bool intersect(const Ray& ray, Hit& hit) const;
+  /// The closest hits of up to 16 coherent rays (the camera rays of a 4 × 4 pixel block) as two
+  /// Embree packets of 8 (k < 8, k ≥ 8): rays[k] for the k < @p count with active[k]; found[k] says
+  /// whether hits[k] was filled (false for the inactive ones). Each hit is a closest hit as
+  /// intersect() gives it; where two primitives tie at exactly the same t (a shared edge), which one
+  /// is reported may differ from intersect() and may depend on the packet's other rays.
+  /// Packets of 8, not one of 16: rtcIntersect16 runs Embree's AVX-512 kernels, and the clock drop
+  /// that follows them slowed the whole path tracer (+1.5% rays/s against +8%, bench_render).
+  void intersect16(const Ray* rays, const bool* active, int count, Hit* hits, bool* found) const;
+  /// True if anything lies on the ray within [ray.tmin, ray.tmax].
+  bool occluded(const Ray& ray) const;
+  /// Every surface the ray crosses within [ray.tmin, ray.tmax], sorted by t, appended to @p out: one
+  /// traversal whose context filter records each candidate and rejects it (a hit found twice, e.g.
+  /// on a quad's diagonal, is listed once). The ray bundles' alternative to successive closest hits.
+  void allHits(const Ray& ray, std::vector<Hit>& out) const;
+
+  /// Benchmark hook: plain incoherent rtcIntersect1 calls over @p rays, nothing else.
+  /// @return the number of rays that hit something.
+  size_t intersectRaw(const Ray* rays, size_t count) const;
+  /// Benchmark hooks for ray layouts: the same closest-hit queries as intersectRaw, traced as
+  /// Embree packets of 16 (rtcIntersect16, rays taken 16 at a time in order) or as one stream
+  /// (rtcIntersect1M), both flagged coherent. @return the number of rays that hit something.
+  size_t intersectRawPackets(const Ray* rays, size_t count) const;
+  size_t intersectRawStream(const Ray* rays, size_t count) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Sets flush-to-zero and denormals-are-zero for the calling thread (Embree's recommendation;
+/// call it at the start of every worker task). No-op on CPUs without SSE.
+void enableFlushToZero();
+
+}  // namespace fs

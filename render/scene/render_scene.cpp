@@ -1,0 +1,52 @@
+// RenderScene: the immutable scene an integrator reads, and the check that a first-shot table
+// belongs to it.
+#include "render/scene/render_scene.h"
+
+#include <string>
+
+#include "common/error.h"
+#include "render/firstshot/table_rows.h"
+
+namespace fs {
+
+RenderScene::RenderScene(SceneDesc scene, double patchSize) : desc_(std::move(scene)) {
+  // Without a table nothing needs patches smaller than the faces (the bundle integrator's elements
+  // are the exception; its caller passes a size): every face is traced as it is.
+  mesh_ = buildPatches(desc_, patchSize > 0 ? patchSize : kFacesAsTheyAre);
+  build({});
+}
+
+RenderScene::RenderScene(SceneDesc scene, FirstShotTable table, const std::string& tablePath)
+    : desc_(std::move(scene)), table_(std::move(table)) {
+  const FirstShotTable& t = *table_;
+  const std::string& file = tablePath.empty() ? std::string("first-shot table") : tablePath;
+  auto fail = [&](const char* section, const std::string& msg) { throw InputError(file, section, msg); };
+  const uint64_t sceneHash = hashScene(desc_);
+  if (t.sceneHash != sceneHash)
+    fail("header", "made for a different scene (the scene's geometry, materials or lights changed): run firstshot-preprocess again");
+  if (const char* wrong = TableRows::check(t)) fail("factors", wrong);
+  for (const LightSample& s : t.samples)
+    if (s.light >= desc_.lights.size()) fail("samples", "a light sample refers to a light the scene does not have");
+  for (uint32_t l : t.replacedLights)
+    if (l >= desc_.lights.size()) fail("lights", "a replaced light index is out of range for this scene");
+  for (const Patch& p : t.mesh.patches)
+    if (p.material >= desc_.materials.size() || p.shape >= desc_.shapes.size())
+      fail("patches", "a patch refers to a material or shape the scene does not have");
+  build(t.replacedLights);
+}
+
+void RenderScene::build(const std::vector<uint32_t>& replaced) {
+  bsdfs_.reserve(desc_.materials.size());
+  for (const MaterialDesc& m : desc_.materials) bsdfs_.push_back(makeBSDF(m));
+  lights_ = LightSet(desc_, replaced);
+  patchMaterial_.reserve(mesh().size());
+  for (const Patch& p : mesh().patches) patchMaterial_.push_back(p.material);
+  for (const RenderLight& l : lights_.lights())
+    if (l.type == LightType::Area) {
+      if (emitterMaterial_.size() <= l.emitter) emitterMaterial_.resize(l.emitter + 1);
+      emitterMaterial_[l.emitter] = static_cast<uint32_t>(desc_.shapes[size_t(l.desc.shape)].material);
+    }
+  embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes());
+}
+
+}  // namespace fs

@@ -1,0 +1,65 @@
+#pragma once
+/// @file render_scene.h
+/// Everything an integrator reads, immutable once built: the scene description, the patch mesh
+/// that is traced (the first-shot table's own mesh when one is given, so a hit's primitive is the
+/// table's patch ID), one BSDF per material, the lights, and the optional first-shot table.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "common/bsdf.h"
+#include "common/firstshot.h"
+#include "common/patches.h"
+#include "common/scene_desc.h"
+#include "render/scene/embree_scene.h"
+#include "render/lights/lights.h"
+#include "render/scene/ray.h"
+
+namespace fs {
+
+class RenderScene {
+ public:
+  /// A scene without first-shot: traces buildPatches(scene, patchSize), or every face as it is
+  /// (one patch per face) when @p patchSize <= 0. Every light is sampled by the integrator.
+  explicit RenderScene(SceneDesc scene, double patchSize = 0);
+
+  /// A scene with a first-shot table: traces the table's patch mesh; the table's replacedLights
+  /// leave light sampling. @p tablePath names the table in error messages.
+  /// @throws InputError if the table does not belong to the scene (scene hash, light and
+  ///         material indices, sizes).
+  RenderScene(SceneDesc scene, FirstShotTable table, const std::string& tablePath = "");
+
+  RenderScene(const RenderScene&) = delete;
+  RenderScene& operator=(const RenderScene&) = delete;
+
+  const SceneDesc& desc() const { return desc_; }
+  const PatchMesh& mesh() const { return table_ ? table_->mesh : mesh_; }
+  const LightSet& lights() const { return lights_; }
+  /// The first-shot table, or nullptr.
+  const FirstShotTable* firstShot() const { return table_ ? &*table_ : nullptr; }
+  /// The BSDF of material @p m.
+  const BSDF& bsdf(uint32_t m) const { return bsdfs_[m]; }
+  /// The material of a hit (patch or emitter).
+  uint32_t material(const Hit& hit) const {
+    return hit.onPatch() ? patchMaterial_[hit.patch] : emitterMaterial_[hit.emitter];
+  }
+
+  bool intersect(const Ray& ray, Hit& hit) const { return embree_->intersect(ray, hit); }
+  bool occluded(const Ray& ray) const { return embree_->occluded(ray); }
+  const EmbreeScene& embree() const { return *embree_; }
+
+ private:
+  void build(const std::vector<uint32_t>& replaced);
+
+  SceneDesc desc_;
+  std::optional<FirstShotTable> table_;
+  PatchMesh mesh_;  ///< used when there is no table
+  std::vector<BSDF> bsdfs_;
+  std::vector<uint32_t> patchMaterial_;  ///< by patch: a compact copy of Patch::material for the hot path
+  std::vector<uint32_t> emitterMaterial_;
+  LightSet lights_;
+  std::unique_ptr<EmbreeScene> embree_;
+};
+
+}  // namespace fs

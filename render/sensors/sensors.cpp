@@ -1,0 +1,217 @@
+// Irradiance at sensor points: NEE to the lights plus one cosine-sampled ray per sample.
+#include "render/sensors/sensors.h"
+
+#include <fmt/core.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "common/bsdf.h"
+#include "common/interrupt.h"
+#include "common/photometry.h"
+#include "common/progress.h"
+#include "common/rng.h"
+#include "common/sampling.h"
+#include "render/lights/next_event.h"
+#include "render/firstshot/lighting.h"
+#include "render/scene/embree_scene.h"
+#include "render/lights/light_sampler.h"
+
+namespace fs {
+
+namespace {
+
+/// Sampler stream of the sensor samples (apart from the camera's stream 0).
+constexpr uint64_t kSensorStream = 0x53454e53u;  // "SENS"
+
+/// Per-sensor running sums, in sample order.
+struct Sums {
+  double e[3] = {0, 0, 0};
+  double lux = 0, lux2 = 0;
+  uint64_t n = 0;
+};
+
+/// One sample of E(x, n), W/m² per channel; @p li(ray, sampler, info) is the integrator's Li().
+template <class LiFn>
+Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSampler& lights, const Sensor& sensor,
+                       Sampler& sampler, uint64_t& rays) {
+  Hit hit;
+  hit.p = sensor.p;
+  hit.ng = sensor.n;
+  // Off a surface the sensor may lie on, as the Embree scene offsets its hits. Not more: spawnOrigin moves along n,
+  // which brings a shadow ray eps/cos θ nearer a light's plane, and shadowRay() stops only eps + 1e-4·d short of it.
+  hit.eps = 1e-5f * std::max({1.0f, std::abs(sensor.p.x), std::abs(sensor.p.y), std::abs(sensor.p.z)});
+  const Frame frame(sensor.n);
+  const Vec3 woLocal(0.0f, 0.0f, 1.0f);           // the receiving side is the normal's
+  static const BSDF white(LambertBRDF{Color(1.0f)});  // f = 1/π on the normal's side
+  NeeRequest nee;
+  nee.kept = true;
+  nee.replaced = true;  // a table's small lights exactly, as at a camera-visible point
+  nee.mis = false;      // the cosine ray below never counts the emission it meets first
+  Color E = kPiF * nextEvent(lights, hit, frame, woLocal, white, nee, sampler, rays);
+
+  const Vec3 wi = frame.toWorld(squareToCosineHemisphere(sampler.next2D()));
+  const Ray ray(hit.spawnOrigin(wi), wi);
+  Hit first;
+  Color Le(0.0f);
+  ++rays;
+  if (scene.intersect(ray, first) && !first.onPatch()) Le = scene.lights().emitted(first.emitter, first.ng, -wi);
+  SampleInfo info;
+  const Color L = li(ray, sampler, &info);
+  rays += info.rays;
+  E += kPiF * glm::max(L - Le, Color(0.0f));  // cos θ/pdf = π
+  return E;
+}
+
+}  // namespace
+
+void requireSensorIntegrator(const Integrator& integrator) {
+  // Light tracing and BDPT splat, the ray bundles need per-pass state: none has a per-ray Li().
+  if (!integrator.supportsSensors())
+    throw InputError("", "--integrator", fmt::format("{}: sensors support --integrator path or irradiance-cache",
+                                                     integrator.name()));
+}
+
+void preprocessSensors(Integrator& integrator, const RenderScene& scene, const std::vector<Sensor>& sensors,
+                       const SensorOptions& options) {
+  requireSensorIntegrator(integrator);
+  FirstShotLighting firstShot;
+  firstShot.build(scene);
+  LightSampler lights;
+  lights.build(scene, firstShot, options.lightSampler, false);
+  const uint64_t fill = uint64_t(std::max(1, options.fillSamples));
+  // Task i: sensor i's samples 0 .. fill−1, exactly as estimateSensors() draws them.
+  const RayTask task = [&](size_t i, const std::function<Color(const Ray&, Sampler&)>& li) {
+    uint64_t rays = 0;
+    auto trace = [&](const Ray& ray, Sampler& sampler, SampleInfo*) { return li(ray, sampler); };
+    for (uint64_t s = 0; s < fill; ++s) {
+      Sampler sampler(options.seed, i, s, kSensorStream);
+      sampleIrradiance(trace, scene, lights, sensors[i], sampler, rays);
+    }
+  };
+  integrator.preprocessRays(scene, sensors.size(), task, float(options.rayAngle));
+}
+
+SensorSummary summarize(const std::vector<SensorResult>& results) {
+  SensorSummary s;
+  if (results.empty()) return s;
+  s.minLux = std::numeric_limits<double>::infinity();
+  s.maxLux = -s.minLux;
+  double sum = 0;
+  for (const SensorResult& r : results) {
+    s.minLux = std::min(s.minLux, r.lux);
+    s.maxLux = std::max(s.maxLux, r.lux);
+    sum += r.lux;
+  }
+  s.avgLux = sum / double(results.size());
+  s.uniformity = s.avgLux > 0 ? s.minLux / s.avgLux : 0.0;
+  return s;
+}
+
+std::vector<SensorResult> estimateSensors(const Integrator& integrator, const RenderScene& scene,
+                                          const std::vector<Sensor>& sensors, const SensorOptions& options,
+                                          SensorStats* stats) {
+  requireSensorIntegrator(integrator);
+  FirstShotLighting firstShot;
+  firstShot.build(scene);
+  LightSampler lights;
+  lights.build(scene, firstShot, options.lightSampler, false);
+
+  auto li = [&](const Ray& ray, Sampler& sampler, SampleInfo* info) { return integrator.Li(ray, sampler, info); };
+  std::vector<Sums> sums(sensors.size());
+  std::atomic<uint64_t> rays{0}, nonFinite{0};
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const int batch = std::max(1, options.batch);
+  Comm& comm = options.comm ? *options.comm : serialComm();
+
+  auto pass = [&](uint64_t s0, uint64_t s1, Progress& progress) {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, sensors.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+        enableFlushToZero();
+        uint64_t localRays = 0, bad = 0;
+        for (size_t i = r.begin(); i < r.end(); ++i) {
+          if (interrupted()) break;
+          if (!comm.mine(i)) continue;
+          Sums& acc = sums[i];
+          for (uint64_t s = s0; s < s1; ++s) {
+            Sampler sampler(options.seed, i, s, kSensorStream);
+            Color E = sampleIrradiance(li, scene, lights, sensors[i], sampler, localRays);
+            if (!isFinite(E)) {
+              ++bad;
+              E = Color(0.0f);
+            }
+            const double lux = photometry::lux(E, options.efficacy);
+            for (int c = 0; c < 3; ++c) acc.e[c] += double(E[c]);
+            acc.lux += lux;
+            acc.lux2 += lux * lux;
+            ++acc.n;
+          }
+          progress.advance(s1 - s0);
+        }
+        rays += localRays;
+        nonFinite += bad;
+      });
+    });
+    throwIfInterrupted("no output written");
+  };
+
+  uint64_t taken = 0;
+  if (options.timeLimit > 0) {
+    Progress progress = Progress::timed("sensors", options.timeLimit, options.quiet);
+    do {
+      pass(taken, taken + uint64_t(batch), progress);
+      taken += uint64_t(batch);
+    } while (!comm.any(comm.root() && seconds() >= options.timeLimit));  // rank 0's clock decides
+    progress.finish();
+  } else {
+    const uint64_t total = uint64_t(std::max(1, options.samples));
+    Progress progress("sensors", total * sensors.size(), options.quiet);
+    while (taken < total) {  // in batches, so that an interruption is noticed soon
+      const uint64_t next = std::min(total, taken + uint64_t(batch) * 16);
+      pass(taken, next, progress);
+      taken = next;
+    }
+    progress.finish();
+  }
+
+  // Rank 0 receives the other ranks' sensors.
+  ByteWriter out;
+  for (size_t i = 0; i < sensors.size(); ++i)
+    if (comm.mine(i) && !comm.root()) out.put(sums[i]);
+  const std::vector<Bytes> all = comm.gather(out.bytes());
+  for (size_t r = 1; r < all.size(); ++r) {
+    ByteReader in(all[r]);
+    for (size_t i = 0; i < sensors.size(); ++i)
+      if (comm.owner(i) == int(r)) sums[i] = in.get<Sums>();
+  }
+  rays = comm.sum(rays), nonFinite = comm.sum(nonFinite);
+
+  std::vector<SensorResult> results(sensors.size());
+  for (size_t i = 0; i < sensors.size(); ++i) {
+    const Sums& acc = sums[i];
+    SensorResult& r = results[i];
+    const double n = double(acc.n);
+    r.samples = acc.n;
+    r.irradiance = Color(float(acc.e[0] / n), float(acc.e[1] / n), float(acc.e[2] / n));
+    r.lux = acc.lux / n;
+    const double var = n > 1 ? std::max(0.0, (acc.lux2 - acc.lux * acc.lux / n) / (n - 1)) : 0.0;
+    r.stderrLux = std::sqrt(var / n);
+  }
+  if (stats) {
+    stats->samples = taken;
+    stats->rays = rays;
+    stats->nonFinite = nonFinite;
+    stats->seconds = seconds();
+  }
+  return results;
+}
+
+}  // namespace fs
