@@ -8,6 +8,7 @@
 
 #include "common/analytic.h"
 #include "common/sampling.h"
+#include "preprocess/light_samples.h"
 #include "render/direct_light.h"
 #include "render/render_scene.h"
 #include "tests/render_util.h"
@@ -22,6 +23,76 @@ SceneDesc bulbRoom(uint32_t& light, size_t& shape) {
   for (uint32_t i = 0; i < d.lights.size(); ++i)
     if (d.lights[i].type == LightType::Area) light = i, shape = size_t(d.lights[i].shape);
   return d;
+}
+
+/// Unit directions spread evenly over the sphere (a Fibonacci spiral of @p n points).
+std::vector<Vec3d> directions(int n) {
+  std::vector<Vec3d> out;
+  for (int k = 0; k < n; ++k) {
+    const double z = 1 - 2 * (k + 0.5) / n, r = std::sqrt(1 - z * z), phi = 2.399963229728653 * k;
+    out.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+  }
+  return out;
+}
+
+// Far field: the samples' radiant intensity Σ W·max(0, n̄·ω) against the triangles' Σ A·max(0, n·ω).
+// Averaged over directions they must agree (each cluster's lobe keeps the cluster's power, which the
+// weight (Σw + |m|)/2 did not: −0.39%); direction by direction within the clusters' normal spread.
+TEST(LightClusters, RadiantIntensityOfAnEmissiveSphereMatchesItsTriangles) {
+  uint32_t light = 0;
+  size_t shape = 0;
+  const SceneDesc d = bulbRoom(light, shape);
+  const std::vector<LightSample> samples = makeLightSamples(d, {light}, 0.0, d.settings.lightTolerance);
+  ASSERT_GT(samples.size(), 100u);
+  ASSERT_LT(samples.size(), 256u);
+  const ShapeDesc& bulb = d.shapes[shape];
+  double sumSamples = 0, sumTriangles = 0, worst = 0;
+  for (const Vec3d& w : directions(2000)) {
+    double a = 0, b = 0;
+    for (const LightSample& s : samples) a += s.weight * std::max(0.0, glm::dot(Vec3d(s.normal), w));
+    for (const Face& f : bulb.faces) {
+      const Vec3d& v0 = bulb.vertices[f.v[0]];
+      b += 0.5 * std::max(0.0, glm::dot(glm::cross(bulb.vertices[f.v[1]] - v0, bulb.vertices[f.v[2]] - v0), w));
+    }
+    sumSamples += a, sumTriangles += b, worst = std::max(worst, std::abs(a / b - 1));
+  }
+  fmt::print("{} samples: mean intensity {:+.4f}% of the triangles', worst direction {:.3f}%\n", samples.size(),
+             100 * (sumSamples / sumTriangles - 1), 100 * worst);
+  EXPECT_NEAR(sumSamples / sumTriangles, 1.0, 1e-3);
+  EXPECT_LT(worst, d.settings.lightTolerance);
+}
+
+// Near field: the samples' unoccluded irradiance summed over each face of the room against the
+// triangles' exact one (point-to-polygon form factors), on a grid of points per face.
+TEST(LightClusters, IrradianceOnEachRoomFaceMatchesTheTriangles) {
+  uint32_t light = 0;
+  size_t shape = 0;
+  const SceneDesc d = bulbRoom(light, shape);
+  const std::vector<LightSample> samples = makeLightSamples(d, {light}, 0.0, d.settings.lightTolerance);
+  const ShapeDesc& bulb = d.shapes[shape];
+  const ShapeDesc& room = d.shapes[0];
+  for (const Face& f : room.faces) {
+    const Vec3d v0 = room.vertices[f.v[0]], e1 = room.vertices[f.v[1]] - v0, e2 = room.vertices[f.v[f.count - 1]] - v0;
+    const Vec3d n = glm::normalize(glm::cross(e1, e2));
+    double rule = 0, exact = 0;
+    const int grid = 5;
+    for (int i = 0; i < grid; ++i)
+      for (int j = 0; j < grid; ++j) {
+        const Vec3d x = v0 + (i + 0.5) / grid * e1 + (j + 0.5) / grid * e2;
+        for (const LightSample& s : samples) {
+          const Vec3d r = Vec3d(s.position) - x;
+          const double dist = glm::length(r);
+          rule += s.weight * std::max(0.0, glm::dot(n, r) / dist) * std::max(0.0, -glm::dot(Vec3d(s.normal), r) / dist) / (dist * dist);
+        }
+        for (const Face& t : bulb.faces) {
+          const Vec3d tri[3] = {bulb.vertices[t.v[0]], bulb.vertices[t.v[1]], bulb.vertices[t.v[2]]};
+          if (glm::dot(x - tri[0], glm::cross(tri[1] - tri[0], tri[2] - tri[0])) > 0)
+            exact += analytic::polygonCosineSolidAngle(x, n, tri, 3);
+        }
+      }
+    fmt::print("face facing ({:+.0f} {:+.0f} {:+.0f}): samples {:+.4f}% of the triangles\n", n.x, n.y, n.z, 100 * (rule / exact - 1));
+    EXPECT_NEAR(rule / exact, 1.0, 2e-3);
+  }
 }
 
 // NEE to the bulb from points around the room: its estimator of the irradiance, shadow rays as the
