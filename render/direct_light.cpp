@@ -16,7 +16,7 @@ Ray shadowRay(const Hit& hit, const Vec3& wi, float distance) {
   // grazing angle (the limb of an emissive sphere: NEE lost up to 1% of its irradiance there).
   const Vec3 d = hit.p + wi * distance - o;
   const float length = glm::length(d);
-  return Ray(o, d / length, 0.0f, length * (1.0f - 1e-4f) - hit.eps);
+  return Ray(o, length > 0.0f ? d / length : wi, 0.0f, length * (1.0f - 1e-4f) - hit.eps);
 }
 
 Color estimateDirect(const RenderScene& scene, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
