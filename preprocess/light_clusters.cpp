@@ -66,7 +66,7 @@ class Clusterer {
         rear = std::min(rear, glm::dot(n, fine_.positions[*i]));
         radius = std::max(radius, glm::length(fine_.positions[*i] - centre));
       }
-      if (2 * radius <= floor_ || 2 * radius * scale_ <= distance(centre, radius, n, rear)) return emit(centre, 0.5 * (weight + agreement), n, out);
+      if (2 * radius <= floor_ || 2 * radius * scale_ <= distance(centre, radius, n, rear)) return emit(centre, weight, n, out);
     }
     // Split at the median of the widest spread: of the normals while they disagree, else of the positions.
     const std::vector<Vec3d>& key = coherent ? fine_.positions : fine_.normals;

@@ -35,8 +35,9 @@ inline float powerHeuristic(float a, float b) {
   return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
-/// A shadow ray from the hit towards a light @p distance away in direction @p wi. The far end
-/// stops short of the light, which may be emitter geometry itself.
+/// A shadow ray from the hit towards a light @p distance (m) away in direction @p wi: from the hit's
+/// offset origin straight at that point (not parallel to @p wi), stopping eps + 1e-4·distance short
+/// of it, since the light may be emitter geometry itself.
 Ray shadowRay(const Hit& hit, const Vec3& wi, float distance);
 
 /// What one vertex takes by next-event estimation, and how it weights it.
