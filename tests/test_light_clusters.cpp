@@ -9,8 +9,8 @@
 #include "common/analytic.h"
 #include "common/sampling.h"
 #include "preprocess/light_samples.h"
-#include "render/direct_light.h"
-#include "render/render_scene.h"
+#include "render/lights/next_event.h"
+#include "render/scene/render_scene.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 

@@ -44,8 +44,8 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   Hit hit;
   hit.p = sensor.p;
   hit.ng = sensor.n;
-  // Off a surface the sensor may lie on, as the Embree scene offsets its hits. Not more: spawnOrigin moves along n,
-  // which brings a shadow ray eps/cos θ nearer a light's plane, and shadowRay() stops only eps + 1e-4·d short of it.
+  // Off a surface the sensor may lie on, as the Embree scene offsets its hits. Not more: shadowRay() aims from the
+  // origin spawnOrigin moved along n at the light point and stops only eps + 1e-4·d short of it.
   hit.eps = 1e-5f * std::max({1.0f, std::abs(sensor.p.x), std::abs(sensor.p.y), std::abs(sensor.p.z)});
   const Frame frame(sensor.n);
   const Vec3 woLocal(0.0f, 0.0f, 1.0f);           // the receiving side is the normal's
