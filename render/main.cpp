@@ -82,9 +82,9 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "worker threads (default: one per core); the image does not depend on it")
         ->check(CLI::Range(0, 4096));
     app.add_option("--seed", seed, "random seed (default: the scene's settings.seed)");
-    app.add_option("--sampler", samplerName, "camera samples' numbers: independent (a hash per pixel, sample and "
-                                             "dimension) or sobol (per pixel Owen-scrambled Sobol' pairs, stratified "
-                                             "over the samples; common/rng.h)")
+    app.add_option("--sampler", samplerName, "samples' numbers (every integrator, the sensors, the preview): independent "
+                                             "(a hash per pixel, sample and dimension) or sobol (per pixel Owen-scrambled "
+                                             "Sobol' pairs, stratified over the samples; common/rng.h)")
         ->check(CLI::IsMember({"independent", "sobol"}))->capture_default_str();
     app.add_option("--max-depth", maxDepth, "longest path in bounces (default: the scene's settings.max_depth)")
         ->check(CLI::Range(0, 1 << 30));
@@ -134,8 +134,6 @@ int main(int argc, char** argv) {
           throw fs::InputError("", option, fmt::format("not available in an MPI run of {} ranks (run it with one)", comm.size()));
     quiet = quiet || !comm.root();  // rank 0 shows progress and prints the results
     if (preview && app.count("--time")) throw fs::InputError("", "--time", "not available with --preview (use --spp)");
-    if (preview && samplerName != "independent")
-      throw fs::InputError("", "--sampler", "--sampler sobol is not available with --preview yet");
     for (const std::string* png : {&screenshot, &windowGrab}) {
       if (png->empty()) continue;
       const std::string ext = std::filesystem::path(*png).extension().string();
@@ -167,6 +165,8 @@ int main(int argc, char** argv) {
                         "lower --light-paths");
     io.comm = &comm;
     auto integrator = fs::makeIntegrator(integratorName, io);
+    const fs::SamplerMode samplerMode = samplerName == "sobol" ? fs::SamplerMode::Sobol : fs::SamplerMode::Independent;
+    irradianceCache.settings.sampler = samplerMode;  // the two-pass fill traces the render's camera samples
     irradianceCache.configure(*integrator, app.count("--seed") ? seed : scene.settings.seed, threads);
     bundle.configure(*integrator, spp, app);
     checkpoint.configure(app, outputs, *integrator);
@@ -192,6 +192,7 @@ int main(int argc, char** argv) {
       so.threads = threads;
       so.quiet = quiet;
       so.lightSampler = io.lightSampler;
+      so.sampler = samplerMode;
       so.comm = &comm;
       if (photometric.active())
         sensors.onResults = [&](const auto& sets, const auto& lux) { photometric.writeGrid(sets, lux); };
@@ -204,6 +205,7 @@ int main(int argc, char** argv) {
       po.integrator = integratorName;
       po.integratorOptions = io;
       po.seed = app.count("--seed") ? seed : scene.settings.seed;
+      po.sampler = samplerMode;
       // Keys 1..n switch integrators: each is configured like the offline render's.
       po.factory = [io, ic = irradianceCache, bs = bundle.settings, seed = po.seed, threads](const std::string& name) mutable {
         auto made = fs::makeIntegrator(name, io);
@@ -224,7 +226,7 @@ int main(int argc, char** argv) {
     ro.spp = spp > 0 ? spp : scene.settings.spp;
     ro.timeLimit = timeLimit;
     ro.seed = app.count("--seed") ? seed : scene.settings.seed;
-    ro.sampler = samplerName == "sobol" ? fs::SamplerMode::Sobol : fs::SamplerMode::Independent;
+    ro.sampler = samplerMode;
     ro.threads = threads;
     ro.quiet = quiet;
     ro.comm = &comm;
