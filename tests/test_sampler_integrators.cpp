@@ -111,6 +111,26 @@ TEST(SobolIntegrators, ImagesAgreeWithIndependent) {
   }
 }
 
+TEST(SobolIntegrators, GlossyScenesAgreeWithIndependent) {
+  // Glossy lobes (the lobe choice is a stratified 1D in Sobol' mode) and many small lights (the
+  // light tree's choice): the path tracer and BDPT at 32×24.
+  FIRSTSHOT_STATISTICS_ONLY("SobolIntegrators.SplattingImagesIndependentOfThreadsAndPasses");
+  for (const char* name : {"sierpinski-glossy", "many-lights"}) {
+    SceneDesc d = loadScene(test::source(std::string("scenes/") + name + ".json"));
+    d.camera.width = 32, d.camera.height = 24;
+    const RenderScene scene(d, d.settings.patchSize);
+    IntegratorOptions io;
+    io.maxDepth = d.settings.maxDepth;
+    for (const char* integrator : {"path", "bdpt"}) {
+      auto it = makeIntegrator(integrator, io);
+      it->preprocess(scene);
+      test::expectRepetitionsAgree(fmt::format("{} on {}", integrator, name),
+                                   test::blockRepetitions(*it, scene, SamplerMode::Independent, 16, 4),
+                                   test::blockRepetitions(*it, scene, SamplerMode::Sobol, 16, 4), 8);
+    }
+  }
+}
+
 TEST(SobolIntegrators, SensorsAgreeWithIndependent) {
   FIRSTSHOT_STATISTICS_ONLY("SobolIntegrators.SplattingImagesIndependentOfThreadsAndPasses");
   const SceneDesc d = loadScene(test::source("scenes/cornell.json"));
