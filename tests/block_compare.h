@@ -1,7 +1,8 @@
 #pragma once
 /// @file block_compare.h
 /// Image comparison of two integrators per 8×8-pixel block (the light-tracing and BDPT tests):
-/// per-pass block means, σ from the passes, and the mirror-and-glass scene of those tests.
+/// per-pass block means, σ from the passes, and the mirror-and-glass scene of those tests; and of
+/// one integrator's two samplers (the sampler tests), σ from repetitions with different seeds.
 #include <gtest/gtest.h>
 
 #include <fmt/core.h>
@@ -47,6 +48,54 @@ inline std::vector<Moments> blockMeans(const Integrator& integrator, const Rende
     for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
   }
   return blocks;
+}
+
+/// Per 8×8 block gray means of @p reps renders of @p spp each with seeds 1000 + r: one value per
+/// repetition and block, so σ comes from independent repetitions (the Sobol' samples of one pixel
+/// are not independent of each other; different seeds are).
+inline std::vector<Moments> blockRepetitions(const Integrator& integrator, const RenderScene& scene, SamplerMode mode,
+                                            int reps, int spp) {
+  const Camera camera(scene.desc().camera);
+  const int w = camera.width(), h = camera.height(), B = kBlock, bw = (w + B - 1) / B, bh = (h + B - 1) / B;
+  std::vector<Moments> blocks(size_t(bw) * bh);
+  for (int r = 0; r < reps; ++r) {
+    Film film(w, h);
+    RenderOptions ro;
+    ro.spp = spp;
+    ro.seed = 1000 + uint64_t(r);
+    ro.sampler = mode;
+    render(integrator, camera, film, ro);
+    std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t b = size_t(y / B) * bw + size_t(x / B);
+        const Vec3d m = film.mean(x, y);
+        sum[b] += (m.x + m.y + m.z) / 3.0, count[b] += 1;
+      }
+    for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
+  }
+  return blocks;
+}
+
+/// Per-block repetitions (blockRepetitions) of the independent sampler @p ind and the Sobol' one
+/// @p sob: every block with light within 3σ of the difference, σ of each mean from its
+/// repetitions; blocks black in both (the margins beside a box) are skipped, at least @p minLit
+/// must be lit, and each must be known to @p maxRelSe (relative σ; else the test would be too weak).
+inline void expectRepetitionsAgree(const std::string& name, const std::vector<Moments>& ind,
+                                   const std::vector<Moments>& sob, int minLit, double maxRelSe = 0.05) {
+  double worst = 0, rInd = 0, rSob = 0;
+  int lit = 0;
+  for (size_t b = 0; b < ind.size(); ++b) {
+    if (ind[b].mean() == 0 && sob[b].mean() == 0) continue;
+    const double se = std::hypot(ind[b].se(), sob[b].se()), z = std::abs(sob[b].mean() - ind[b].mean()) / se;
+    EXPECT_LT(z, 3.0) << name << " block " << b << ": sobol " << sob[b].mean() << " ± " << sob[b].se()
+                      << ", independent " << ind[b].mean() << " ± " << ind[b].se();
+    EXPECT_LT(ind[b].se() / ind[b].mean(), maxRelSe) << name << " block " << b << ": too noisy to test";
+    worst = std::max(worst, z), rInd += ind[b].se() / ind[b].mean(), rSob += sob[b].se() / sob[b].mean(), ++lit;
+  }
+  EXPECT_GE(lit, minLit) << name;
+  fmt::print("{}: {} lit blocks, worst {:.2f}σ; mean relative σ of a block's repetition: independent {:.3f}%, "
+             "sobol {:.3f}%\n", name, lit, worst, 100 * rInd / std::max(lit, 1), 100 * rSob / std::max(lit, 1));
 }
 
 /// Two integrators' per-pass block means: every block within 3σ of the difference.

@@ -245,6 +245,13 @@ TEST(PreviewCli, BdptScriptedRunEqualsTheOfflineRender) {
   expectScriptedRunEqualsOffline(cornell() + " --integrator bdpt --width 32 --height 24", 3);
 }
 
+/// --sampler sobol in the preview (issue 37): pass k is sample k of every pixel's sequence, so N
+/// frames equal the offline render, bit for bit (the path tracer and a splatting integrator).
+TEST(PreviewCli, SobolScriptedRunEqualsTheOfflineRender) {
+  expectScriptedRunEqualsOffline(cornell() + " --sampler sobol --width 32 --height 24", 4);
+  expectScriptedRunEqualsOffline(cornell() + " --sampler sobol --integrator light --width 32 --height 24", 3);
+}
+
 TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
   const std::string dir = test::tempDir();

@@ -204,33 +204,6 @@ SceneDesc cornell(int w, int h, int maxDepth) {
   return d;
 }
 
-/// Per 8×8 block gray means of @p reps renders of @p spp each with seeds 1000 + r: one value per
-/// repetition and block, so σ comes from independent repetitions (the Sobol' samples of one pixel
-/// are not independent of each other; different seeds are).
-std::vector<test::Moments> blockRepetitions(const Integrator& integrator, const RenderScene& scene, SamplerMode mode,
-                                            int reps, int spp) {
-  const Camera camera(scene.desc().camera);
-  const int w = camera.width(), h = camera.height(), B = test::kBlock, bw = (w + B - 1) / B, bh = (h + B - 1) / B;
-  std::vector<test::Moments> blocks(size_t(bw) * bh);
-  for (int r = 0; r < reps; ++r) {
-    Film film(w, h);
-    RenderOptions ro;
-    ro.spp = spp;
-    ro.seed = 1000 + uint64_t(r);
-    ro.sampler = mode;
-    render(integrator, camera, film, ro);
-    std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t b = size_t(y / B) * bw + size_t(x / B);
-        const Vec3d m = film.mean(x, y);
-        sum[b] += (m.x + m.y + m.z) / 3.0, count[b] += 1;
-      }
-    for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
-  }
-  return blocks;
-}
-
 Film renderCornell(const Integrator& integrator, const RenderScene& scene, SamplerMode mode, int spp, uint64_t seed) {
   const Camera camera(scene.desc().camera);
   Film film(camera.width(), camera.height());
@@ -298,21 +271,8 @@ TEST(SobolSampler, PathTracedCornellAgreesWithIndependent) {
   auto pt = makeIntegrator("path", IntegratorOptions{});
   pt->preprocess(scene);
   // 12 repetitions of 16 spp each: per block, σ of the mean from the 12 independent values.
-  const auto ind = blockRepetitions(*pt, scene, SamplerMode::Independent, 12, 16);
-  const auto sob = blockRepetitions(*pt, scene, SamplerMode::Sobol, 12, 16);
-  double worst = 0, rInd = 0, rSob = 0;
-  int lit = 0;
-  for (size_t b = 0; b < ind.size(); ++b) {
-    if (ind[b].mean() == 0 && sob[b].mean() == 0) continue;  // the black margins beside the box
-    const double se = std::hypot(ind[b].se(), sob[b].se()), z = std::abs(sob[b].mean() - ind[b].mean()) / se;
-    EXPECT_LT(z, 3.0) << "block " << b << ": sobol " << sob[b].mean() << " ± " << sob[b].se() << ", independent "
-                      << ind[b].mean() << " ± " << ind[b].se();
-    EXPECT_LT(ind[b].se() / ind[b].mean(), 0.05) << "block " << b << ": too noisy to test";
-    worst = std::max(worst, z), rInd += ind[b].se() / ind[b].mean(), rSob += sob[b].se() / sob[b].mean(), ++lit;
-  }
-  EXPECT_GE(lit, 30);
-  fmt::print("{} lit blocks, worst {:.2f}σ; mean relative σ of a block over 16 spp: independent {:.3f}%, sobol {:.3f}%\n",
-             lit, worst, 100 * rInd / lit, 100 * rSob / lit);
+  test::expectRepetitionsAgree("path tracer", test::blockRepetitions(*pt, scene, SamplerMode::Independent, 12, 16),
+                               test::blockRepetitions(*pt, scene, SamplerMode::Sobol, 12, 16), 30);
 }
 
 TEST(SobolSampler, DirectLightErrorBelowIndependent) {

@@ -54,9 +54,9 @@ void RenderCommand::declareOptions() {
   app.add_option("--threads", threads_, "worker threads (default: one per core); the image does not depend on it")
       ->check(CLI::Range(0, 4096));
   app.add_option("--seed", seed_, "random seed (default: the scene's settings.seed)");
-  app.add_option("--sampler", samplerName_, "camera samples' numbers: independent (a hash per pixel, sample and "
-                                            "dimension) or sobol (per pixel Owen-scrambled Sobol' pairs, stratified "
-                                            "over the samples; common/rng.h)")
+  app.add_option("--sampler", samplerName_, "samples' numbers (every integrator, the sensors, the preview): "
+                                            "independent (a hash per pixel, sample and dimension) or sobol (per pixel "
+                                            "Owen-scrambled Sobol' pairs, stratified over the samples; common/rng.h)")
       ->check(CLI::IsMember({"independent", "sobol"}))->capture_default_str();
   app.add_option("--max-depth", maxDepth_, "longest path in bounces (default: the scene's settings.max_depth)")
       ->check(CLI::Range(0, 1 << 30));
@@ -96,8 +96,6 @@ void RenderCommand::checkOptions() {
         throw InputError("", option, fmt::format("not available in an MPI run of {} ranks (run it with one)", comm_.size()));
   quiet_ = quiet_ || !comm_.root();  // rank 0 shows progress and prints the results
   if (preview_ && app_.count("--time")) throw InputError("", "--time", "not available with --preview (use --spp)");
-  if (preview_ && samplerName_ != "independent")
-    throw InputError("", "--sampler", "--sampler sobol is not available with --preview yet");
   for (const std::string* png : {&screenshot_, &windowGrab_}) {
     if (png->empty()) continue;
     const std::string ext = std::filesystem::path(*png).extension().string();
@@ -117,13 +115,17 @@ void RenderCommand::loadScene() {
 
 uint64_t RenderCommand::seed() const { return app_.count("--seed") ? seed_ : scene_.settings.seed; }
 
+SamplerMode RenderCommand::samplerMode() const {
+  return samplerName_ == "sobol" ? SamplerMode::Sobol : SamplerMode::Independent;
+}
+
 void RenderCommand::makeIntegrator() {
   int maxDepth = maxDepth_ >= 0 ? maxDepth_ : scene_.settings.maxDepth;
   // A sensor is a camera-visible point (vertex 0): its cosine rays' first hits are bounce 1.
   if (sensors_.active()) maxDepth = std::max(0, maxDepth - 1);
   integratorOptions_ = integrators_.options(maxDepth);
   integratorOptions_.comm = &comm_;
-  IntegratorSetup setup{&app_, &scene_, seed(), threads_, spp_};
+  IntegratorSetup setup{&app_, &scene_, seed(), threads_, spp_, samplerMode()};
   IntegratorCli& cli = integrators_.chosen();
   cli.configure(setup);
   spp_ = setup.spp;
@@ -159,6 +161,7 @@ int RenderCommand::renderSensors() {  // sensors_.run preprocesses the integrato
   so.threads = threads_;
   so.quiet = quiet_;
   so.lightSampler = integratorOptions_.lightSampler;
+  so.sampler = samplerMode();
   so.comm = &comm_;
   if (photometric_.active())
     sensors_.onResults = [&](const auto& sets, const auto& lux) { photometric_.writeGrid(sets, lux); };
@@ -172,11 +175,12 @@ int RenderCommand::runPreview() {
   po.integrator = integrators_.name;
   po.integratorOptions = integratorOptions_;
   po.seed = seed();
+  po.sampler = samplerMode();
   // Keys 1..n switch integrators: each is configured like the offline render's (the others' own
   // options are not given: their defaults).
   for (const auto& cli : integrators_.clis)
     if (cli.get() != &integrators_.chosen()) {
-      IntegratorSetup setup{&app_, &scene_, po.seed, threads_, spp_};
+      IntegratorSetup setup{&app_, &scene_, po.seed, threads_, spp_, samplerMode()};
       cli->configure(setup);
     }
   po.factory = [this](const std::string& name) { return integrators_.cli(name).make(integratorOptions_); };
@@ -195,7 +199,7 @@ int RenderCommand::renderImage() {
   ro.spp = spp_ > 0 ? spp_ : scene_.settings.spp;
   ro.timeLimit = timeLimit_;
   ro.seed = seed();
-  ro.sampler = samplerName_ == "sobol" ? SamplerMode::Sobol : SamplerMode::Independent;
+  ro.sampler = samplerMode();
   ro.threads = threads_;
   ro.quiet = quiet_;
   ro.comm = &comm_;

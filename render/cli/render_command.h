@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/comm.h"
+#include "common/rng.h"
 #include "common/scene_desc.h"
 #include "render/cli/checkpoint_cli.h"
 #include "render/cli/falsecolor_cli.h"
@@ -48,6 +49,8 @@ class RenderCommand {
   int renderImage();
   /// --seed, or the scene's.
   uint64_t seed() const;
+  /// --sampler: how every integrator, the sensors and the preview draw their numbers.
+  SamplerMode samplerMode() const;
 
   Comm& comm_;
   CLI::App app_;

@@ -150,10 +150,12 @@ class SplattingIntegrator : public Integrator {
   /// Particles per pass for @p camera.
   virtual uint64_t particlesPerPass(const Camera& camera) const = 0;
   /// Traces particles [begin, end) of pass @p pass, each keyed by (seed, particle, pass), appending
-  /// their splats to @p out in particle order. Thread-safe. @p rays counts the rays traced. The
-  /// renderer drops (and counts in RenderStats::nonFinite) splats that are NaN or Inf.
-  virtual void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
-                              std::vector<Splat>& out, uint64_t& rays) const = 0;
+  /// their splats to @p out in particle order. Thread-safe. @p mode: how the particles' samplers
+  /// draw (RenderOptions::sampler); a particle's numbers stay a function of (seed, particle, pass).
+  /// @p rays counts the rays traced. The renderer drops (and counts in RenderStats::nonFinite)
+  /// splats that are NaN or Inf.
+  virtual void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
+                              uint64_t end, std::vector<Splat>& out, uint64_t& rays) const = 0;
 };
 
 /// Integrators with a global state per sample index (ray-bundle stochastic iteration): render()

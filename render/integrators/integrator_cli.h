@@ -41,6 +41,7 @@ struct IntegratorSetup {
   uint64_t seed = 0;                 ///< --seed, or the scene's settings.seed
   int threads = 0;                   ///< --threads (0: one per core)
   int spp = 0;                       ///< --spp (0: the scene's); an integrator may set it (--iterations)
+  SamplerMode sampler = SamplerMode::Independent;  ///< --sampler (common/rng.h)
 };
 
 /// One integrator's command line. Before configure() (and without a command line: makeIntegrator)

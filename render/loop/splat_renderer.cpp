@@ -57,7 +57,7 @@ bool splatPass(const SplattingIntegrator& integrator, const Camera& camera, Film
           continue;
         }
         uint64_t chunkRays = 0;
-        integrator.splatParticles(camera, options.seed, pass, c * kSplatChunk, std::min(n, (c + 1) * kSplatChunk),
+        integrator.splatParticles(camera, options.seed, options.sampler, pass, c * kSplatChunk, std::min(n, (c + 1) * kSplatChunk),
                                   splats[c], chunkRays);
         rays += chunkRays;
       }

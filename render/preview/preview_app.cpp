@@ -60,7 +60,7 @@ class PreviewApp {
         window_(openWindow(scene.desc().camera)),
         raster_(),
         progressive_(factory(options), options.seed, options.threads,
-                     options.frames >= 0 ? options.frames : std::max(1, options.spp)) {
+                     options.frames >= 0 ? options.frames : std::max(1, options.spp), options.sampler) {
     Vec3d lo, hi;
     scene.desc().bounds(lo, hi);
     diagonal_ = std::max(1e-3, glm::length(hi - lo));

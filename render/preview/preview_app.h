@@ -22,6 +22,7 @@ struct PreviewOptions {
   /// integratorNames()); empty: makeIntegrator(name, integratorOptions).
   std::function<std::unique_ptr<Integrator>(const std::string& name)> factory;
   uint64_t seed = 1;
+  SamplerMode sampler = SamplerMode::Independent;  ///< the passes' samplers (RenderOptions::sampler, --sampler)
   int threads = 0;         ///< render threads; 0 = one per core
   int spp = 64;            ///< refinement stops at this many samples per pixel
   /// >= 0: scripted run: the instant picture, then this many refinement frames (one pass of

@@ -8,8 +8,9 @@
 
 namespace fs {
 
-ProgressiveRenderer::ProgressiveRenderer(IntegratorFactory factory, uint64_t seed, int threads, int maxSpp)
-    : factory_(std::move(factory)), seed_(seed), threads_(threads), maxSpp_(maxSpp) {
+ProgressiveRenderer::ProgressiveRenderer(IntegratorFactory factory, uint64_t seed, int threads, int maxSpp,
+                                         SamplerMode sampler)
+    : factory_(std::move(factory)), seed_(seed), threads_(threads), maxSpp_(maxSpp), sampler_(sampler) {
   worker_ = std::thread([this] { run(); });
 }
 
@@ -120,6 +121,7 @@ void ProgressiveRenderer::run() {
     ro.spp = 1;
     ro.firstSample = spp;
     ro.seed = seed_;
+    ro.sampler = sampler_;
     ro.threads = threads_;
     ro.quiet = true;
     ro.tileSize = 8;  // cancellation is checked per tile: small tiles follow the camera sooner (same image)

@@ -50,7 +50,9 @@ class ProgressiveRenderer {
   /// @param factory makes the job's integrator; called on the worker thread when the job's
   ///        integrator name or scene changes (the integrator is kept across camera changes)
   /// @param maxSpp passes per job, after which the worker waits for a new job
-  ProgressiveRenderer(IntegratorFactory factory, uint64_t seed, int threads, int maxSpp);
+  /// @param sampler how the passes' samplers draw (RenderOptions::sampler)
+  ProgressiveRenderer(IntegratorFactory factory, uint64_t seed, int threads, int maxSpp,
+                      SamplerMode sampler = SamplerMode::Independent);
   ~ProgressiveRenderer();
   ProgressiveRenderer(const ProgressiveRenderer&) = delete;
   ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
@@ -72,6 +74,7 @@ class ProgressiveRenderer {
   IntegratorFactory factory_;
   uint64_t seed_;
   int threads_, maxSpp_;
+  SamplerMode sampler_;
 
   mutable std::mutex mutex_;
   mutable std::condition_variable wake_;  ///< worker: a new job or stop; waiters: a pass finished

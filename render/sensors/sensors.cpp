@@ -91,7 +91,7 @@ void preprocessSensors(Integrator& integrator, const RenderScene& scene, const s
     uint64_t rays = 0;
     auto trace = [&](const Ray& ray, Sampler& sampler, SampleInfo*) { return li(ray, sampler); };
     for (uint64_t s = 0; s < fill; ++s) {
-      Sampler sampler(options.seed, i, s, kSensorStream);
+      Sampler sampler = Sampler::make(options.sampler, options.seed, i, s, kSensorStream);
       sampleIrradiance(trace, scene, lights, sensors[i], sampler, rays);
     }
   };
@@ -142,7 +142,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
           if (!comm.mine(i)) continue;
           Sums& acc = sums[i];
           for (uint64_t s = s0; s < s1; ++s) {
-            Sampler sampler(options.seed, i, s, kSensorStream);
+            Sampler sampler = Sampler::make(options.sampler, options.seed, i, s, kSensorStream);
             Color E = sampleIrradiance(li, scene, lights, sensors[i], sampler, localRays);
             if (!isFinite(E)) {
               ++bad;

@@ -87,6 +87,9 @@ struct SensorOptions {
   double timeLimit = 0;     ///< seconds; > 0: passes of `batch` samples per sensor until the time is up
   int batch = 16;           ///< samples per sensor per pass with timeLimit
   uint64_t seed = 1;
+  /// How the samples' numbers are drawn (common/rng.h; --sampler): in Sobol' mode the samples
+  /// s = 0, 1, ... of one sensor are the indices of its own stratified sequence.
+  SamplerMode sampler = SamplerMode::Independent;
   int threads = 0;          ///< 0 = one per core; results do not depend on it
   bool quiet = true;        ///< no progress bar
   double efficacy = 179.0;  ///< lm/W (common/photometry.h)

@@ -27,12 +27,12 @@ Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
   return Color(0.0f);
 }
 
-void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
-                                    std::vector<Splat>& out, uint64_t& rays) const {
+void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass,
+                                    uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const {
   const BdptDensities densities(*scene_, emission(), camera);
   Workspace ws;
   for (uint64_t i = begin; i < end; ++i) {
-    Sampler sampler(seed, i, pass, kStream);
+    Sampler sampler = Sampler::make(mode, seed, i, pass, kStream);
     sample(densities, uint32_t(i), sampler, ws, out, rays);
   }
 }

@@ -4,7 +4,7 @@
 ///
 /// A sample of pixel j in pass k is a camera subpath through pixel j and a light subpath (the
 /// shared traceLightPath, render/integrators/common/light_path.h), both keyed by
-/// Sampler(seed, j, k, kStream). Every strategy (s, t) of s light and t camera vertices is evaluated — s = 0 (the
+/// Sampler::make(mode, seed, j, k, kStream). Every strategy (s, t) of s light and t camera vertices is evaluated — s = 0 (the
 /// camera path meets an area light), s = 1 (a new light sample), s ≥ 2 with t ≥ 2 (a shadow ray
 /// between the subpaths), and t = 1 (a light vertex joined to the pinhole, splatted where it
 /// projects as light tracing does: connectToCamera, common/camera_splat.h) — and weighted by the
@@ -47,10 +47,11 @@ class BdptIntegrator : public SplattingIntegrator {
     return uint64_t(camera.width()) * uint64_t(camera.height());
   }
   /// Particle i is the sample of pixel i (row-major).
-  void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
-                      std::vector<Splat>& out, uint64_t& rays) const override;
+  void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
+                      uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
 
-  /// The stream index of the samples' samplers: Sampler(seed, pixel, pass, kStream).
+  /// The stream index of the samples' samplers: Sampler::make(mode, seed, pixel, pass, kStream) (in
+  /// Sobol' mode a pixel's passes are its sequence's indices, as the tile renderer's samples).
   static constexpr uint64_t kStream = 0x4250;  // "BP"
 
  private:

@@ -77,6 +77,7 @@ struct IrradianceCacheSettings {
   int fillSamples = 1;          ///< two-pass: camera samples per pixel of the fill (the render's first ones)
   std::string cacheFile;        ///< records read in preprocess() if the file exists [--cache-file]
   uint64_t seed = 1;            ///< the render's seed (the fill traces the render's own camera samples)
+  SamplerMode sampler = SamplerMode::Independent;  ///< the render's sampler (RenderOptions::sampler), for the same reason
   int threads = 0;              ///< workers of the fill pass (0 = one per core)
   bool quiet = true;            ///< no progress of the fill on stderr (the tool's --quiet; rank 0 alone shows it)
   /// With a first-shot table: patch NEE samples per hemisphere ray of a record (rounded, at least

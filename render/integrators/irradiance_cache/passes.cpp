@@ -55,7 +55,7 @@ void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
   fill(order.size(), [&](size_t i, const std::function<Color(const Ray&, Sampler&)>& li) {
     const uint32_t pixel = order[i];
     for (int k = 0; k < std::max(1, settings_.fillSamples); ++k) {
-      Sampler sampler(settings_.seed, pixel, uint64_t(k));
+      Sampler sampler = Sampler::make(settings_.sampler, settings_.seed, pixel, uint64_t(k));
       const Vec2 jitter = sampler.next2D();
       li(camera.generateRay(float(pixel % width) + jitter.x, float(pixel / width) + jitter.y), sampler);
     }

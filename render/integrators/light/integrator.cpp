@@ -100,8 +100,16 @@ void LightTracingIntegrator::splatPath(const std::vector<LightVertex>& path, siz
   }
 }
 
-void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin,
-                                            uint64_t end, std::vector<Splat>& out, uint64_t& rays) const {
+Sampler LightTracingIntegrator::particleSampler(SamplerMode mode, uint64_t seed, uint64_t particle, uint64_t pass,
+                                                uint64_t n, uint64_t stream) {
+  if (mode != SamplerMode::Sobol) return Sampler(seed, particle, pass, stream);
+  const uint64_t g = pass * n + particle;  // the particle's place in the run's one sequence
+  return Sampler::sobol(seed, g >> 32, g, stream);
+}
+
+void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass,
+                                            uint64_t begin, uint64_t end, std::vector<Splat>& out,
+                                            uint64_t& rays) const {
   // Particle i of the pass chooses its emitter in stratum i of n (EmissionSampler::sample).
   const uint64_t n = particlesPerPass(camera);
   const float invN = 1.0f / float(n);
@@ -110,7 +118,7 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
   LightPathOptions deltaFirst = po;
   deltaFirst.deltaFirstHitOnly = true;
   for (uint64_t i = begin; i < end; ++i) {
-    Sampler sampler(seed, i, pass, kParticleStream);
+    Sampler sampler = particleSampler(mode, seed, i, pass, n, kParticleStream);
     if (traceLightPath(*scene_, shooting_.emission(), po, sampler, path, rays, i, n)) {
       // A patch particle (table mode) starts one bounce in (traceLightPath stops it a hit earlier):
       // its vertex 0, the first-shot radiance at the camera's first hit, is the small lights'
@@ -120,7 +128,7 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
     // Table mode with mirrors or glass: a small area light's particle whose first hit is a delta
     // surface (no table holds that bounce). Its vertex 0 seen by the camera comes from Li().
     if (!deltaParticles_) continue;
-    Sampler second(seed, i, pass, kDeltaFirstStream);
+    Sampler second = particleSampler(mode, seed, i, pass, n, kDeltaFirstStream);
     if (traceLightPath(*scene_, deltaFirst_, deltaFirst, second, path, rays, i, n) && path.size() > 2)
       splatPath(path, 2, camera, invN, out, rays);
   }

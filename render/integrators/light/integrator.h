@@ -63,8 +63,8 @@ class LightTracingIntegrator : public SplattingIntegrator {
   /// mode, only the small lights' direct light), so more light paths per pass buy the same error
   /// sooner (docs/light-tracing.md, "Light paths per pass").
   int pathsPerPixel(const Camera& camera) const;
-  void splatParticles(const Camera& camera, uint64_t seed, uint64_t pass, uint64_t begin, uint64_t end,
-                      std::vector<Splat>& out, uint64_t& rays) const override;
+  void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
+                      uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
 
   /// The emitters particles leave: every light, or in table mode the kept lights and lit patch sides.
   const EmissionSampler& emission() const { return shooting_.emission(); }
@@ -81,7 +81,14 @@ class LightTracingIntegrator : public SplattingIntegrator {
   /// Memory a pass holds per light path until it sums the splats, bytes: about 4 vertices of a path
   /// reach the camera (the check of an explicit --light-paths against the machine's memory).
   static constexpr double kSplatBytesPerPath = 4.0 * sizeof(Splat);
-  /// The stream index of the particles' samplers: Sampler(seed, particle, pass, kParticleStream).
+  /// The sampler of particle @p particle of pass @p pass (of @p n per pass) in stream @p stream:
+  /// independent mode Sampler(seed, particle, pass, stream); Sobol' mode one sequence over the whole
+  /// run, index g = pass·n + particle (its low 32 bits; the bits above key the scramble), so that a
+  /// pass's n particles are consecutive points of the sequence — stratified against each other in
+  /// every pair of dimensions, and still a function of (seed, particle, pass) only (any split).
+  static Sampler particleSampler(SamplerMode mode, uint64_t seed, uint64_t particle, uint64_t pass, uint64_t n,
+                                 uint64_t stream);
+  /// The stream index of the particles' samplers (particleSampler).
   static constexpr uint64_t kParticleStream = 0x4c54;  // "LT"
   /// The stream of table mode's delta-first particles of the small area lights.
   static constexpr uint64_t kDeltaFirstStream = 0x4c44;  // "LD"
