@@ -25,6 +25,17 @@ namespace fs::test {
 
 inline constexpr int kBlock = 8;
 
+/// The film's means and variances, pixel by pixel, for bit-for-bit comparisons.
+inline std::vector<double> filmValues(const Film& film) {
+  std::vector<double> v;
+  for (int y = 0; y < film.height(); ++y)
+    for (int x = 0; x < film.width(); ++x) {
+      const Vec3d m = film.mean(x, y), q = film.variance(x, y);
+      v.insert(v.end(), {m.x, m.y, m.z, q.x, q.y, q.z});
+    }
+  return v;
+}
+
 /// Per-pass gray means of every kBlock × kBlock block of @p scene rendered by @p integrator:
 /// pass k is render() with firstSample = k and one sample, so the passes are independent samples.
 inline std::vector<Moments> blockMeans(const Integrator& integrator, const RenderScene& scene, int passes, uint64_t seed = 1) {

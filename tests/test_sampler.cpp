@@ -250,13 +250,7 @@ TEST(SobolSampler, ImageIndependentOfThreadsTilesAndPasses) {
       ro.sampler = SamplerMode::Sobol;
       render(*pt, camera, film, ro);
     }
-    std::vector<double> v;
-    for (int y = 0; y < film.height(); ++y)
-      for (int x = 0; x < film.width(); ++x) {
-        const Vec3d m = film.mean(x, y), q = film.variance(x, y);
-        v.insert(v.end(), {m.x, m.y, m.z, q.x, q.y, q.z});
-      }
-    return v;
+    return test::filmValues(film);
   };
   const auto one = run(1, 16, 1);
   EXPECT_EQ(run(2, 4, 1), one);

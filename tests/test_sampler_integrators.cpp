@@ -29,17 +29,6 @@ SceneDesc smallCornell() {
   return d;
 }
 
-/// The film's means and variances, pixel by pixel, for bit-for-bit comparisons.
-std::vector<double> filmValues(const Film& film) {
-  std::vector<double> v;
-  for (int y = 0; y < film.height(); ++y)
-    for (int x = 0; x < film.width(); ++x) {
-      const Vec3d m = film.mean(x, y), q = film.variance(x, y);
-      v.insert(v.end(), {m.x, m.y, m.z, q.x, q.y, q.z});
-    }
-  return v;
-}
-
 /// 4 spp of @p integrator in Sobol' mode with @p threads, as @p passes passes.
 std::vector<double> sobolFilm(const Integrator& integrator, const Camera& camera, int threads, int passes) {
   Film film(camera.width(), camera.height());
@@ -48,7 +37,7 @@ std::vector<double> sobolFilm(const Integrator& integrator, const Camera& camera
     ro.spp = 4 / passes, ro.firstSample = k, ro.threads = threads, ro.seed = 5, ro.sampler = SamplerMode::Sobol;
     render(integrator, camera, film, ro);
   }
-  return filmValues(film);
+  return test::filmValues(film);
 }
 
 }  // namespace
@@ -69,7 +58,7 @@ TEST(SobolIntegrators, SplattingImagesIndependentOfThreadsAndPasses) {
     ro.spp = 4, ro.seed = 5;
     Film independent(camera.width(), camera.height());
     render(*integrator, camera, independent, ro);
-    EXPECT_NE(filmValues(independent), one) << name << ": the particles ignore the sampler";
+    EXPECT_NE(test::filmValues(independent), one) << name << ": the particles ignore the sampler";
   }
 }
 
