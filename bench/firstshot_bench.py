@@ -149,6 +149,8 @@ def main(argv=None):
                          "the cache key then names that copy")
     ap.add_argument("--ref-seed", type=int, default=1000, help="seed of the reference's first half A (then +1, +2, ...)")
     ap.add_argument("--seed", type=int, default=1, help="seed of repetition 0 (repetition k: +k)")
+    ap.add_argument("--sampler", default=None, choices=["sobol", "independent"],
+                    help="firstshot-render --sampler of the timed runs (default: the renderer's own, sobol)")
     ap.add_argument("--preprocess-args", default="", help="extra firstshot-preprocess arguments, e.g. '--resolution 128'")
     ap.add_argument("--timeout-factor", type=float, default=4.0,
                     help="a run is killed after F*budget+extra seconds (then not run again at budgets up to that one)")

@@ -2,7 +2,8 @@
 // firstshot-preprocess stop with exit code 130 / 143 and a message, and leave no output and no
 // temporary file, also when the signal comes while an output or the irradiance cache file is being
 // written; firstshot-render --checkpoint / --resume continues an interrupted render to the same
-// image, bit for bit, for every integrator, and refuses a checkpoint of another render (exit 2).
+// image, bit for bit, for every integrator (with the default sampler, sobol, whose sample index must continue
+// across the resume), and refuses a checkpoint of another render (exit 2).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

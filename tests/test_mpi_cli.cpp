@@ -54,7 +54,8 @@ TEST_F(MpiCli, PreprocessWritesTheSameFsdForOneTwoAndThreeRanks) {
   }
 }
 
-// Every integrator: the same pixels (EXR values compared exactly) for 1, 2 and 3 ranks.
+// Every integrator: the same pixels (EXR values compared exactly) for 1, 2 and 3 ranks, with the default
+// sampler (sobol: its per-pixel sequences must not depend on which rank renders a tile).
 TEST_F(MpiCli, RenderGivesTheSameImageForOneTwoAndThreeRanks) {
   const std::string& dir = *dir_;
   const std::string base = " " + test::source("scenes/cornell.json") + " --firstshot " + dir + "/serial.fsd" +

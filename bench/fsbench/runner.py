@@ -18,6 +18,8 @@ def render_cmd(tools, scene_path, spec, fsd, budget, seed, out, args):
     if fsd:
         cmd += ["--firstshot", fsd]
     cmd += spec.args
+    if getattr(args, "sampler", None):
+        cmd += ["--sampler", args.sampler]
     cmd += ["--time", f"{budget:g}", "--seed", str(seed), "--threads", str(args.threads),
             "--width", str(args.width), "--height", str(args.height), "-o", out]
     return cmd

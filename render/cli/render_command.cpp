@@ -55,8 +55,10 @@ void RenderCommand::declareOptions() {
       ->check(CLI::Range(0, 4096));
   app.add_option("--seed", seed_, "random seed (default: the scene's settings.seed)");
   app.add_option("--sampler", samplerName_, "samples' numbers (every integrator, the sensors, the preview): "
-                                            "independent (a hash per pixel, sample and dimension) or sobol (per pixel "
-                                            "Owen-scrambled Sobol' pairs, stratified over the samples; common/rng.h)")
+                                            "sobol (per pixel Owen-scrambled "
+                                            "Sobol' pairs, stratified over the samples; the lower error: "
+                                            "docs/measurements.md) or independent (a hash per pixel, sample and "
+                                            "dimension; for statistics that need independent samples)")
       ->check(CLI::IsMember({"independent", "sobol"}))->capture_default_str();
   app.add_option("--max-depth", maxDepth_, "longest path in bounces (default: the scene's settings.max_depth)")
       ->check(CLI::Range(0, 1 << 30));

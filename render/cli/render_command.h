@@ -54,7 +54,7 @@ class RenderCommand {
 
   Comm& comm_;
   CLI::App app_;
-  std::string scenePath_, fsdPath_, samplerName_ = "independent", screenshot_, windowGrab_;
+  std::string scenePath_, fsdPath_, samplerName_ = "sobol", screenshot_, windowGrab_;
   std::vector<std::string> outputs_;
   int spp_ = 0, threads_ = 0, maxDepth_ = -1, width_ = 0, height_ = 0, frames_ = -1;
   double timeLimit_ = 0, patchSize_ = 0;
