@@ -16,13 +16,20 @@ double indicatrix(double gamma) {
   return 0.91 + 10.0 * std::exp(-3.0 * gamma) + 0.45 * c * c;
 }
 
+/// Perez's lv(ζ, γ) = [1 + a exp(b / cos ζ)] · [1 + c exp(d γ) + e cos² γ] for cos ζ > 0.
+double perezRelative(const double (&p)[5], double cosZeta, double gamma) {
+  const double c = std::cos(gamma);
+  return (1.0 + p[0] * std::exp(p[1] / cosZeta)) * (1.0 + p[2] * std::exp(p[3] * gamma) + p[4] * c * c);
+}
+
 }  // namespace
 
 double SkyLuminance::relative(const Vec3d& dir) const {
   const double cosTheta = dir.y;
   if (type_ == SkyType::CieOvercast) return (1.0 + 2.0 * cosTheta) / 3.0;
   const double gamma = std::acos(std::clamp(glm::dot(dir, sun_), -1.0, 1.0));
-  return gradation(cosTheta) * indicatrix(gamma) * clearNorm_;
+  if (type_ == SkyType::CieClear) return gradation(cosTheta) * indicatrix(gamma) * clearNorm_;
+  return std::max(perezRelative(perez_, cosTheta, gamma) * clearNorm_, 0.0);
 }
 
 double SkyLuminance::luminance(const Vec3d& dir) const { return dir.y > 0.0 ? zenith_ * relative(dir) : 0.0; }
@@ -58,6 +65,18 @@ SkyLuminance SkyLuminance::clear(const Vec3d& sunDir, double horizontalLux) {
   s.sun_ = glm::normalize(sunDir);
   const double sunZenith = std::acos(std::clamp(s.sun_.y, -1.0, 1.0));
   s.clearNorm_ = 1.0 / (gradation(1.0) * indicatrix(sunZenith));
+  s.horizontal_ = horizontalLux;
+  s.zenith_ = horizontalLux / relativeHorizontalIntegral(s);
+  return s;
+}
+
+SkyLuminance SkyLuminance::perez(const Vec3d& sunDir, const double (&abcde)[5], double horizontalLux) {
+  SkyLuminance s;
+  s.type_ = SkyType::Perez;
+  s.sun_ = glm::normalize(sunDir);
+  std::copy(abcde, abcde + 5, s.perez_);
+  const double sunZenith = std::acos(std::clamp(s.sun_.y, -1.0, 1.0));
+  s.clearNorm_ = 1.0 / perezRelative(s.perez_, 1.0, sunZenith);
   s.horizontal_ = horizontalLux;
   s.zenith_ = horizontalLux / relativeHorizontalIntegral(s);
   return s;

@@ -8,6 +8,7 @@
 /// - **CIE clear sky** (CIE 1973, Kittler's formula, as Radiance's gensky): L(θ, γ) = Lz · φ(θ) f(γ) / (φ(0) f(Z)),
 ///   φ(θ) = 1 − exp(−0.32 / cos θ), f(γ) = 0.91 + 10 exp(−3γ) + 0.45 cos²γ, γ the angle to the sun, Z the sun's
 ///   zenith angle; E_h by quadrature (a 512 × 1024 midpoint rule in cos θ and azimuth, error under 10⁻⁴).
+/// - **Perez all-weather sky** (common/perez_sky.h): its relative distribution, scaled the same way.
 /// The ground below the horizon is a Lambertian plane of reflectance ρ lit by sky and sun: L_g = ρ (E_sky + E_sun)/π.
 #include <cstdint>
 
@@ -15,7 +16,7 @@
 
 namespace fs {
 
-enum class SkyType : uint8_t { CieOvercast, CieClear };
+enum class SkyType : uint8_t { CieOvercast, CieClear, Perez };
 
 /// One sky: type, sun direction and scale. A small value type; luminance() is cheap (a few exp/cos).
 class SkyLuminance {
@@ -25,6 +26,10 @@ class SkyLuminance {
   /// CIE clear sky for the sun in direction @p sunDir (unit, y up; the sun may be below the horizon only down to
   /// −0°: the model is not defined for night skies) whose dome gives @p horizontalLux (diffuse horizontal).
   static SkyLuminance clear(const Vec3d& sunDir, double horizontalLux);
+  /// Perez all-weather sky with parameters @p abcde (common/perez_sky.h makes them from irradiances) for the sun in
+  /// direction @p sunDir, whose dome gives @p horizontalLux. The relative luminance is lv(ζ, γ) / lv(0, Z), clamped
+  /// at 0 (a few parameter sets of the model dip below zero near the horizon).
+  static SkyLuminance perez(const Vec3d& sunDir, const double (&abcde)[5], double horizontalLux);
 
   SkyType type() const { return type_; }
   /// Luminance in cd/m² seen looking in direction @p dir (unit); 0 for dir.y ≤ 0 (the ground is separate).
@@ -42,7 +47,8 @@ class SkyLuminance {
   SkyType type_ = SkyType::CieOvercast;
   Vec3d sun_{0, 1, 0};
   double zenith_ = 0, horizontal_ = 0;
-  double clearNorm_ = 1;  ///< clear sky: 1 / (φ(0) f(Z))
+  double clearNorm_ = 1;  ///< clear sky: 1 / (φ(0) f(Z)); Perez: 1 / lv(0, Z)
+  double perez_[5] = {0, 0, 0, 0, 0};  ///< Perez: a, b, c, d, e
 };
 
 /// ∫ relative(ω) cos θ dω over the upper hemisphere of @p sky's relative distribution (sr), by the quadrature of the
