@@ -21,7 +21,7 @@ class BundleCli : public IntegratorCli {
   static constexpr int kMaxResolution = 16384;
   BundleSettings settings;
   int iterations = 0;
-  std::string directions = "random";
+  std::string directions;  ///< empty: halton with --sampler sobol (the default), random with --sampler independent
   CLI::Option* iterationsOption = nullptr;
   bool configured = false;  ///< configure() ran: make() hands the settings to the integrator
 
@@ -33,8 +33,8 @@ class BundleCli : public IntegratorCli {
                                                                    "iteration over the scene's bounding disk")
             ->capture_default_str(),
         app.add_option("--bundle-directions", directions, "bundle: global directions: random (uniform, independent) "
-                                                          "or halton (low-discrepancy, rotated per seed)")
-            ->capture_default_str(),
+                                                          "or halton (low-discrepancy, rotated per seed); default: "
+                                                          "halton with --sampler sobol, random with independent"),
     };
     for (const CLI::Option* o : declared) own_.push_back(o->get_name());
   }
@@ -52,6 +52,7 @@ class BundleCli : public IntegratorCli {
       throw InputError("", "--bundle-resolution",
                        fmt::format("must be between 1 and {} lines per side of the grid, got {}", kMaxResolution,
                                    settings.resolution));
+    if (directions.empty()) directions = setup.sampler == SamplerMode::Sobol ? "halton" : "random";
     if (directions == "random") {
       settings.directions = BundleDirections::Random;
     } else if (directions == "halton" || directions == "sobol") {
