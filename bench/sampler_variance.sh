@@ -1,0 +1,37 @@
+#!/bin/bash
+# The samplers' variance on every scene of the speed-against-error harness, without a reference (issue 37;
+# docs/measurements.md, "Every harness scene and integrator, at equal samples, without a reference"):
+# two renders with seeds 1 and 2 per scene, method and sampler; Var ∝ the mean squared difference of the two.
+# Prints one Markdown row per scene and method: independent/sobol of Σ(a−b)² and of the ε-relative rel. RMSE².
+# Usage: [N=64] [BUILD=build/release] bash bench/sampler_variance.sh OUT_DIR   (from the repository root)
+set -euo pipefail
+O=${1:?usage: bench/sampler_variance.sh OUT_DIR}; N=${N:-64}; B=${BUILD:-build/release}
+R=$B/render/firstshot-render; P=$B/preprocess/firstshot-preprocess; C=$B/bench/firstshot-compare
+mkdir -p "$O"
+METHODS="path path-fs ic-fs light light-fs bdpt bdpt-fs"
+args() {  # method, fsd
+  case $1 in
+    path) echo "--integrator path" ;;              path-fs) echo "--integrator path --firstshot $2" ;;
+    ic-fs) echo "--integrator irradiance-cache --firstshot $2" ;;
+    light) echo "--integrator light" ;;            light-fs) echo "--integrator light --firstshot $2" ;;
+    bdpt) echo "--integrator bdpt" ;;              bdpt-fs) echo "--integrator bdpt --firstshot $2" ;;
+  esac
+}
+field() { grep -o "\"$1\": [0-9.e+-]*" | cut -d' ' -f2; }
+for sc in cornell many-lights sierpinski-glossy fixture-room office-floor; do
+  [ -f "$O/$sc.fsd" ] || "$P" "scenes/$sc.json" -o "$O/$sc.fsd" --quiet --threads 2
+  for me in $METHODS; do
+    row="| $sc | $me |"; plain=(); rel=()
+    for m in independent sobol; do
+      for s in 1 2; do
+        # shellcheck disable=SC2046
+        "$R" "scenes/$sc.json" $(args "$me" "$O/$sc.fsd") --sampler $m --width 80 --height 60 --spp "$N" \
+            --seed $s --threads 2 -q -o "$O/$sc-$me-$m-$N-$s.exr"
+      done
+      j=$("$C" "$O/$sc-$me-$m-$N-1.exr" "$O/$sc-$me-$m-$N-2.exr")
+      plain+=("$(echo "$j" | field rmse)"); rel+=("$(echo "$j" | field rel_rmse)")
+    done
+    awk -v r="$row" -v a="${plain[0]}" -v b="${plain[1]}" -v c="${rel[0]}" -v d="${rel[1]}" \
+        'BEGIN { printf "%s %.2f× | %.2f× |\n", r, (a * a) / (b * b), (c * c) / (d * d) }'
+  done
+done
