@@ -255,6 +255,25 @@ TEST(Sensors, ThreadCountDoesNotChangeResults) {
   }
 }
 
+// The sensors' NEE takes the integrator's light sampler and first-shot lighting (Integrator::lightSampler), built
+// once by its preprocessing: every integrator that supports the sensors has one, over every light and this scene;
+// the others have none.
+TEST(Sensors, ShareTheIntegratorsLightSampler) {
+  const SceneDesc desc = test::sceneFromJson(pointOverFloor(0.5, 2.0));
+  const RenderScene scene(desc, 0.25);
+  for (const std::string& name : integratorNames()) {
+    SCOPED_TRACE(name);
+    auto integrator = makeIntegrator(name, IntegratorOptions());
+    integrator->preprocess(scene);
+    const LightSampler* lights = integrator->lightSampler();
+    ASSERT_EQ(lights != nullptr, integrator->supportsSensors());
+    if (!lights) continue;
+    EXPECT_EQ(&lights->scene(), &scene);
+    ASSERT_EQ(lights->included().size(), scene.lights().lights().size());
+    for (uint8_t included : lights->included()) EXPECT_EQ(included, 1);
+  }
+}
+
 TEST(Sensors, BadInputExits2) {
   const std::string dir = test::tempDir();
   const std::string scene = test::source("scenes/point-over-plane.json");

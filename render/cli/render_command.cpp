@@ -162,7 +162,6 @@ int RenderCommand::renderSensors() {  // sensors_.run preprocesses the integrato
   so.seed = seed();
   so.threads = threads_;
   so.quiet = quiet_;
-  so.lightSampler = integratorOptions_.lightSampler;
   so.sampler = samplerMode();
   so.comm = &comm_;
   if (photometric_.active())

@@ -111,10 +111,17 @@ class Integrator {
   /// cache from the rays of tasks 0 .. @p tasks − 1 instead of the camera's pixels, so that Li()
   /// then finds its records for those rays (and, nearby, for others). @p rayAngle (rad) is the
   /// angular footprint of one ray, the camera's pixel angle for such rays (the irradiance cache's
-  /// footprint clamp). Default: preprocess().
+  /// footprint clamp). The integrator's lightSampler() is built before the first task runs, so a
+  /// task may use it. Default: preprocess().
   virtual void preprocessRays(const RenderScene& scene, size_t /*tasks*/, const RayTask& /*task*/, float /*rayAngle*/) {
     preprocess(scene);
   }
+  /// The light sampler with which the integrator's paths choose lights for next-event estimation,
+  /// over every light (kept and replaced); its lighting() is the first-shot lighting the integrator
+  /// built. Both are built once by preprocess() (or preprocessRays()) and shared: the sensors' NEE
+  /// uses them (render/sensors/sensors.h). Null (the default) for an integrator without such a
+  /// sampler; one whose supportsSensors() is true has one.
+  virtual const LightSampler* lightSampler() const { return nullptr; }
   /// Radiance arriving at the camera along @p ray (d unit length), estimated with @p sampler.
   /// Thread-safe. @p info, if given, receives the AOVs and the ray count.
   virtual Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const = 0;
@@ -130,7 +137,7 @@ class Integrator {
   }
   virtual std::string name() const = 0;
   /// True if Li() alone estimates the radiance along any ray (no splats, no per-pass state): the
-  /// sensor mode needs it (render/sensors/sensors.h). False by default.
+  /// sensor mode needs it, with lightSampler() (render/sensors/sensors.h). False by default.
   virtual bool supportsSensors() const { return false; }
   /// Why a checkpointed render with this integrator would not resume to the same image, bit for
   /// bit (render/loop/checkpoint.h); empty (the default): it would.

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/scene_desc.h"
@@ -77,6 +78,24 @@ class IntegratorCli {
   /// The options that set IntegratorOptions (integrator_option::k...) that this integrator reads.
   virtual std::vector<std::string> shared() const = 0;
   std::vector<std::string> own_;  ///< the names of the options add() declared
+};
+
+/// The command line of an integrator @p I that has no options of its own (the path tracer, BDPT):
+/// it reads the shared options named in its constructor and makes an I with them.
+template <class I>
+class SharedOptionsCli : public IntegratorCli {
+ public:
+  /// @p shared: the shared options (integrator_option::k...) that I reads.
+  explicit SharedOptionsCli(std::vector<std::string> shared) : shared_(std::move(shared)) {}
+  std::unique_ptr<Integrator> make(const IntegratorOptions& options) const override {
+    return std::make_unique<I>(options);
+  }
+
+ protected:
+  std::vector<std::string> shared() const override { return shared_; }
+
+ private:
+  std::vector<std::string> shared_;
 };
 
 /// One line of the table of integrators.

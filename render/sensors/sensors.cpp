@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 
 #include "common/bsdf.h"
 #include "common/interrupt.h"
@@ -19,7 +20,6 @@
 #include "common/rng.h"
 #include "common/sampling.h"
 #include "render/lights/next_event.h"
-#include "render/firstshot/lighting.h"
 #include "render/scene/embree_scene.h"
 #include "render/lights/light_sampler.h"
 
@@ -69,6 +69,13 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   return E;
 }
 
+/// The light sampler of @p integrator (preprocessed), which the sensors' NEE shares.
+const LightSampler& sensorLights(const Integrator& integrator) {
+  const LightSampler* lights = integrator.lightSampler();
+  if (!lights) throw std::logic_error(integrator.name() + ": an integrator for the sensors must have a light sampler");
+  return *lights;
+}
+
 }  // namespace
 
 void requireSensorIntegrator(const Integrator& integrator) {
@@ -81,13 +88,11 @@ void requireSensorIntegrator(const Integrator& integrator) {
 void preprocessSensors(Integrator& integrator, const RenderScene& scene, const std::vector<Sensor>& sensors,
                        const SensorOptions& options) {
   requireSensorIntegrator(integrator);
-  FirstShotLighting firstShot;
-  firstShot.build(scene);
-  LightSampler lights;
-  lights.build(scene, firstShot, options.lightSampler, false);
   const uint64_t fill = uint64_t(std::max(1, options.fillSamples));
-  // Task i: sensor i's samples 0 .. fill−1, exactly as estimateSensors() draws them.
+  // Task i: sensor i's samples 0 .. fill−1, exactly as estimateSensors() draws them, with the light sampler the
+  // integrator has built by the time it runs a task.
   const RayTask task = [&](size_t i, const std::function<Color(const Ray&, Sampler&)>& li) {
+    const LightSampler& lights = sensorLights(integrator);
     uint64_t rays = 0;
     auto trace = [&](const Ray& ray, Sampler& sampler, SampleInfo*) { return li(ray, sampler); };
     for (uint64_t s = 0; s < fill; ++s) {
@@ -118,11 +123,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
                                           const std::vector<Sensor>& sensors, const SensorOptions& options,
                                           SensorStats* stats) {
   requireSensorIntegrator(integrator);
-  FirstShotLighting firstShot;
-  firstShot.build(scene);
-  LightSampler lights;
-  lights.build(scene, firstShot, options.lightSampler, false);
-
+  const LightSampler& lights = sensorLights(integrator);
   auto li = [&](const Ray& ray, Sampler& sampler, SampleInfo* info) { return integrator.Li(ray, sampler, info); };
   std::vector<Sums> sums(sensors.size());
   std::atomic<uint64_t> rays{0}, nonFinite{0};

@@ -7,7 +7,9 @@
 ///     π · NEE(x, n)  +  π · L_r(y → x),
 /// the first term next-event estimation to the lights (nextEvent, render/lights/next_event.h, with a Lambertian of
 /// albedo 1, so f·cos/pdf = cos/(π pdf); small lights of a first-shot table sampled exactly, as at a
-/// camera-visible point; MIS off, so the second term leaves out the emission it meets directly),
+/// camera-visible point; MIS off, so the second term leaves out the emission it meets directly), its lights
+/// chosen by the integrator's own light sampler over its first-shot lighting (Integrator::lightSampler: built
+/// once by the integrator's preprocessing and shared, never a second copy),
 /// the second one cosine-distributed direction ω (pdf cos θ/π) whose radiance arriving at x is the
 /// integrator's Li() along the ray minus the emission of a light it meets first (counted by NEE).
 /// The integrator is the path tracer or the irradiance cache (requireSensorIntegrator): the
@@ -93,7 +95,6 @@ struct SensorOptions {
   int threads = 0;          ///< 0 = one per core; results do not depend on it
   bool quiet = true;        ///< no progress bar
   double efficacy = 179.0;  ///< lm/W (common/photometry.h)
-  LightStrategy lightSampler = LightStrategy::Tree;
   /// preprocessSensors: samples per sensor whose rays fill a caching integrator's records
   /// (the estimate's own first samples, so they find their records).
   int fillSamples = 4;

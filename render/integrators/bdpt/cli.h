@@ -4,26 +4,15 @@
 /// sampler's options (its small lights' NEE in table mode), --table-visibility and
 /// --shoot-firstshot; not --primary or --patch-nee (the small lights are taken exactly at the first
 /// non-delta camera vertex, docs/bdpt.md).
-#include <memory>
-#include <string>
-#include <vector>
-
 #include "render/integrators/integrator_cli.h"
 #include "render/integrators/bdpt/integrator.h"
 
 namespace fs {
 
-class BdptCli : public IntegratorCli {
- public:
-  std::unique_ptr<Integrator> make(const IntegratorOptions& options) const override {
-    return std::make_unique<BdptIntegrator>(options);
-  }
-
- protected:
-  std::vector<std::string> shared() const override {
-    using namespace integrator_option;
-    return {kLightSampler, kLightVisibility, kTableVisibility, kShootFirstShot};
-  }
+struct BdptCli : SharedOptionsCli<BdptIntegrator> {
+  BdptCli()
+      : SharedOptionsCli({integrator_option::kLightSampler, integrator_option::kLightVisibility,
+                          integrator_option::kTableVisibility, integrator_option::kShootFirstShot}) {}
 };
 
 }  // namespace fs

@@ -10,12 +10,6 @@
 
 namespace fs {
 
-void BdptIntegrator::preprocess(const RenderScene& scene) {
-  scene_ = &scene;
-  lighting_.build(scene);
-  shooting_.build(scene, lighting_, options_);  // in table mode: the kept lights and the lit patch sides
-}
-
 Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
   if (!info) return Color(0.0f);
   info->rays = 1;

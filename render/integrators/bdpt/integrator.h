@@ -27,18 +27,16 @@
 /// (unbiased, as light tracing).
 #include <vector>
 
-#include "render/firstshot/lighting.h"
-#include "render/integrators/integrator.h"
 #include "render/integrators/bdpt/densities.h"
 #include "render/integrators/common/light_path.h"
-#include "render/integrators/common/shooting_emitters.h"
+#include "render/integrators/common/shooting_integrator.h"
 
 namespace fs {
 
-class BdptIntegrator : public SplattingIntegrator {
+/// A shooting integrator (common/shooting_integrator.h): its preprocess() is all BDPT needs.
+class BdptIntegrator : public ShootingIntegrator {
  public:
-  explicit BdptIntegrator(const IntegratorOptions& options) : options_(options) {}
-  void preprocess(const RenderScene& scene) override;
+  using ShootingIntegrator::ShootingIntegrator;
   /// The AOVs of the camera ray's first hit; radiance 0 (the splats carry it).
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "bdpt"; }
@@ -63,15 +61,6 @@ class BdptIntegrator : public SplattingIntegrator {
   /// One sample of pixel @p pixel: appends its splats to @p out.
   void sample(const BdptDensities& densities, uint32_t pixel, Sampler& sampler, Workspace& ws, std::vector<Splat>& out,
               uint64_t& rays) const;
-
-  /// The emitters light subpaths leave and s = 1 samples (in table mode the lit patch sides too).
-  const EmissionSampler& emission() const { return shooting_.emission(); }
-
-  IntegratorOptions options_;
-  const RenderScene* scene_ = nullptr;
-  FirstShotLighting lighting_;  ///< the table's lighting (table mode: the lit patches' emission)
-  /// The emitters; in table mode also the lit patches' emitters and the small lights' own part.
-  ShootingEmitters shooting_;
 };
 
 }  // namespace fs

@@ -1,7 +1,7 @@
 // Camera and light subpaths of bidirectional path tracing.
 #include "render/integrators/bdpt/subpaths.h"
 
-#include <algorithm>
+#include "render/integrators/common/subpath_walk.h"
 
 namespace fs {
 
@@ -16,34 +16,17 @@ void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int m
   v0.pdfFwd = 1.0f;
   path.push_back(v0);
 
-  Ray ray = cameraRay;
-  Color beta(1.0f);  // W_e·cosθ/pdf = 1 for the pixel the ray goes through
-  for (int depth = 1; depth <= maxHits; ++depth) {
-    Hit hit;
-    ++rays;
-    if (!scene.intersect(ray, hit)) break;
+  // W_e·cosθ/pdf = 1 for the pixel the ray goes through.
+  SubpathWalk walk(scene, cameraRay, Color(1.0f), {maxHits, rrDepth, 1.0f, TransportMode::Radiance});
+  while (walk.next(rays)) {
     SubpathVertex v;
-    v.hit = hit;
-    v.wi = -glm::normalize(ray.d);
-    v.beta = beta;
-    v.material = scene.material(hit);
-    const BSDF& bsdf = scene.bsdf(v.material);
-    v.delta = bsdf.hasDelta();
+    v.hit = walk.hit();
+    v.wi = -glm::normalize(walk.ray().d);
+    v.beta = walk.beta();
+    v.material = walk.material();
+    v.delta = walk.bsdf().hasDelta();
     path.push_back(v);
-    if (depth >= maxHits || maxComponent(bsdf.albedo()) <= 0.0f) break;
-
-    const Frame frame(hit.ng);
-    BSDFQuery q(frame.toLocal(v.wi));
-    const Color weight = bsdf.sample(q, sampler.next2D());
-    if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) break;
-    const Vec3 wi = frame.toWorld(q.wi);
-    beta *= weight;
-    ray = Ray(hit.spawnOrigin(wi), wi);
-    if (depth >= rrDepth) {
-      const float survive = std::min(0.95f, maxComponent(beta));
-      if (!(sampler.next1D() < survive)) break;
-      beta /= survive;
-    }
+    if (!walk.scatter(v.wi, sampler)) break;
   }
   densities.setDensities(path);
 }

@@ -145,21 +145,28 @@ void BundleTransfer::computeOutgoing() {
   });
 }
 
+template <typename T, typename Row>
+uint64_t BundleTransfer::traceRows(int rows, std::vector<std::vector<T>>& out, const Row& row) {
+  out.resize(size_t(rows));
+  std::atomic<uint64_t> rays{0};
+  tbb::parallel_for(0, rows, [&](int a) {
+    enableFlushToZero();
+    out[size_t(a)].clear();
+    if (comm_ && !comm_->mine(uint64_t(a))) return;  // another rank's row
+    rays += row(a, out[size_t(a)]);
+  });
+  return shareChunks(out, rays);
+}
+
 void BundleTransfer::traceDirectional(uint64_t seed) {
   const RenderScene& scene = *scene_;
   const int B = settings_.resolution;
-  chunks_.resize(size_t(B));
   for (size_t d = 0; d < directional_.size(); ++d) {
     const RenderLight& light = scene.lights().lights()[directional_[d]];
     const Vec3 dir = glm::normalize(light.direction);
     const Vec2 offset(hashToUnit(seed, kBundleKey, done_, 2 + d, 0), hashToUnit(seed, kBundleKey, done_, 2 + d, 1));
     const BundleGrid grid(dir, elements_.center(), elements_.radius(), B, offset);
-    std::atomic<uint64_t> rays{0};
-    tbb::parallel_for(0, B, [&](int a) {
-      enableFlushToZero();
-      std::vector<Deposit>& out = chunks_[size_t(a)];
-      out.clear();
-      if (comm_ && !comm_->mine(uint64_t(a))) return;  // another rank's row
+    rays_ += traceRows(B, chunks_, [&](int a, std::vector<Deposit>& out) {
       uint64_t n = 0;
       Ray ray;
       Hit hit;
@@ -170,9 +177,8 @@ void BundleTransfer::traceDirectional(uint64_t seed) {
         const uint32_t e = elements_.index(hit);
         if (sideFacing(elements_[e].normal, dir) >= 0) out.push_back({e, light.irradiance});  // f_r(−d, w) picks the lit side
       }
-      rays += n;
+      return n;
     });
-    rays_ += shareChunks(chunks_, rays);
     Color* D = &dirIrradiance_[d * elements_.size()];
     std::fill(D, D + elements_.size(), Color(0.0f));
     for (const auto& chunk : chunks_)
@@ -187,13 +193,7 @@ void BundleTransfer::traceBundle(uint64_t seed) {
   const int B = settings_.resolution;
   const Vec2 offset(hashToUnit(seed, kBundleKey, done_, 1, 0), hashToUnit(seed, kBundleKey, done_, 1, 1));
   const BundleGrid grid(dir_, elements_.center(), elements_.radius(), B, offset);
-  links_.resize(size_t(B));
-  std::atomic<uint64_t> rays{0};
-  tbb::parallel_for(0, B, [&](int a) {
-    enableFlushToZero();
-    std::vector<Link>& out = links_[size_t(a)];
-    out.clear();
-    if (comm_ && !comm_->mine(uint64_t(a))) return;  // another rank's row
+  rays_ += traceRows(B, links_, [&](int a, std::vector<Link>& out) {
     struct Crossing {
       uint32_t e;
       int side;  ///< the side facing +ω_k
@@ -232,9 +232,8 @@ void BundleTransfer::traceBundle(uint64_t seed) {
         if (maxComponent(outgoingTotal_[farSlot]) > 0.0f) out.push_back({nearSlot, farSlot});
       }
     }
-    rays += n;
+    return n;
   });
-  rays_ += shareChunks(links_, rays);
 
   // The kept point and spot lights: one line each way along ±ω_k from the light.
   pointDeposits_.clear();

@@ -139,6 +139,11 @@ class BundleTransfer {
   /// (from the incoming state of the previous iteration).
   void outgoingOf(uint32_t e, int side, const Vec3& w, Color* out) const;
   void traceBundle(uint64_t seed);
+  /// Traces rows 0 .. @p rows − 1 of a grid in parallel, this rank's rows only: @p row(a, out[a])
+  /// appends row a's results to out[a] (emptied first) and returns the lines it traced. Then every
+  /// rank receives the others' rows (shareChunks). Returns the lines of all ranks.
+  template <typename T, typename Row>
+  uint64_t traceRows(int rows, std::vector<std::vector<T>>& out, const Row& row);
   /// Several ranks: sends this rank's rows of @p chunks and its @p rays to every rank, fills in the
   /// other ranks' rows; returns the rays of all ranks. One rank: returns @p rays.
   template <typename T>

@@ -1,8 +1,9 @@
 // Light subpaths: emission, then adjoint BSDF sampling with Russian roulette.
 #include "render/integrators/common/light_path.h"
 
-#include <algorithm>
 #include <cmath>
+
+#include "render/integrators/common/subpath_walk.h"
 
 namespace fs {
 
@@ -23,50 +24,33 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   v0.light = es.light;
   path.push_back(v0);
 
-  Color beta = es.power;
   const float start = maxComponent(es.power);
   // A lit patch (table mode) is the particle's first bounce already: one vertex less, roulette one
   // bounce earlier.
   const int bounced = emission.isPatch(es.light) ? 1 : 0;
   const int maxDepth = options.maxDepth - bounced, rrDepth = options.rrDepth - bounced;
-  Ray ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d);
+  SubpathWalk walk(scene, Ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d), es.power,
+                   {maxDepth, rrDepth, start, TransportMode::Importance});
   float pdfDir = es.pdfDir;
   bool deltaDir = es.deltaDirection;
-  for (int depth = 1; depth <= maxDepth; ++depth) {
-    Hit hit;
-    ++rays;
-    if (!scene.intersect(ray, hit)) break;
+  while (walk.next(rays)) {
+    const Hit& hit = walk.hit();
     LightVertex v;
     v.hit = hit;
-    v.wi = -ray.d;
-    v.beta = beta;
-    const float cosIn = std::abs(glm::dot(hit.ng, ray.d));
+    v.wi = -walk.ray().d;
+    v.beta = walk.beta();
+    const float cosIn = std::abs(glm::dot(hit.ng, walk.ray().d));
     // A directional light's particles have a density per area across the beam: p_pos·|cosθ|.
     v.pdfFwd = deltaDir ? path.back().pdfFwd * cosIn : pdfDir * cosIn / (hit.t * hit.t);
-    v.material = scene.material(hit);
-    const BSDF& bsdf = scene.bsdf(v.material);
-    v.delta = bsdf.hasDelta();
+    v.material = walk.material();
+    v.delta = walk.bsdf().hasDelta();
     path.push_back(v);
-    if (depth >= maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
-    if (depth == 1 && options.deltaFirstHitOnly && !v.delta) break;
-
+    if (walk.depth() == 1 && options.deltaFirstHitOnly && !v.delta) break;
     // Scatter: sample the adjoint BSDF with wo towards the light side.
-    const Frame frame(hit.ng);
-    BSDFQuery q(frame.toLocal(v.wi), TransportMode::Importance);
-    const Color weight = bsdf.sample(q, sampler.next2D());
-    if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) break;
-    const Vec3 wo = frame.toWorld(q.wi);
-    path.back().pdfDir = q.pdf;
-    pdfDir = q.pdf;
+    const bool more = walk.scatter(v.wi, sampler);
+    path.back().pdfDir = pdfDir = walk.pdf();
     deltaDir = false;
-    beta *= weight;
-    ray = Ray(hit.spawnOrigin(wo), wo);
-
-    if (depth >= rrDepth) {
-      const float survive = std::min(0.95f, maxComponent(beta) / start);
-      if (!(sampler.next1D() < survive)) break;
-      beta /= survive;
-    }
+    if (!more) break;
   }
   return true;
 }

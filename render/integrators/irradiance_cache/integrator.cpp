@@ -86,28 +86,14 @@ IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
   return s;
 }
 
-Color IrradianceCacheIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* info) const {
+Color IrradianceCacheIntegrator::LiFrom(const Ray& ray, const Hit* first, Sampler& sampler, SampleInfo* info,
+                                        uint64_t& rays) const {
   Context ctx(frozen_ ? Context::Mode::Private : Context::Mode::Shared);
-  const Color L = radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, info);
+  ctx.rays = rays;
+  const Color L = radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, info, first);
   if (ctx.overlay) privateRecords_ += ctx.overlay->size();
-  if (info) info->rays = ctx.rays;
+  rays = ctx.rays;
   return L;
-}
-
-void IrradianceCacheIntegrator::LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count,
-                                        Sampler* samplers, SampleInfo* infos, Color* L) const {
-  Hit hits[16];
-  bool found[16];
-  scene_->embree().intersect16(rays, traced, count, hits, found);
-  for (int k = 0; k < count; ++k) {
-    if (!wanted[k]) continue;
-    Context ctx(frozen_ ? Context::Mode::Private : Context::Mode::Shared);
-    ctx.rays = 1;  // the camera ray
-    L[k] = found[k] ? radiance(rays[k], 0, RayKind::Camera, 0.0f, samplers[k], ctx, nullptr, &infos[k], &hits[k])
-                    : Color(0.0f);
-    if (ctx.overlay) privateRecords_ += ctx.overlay->size();
-    infos[k].rays = ctx.rays;
-  }
 }
 
 Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, float pathLength, Sampler& sampler,

@@ -51,7 +51,7 @@
 
 #include "render/firstshot/lighting.h"
 #include "render/output/film.h"
-#include "render/integrators/integrator.h"
+#include "render/integrators/common/packet_integrator.h"
 #include "render/integrators/irradiance_cache/cache.h"
 #include "render/integrators/common/path_walk.h"
 
@@ -100,7 +100,7 @@ struct IrradianceCacheStats {
   double exchangeSeconds = 0;
 };
 
-class IrradianceCacheIntegrator : public Integrator {
+class IrradianceCacheIntegrator : public PacketIntegrator {
  public:
   explicit IrradianceCacheIntegrator(const IntegratorOptions& options, const IrradianceCacheSettings& settings = {});
   ~IrradianceCacheIntegrator() override;
@@ -123,12 +123,10 @@ class IrradianceCacheIntegrator : public Integrator {
   /// fill, so does a task's lookup once the task has traced 2^20 rays (a deterministic bound on
   /// the records one task makes, e.g. inside a closed object).
   void preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task, float rayAngle) override;
-  Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
-  /// Li() per wanted ray, the block's camera rays traced as Embree packets (as the path tracer does).
-  void LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count, Sampler* samplers,
-               SampleInfo* infos, Color* L) const override;
   std::string name() const override { return "irradiance-cache"; }
   bool supportsSensors() const override { return true; }
+  /// The path continuation's light sampler, over every light (after preprocess() or preprocessRays()).
+  const LightSampler* lightSampler() const override { return &continuation_.lightSampler(); }
   std::string notResumable() const override {
     return settings_.twoPass ? std::string()
                              : "the one-pass irradiance cache depends on the thread schedule and cannot resume exactly: "
@@ -160,6 +158,10 @@ class IrradianceCacheIntegrator : public Integrator {
   std::string settingsText() const;
   /// True for the lights whose emission the cache gathers (large area lights), by LightSet index.
   const std::vector<uint8_t>& gatheredLights() const { return gathered_; }
+
+ protected:
+  /// Radiance along camera ray @p ray: radiance() from level 0, the two-pass render's private records counted.
+  Color LiFrom(const Ray& ray, const Hit* first, Sampler& sampler, SampleInfo* info, uint64_t& rays) const override;
 
  private:
   struct Context;
@@ -201,7 +203,6 @@ class IrradianceCacheIntegrator : public Integrator {
 
   IntegratorOptions options_;
   IrradianceCacheSettings settings_;
-  const RenderScene* scene_ = nullptr;
   FirstShotLighting firstShot_;           ///< built once per preprocess(); the continuation's too
   PathWalk continuation_;                 ///< traces the light past the last level
   LightSampler directLights_;             ///< NEE over the direct lights (and the lit patches)

@@ -9,10 +9,8 @@
 namespace fs {
 
 void LightTracingIntegrator::preprocess(const RenderScene& scene) {
-  scene_ = &scene;
-  lighting_.build(scene);
+  ShootingIntegrator::preprocess(scene);
   fallback_.build(scene, lighting_, options_);
-  shooting_.build(scene, lighting_, options_);
   mirrors_ = false;
   for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
   if (!shooting_.tableMode()) return;

@@ -34,18 +34,17 @@
 /// table.
 #include <vector>
 
-#include "render/firstshot/lighting.h"
-#include "render/integrators/integrator.h"
 #include "render/integrators/common/light_path.h"
 #include "render/integrators/common/path_walk.h"
-#include "render/integrators/common/shooting_emitters.h"
+#include "render/integrators/common/shooting_integrator.h"
 #include "render/lights/light_emission.h"
 
 namespace fs {
 
-class LightTracingIntegrator : public SplattingIntegrator {
+class LightTracingIntegrator : public ShootingIntegrator {
  public:
-  explicit LightTracingIntegrator(const IntegratorOptions& options) : options_(options) {}
+  using ShootingIntegrator::ShootingIntegrator;
+  /// The shooting integrators' preprocess(), then the fallback walk over their lighting and the delta-first emitters.
   void preprocess(const RenderScene& scene) override;
   /// The camera-side part of a sample: the AOVs, and the path tracer's radiance for a ray whose
   /// first hit is a delta surface; otherwise, in table mode, the small lights' own part, and 0
@@ -66,8 +65,6 @@ class LightTracingIntegrator : public SplattingIntegrator {
   void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
                       uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
 
-  /// The emitters particles leave: every light, or in table mode the kept lights and lit patch sides.
-  const EmissionSampler& emission() const { return shooting_.emission(); }
   /// The light subpaths' walk: IntegratorOptions::maxDepth and rrDepth.
   LightPathOptions pathOptions() const { return {options_.maxDepth, options_.rrDepth}; }
 
@@ -100,11 +97,7 @@ class LightTracingIntegrator : public SplattingIntegrator {
   /// Table mode, first hit @p x (non-delta) of @p ray: the small lights' own part of the pixel.
   Color smallLightsAt(const Ray& ray, const Hit& x, Sampler& sampler, uint64_t& rays) const;
 
-  IntegratorOptions options_;
-  const RenderScene* scene_ = nullptr;
-  FirstShotLighting lighting_;  ///< the table's lighting, built once: the emitters' and the fallback's
-  PathWalk fallback_;           ///< for camera rays whose first hit is a delta surface
-  ShootingEmitters shooting_;   ///< the emitters, table mode and the small lights' own part
+  PathWalk fallback_;  ///< for camera rays whose first hit is a delta surface, over lighting_
   bool mirrors_ = false;  ///< the scene has a delta (mirror, glass) material
   bool smallAreaLights_ = false;  ///< table mode: a replaced light has a surface (a BSDF sample can meet it)
   bool deltaParticles_ = false;   ///< table mode: small area lights and delta surfaces: shoot deltaFirst_ too

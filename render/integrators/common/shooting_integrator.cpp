@@ -1,0 +1,12 @@
+// The shooting integrators' common preprocessing: the scene's first-shot lighting and the emitters.
+#include "render/integrators/common/shooting_integrator.h"
+
+namespace fs {
+
+void ShootingIntegrator::preprocess(const RenderScene& scene) {
+  scene_ = &scene;
+  lighting_.build(scene);
+  shooting_.build(scene, lighting_, options_);  // in table mode: the kept lights and the lit patch sides
+}
+
+}  // namespace fs

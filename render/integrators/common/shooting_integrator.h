@@ -1,0 +1,29 @@
+#pragma once
+/// @file shooting_integrator.h
+/// What the shooting integrators (light tracing, render/integrators/light/; bidirectional path
+/// tracing, render/integrators/bdpt/) share as integrators: their settings, the scene, its
+/// first-shot lighting and the emitters their particles leave (ShootingEmitters, with the table
+/// mode), all made once by preprocess(). Each adds its own particles, splats and camera side.
+#include "render/firstshot/lighting.h"
+#include "render/integrators/common/shooting_emitters.h"
+#include "render/integrators/integrator.h"
+
+namespace fs {
+
+class ShootingIntegrator : public SplattingIntegrator {
+ public:
+  explicit ShootingIntegrator(const IntegratorOptions& options) : options_(options) {}
+  /// The emitters particles leave: every light, or in table mode the kept lights and lit patch sides.
+  const EmissionSampler& emission() const { return shooting_.emission(); }
+  /// Keeps @p scene (which must outlive the integrator's use), builds its first-shot lighting and
+  /// the emitters. An integrator that overrides it calls it first.
+  void preprocess(const RenderScene& scene) override;
+
+ protected:
+  IntegratorOptions options_;
+  const RenderScene* scene_ = nullptr;
+  FirstShotLighting lighting_;  ///< the table's lighting (table mode: the lit patches' emission), built once
+  ShootingEmitters shooting_;   ///< the emitters; in table mode also the small lights' own part
+};
+
+}  // namespace fs

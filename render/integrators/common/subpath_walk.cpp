@@ -1,0 +1,36 @@
+// The random walk of camera and light subpaths: the next hit, then BSDF sampling and Russian roulette.
+#include "render/integrators/common/subpath_walk.h"
+
+#include <algorithm>
+
+namespace fs {
+
+bool SubpathWalk::next(uint64_t& rays) {
+  if (++depth_ > settings_.maxHits) return false;
+  ++rays;
+  if (!scene_->intersect(ray_, hit_)) return false;
+  material_ = scene_->material(hit_);
+  bsdf_ = &scene_->bsdf(material_);
+  return true;
+}
+
+bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {
+  pdf_ = 0.0f;
+  if (depth_ >= settings_.maxHits || maxComponent(bsdf_->albedo()) <= 0.0f) return false;
+  const Frame frame(hit_.ng);
+  BSDFQuery q(frame.toLocal(wi), settings_.mode);
+  const Color weight = bsdf_->sample(q, sampler.next2D());
+  if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) return false;
+  pdf_ = q.pdf;
+  const Vec3 w = frame.toWorld(q.wi);
+  beta_ *= weight;
+  ray_ = Ray(hit_.spawnOrigin(w), w);
+  if (depth_ >= settings_.rrDepth) {
+    const float survive = std::min(0.95f, maxComponent(beta_) / settings_.start);
+    if (!(sampler.next1D() < survive)) return false;
+    beta_ /= survive;
+  }
+  return true;
+}
+
+}  // namespace fs
