@@ -50,6 +50,8 @@ void expectSameMaterial(const MaterialDesc& a, const MaterialDesc& b) {
   expectNear(a.emission, b.emission, w + " emission");
   EXPECT_NEAR(a.exponent, b.exponent, 1e-6 * b.exponent) << w;
   EXPECT_NEAR(a.ior, b.ior, 1e-6) << w;
+  EXPECT_NEAR(a.metallic, b.metallic, 1e-6) << w;
+  EXPECT_NEAR(a.roughness, b.roughness, 1e-6) << w;
 }
 
 /// The image's up direction: the camera's up made perpendicular to its view direction.
@@ -172,26 +174,25 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     <bsdf type="diffuse" id="tex"><texture type="bitmap" name="reflectance"><string name="filename" value="wood.png"/></texture></bsdf>
     <shape type="rectangle"><ref id="d"/></shape>)");
   const std::string err = testing::internal::GetCapturedStderr();
-  // Hand-computed values: F0 = ((η−1)/(η+1))², plastic diffuse × (1 − F0), n = 2/α² − 2, conductor F0 from (η, k).
-  const double f0 = 0.04;  // η = 1.5; the default: polypropylene 1.49 over air 1.000277
-  const double ppEta = 1.49 / 1.000277, f0Default = std::pow((ppEta - 1) / (ppEta + 1), 2);
+  // Hand-computed values: plastics are pbr of metallic 0, ior η, roughness √α; conductor F0 from (η, k).
+  const double ppEta = 1.49 / 1.000277;  // the default: polypropylene 1.49 over air 1.000277
   auto conductor = [](double n, double k) { return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k); };
   const SceneDesc j = json(fmt::format(R"({{
     "materials": {{
       "d": {{"type": "diffuse", "albedo": [0.1, 0.2, 0.3]}},
       "ts": {{"type": "diffuse", "albedo": 0.7}},
-      "p": {{"type": "glossy", "albedo": [{}, {}, {}], "specular": {}, "exponent": 1000}},
-      "rp": {{"type": "glossy", "albedo": {}, "specular": {}, "exponent": 48}},
-      "rp2": {{"type": "glossy", "albedo": {}, "specular": {}, "exponent": 6}},
+      "p": {{"type": "pbr", "base_color": [0.5, 0.25, 0.125], "metallic": 0, "roughness": 0, "ior": 1.5}},
+      "rp": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": 1.5}},
+      "rp2": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": {}}},
       "au": {{"type": "mirror", "specular": [1.0, 0.782, 0.344]}},
-      "rc": {{"type": "glossy", "albedo": 0, "specular": [{}, {}, {}], "exponent": 198}},
+      "rc": {{"type": "pbr", "base_color": [{}, {}, {}], "metallic": 1, "roughness": {}}},
       "water": {{"type": "dielectric", "ior": {}}},
       "glass": {{"type": "dielectric", "ior": {}, "transmittance": [0.9, 0.8, 0.7]}},
       "thin": {{"type": "dielectric", "ior": 1}},
       "tex": {{"type": "diffuse", "albedo": 0.5}}}},
     "shapes": [{{"type": "quad", "material": "d", "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}}]}})",
-      0.5 * (1 - f0), 0.25 * (1 - f0), 0.125 * (1 - f0), f0, 0.5 * (1 - f0), f0, 0.5 * (1 - f0Default), f0Default,
-      conductor(0.2, 3.9), conductor(0.9, 2.45), conductor(1.1, 2.14), 1.3330 / 1.000277, 1.5046 / 1.000277));
+      std::sqrt(0.2), std::sqrt(0.5), ppEta, conductor(0.2, 3.9), conductor(0.9, 2.45), conductor(1.1, 2.14),
+      std::sqrt(0.1), 1.3330 / 1.000277, 1.5046 / 1.000277));
   expectSameScene(x, j);
   for (const MaterialDesc& m : j.materials) {
     SCOPED_TRACE(m.name);
@@ -199,7 +200,7 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     expectSameMaterial(x.materials[x.findMaterial(m.name)], m);
   }
   // Each approximation once per bsdf type, one line each.
-  for (const char* type : {"xml: roughplastic approximated", "xml: conductor approximated", "xml: thindielectric approximated",
+  for (const char* type : {"xml: roughplastic mapped", "xml: conductor approximated", "xml: thindielectric approximated",
                            "xml: bitmap textures approximated"}) {
     size_t count = 0;
     for (size_t pos = err.find(type); pos != std::string::npos; pos = err.find(type, pos + 1)) ++count;
