@@ -123,11 +123,11 @@ MaterialDesc metallicRoughnessMaterial(const Color& base, float metallic, float 
 }
 
 std::vector<std::string> unsupportedGltfExtensions(const Json& gltf) {
-  // Read here or by assimp, or with no effect on what a surface looks like.
+  // Read here or by assimp, or with no effect on what a surface looks like (KHR_texture_transform: not on a texture's
+  // mean; KHR_materials_variants: the default material is the file's own).
   static const std::set<std::string> handled = {
       "KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_lights_punctual", "KHR_mesh_quantization",
-      "KHR_texture_transform", "KHR_materials_variants", "KHR_xmp_json_ld", "KHR_draco_mesh_compression",
-      "KHR_texture_basisu", "EXT_texture_webp"};
+      "KHR_texture_transform", "KHR_materials_variants", "KHR_xmp_json_ld"};
   std::vector<std::string> names;
   const Json* used = jsonMember(gltf, "extensionsUsed");
   if (!used || !used->is_array()) return names;

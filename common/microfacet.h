@@ -7,8 +7,10 @@
 /// Roughness: α is the GGX width; glTF's perceptual roughness r maps to α = r² (ggxAlpha). α is
 /// floored at kMinGgxAlpha = 1e-3, so that a "smooth" (r = 0) surface stays a very narrow but
 /// finite lobe: eval, pdf and sample stay consistent and no integrator needs a mixed delta +
-/// non-delta BSDF (docs/architecture.md, "Materials"). At that floor D(h) peaks at 1/(πα²) ≈ 3·10⁵ sr⁻¹,
-/// still exact in float because D is evaluated from sin²θ_h and cos²θ_h separately.
+/// non-delta BSDF (docs/architecture.md, "Materials"). The price: first-shot's sum over light samples
+/// cannot resolve so sharp a lobe, so polished surfaces lose the reflections of replaced lights
+/// (docs/measurements.md). At the floor D(h) peaks at 1/(πα²) ≈ 3·10⁵ sr⁻¹, still exact in float
+/// because D is evaluated from sin²θ_h and cos²θ_h separately.
 ///
 /// Every function takes directions in the upper hemisphere (z > 0); callers of two-sided models
 /// mirror both directions first.

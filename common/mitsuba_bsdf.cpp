@@ -148,6 +148,18 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
     m.roughness = float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));
     doc_.note(t, "roughconductor mapped to the pbr material (metallic 1, roughness = sqrt(alpha), base colour = "
                  "Fresnel reflectance at normal incidence, Schlick's Fresnel for the complex one)");
+  } else if (t == "principled") {
+    // Mitsuba's Disney-style principled BSDF shares base_color, metallic and roughness (α = roughness²) with the
+    // glTF model; its specular is eta's other name. Sheen, clearcoat, transmission and anisotropy are dropped.
+    m.type = MaterialType::Pbr;
+    m.albedo = glm::min(p.color("base_color", Color(0.5f)), Color(1.0f));
+    m.metallic = float(std::clamp(p.number("metallic", 0.0), 0.0, 1.0));
+    m.roughness = float(std::clamp(p.number("roughness", 0.5), 0.0, 1.0));
+    const double eta = p.number("eta", 1.5);
+    if (!(eta > 0)) doc_.fail(node, "principled's eta must be positive");
+    m.ior = float(eta);
+    doc_.note(t, "principled mapped to the pbr material (base_color, metallic, roughness, eta; its sheen, clearcoat, "
+                 "transmission, anisotropy and specular tint are not modelled)");
   } else if (glass) {
     m.type = MaterialType::Dielectric;
     m.ior = float(ior(p, "int_ior", "bk7") / ior(p, "ext_ior", "air"));
@@ -164,7 +176,7 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
     }
   } else {
     doc_.fail(node, "bsdf type \"" + t + "\" is not supported (diffuse, twosided, plastic, roughplastic, conductor, "
-                    "roughconductor, dielectric, roughdielectric, thindielectric, bumpmap, normalmap)");
+                    "roughconductor, principled, dielectric, roughdielectric, thindielectric, bumpmap, normalmap)");
   }
   p.finish();
   return m;

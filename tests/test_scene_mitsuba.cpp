@@ -167,6 +167,7 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     <bsdf type="roughplastic" id="rp"><float name="alpha" value="0.2"/><float name="int_ior" value="1.5"/><string name="ext_ior" value="vacuum"/></bsdf>
     <bsdf type="roughplastic" id="rp2"><float name="alpha" value="0.5"/></bsdf>
     <bsdf type="conductor" id="au"><string name="material" value="Au"/></bsdf>
+    <bsdf type="principled" id="pr"><rgb name="base_color" value="0.8, 0.4, 0.2"/><float name="metallic" value="0.3"/><float name="roughness" value="0.6"/></bsdf>
     <bsdf type="roughconductor" id="rc"><float name="alpha" value="0.1"/><rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.45, 2.14"/></bsdf>
     <bsdf type="dielectric" id="water"><string name="int_ior" value="water"/><string name="ext_ior" value="air"/></bsdf>
     <bsdf type="dielectric" id="glass"><rgb name="specular_transmittance" value="0.9, 0.8, 0.7"/></bsdf>
@@ -185,6 +186,7 @@ TEST(MitsubaScene, BsdfsMatchJson) {
       "rp": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": 1.5}},
       "rp2": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": {}}},
       "au": {{"type": "mirror", "specular": [1.0, 0.782, 0.344]}},
+      "pr": {{"type": "pbr", "base_color": [0.8, 0.4, 0.2], "metallic": 0.3, "roughness": 0.6, "ior": 1.5}},
       "rc": {{"type": "pbr", "base_color": [{}, {}, {}], "metallic": 1, "roughness": {}}},
       "water": {{"type": "dielectric", "ior": {}}},
       "glass": {{"type": "dielectric", "ior": {}, "transmittance": [0.9, 0.8, 0.7]}},
@@ -344,8 +346,8 @@ void expectBadXml(const std::string& text, std::initializer_list<const char*> pa
 TEST(MitsubaScene, UnsupportedPluginsAreNamed) {
   expectBadXml("<scene version=\"3.0.0\">\n  <shape type=\"cube\"/>\n  <shape type=\"cylinder\"/>\n</scene>\n",
                {"scene/shape[2] (line 3)", "shape type \"cylinder\" is not supported"});
-  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"principled\"/>\n</shape>\n</scene>\n",
-               {"scene/shape/bsdf (line 3)", "bsdf type \"principled\""});
+  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"blendbsdf\"/>\n</shape>\n</scene>\n",
+               {"scene/shape/bsdf (line 3)", "bsdf type \"blendbsdf\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n<emitter type=\"envmap\"/>\n</scene>\n",
                {"scene/emitter (line 3)", "emitter type \"envmap\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
