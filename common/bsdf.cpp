@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/fresnel.h"
+#include "common/microfacet.h"
 #include "common/sampling.h"
 #include "common/scene_desc.h"
 
@@ -120,6 +121,80 @@ Color DielectricBSDF::sample(BSDFQuery& q, const Vec2& u) const {
   return transmittance * scale;  // (1−R)·T·scale / (1−R)
 }
 
+// ---- Metallic-roughness (glTF) ----
+
+namespace {
+/// The local frame mirrored so that wo.z > 0 (the model is two-sided).
+Vec3 upper(const Vec3& w, bool flip) { return flip ? Vec3(w.x, w.y, -w.z) : w; }
+float dielectricF0(float ior) {
+  const float r = (ior - 1.0f) / (ior + 1.0f);
+  return r * r;
+}
+/// The cosine-weighted hemispherical mean of Schlick's Fresnel: ∫ F(c) 2c dc = F0 + (1 − F0)/21.
+float fresnelMean(float f0) { return f0 + (1.0f - f0) / 21.0f; }
+}  // namespace
+
+float MetallicRoughnessBRDF::pSpecular(float cosO) const {
+  const float fd = schlickFresnel(Color(dielectricF0(ior)), cosO).x;
+  const float ws = metallic * mean(schlickFresnel(baseColor, cosO)) + (1.0f - metallic) * fd;
+  const float wd = (1.0f - metallic) * (1.0f - fd) * mean(baseColor);
+  if (!(wd > 0.0f)) return 1.0f;
+  return std::clamp(ws / (ws + wd), 0.02f, 0.98f);
+}
+
+Color MetallicRoughnessBRDF::eval(const BSDFQuery& q) const {
+  if (!sameSide(q)) return Color(0.0f);
+  const bool flip = q.wo.z < 0.0f;
+  const Vec3 wi = upper(q.wi, flip), wo = upper(q.wo, flip);
+  const float alpha = ggxAlpha(roughness);
+  const float c = std::clamp(glm::dot(wo, glm::normalize(wi + wo)), 0.0f, 1.0f);
+  const float s = ggxSpecular(wi, wo, alpha);
+  const float f0 = dielectricF0(ior);
+  const float fd = schlickFresnel(Color(f0), c).x;
+  const float fi = schlickFresnel(Color(f0), wi.z).x, fo = schlickFresnel(Color(f0), wo.z).x;
+  const float diffuse = (1.0f - fi) * (1.0f - fo) / (1.0f - fresnelMean(f0));
+  const Color dielectric = baseColor * (diffuse * kInvPiF) + Color(fd * s);
+  const Color metal = schlickFresnel(baseColor, c) * s;
+  return metal * metallic + dielectric * (1.0f - metallic);
+}
+
+float MetallicRoughnessBRDF::pdf(const BSDFQuery& q) const {
+  if (!sameSide(q)) return 0.0f;
+  const bool flip = q.wo.z < 0.0f;
+  const Vec3 wi = upper(q.wi, flip), wo = upper(q.wo, flip);
+  const float ps = pSpecular(wo.z);
+  return ps * ggxReflectionPdf(wi, wo, ggxAlpha(roughness)) + (1.0f - ps) * wi.z * kInvPiF;
+}
+
+Color MetallicRoughnessBRDF::sample(BSDFQuery& q, const Vec2& u) const {
+  if (q.wo.z == 0.0f) return fail(q);
+  const bool flip = q.wo.z < 0.0f;
+  const Vec3 wo = upper(q.wo, flip);
+  const float ps = pSpecular(wo.z);
+  Vec3 wi;
+  if (u.x < ps) {
+    const Vec2 v(std::min(u.x / ps, 0x1.fffffep-1f), u.y);
+    const Vec3 h = sampleGgxVisibleNormal(wo, ggxAlpha(roughness), v);
+    wi = 2.0f * glm::dot(wo, h) * h - wo;
+  } else {
+    wi = squareToCosineHemisphere(Vec2(std::min((u.x - ps) / (1.0f - ps), 0x1.fffffep-1f), u.y));
+  }
+  if (!(wi.z > 0.0f)) return fail(q);  // a microfacet reflection below the horizon (or the disk's rim)
+  q.wi = upper(glm::normalize(wi), flip);
+  q.pdf = pdf(q);
+  if (!(q.pdf > 0.0f)) return fail(q);
+  q.specular = false;
+  q.eta = 1.0f;
+  return eval(q) * (std::abs(q.wi.z) / q.pdf);
+}
+
+Color MetallicRoughnessBRDF::albedo() const {
+  const float f0 = dielectricF0(ior);
+  const float fd = fresnelMean(f0);
+  const Color metal = baseColor + (Color(1.0f) - baseColor) * (1.0f / 21.0f);
+  return metal * metallic + (Color(fd) + baseColor * (1.0f - fd)) * (1.0f - metallic);
+}
+
 // ---- BSDF ----
 
 Color BSDF::diffuseAlbedo() const {
@@ -137,6 +212,7 @@ BSDF makeBSDF(const MaterialDesc& m) {
       return StretchedPhongBRDF(m.albedo, m.specular * StretchedPhongBRDF::glossyEnergyBound(m.exponent), m.exponent);
     case MaterialType::Mirror: return MirrorBRDF{m.specular};
     case MaterialType::Dielectric: return DielectricBSDF{m.ior, m.transmittance};
+    case MaterialType::Pbr: return MetallicRoughnessBRDF{m.albedo, m.metallic, m.roughness, m.ior};
   }
   return LambertBRDF{m.albedo};
 }

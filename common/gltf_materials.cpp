@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <set>
 
 #include "common/error.h"
 
@@ -71,6 +72,8 @@ GltfMaterial readGltfMaterial(const Json& gltf, size_t k) {
   const Json* extensions = jsonMember(m, "extensions");
   const Json* strength = extensions ? jsonMember(*extensions, "KHR_materials_emissive_strength") : nullptr;
   if (strength) g.emissive *= number(*strength, "emissiveStrength", 1.0f);
+  const Json* ior = extensions ? jsonMember(*extensions, "KHR_materials_ior") : nullptr;
+  if (ior) g.ior = number(*ior, "ior", g.ior);
   return g;
 }
 
@@ -108,18 +111,38 @@ std::string GltfTextures::report(const std::string& file) const {
   return line;
 }
 
-MaterialDesc metallicRoughnessMaterial(const Color& base, float metallic, float roughness) {
+MaterialDesc metallicRoughnessMaterial(const Color& base, float metallic, float roughness, float ior) {
   MaterialDesc m;
-  m.albedo = base;
-  if (metallic > 0.0f || roughness < 1.0f) {
-    constexpr float kF0 = 0.04f;
-    m.type = MaterialType::Glossy;
-    m.albedo = base * (1.0f - metallic) * (1.0f - kF0);
-    m.specular = Color(kF0 * (1.0f - metallic)) + base * metallic;
-    const double alpha = std::max(double(roughness) * roughness, 1e-3);
-    m.exponent = float(std::clamp(2.0 / (alpha * alpha) - 2.0, 1.0, 1e4));
-  }
+  m.type = MaterialType::Pbr;
+  m.albedo = glm::clamp(base, Color(0.0f), Color(1.0f));
+  m.metallic = std::clamp(metallic, 0.0f, 1.0f);
+  m.roughness = std::clamp(roughness, 0.0f, 1.0f);
+  // KHR_materials_ior: 0 means f0 = 1 (a full mirror coat); the model needs an ior > 0, and 10⁴ is f0 ≈ 1.
+  m.ior = ior > 0.0f ? ior : 1e4f;
   return m;
+}
+
+std::vector<std::string> unsupportedGltfExtensions(const Json& gltf) {
+  // Read here or by assimp, or with no effect on what a surface looks like (KHR_texture_transform: not on a texture's
+  // mean; KHR_materials_variants: the default material is the file's own).
+  static const std::set<std::string> handled = {
+      "KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_lights_punctual", "KHR_mesh_quantization",
+      "KHR_texture_transform", "KHR_materials_variants", "KHR_xmp_json_ld"};
+  std::vector<std::string> names;
+  const Json* used = jsonMember(gltf, "extensionsUsed");
+  if (!used || !used->is_array()) return names;
+  for (const Json& e : *used)
+    if (e.is_string() && !handled.count(e.get<std::string>())) names.push_back(e.get<std::string>());
+  return names;
+}
+
+std::string reportUnsupportedGltfExtensions(const Json& gltf, const std::string& file) {
+  const std::vector<std::string> names = unsupportedGltfExtensions(gltf);
+  if (names.empty()) return "";
+  std::string line = file + ": glTF extension" + (names.size() == 1 ? "" : "s") + " not supported, ignored:";
+  for (size_t i = 0; i < names.size(); ++i) line += (i ? ", " : " ") + names[i];
+  std::fprintf(stderr, "%s\n", line.c_str());
+  return line;
 }
 
 MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) {
@@ -131,7 +154,7 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
     metallic *= mean[2];
     roughness *= mean[1];
   }
-  MaterialDesc m = metallicRoughnessMaterial(base, std::clamp(metallic, 0.0f, 1.0f), std::clamp(roughness, 0.0f, 1.0f));
+  MaterialDesc m = metallicRoughnessMaterial(base, metallic, roughness, g.ior);
   m.emission = g.emissive;
   return m;
 }

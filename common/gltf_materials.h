@@ -28,6 +28,7 @@ struct GltfMaterial {
   float metallic = 1.0f;    ///< pbrMetallicRoughness.metallicFactor
   float roughness = 1.0f;   ///< pbrMetallicRoughness.roughnessFactor
   Color emissive{0.0f};     ///< emissiveFactor × KHR_materials_emissive_strength, W/(m² sr)
+  float ior = 1.5f;         ///< KHR_materials_ior's ior (1.5 without it; 0 stands for an infinite index)
   GltfTextureRef baseColorTexture, metallicRoughnessTexture, emissiveTexture;
 };
 
@@ -54,13 +55,19 @@ class GltfTextures {
   std::vector<std::string> failures_;
 };
 
-/// The material of a metallic-roughness surface (metallic m, roughness r, base colour b, F0 = 0.04): diffuse with
-/// albedo b when m = 0 and r = 1, else a stretched-Phong glossy material,
-///   albedo = b·(1−m)·(1−F0), specular = F0·(1−m) + b·m (their sum stays ≤ 1),
-///   exponent n = 2/α² − 2 with α = r² (Walter et al. 2007's Phong–Beckmann match), clamped to [1, 10⁴].
-MaterialDesc metallicRoughnessMaterial(const Color& base, float metallic, float roughness);
+/// The pbr material (MaterialType::Pbr, the glTF metallic-roughness BRDF of common/bsdf.h) of base colour @p base,
+/// @p metallic, @p roughness (each clamped to [0, 1]) and @p ior (≤ 0, KHR_materials_ior's "infinite" 0, becomes 10⁴).
+MaterialDesc metallicRoughnessMaterial(const Color& base, float metallic, float roughness, float ior = 1.5f);
 
-/// The material of @p g with its base-colour and metallic-roughness textures folded in: albedo × the base-colour
+/// The names in @p gltf's extensionsUsed that the import neither reads nor may ignore without changing how
+/// surfaces look (clearcoat, sheen, specular, transmission, volume, ...: every name but a list of handled ones).
+std::vector<std::string> unsupportedGltfExtensions(const nlohmann::json& gltf);
+
+/// Prints one line on stderr naming unsupportedGltfExtensions(@p gltf): "F: glTF extensions not supported,
+/// ignored: A, B". @return the line, or "" when there are none.
+std::string reportUnsupportedGltfExtensions(const nlohmann::json& gltf, const std::string& file);
+
+/// The pbr material of @p g with its base-colour and metallic-roughness textures folded in: base colour × the base-colour
 /// texture's mean linear RGB, metallic × the mean of its metallic-roughness texture's B channel, roughness × the
 /// mean of its G channel. Emission is g.emissive, without its texture (it depends on the mesh: emissionOnMesh).
 MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures);

@@ -184,7 +184,7 @@ void forEachMeshInstance(const aiNode* node, const Mat4d& parent, const F& f) {
 }
 
 /// Converts an OBJ or PLY material: diffuse colour -> albedo, emissive colour -> emission; assimp's PBR keys
-/// (OBJ's Pm/Pr) through metallicRoughnessMaterial when they are not a plain rough dielectric. Textures and OBJ's
+/// (OBJ's Pm/Pr) to the pbr material through metallicRoughnessMaterial when there are any. Textures and OBJ's
 /// Ks/Ns are ignored (diffuse only).
 MaterialDesc convertMaterial(const aiMaterial& mat) {
   aiColor3D c(0.5f, 0.5f, 0.5f), e(0.0f, 0.0f, 0.0f);
@@ -193,7 +193,9 @@ MaterialDesc convertMaterial(const aiMaterial& mat) {
   float metallic = 0.0f, roughness = 1.0f;
   const bool pbr = mat.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == aiReturn_SUCCESS;
   mat.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness);
-  MaterialDesc m = metallicRoughnessMaterial(color(c), pbr ? metallic : 0.0f, pbr ? roughness : 1.0f);
+  MaterialDesc m;
+  m.albedo = color(c);
+  if (pbr) m = metallicRoughnessMaterial(color(c), metallic, roughness);
   m.emission = color(e);
   return m;
 }
@@ -380,6 +382,7 @@ SceneDesc importAssetScene(const std::string& path) {
   });
   if (s.shapes.empty()) throw InputError(path, "", "holds no triangles");
   materials.reportTextures(path);
+  if (gltf) reportUnsupportedGltfExtensions(gltf->json(), path);
   skipDegenerateFaces(s);
 
   // Lights and cameras are placed by the node of the same name; those no node places are not in the scene.

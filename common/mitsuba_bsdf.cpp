@@ -8,8 +8,6 @@
 namespace fs::mitsuba {
 namespace {
 
-constexpr float kMaxPhongExponent = 1000.0f;
-
 /// Mitsuba's named indices of refraction (its "ior" table).
 const std::map<std::string, double>& namedIors() {
   static const std::map<std::string, double> table = {
@@ -84,13 +82,6 @@ double roughness(Plugin& p) {
 
 }  // namespace
 
-float phongExponent(double alpha) {
-  if (!(alpha > 0)) return kMaxPhongExponent;
-  return float(std::clamp(2.0 / (alpha * alpha) - 2.0, 0.0, double(kMaxPhongExponent)));
-}
-
-double fresnelF0(double eta) { return ((eta - 1) / (eta + 1)) * ((eta - 1) / (eta + 1)); }
-
 int BsdfMapper::material(pugi::xml_node node) {
   const auto it = done_.find(node);
   if (it != done_.end()) return it->second;
@@ -133,23 +124,42 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
   if (t == "diffuse") {
     m.albedo = p.color("reflectance", Color(0.5f));
   } else if (t == "plastic" || t == "roughplastic") {
-    const double eta = ior(p, "int_ior", "polypropylene") / ior(p, "ext_ior", "air");
-    m.type = MaterialType::Glossy;
-    m.specular = glm::min(p.color("specular_reflectance", Color(1.0f)) * float(fresnelF0(eta)), Color(1.0f));
-    m.albedo = glm::min(p.color("diffuse_reflectance", Color(0.5f)), Color(1.0f)) * (Color(1.0f) - m.specular);
-    m.exponent = phongExponent(t == "plastic" ? 0.0 : roughness(p));
-    doc_.note(t, t + " approximated as glossy Phong (n = 2/alpha^2 - 2, at most 1000; specular = Fresnel reflectance"
-                     " at normal incidence; diffuse scaled by 1 - specular)");
+    // A dielectric coat of index η over a diffuse base: the metallic-roughness model with metallic 0 (its
+    // Schlick Fresnel and GGX lobe for Mitsuba's exact Fresnel and GGX/Beckmann lobe; Mitsuba's internal
+    // scattering under the coat, "nonlinear", is not modelled).
+    m.type = MaterialType::Pbr;
+    m.ior = float(ior(p, "int_ior", "polypropylene") / ior(p, "ext_ior", "air"));
+    m.albedo = glm::min(p.color("diffuse_reflectance", Color(0.5f)), Color(1.0f));
+    m.metallic = 0.0f;
+    m.roughness = t == "plastic" ? 0.0f : float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));
+    if (p.has("specular_reflectance"))
+      doc_.note("plastic_specular", "a plastic's specular_reflectance is ignored (the coat's Fresnel reflection kept)");
+    p.take("specular_reflectance");
+    doc_.note(t, t + " mapped to the pbr material (metallic 0, roughness = sqrt(alpha), ior = int_ior/ext_ior, "
+                     "base colour = diffuse_reflectance)");
   } else if (t == "conductor") {
     m.type = MaterialType::Mirror;
     m.specular = conductorF0(p);
     doc_.note(t, "conductor approximated as a mirror reflecting its Fresnel reflectance at normal incidence");
   } else if (t == "roughconductor") {
-    m.type = MaterialType::Glossy;
-    m.specular = conductorF0(p);
-    m.exponent = phongExponent(roughness(p));
-    doc_.note(t, "roughconductor approximated as glossy Phong (n = 2/alpha^2 - 2; specular = Fresnel reflectance at "
-                 "normal incidence)");
+    m.type = MaterialType::Pbr;
+    m.albedo = conductorF0(p);
+    m.metallic = 1.0f;
+    m.roughness = float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));
+    doc_.note(t, "roughconductor mapped to the pbr material (metallic 1, roughness = sqrt(alpha), base colour = "
+                 "Fresnel reflectance at normal incidence, Schlick's Fresnel for the complex one)");
+  } else if (t == "principled") {
+    // Mitsuba's Disney-style principled BSDF shares base_color, metallic and roughness (α = roughness²) with the
+    // glTF model; its specular is eta's other name. Sheen, clearcoat, transmission and anisotropy are dropped.
+    m.type = MaterialType::Pbr;
+    m.albedo = glm::min(p.color("base_color", Color(0.5f)), Color(1.0f));
+    m.metallic = float(std::clamp(p.number("metallic", 0.0), 0.0, 1.0));
+    m.roughness = float(std::clamp(p.number("roughness", 0.5), 0.0, 1.0));
+    const double eta = p.number("eta", 1.5);
+    if (!(eta > 0)) doc_.fail(node, "principled's eta must be positive");
+    m.ior = float(eta);
+    doc_.note(t, "principled mapped to the pbr material (base_color, metallic, roughness, eta; its sheen, clearcoat, "
+                 "transmission, anisotropy and specular tint are not modelled)");
   } else if (glass) {
     m.type = MaterialType::Dielectric;
     m.ior = float(ior(p, "int_ior", "bk7") / ior(p, "ext_ior", "air"));
@@ -166,7 +176,7 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
     }
   } else {
     doc_.fail(node, "bsdf type \"" + t + "\" is not supported (diffuse, twosided, plastic, roughplastic, conductor, "
-                    "roughconductor, dielectric, roughdielectric, thindielectric, bumpmap, normalmap)");
+                    "roughconductor, principled, dielectric, roughdielectric, thindielectric, bumpmap, normalmap)");
   }
   p.finish();
   return m;

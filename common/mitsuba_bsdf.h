@@ -1,8 +1,8 @@
 #pragma once
 /// @file mitsuba_bsdf.h
-/// Mitsuba 3 `<bsdf>` plugins mapped to the project's materials (diffuse, glossy Phong, mirror,
-/// dielectric). Every approximation is printed once per plugin type; docs/scene-format.md, "Mitsuba 3
-/// XML scenes", states each mapping.
+/// Mitsuba 3 `<bsdf>` plugins mapped to the project's materials (diffuse, mirror, dielectric and the
+/// metallic-roughness pbr material for the plastics and the rough conductor). Every approximation is
+/// printed once per plugin type; docs/scene-format.md, "Mitsuba 3 XML scenes", states each mapping.
 #include <map>
 
 #include "common/mitsuba_xml.h"
@@ -28,12 +28,5 @@ class BsdfMapper {
   std::map<pugi::xml_node, int> done_;
   int default_ = -1;
 };
-
-/// The Phong exponent of a microfacet roughness α (Walter et al. 2007): n = 2/α² − 2, clamped to [0, 1000]
-/// (α ≤ 0.0447, smooth plastic included, gives 1000).
-float phongExponent(double alpha);
-
-/// Fresnel reflectance at normal incidence of a dielectric interface of relative index @p eta: ((η−1)/(η+1))².
-double fresnelF0(double eta);
 
 }  // namespace fs::mitsuba

@@ -114,7 +114,12 @@ void validateScene(SceneDesc& scene) {
       throw InputError(file, w, "albedo + specular above 1 reflects more light than it receives");
     if (m.type == MaterialType::Mirror && maxComponent(m.specular) > 1.0f)
       throw InputError(file, w + ".specular", "mirror reflectance above 1");
-    if (m.type == MaterialType::Dielectric && !(m.ior > 0)) throw InputError(file, w + ".ior", "must be positive");
+    if ((m.type == MaterialType::Dielectric || m.type == MaterialType::Pbr) && !(m.ior > 0))
+      throw InputError(file, w + ".ior", "must be positive");
+    if (m.type == MaterialType::Pbr && !(m.metallic >= 0.0f && m.metallic <= 1.0f))
+      throw InputError(file, w + ".metallic", "must be in [0, 1]");
+    if (m.type == MaterialType::Pbr && !(m.roughness >= 0.0f && m.roughness <= 1.0f))
+      throw InputError(file, w + ".roughness", "must be in [0, 1]");
   }
   if (scene.shapes.empty()) throw InputError(file, "shapes", "the scene has no shapes");
   for (const auto& s : scene.shapes) {
@@ -172,6 +177,7 @@ uint64_t hashScene(const SceneDesc& scene) {
   h.add<uint64_t>(scene.materials.size());
   for (const auto& m : scene.materials) {
     h.add(m.type).add(m.albedo).add(m.specular).add(m.exponent).add(m.ior).add(m.transmittance).add(m.emission);
+    if (m.type == MaterialType::Pbr) h.add(m.metallic).add(m.roughness);  // other types keep their hashes
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {

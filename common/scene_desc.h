@@ -13,16 +13,19 @@
 
 namespace fs {
 
-enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric };
+/// Pbr is the glTF 2.0 metallic-roughness model (common/bsdf.h, MetallicRoughnessBRDF).
+enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric, Pbr };
 
 /// A surface material. Emission makes the surface an area light (one-sided, front face).
 struct MaterialDesc {
   std::string name;
   MaterialType type = MaterialType::Diffuse;
-  Color albedo{0.0f};    ///< diffuse reflectance (diffuse, and the diffuse part of glossy)
+  Color albedo{0.0f};    ///< diffuse reflectance (diffuse, and the diffuse part of glossy); pbr: the base colour
   Color specular{0.0f};  ///< glossy: the lobe's albedo bound (ks = specular·(n+1)/2π, see makeBSDF); mirror: reflectance
   float exponent = 1.0f; ///< glossy: Phong exponent n
-  float ior = 1.5f;      ///< dielectric: index of refraction (outside is 1)
+  float ior = 1.5f;      ///< dielectric, pbr: index of refraction (outside is 1)
+  float metallic = 1.0f;  ///< pbr: metalness ∈ [0, 1] (glTF's default 1)
+  float roughness = 1.0f; ///< pbr: perceptual roughness ∈ [0, 1] (GGX α = roughness², common/microfacet.h)
   Color transmittance{1.0f};  ///< dielectric: tint of refracted light
   Color emission{0.0f};  ///< emitted radiance, W/(m² sr)
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }

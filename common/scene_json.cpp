@@ -148,8 +148,22 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     r.keys(j, where, {"type", "ior", "transmittance"});
     m.type = MaterialType::Dielectric;
     m.ior = static_cast<float>(r.positive(r.need(j, where, "ior"), where + ".ior"));
+  } else if (type == "pbr") {
+    r.keys(j, where, {"type", "base_color", "metallic", "roughness", "ior", "emission"});
+    m.type = MaterialType::Pbr;
+    m.albedo = j.contains("base_color") ? r.color(j["base_color"], where + ".base_color") : Color(1.0f);
+    if (maxComponent(m.albedo) > 1.0f) r.fail(where + ".base_color", "must be in [0, 1]");
+    auto unit = [&](const char* key, float fallback) {
+      if (!j.contains(key)) return fallback;
+      const double v = r.number(j[key], where + "." + key);
+      if (v < 0 || v > 1) r.fail(where + "." + key, "must be in [0, 1] (got " + std::to_string(v) + ")");
+      return static_cast<float>(v);
+    };
+    m.metallic = unit("metallic", m.metallic);
+    m.roughness = unit("roughness", m.roughness);
+    if (j.contains("ior")) m.ior = static_cast<float>(r.positive(j["ior"], where + ".ior"));
   } else {
-    r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric)");
+    r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric, pbr)");
   }
   if (j.contains("albedo")) m.albedo = r.color(j["albedo"], where + ".albedo");
   if (j.contains("specular")) m.specular = r.color(j["specular"], where + ".specular");

@@ -164,10 +164,10 @@ TEST(GltfTextures, MetallicRoughnessDefaultsAndTexturesMultiply) {
   const std::string rgbPng = pngBytes(1, 1, {128, 128, 128});
   const SceneDesc plain = loadScene(writeQuad(R"({"name": "metal"})", rgbPng));
   const MaterialDesc& metal = plain.materials.at(plain.shapes.at(0).material);
-  EXPECT_EQ(metal.type, MaterialType::Glossy);  // a white rough metal: n = 2/1 - 2 clamped to 1
-  expectColor(metal.albedo, Color(0.0f), 1e-7);
-  expectColor(metal.specular, Color(1.0f), 1e-7);
-  EXPECT_NEAR(metal.exponent, 1.0, 1e-6);
+  EXPECT_EQ(metal.type, MaterialType::Pbr);  // a white rough metal
+  expectColor(metal.albedo, Color(1.0f), 1e-7);
+  EXPECT_EQ(metal.metallic, 1.0f);
+  EXPECT_EQ(metal.roughness, 1.0f);
 
   const std::string dir = std::filesystem::path(writeQuad(R"({"name": "textured",
       "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicRoughnessTexture": {"index": 2}}})",
@@ -178,11 +178,11 @@ TEST(GltfTextures, MetallicRoughnessDefaultsAndTexturesMultiply) {
   test::writeText(dir + "/quad.gltf", gltf);
   test::writeText(dir + "/mr.png", pngBytes(2, 1, {0, 100, 40, 0, 156, 88}));  // G mean 128, B mean 64 (linear)
   const MaterialDesc m = quadMaterial(dir + "/quad.gltf");
-  const double base = srgb(128), metallic = 64 / 255.0, roughness = 128 / 255.0, alpha = roughness * roughness;
-  EXPECT_EQ(m.type, MaterialType::Glossy);
-  expectColor(m.albedo, Color(float(base * (1 - metallic) * 0.96)), 1e-6);
-  expectColor(m.specular, Color(float(0.04 * (1 - metallic) + base * metallic)), 1e-6);
-  EXPECT_NEAR(m.exponent, 2 / (alpha * alpha) - 2, 1e-3);
+  const double base = srgb(128), metallic = 64 / 255.0, roughness = 128 / 255.0;
+  EXPECT_EQ(m.type, MaterialType::Pbr);
+  expectColor(m.albedo, Color(float(base)), 1e-6);
+  EXPECT_NEAR(m.metallic, metallic, 1e-6);
+  EXPECT_NEAR(m.roughness, roughness, 1e-6);
 }
 
 TEST(GltfTextures, UnreadableTextureIsSkippedWithOneLine) {

@@ -118,6 +118,44 @@ TEST(SceneParse, HashIgnoresCameraButNotGeometry) {
   EXPECT_NE(hashScene(a), hashScene(c));
 }
 
+TEST(SceneParse, PbrMaterialKeysAndDefaults) {
+  const std::string pbr = R"("white": {"type": "pbr", "base_color": [0.9, 0.5, 0.1], "metallic": 0.25, "roughness": 0.4, "ior": 1.4})";
+  SceneDesc s = parseSceneJson(variant(R"("white": {"type": "diffuse", "albedo": 0.5})", pbr), "mem.json");
+  validateScene(s);
+  const MaterialDesc& m = s.materials[size_t(s.findMaterial("white"))];
+  EXPECT_EQ(m.type, MaterialType::Pbr);
+  EXPECT_EQ(m.albedo, Color(0.9f, 0.5f, 0.1f));
+  EXPECT_EQ(m.metallic, 0.25f);
+  EXPECT_EQ(m.roughness, 0.4f);
+  EXPECT_EQ(m.ior, 1.4f);
+  // glTF's defaults: a white rough metal of ior 1.5.
+  SceneDesc d = parseSceneJson(variant(R"("white": {"type": "diffuse", "albedo": 0.5})", R"("white": {"type": "pbr"})"), "d.json");
+  validateScene(d);
+  const MaterialDesc& dm = d.materials[size_t(d.findMaterial("white"))];
+  EXPECT_EQ(dm.albedo, Color(1.0f));
+  EXPECT_EQ(dm.metallic, 1.0f);
+  EXPECT_EQ(dm.roughness, 1.0f);
+  EXPECT_EQ(dm.ior, 1.5f);
+  // metallic and roughness change the scene's hash (other materials' hashes do not read them).
+  SceneDesc r = parseSceneJson(variant(R"("white": {"type": "diffuse", "albedo": 0.5})", R"("white": {"type": "pbr", "roughness": 0.5})"), "r.json");
+  validateScene(r);
+  EXPECT_NE(hashScene(d), hashScene(r));
+}
+
+TEST(SceneBadInput, PbrKeysAreChecked) {
+  const std::string white = R"("white": {"type": "diffuse", "albedo": 0.5})";
+  expectBadInput(runOn(variant(white, R"("white": {"type": "pbr", "metallic": 1.5})")),
+                 {"materials.white.metallic", "must be in [0, 1]"});
+  expectBadInput(runOn(variant(white, R"("white": {"type": "pbr", "roughness": -0.1})")),
+                 {"materials.white.roughness", "must be in [0, 1]"});
+  expectBadInput(runOn(variant(white, R"("white": {"type": "pbr", "base_color": [1.2, 0, 0]})")),
+                 {"materials.white.base_color", "must be in [0, 1]"});
+  expectBadInput(runOn(variant(white, R"("white": {"type": "pbr", "ior": 0})")), {"materials.white.ior", "must be positive"});
+  expectBadInput(runOn(variant(white, R"("white": {"type": "pbr", "albedo": 0.5})")),
+                 {"materials.white", "unknown key \"albedo\"", "base_color"});
+  expectBadInput(runOn(variant(white, R"("white": {"type": "shiny"})")), {"materials.white.type", "pbr"});
+}
+
 TEST(SceneBadInput, ValidSceneExitsZero) {
   const auto r = runOn(kValid);
   EXPECT_EQ(r.exitCode, 0) << r.output;

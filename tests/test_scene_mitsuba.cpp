@@ -50,6 +50,8 @@ void expectSameMaterial(const MaterialDesc& a, const MaterialDesc& b) {
   expectNear(a.emission, b.emission, w + " emission");
   EXPECT_NEAR(a.exponent, b.exponent, 1e-6 * b.exponent) << w;
   EXPECT_NEAR(a.ior, b.ior, 1e-6) << w;
+  EXPECT_NEAR(a.metallic, b.metallic, 1e-6) << w;
+  EXPECT_NEAR(a.roughness, b.roughness, 1e-6) << w;
 }
 
 /// The image's up direction: the camera's up made perpendicular to its view direction.
@@ -165,6 +167,7 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     <bsdf type="roughplastic" id="rp"><float name="alpha" value="0.2"/><float name="int_ior" value="1.5"/><string name="ext_ior" value="vacuum"/></bsdf>
     <bsdf type="roughplastic" id="rp2"><float name="alpha" value="0.5"/></bsdf>
     <bsdf type="conductor" id="au"><string name="material" value="Au"/></bsdf>
+    <bsdf type="principled" id="pr"><rgb name="base_color" value="0.8, 0.4, 0.2"/><float name="metallic" value="0.3"/><float name="roughness" value="0.6"/></bsdf>
     <bsdf type="roughconductor" id="rc"><float name="alpha" value="0.1"/><rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.45, 2.14"/></bsdf>
     <bsdf type="dielectric" id="water"><string name="int_ior" value="water"/><string name="ext_ior" value="air"/></bsdf>
     <bsdf type="dielectric" id="glass"><rgb name="specular_transmittance" value="0.9, 0.8, 0.7"/></bsdf>
@@ -172,26 +175,26 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     <bsdf type="diffuse" id="tex"><texture type="bitmap" name="reflectance"><string name="filename" value="wood.png"/></texture></bsdf>
     <shape type="rectangle"><ref id="d"/></shape>)");
   const std::string err = testing::internal::GetCapturedStderr();
-  // Hand-computed values: F0 = ((η−1)/(η+1))², plastic diffuse × (1 − F0), n = 2/α² − 2, conductor F0 from (η, k).
-  const double f0 = 0.04;  // η = 1.5; the default: polypropylene 1.49 over air 1.000277
-  const double ppEta = 1.49 / 1.000277, f0Default = std::pow((ppEta - 1) / (ppEta + 1), 2);
+  // Hand-computed values: plastics are pbr of metallic 0, ior η, roughness √α; conductor F0 from (η, k).
+  const double ppEta = 1.49 / 1.000277;  // the default: polypropylene 1.49 over air 1.000277
   auto conductor = [](double n, double k) { return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k); };
   const SceneDesc j = json(fmt::format(R"({{
     "materials": {{
       "d": {{"type": "diffuse", "albedo": [0.1, 0.2, 0.3]}},
       "ts": {{"type": "diffuse", "albedo": 0.7}},
-      "p": {{"type": "glossy", "albedo": [{}, {}, {}], "specular": {}, "exponent": 1000}},
-      "rp": {{"type": "glossy", "albedo": {}, "specular": {}, "exponent": 48}},
-      "rp2": {{"type": "glossy", "albedo": {}, "specular": {}, "exponent": 6}},
+      "p": {{"type": "pbr", "base_color": [0.5, 0.25, 0.125], "metallic": 0, "roughness": 0, "ior": 1.5}},
+      "rp": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": 1.5}},
+      "rp2": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": {}}},
       "au": {{"type": "mirror", "specular": [1.0, 0.782, 0.344]}},
-      "rc": {{"type": "glossy", "albedo": 0, "specular": [{}, {}, {}], "exponent": 198}},
+      "pr": {{"type": "pbr", "base_color": [0.8, 0.4, 0.2], "metallic": 0.3, "roughness": 0.6, "ior": 1.5}},
+      "rc": {{"type": "pbr", "base_color": [{}, {}, {}], "metallic": 1, "roughness": {}}},
       "water": {{"type": "dielectric", "ior": {}}},
       "glass": {{"type": "dielectric", "ior": {}, "transmittance": [0.9, 0.8, 0.7]}},
       "thin": {{"type": "dielectric", "ior": 1}},
       "tex": {{"type": "diffuse", "albedo": 0.5}}}},
     "shapes": [{{"type": "quad", "material": "d", "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}}]}})",
-      0.5 * (1 - f0), 0.25 * (1 - f0), 0.125 * (1 - f0), f0, 0.5 * (1 - f0), f0, 0.5 * (1 - f0Default), f0Default,
-      conductor(0.2, 3.9), conductor(0.9, 2.45), conductor(1.1, 2.14), 1.3330 / 1.000277, 1.5046 / 1.000277));
+      std::sqrt(0.2), std::sqrt(0.5), ppEta, conductor(0.2, 3.9), conductor(0.9, 2.45), conductor(1.1, 2.14),
+      std::sqrt(0.1), 1.3330 / 1.000277, 1.5046 / 1.000277));
   expectSameScene(x, j);
   for (const MaterialDesc& m : j.materials) {
     SCOPED_TRACE(m.name);
@@ -199,7 +202,7 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     expectSameMaterial(x.materials[x.findMaterial(m.name)], m);
   }
   // Each approximation once per bsdf type, one line each.
-  for (const char* type : {"xml: roughplastic approximated", "xml: conductor approximated", "xml: thindielectric approximated",
+  for (const char* type : {"xml: roughplastic mapped", "xml: conductor approximated", "xml: thindielectric approximated",
                            "xml: bitmap textures approximated"}) {
     size_t count = 0;
     for (size_t pos = err.find(type); pos != std::string::npos; pos = err.find(type, pos + 1)) ++count;
@@ -343,8 +346,8 @@ void expectBadXml(const std::string& text, std::initializer_list<const char*> pa
 TEST(MitsubaScene, UnsupportedPluginsAreNamed) {
   expectBadXml("<scene version=\"3.0.0\">\n  <shape type=\"cube\"/>\n  <shape type=\"cylinder\"/>\n</scene>\n",
                {"scene/shape[2] (line 3)", "shape type \"cylinder\" is not supported"});
-  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"principled\"/>\n</shape>\n</scene>\n",
-               {"scene/shape/bsdf (line 3)", "bsdf type \"principled\""});
+  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"blendbsdf\"/>\n</shape>\n</scene>\n",
+               {"scene/shape/bsdf (line 3)", "bsdf type \"blendbsdf\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n<emitter type=\"envmap\"/>\n</scene>\n",
                {"scene/emitter (line 3)", "emitter type \"envmap\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"><bsdf type=\"diffuse\">\n"

@@ -1,0 +1,155 @@
+// The glTF metallic-roughness material through the pipeline (issue 34): on the Cornell box with a rough
+// metal short block and a rough plastic tall block (MaterialType::Pbr), each integrator reading a first-shot
+// table (the reflected first-shot radiance evaluates the BRDF at the hit point; the lit patches are emitters
+// for patch NEE, light tracing and BDPT) agrees with NEE path tracing without a table within 3σ, at max depth 3
+// (the irradiance cache: with the cache without a table).
+//
+// σ of an image mean from independent repetitions (kRuns renders with seeds 1..kRuns, each render's grey
+// image mean one sample), as in test_max_depth.cpp; the comparison takes σ = √(σ_a² + σ_b²).
+#include <gtest/gtest.h>
+
+#include <fmt/core.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "preprocess/preprocessor.h"
+#include "render/integrators/irradiance_cache/integrator.h"
+#include "tests/light_tracing_util.h"
+#include "tests/render_util.h"
+#include "tests/test_util.h"
+
+using namespace fs;
+
+namespace {
+
+#ifdef FIRSTSHOT_UNDER_SANITIZERS
+constexpr bool kStatistics = false;
+constexpr int kRuns = 2;
+#else
+constexpr bool kStatistics = true;
+constexpr int kRuns = 10;
+#endif
+constexpr int kDepth = 3;
+
+struct Estimate {
+  double mean = 0, se = 0;
+};
+
+/// Cornell (looking a little down, its light out of view) with pbr blocks: a rough gold-like metal (short)
+/// and a rough blue plastic (tall).
+SceneDesc pbrCornell() {
+  SceneDesc d = loadScene(test::source("scenes/cornell.json"));
+  d.camera.width = d.camera.height = 24;
+  d.camera.lookAt.y = 0.12;
+  MaterialDesc metal, plastic;
+  metal.name = "rough metal", plastic.name = "rough plastic";
+  metal.type = plastic.type = MaterialType::Pbr;
+  metal.albedo = Color(0.95f, 0.75f, 0.35f), metal.metallic = 1.0f, metal.roughness = 0.4f;
+  plastic.albedo = Color(0.2f, 0.35f, 0.8f), plastic.metallic = 0.0f, plastic.roughness = 0.5f;
+  d.materials.push_back(metal);
+  d.materials.push_back(plastic);
+  for (ShapeDesc& s : d.shapes) {
+    if (s.name.find("short block") != std::string::npos) s.material = int(d.materials.size()) - 2;
+    if (s.name.find("tall block") != std::string::npos) s.material = int(d.materials.size()) - 1;
+  }
+  validateScene(d);
+  return d;
+}
+
+const RenderScene& withTable() {
+  static const std::unique_ptr<RenderScene> scene = [] {
+    const SceneDesc d = pbrCornell();
+    PreprocessOptions po = defaultOptions(d);
+    po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+    return std::make_unique<RenderScene>(d, preprocessScene(d, po));
+  }();
+  return *scene;
+}
+
+const RenderScene& withoutTable() {
+  static const std::unique_ptr<RenderScene> scene = [] {
+    const SceneDesc d = pbrCornell();
+    return std::make_unique<RenderScene>(d, d.settings.patchSize);
+  }();
+  return *scene;
+}
+
+double greyImageMean(const Film& film) {
+  double sum = 0;
+  for (int y = 0; y < film.height(); ++y)
+    for (int x = 0; x < film.width(); ++x) {
+      const Vec3d m = film.mean(x, y);
+      sum += (m.x + m.y + m.z) / 3.0;
+    }
+  return sum / (double(film.width()) * film.height());
+}
+
+/// kRuns renders of @p name (a makeIntegrator name; the cache gets a cache of its own per seed).
+Estimate estimate(const std::string& name, const RenderScene& scene, int spp) {
+  IntegratorOptions io;
+  io.maxDepth = kDepth;
+  test::Moments m;
+  std::unique_ptr<Integrator> shared;
+  for (int r = 0; r < kRuns; ++r) {
+    const uint64_t seed = 1 + uint64_t(r);
+    std::unique_ptr<Integrator> own;
+    const Integrator* integrator = nullptr;
+    if (name == "irradiance-cache") {
+      IrradianceCacheSettings s;
+      s.samples = 64;
+      s.seed = seed;
+      own = std::make_unique<IrradianceCacheIntegrator>(io, s);
+      own->preprocess(scene);
+      integrator = own.get();
+    } else {
+      if (!shared) {
+        shared = makeIntegrator(name, io);
+        shared->preprocess(scene);
+      }
+      integrator = shared.get();
+    }
+    const test::RenderRun run = test::renderWith(*integrator, scene, kStatistics ? spp : 1, seed);
+    EXPECT_EQ(run.stats.nonFinite, 0u) << name;
+    m.add(greyImageMean(run.film));
+  }
+  return {m.mean(), m.se()};
+}
+
+/// NEE without a table: path tracing for the unbiased integrators; for the cache, the cache itself without a
+/// table. (The cache with a table reads ~0.3% below path NEE on this view with or without the pbr blocks:
+/// −0.38%, −2.4σ here, −0.36%, −1.8σ on the plain Cornell box, measured at this commit; not the material's doing.)
+Estimate nee(const std::string& name) {
+  static const Estimate path = estimate("path", withoutTable(), 64);
+  return name == "irradiance-cache" ? estimate(name, withoutTable(), 32) : path;
+}
+
+void expectAgrees(const std::string& name, int spp) {
+  ASSERT_FALSE(withTable().firstShot()->replacedLights.empty());
+  const Estimate ref = nee(name), e = estimate(name, withTable(), spp);
+  const double sigma = std::hypot(ref.se, e.se), z = sigma > 0 ? (e.mean - ref.mean) / sigma : 0.0;
+  fmt::print("{} with first-shot on pbr cornell: {:.5f} ± {:.5f} against NEE {:.5f} ± {:.5f}: {:+.2f}% ({:+.2f}σ)\n",
+             name, e.mean, e.se, ref.mean, ref.se, 100 * (e.mean / ref.mean - 1), z);
+  if (!kStatistics) return;
+  EXPECT_LT(std::abs(z), 3.0) << name;
+  EXPECT_LT(sigma, 0.01 * ref.mean) << name << ": too noisy to test";
+}
+
+}  // namespace
+
+TEST(PbrRender, SceneHasBothPbrBlocks) {
+  const SceneDesc d = pbrCornell();
+  int metal = 0, plastic = 0;
+  for (const ShapeDesc& s : d.shapes) {
+    metal += d.materials[size_t(s.material)].name == "rough metal";
+    plastic += d.materials[size_t(s.material)].name == "rough plastic";
+  }
+  EXPECT_EQ(metal, 5);
+  EXPECT_EQ(plastic, 5);
+}
+
+TEST(PbrRender, PathTracerWithFirstShotAgreesWithNee) { expectAgrees("path", 64); }
+TEST(PbrRender, LightTracingWithFirstShotAgreesWithNee) { expectAgrees("light", 64); }
+TEST(PbrRender, BdptWithFirstShotAgreesWithNee) { expectAgrees("bdpt", 32); }
+TEST(PbrRender, IrradianceCacheWithFirstShotAgreesWithNee) { expectAgrees("irradiance-cache", 32); }
