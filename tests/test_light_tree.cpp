@@ -157,7 +157,8 @@ TEST_P(LightTreeLeaves, RestIsUniformWithinEachChoice) {
   for (uint32_t e = 0; e < emitters.size(); ++e) {
     if (count[e] < 800) continue;  // too few samples for 8 bins to be meaningful
     for (int b = 0; b < kBins; ++b)  // stratified: each bin within a few samples of its share
-      EXPECT_NEAR(bins[e * kBins + b], count[e] / double(kBins), 3.0 + 0.01 * count[e]) << "emitter " << e << " bin " << b;
+      EXPECT_NEAR(bins[e * kBins + b], count[e] / double(kBins), 3.0 + 0.01 * count[e])
+          << "emitter " << e << " bin " << b;
   }
 }
 
