@@ -3,6 +3,7 @@
 // emitter that can light a point is never left out.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "render/lights/light_tree.h"
@@ -131,6 +132,34 @@ TEST_P(LightTreeLeaves, SampleFrequenciesFollowThePmf) {
     EXPECT_NEAR(double(count[e]) / N, expected, 2e-4 + 1e-3 * expected) << "emitter " << e;
   }
   EXPECT_NEAR(double(ok) / N, sum, 1e-3);
+}
+
+/// The rest of u (issue 37: NEE reuses it for the point on the chosen emitter): for stratified u,
+/// the rests of the samples that pick one emitter are themselves stratified over [0,1), so the
+/// choice and the point share one stratified dimension. Checked as a histogram of 8 bins per emitter.
+TEST_P(LightTreeLeaves, RestIsUniformWithinEachChoice) {
+  std::mt19937 rng(12);
+  const auto emitters = randomEmitters(60, rng);
+  const std::vector<uint32_t> groupable(emitters.size(), 1);
+  const LightTree tree(emitters, &groupable, GetParam());
+  const Vec3 p(0.3f, -0.2f, 0.1f), n = glm::normalize(Vec3(0.2f, 1.0f, -0.1f));
+  const int N = 200000, kBins = 8;
+  std::vector<int> bins(emitters.size() * kBins, 0), count(emitters.size(), 0);
+  for (int i = 0; i < N; ++i) {
+    uint32_t index;
+    float pmf, rest = -1.0f;
+    if (!tree.sample(p, n, (float(i) + 0.5f) / float(N), index, pmf, &rest)) continue;
+    ASSERT_GE(rest, 0.0f);
+    ASSERT_LT(rest, 1.0f);
+    ++bins[index * kBins + std::min(kBins - 1, int(rest * kBins))];
+    ++count[index];
+  }
+  for (uint32_t e = 0; e < emitters.size(); ++e) {
+    if (count[e] < 800) continue;  // too few samples for 8 bins to be meaningful
+    for (int b = 0; b < kBins; ++b)  // stratified: each bin within a few samples of its share
+      EXPECT_NEAR(bins[e * kBins + b], count[e] / double(kBins), 3.0 + 0.01 * count[e])
+          << "emitter " << e << " bin " << b;
+  }
 }
 
 /// A one-sided triangle facing the receiver, seen within its hemisphere, always has a chance;

@@ -181,14 +181,17 @@ float LightSampler::pmf(const Vec3& x, const Vec3& n, const Hit& y, float& area)
   return selectProbability(g, x, n, e);
 }
 
-bool LightSampler::sample(LightGroup group, const Vec3& x, const Vec3& n, float u, SampledEmitter& out) const {
+bool LightSampler::sample(LightGroup group, const Vec3& x, const Vec3& n, float u, SampledEmitter& out,
+                          float* rest) const {
   const Group& g = groups_[size_t(group)];
   float uSelect = u;
   const float pDir = g.pDirectional();
   if (pDir > 0.0f) {
     if (uSelect < pDir) {
       const uint32_t count = static_cast<uint32_t>(g.directional.size());
-      const uint32_t k = std::min(count - 1, static_cast<uint32_t>(uSelect / pDir * float(count)));
+      const float scaled = uSelect / pDir * float(count);
+      const uint32_t k = std::min(count - 1, static_cast<uint32_t>(scaled));
+      if (rest) *rest = std::clamp(scaled - float(k), 0.0f, 0x1.fffffep-1f);
       out = {{Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count)};
       return true;
     }
@@ -196,7 +199,7 @@ bool LightSampler::sample(LightGroup group, const Vec3& x, const Vec3& n, float 
   }
   uint32_t e;
   float pmf;
-  if (!g.tree.sample(x, n, uSelect, e, pmf)) return false;
+  if (!g.tree.sample(x, n, uSelect, e, pmf, rest)) return false;
   out = {g.emitters[e], pmf * (1.0f - pDir)};
   return true;
 }

@@ -81,8 +81,9 @@ class LightSampler {
   bool empty(LightGroup g) const { return groups_[size_t(g)].empty(); }
 
   /// Chooses one emitter of group @p g for the receiver at @p x with receiving side normal @p n
-  /// from @p u ∈ [0,1). @return false if the group has none that can light @p x.
-  bool sample(LightGroup g, const Vec3& x, const Vec3& n, float u, SampledEmitter& out) const;
+  /// from @p u ∈ [0,1). @return false if the group has none that can light @p x. @p rest, if
+  /// given, gets u rescaled within the chosen emitter's share of [0,1) (LightTree::sample).
+  bool sample(LightGroup g, const Vec3& x, const Vec3& n, float u, SampledEmitter& out, float* rest = nullptr) const;
   /// The probability with which sample() at @p x, @p n chooses the emitter that the hit @p y lies
   /// on (an area-light triangle, or the side of a patch that faces @p x), that emitter's area in
   /// @p area (m²); 1 for an included light under LightStrategy::All. 0 where @p y is on no emitter

@@ -226,7 +226,7 @@ uint32_t LightTree::descend(const Vec3& p, const Vec3& n, float& u, float& pmf) 
   return node;
 }
 
-bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf) const {
+bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf, float* rest) const {
   if (nodes_.empty()) return false;
   const Node& leaf = nodes_[descend(p, n, u, pmf)];
   if (!(pmf > 0.0f)) return false;
@@ -234,6 +234,11 @@ bool LightTree::sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, f
   while (k + 1 < leaf.count && leafCdf_[leaf.child + k] <= u) ++k;
   index = leaf_[leaf.child + k];
   pmf *= inLeaf_[index];
+  if (rest) {  // u's position within the chosen emitter's interval of the leaf's CDF
+    const float lo = k > 0 ? leafCdf_[leaf.child + k - 1] : 0.0f;
+    const float hi = k + 1 < leaf.count ? leafCdf_[leaf.child + k] : 1.0f;
+    *rest = hi > lo ? std::clamp((u - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.0f;
+  }
   return pmf > 0.0f;
 }
 

@@ -52,8 +52,11 @@ class LightTree {
 
   /// Chooses an emitter for the receiver at @p p with unit normal @p n (zero: any direction)
   /// from @p u ∈ [0,1). @return false when no emitter can light @p p; else @p index and its
-  /// probability @p pmf > 0.
-  bool sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf) const;
+  /// probability @p pmf > 0. @p rest, if given, gets u's place within the chosen emitter's share
+  /// of [0,1), rescaled to [0,1): a uniform number independent of the choice, which the caller
+  /// may reuse for the point on the emitter (the choice and the point then share one stratified
+  /// dimension).
+  bool sample(const Vec3& p, const Vec3& n, float u, uint32_t& index, float& pmf, float* rest = nullptr) const;
 
   /// The probability with which sample(p, n, ·) chooses emitter @p index (0 if it never does).
   float pmf(const Vec3& p, const Vec3& n, uint32_t index) const;

@@ -148,15 +148,17 @@ Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, 
   const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the side that reflects towards the viewer
   Color sum(0.0f);
   auto fromGroup = [&](LightGroup g) {
-    if (lights.empty(g)) {  // skip its three dimensions without drawing them (images stay the same)
-      sampler.setDimension(sampler.dimension() + 3);
+    if (lights.empty(g)) {  // skip its two dimensions without drawing them (images stay the same)
+      sampler.setDimension(sampler.dimension() + 2);
       return;
     }
+    // One stratified pair for the choice and the point: x chooses the emitter and, rescaled within
+    // the chosen emitter's share, is the point's first number; y its second.
     const Vec2 a = sampler.next2D();
-    const float b = sampler.next1D();
     SampledEmitter c;
-    if (lights.sample(g, hit.p, n, a.x, c))
-      sum += emitterContribution(lights, c, hit, frame, woLocal, bsdf, Vec2(a.y, b), request, rays);
+    float rest = 0.0f;
+    if (lights.sample(g, hit.p, n, a.x, c, &rest))
+      sum += emitterContribution(lights, c, hit, frame, woLocal, bsdf, Vec2(rest, a.y), request, rays);
   };
   if (lights.strategy() == LightStrategy::All) {
     if (request.kept || request.replaced)

@@ -13,8 +13,11 @@
 ///
 /// Every light (nextEventEveryLight, and LightStrategy::All): light l takes the sampler's
 /// dimensions d0 + 2l and d0 + 2l + 1, drawn for the lights taken only, so later dimensions do not
-/// shift. One emitter per group (Tree): each requested group takes three dimensions (the choice,
-/// then the point), skipped without drawing when the group is empty.
+/// shift. One emitter per group (Tree): each requested group takes one next2D pair, skipped without
+/// drawing when the group is empty: x chooses the emitter and, rescaled within the chosen emitter's
+/// share of [0,1) (LightSampler::sample's rest), is the point's first number, y its second. So the
+/// pair's stratification covers the whole light (both triangles of a quad, say), not the choice
+/// and the point separately (issue 37).
 #include <cstdint>
 #include <vector>
 
