@@ -15,6 +15,8 @@ namespace fs {
 
 enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric };
 
+struct Texture;  // common/texture.h
+
 /// A surface material. Emission makes the surface an area light (one-sided, front face).
 struct MaterialDesc {
   std::string name;
@@ -25,6 +27,10 @@ struct MaterialDesc {
   float ior = 1.5f;      ///< dielectric: index of refraction (outside is 1)
   Color transmittance{1.0f};  ///< dielectric: tint of refracted light
   Color emission{0.0f};  ///< emitted radiance, W/(m² sr)
+  /// Diffuse and glossy: a base-colour texture; at a point with texture coordinates uv the diffuse reflectance
+  /// is albedo × texture.lookup(uv) (albedo is then the factor, 1 by default; render/scene/surface_texture.h).
+  /// Null: none. Shared, immutable once loaded.
+  std::shared_ptr<const Texture> albedoTexture;
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }
 };
 
@@ -69,7 +75,16 @@ struct ShapeDesc {
   std::string sourceFile;  ///< mesh: the file the triangles came from
   std::vector<Vec3d> vertices;
   std::vector<Face> faces;
+  /// Texture coordinates per face corner, (u, v) as glTF defines them (u right, v down from the image's top
+  /// edge; OBJ's vt is flipped to this): uv[4·f + k] for corner k of faces[f], unused corners (0, 0). Empty:
+  /// the shape has none. Per corner rather than per vertex because mesh vertices are welded by position
+  /// (common/mesh_import.cpp), and a texture seam gives one position two coordinates.
+  std::vector<Vec2> uv;
   SmallOverride small = SmallOverride::Auto;  ///< for emissive shapes
+
+  bool hasUv() const { return !uv.empty(); }
+  /// The texture coordinates of corner @p k of faces[@p f] (hasUv() must hold).
+  Vec2 cornerUv(size_t f, int k) const { return uv[4 * f + size_t(k)]; }
 };
 
 /// Pinhole camera.
