@@ -141,4 +141,10 @@ BSDF makeBSDF(const MaterialDesc& m) {
   return LambertBRDF{m.albedo};
 }
 
+BSDF makeBSDF(const MaterialDesc& m, const Color& albedo) {
+  MaterialDesc at = m;
+  at.albedo = albedo;
+  return makeBSDF(at);
+}
+
 }  // namespace fs

@@ -166,5 +166,8 @@ class BSDF {
 /// n = exponent); Mirror → mirror(specular); Dielectric → dielectric(ior, transmittance).
 /// Emission is not part of the BSDF.
 BSDF makeBSDF(const MaterialDesc& material);
+/// The BSDF of @p material with @p albedo in place of material.albedo: a textured material at one point
+/// (render/scene/surface_textures.h), albedo = factor × texel.
+BSDF makeBSDF(const MaterialDesc& material, const Color& albedo);
 
 }  // namespace fs

@@ -27,7 +27,7 @@ void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int m
     v.wi = -glm::normalize(ray.d);
     v.beta = beta;
     v.material = scene.material(hit);
-    const BSDF& bsdf = scene.bsdf(v.material);
+    const BSDF bsdf = scene.bsdfAt(hit);
     v.delta = bsdf.hasDelta();
     path.push_back(v);
     if (depth >= maxHits || maxComponent(bsdf.albedo()) <= 0.0f) break;

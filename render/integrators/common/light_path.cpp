@@ -44,7 +44,7 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
     // A directional light's particles have a density per area across the beam: p_pos·|cosθ|.
     v.pdfFwd = deltaDir ? path.back().pdfFwd * cosIn : pdfDir * cosIn / (hit.t * hit.t);
     v.material = scene.material(hit);
-    const BSDF& bsdf = scene.bsdf(v.material);
+    const BSDF bsdf = scene.bsdfAt(hit);
     v.delta = bsdf.hasDelta();
     path.push_back(v);
     if (depth >= maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
