@@ -49,10 +49,10 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
     const MaterialDesc& mat = desc.materials[p.material];
     const bool diffusePart = mat.type == MaterialType::Diffuse || mat.type == MaterialType::Glossy;
     if (m.firstShot && diffusePart) {
-      const Color f = mat.albedo * kInvPiF;
+      const Color f = scene.patchBsdf(j).diffuseAlbedo() * kInvPiF;  // a texture averaged over the patch
       addPolygon(m, p.v, p.count, p.normal, f * e[2 * size_t(j)], f * e[2 * size_t(j) + 1], 0.0f);
     } else {
-      const Color base = scene.bsdf(p.material).albedo() * (m.firstShot ? level : 1.0f);
+      const Color base = scene.patchBsdf(j).albedo() * (m.firstShot ? level : 1.0f);
       addPolygon(m, p.v, p.count, p.normal, base, base, 1.0f);
     }
     for (uint32_t k = 0; k < p.count; ++k) {

@@ -117,8 +117,11 @@ Vec2 SurfaceTextures::uvAt(uint32_t patch, const Vec3& p) const {
 Color SurfaceTextures::albedoAt(uint32_t patch, const Vec3& p) const {
   const Patch& q = mesh_->patches[patch];
   const MaterialDesc& m = scene_->materials[q.material];
-  if (!scene_->shapes[q.shape].hasUv()) return m.albedo * m.albedoTexture->image->mean;
-  return m.albedo * m.albedoTexture->lookup(uvAt(patch, p));
+  // A base colour is a reflectance: texels above 1 (float images) are clamped, so energy is conserved as the
+  // factor's checks in validateScene say.
+  const Color texel =
+      scene_->shapes[q.shape].hasUv() ? m.albedoTexture->lookup(uvAt(patch, p)) : m.albedoTexture->image->mean;
+  return m.albedo * glm::clamp(texel, Color(0.0f), Color(1.0f));
 }
 
 }  // namespace fs

@@ -34,7 +34,7 @@ class SurfaceTextures {
   /// parallelograms mapped affinely, such as the built-in quads). (0, 0) when the shape has no coordinates.
   Vec2 uvAt(uint32_t patch, const Vec3& p) const;
   /// Diffuse reflectance at point @p p on textured patch @p patch: the material's albedo × the texture at uvAt
-  /// (× the texture's mean when the shape has no coordinates).
+  /// (× the texture's mean when the shape has no coordinates), the texel clamped to [0, 1].
   Color albedoAt(uint32_t patch, const Vec3& p) const;
   /// The albedo of textured patch @p patch averaged over its area (8 × 8 stratified points, computed once).
   const Color& patchAlbedo(uint32_t patch) const { return patchAlbedo_[patch]; }
