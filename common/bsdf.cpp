@@ -203,18 +203,20 @@ Color BSDF::diffuseAlbedo() const {
   return Color(0.0f);
 }
 
-BSDF makeBSDF(const MaterialDesc& m) {
+BSDF makeBSDF(const MaterialDesc& m) { return makeBSDF(m, m.albedo); }
+
+BSDF makeBSDF(const MaterialDesc& m, const Color& albedo) {
   switch (m.type) {
-    case MaterialType::Diffuse: return LambertBRDF{m.albedo};
+    case MaterialType::Diffuse: return LambertBRDF{albedo};
     // The scene's "specular" is the lobe's energy bound: ks·2π/(n+1) ≥ its directional albedo at every
     // incidence angle, so albedo + specular ≤ 1 (checked by validateScene) conserves energy.
     case MaterialType::Glossy:
-      return StretchedPhongBRDF(m.albedo, m.specular * StretchedPhongBRDF::glossyEnergyBound(m.exponent), m.exponent);
+      return StretchedPhongBRDF(albedo, m.specular * StretchedPhongBRDF::glossyEnergyBound(m.exponent), m.exponent);
     case MaterialType::Mirror: return MirrorBRDF{m.specular};
     case MaterialType::Dielectric: return DielectricBSDF{m.ior, m.transmittance};
     case MaterialType::Pbr: return MetallicRoughnessBRDF{m.albedo, m.metallic, m.roughness, m.ior};
   }
-  return LambertBRDF{m.albedo};
+  return LambertBRDF{albedo};
 }
 
 }  // namespace fs

@@ -207,5 +207,8 @@ class BSDF {
 /// metallic-roughness(base colour = albedo, metallic, roughness, ior).
 /// Emission is not part of the BSDF.
 BSDF makeBSDF(const MaterialDesc& material);
+/// The BSDF of @p material with @p albedo in place of material.albedo: a textured material at one point
+/// (render/scene/surface_textures.h), albedo = factor × texel.
+BSDF makeBSDF(const MaterialDesc& material, const Color& albedo);
 
 }  // namespace fs

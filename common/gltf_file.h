@@ -35,6 +35,7 @@ class GltfFile {
 
   const nlohmann::json& json() const { return json_; }
   const std::string& parseError() const { return parseError_; }
+  const std::filesystem::path& path() const { return path_; }
 
   /// What is wrong with the first broken buffer, or "": "buffer file F is missing", "buffer file F is a Git LFS
   /// pointer, …", "buffer file F has N bytes, the glTF says M" (likewise for a data URI or a .glb's binary chunk).

@@ -37,11 +37,24 @@ GltfTextureRef textureRef(const Json& j, const char* key) {
   ref.texture = index->get<int64_t>();
   const Json* set = jsonMember(*info, "texCoord");
   if (set && set->is_number_unsigned() && set->get<uint64_t>() < 8) ref.texCoord = set->get<unsigned>();
+  const Json* extensions = jsonMember(*info, "extensions");
+  if (const Json* t = extensions ? jsonMember(*extensions, "KHR_texture_transform") : nullptr) {
+    const auto pair = [&](const char* name, Vec2& out) {
+      const Json* v = jsonMember(*t, name);
+      if (v && v->is_array() && v->size() == 2 && (*v)[0].is_number() && (*v)[1].is_number())
+        out = Vec2((*v)[0].get<float>(), (*v)[1].get<float>());
+    };
+    pair("offset", ref.transform.offset);
+    pair("scale", ref.transform.scale);
+    ref.transform.rotation = number(*t, "rotation", 0.0f);
+    const Json* over = jsonMember(*t, "texCoord");
+    if (over && over->is_number_unsigned() && over->get<uint64_t>() < 8) ref.texCoord = over->get<unsigned>();
+  }
   return ref;
 }
 
 /// textures[ref.texture] of @p gltf, or nullptr.
-const Json* texture(const Json& gltf, const GltfTextureRef& ref) {
+const Json* textureJson(const Json& gltf, const GltfTextureRef& ref) {
   return ref.texture < 0 ? nullptr : jsonArrayElement(gltf, "textures", uint64_t(ref.texture));
 }
 
@@ -83,7 +96,7 @@ const TextureImage* GltfTextures::image(const GltfTextureRef& ref, bool srgb) {
   if (!inserted) return it->second ? &*it->second : nullptr;
   const std::string where = "textures[" + std::to_string(ref.texture) + "]";
   try {
-    const Json* t = texture(file_.json(), ref);
+    const Json* t = textureJson(file_.json(), ref);
     const Json* source = t ? jsonMember(*t, "source") : nullptr;
     if (!t) throw InputError("", "", where + " does not exist");
     if (!source || !source->is_number_unsigned()) throw InputError("", "", where + " has no PNG or JPEG source");
@@ -94,8 +107,33 @@ const TextureImage* GltfTextures::image(const GltfTextureRef& ref, bool srgb) {
   return it->second ? &*it->second : nullptr;
 }
 
+std::shared_ptr<const Texture> GltfTextures::texture(const GltfTextureRef& ref) {
+  if (ref.texture < 0) return nullptr;
+  auto [it, inserted] = texels_.try_emplace(ref.texture);
+  if (inserted) {
+    const std::string where = "textures[" + std::to_string(ref.texture) + "]";
+    try {
+      const Json* t = textureJson(file_.json(), ref);
+      const Json* source = t ? jsonMember(*t, "source") : nullptr;
+      if (!t) throw InputError("", "", where + " does not exist");
+      if (!source || !source->is_number_unsigned()) throw InputError("", "", where + " has no image source");
+      const std::string name = file_.path().string() + " images[" + std::to_string(source->get<size_t>()) + "]";
+      it->second = std::make_shared<const TexelImage>(
+          decodeTexelImage(file_.imageBytes(source->get<size_t>()), name, true));
+    } catch (const InputError& e) {
+      failures_.push_back(where + ": " + e.what());
+    }
+  }
+  if (!it->second) return nullptr;
+  auto texture = std::make_shared<Texture>();
+  texture->image = it->second;
+  std::tie(texture->wrapU, texture->wrapV) = wrap(ref);
+  texture->transform = ref.transform;
+  return texture;
+}
+
 std::pair<TextureWrap, TextureWrap> GltfTextures::wrap(const GltfTextureRef& ref) const {
-  const Json* t = texture(file_.json(), ref);
+  const Json* t = textureJson(file_.json(), ref);
   const Json* index = t ? jsonMember(*t, "sampler") : nullptr;
   const Json* sampler =
       index && index->is_number_unsigned() ? jsonArrayElement(file_.json(), "samplers", index->get<uint64_t>()) : nullptr;
@@ -148,13 +186,20 @@ std::string reportUnsupportedGltfExtensions(const Json& gltf, const std::string&
 MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) {
   Color base = g.baseColor;
   float metallic = g.metallic, roughness = g.roughness;
-  if (const TextureImage* t = textures.image(g.baseColorTexture, true)) base *= rgb(t->mean());
+  std::shared_ptr<const Texture> albedoTexture;
+  if (g.baseColorTexture.texCoord == 0) albedoTexture = textures.texture(g.baseColorTexture);
+  if (albedoTexture) base *= albedoTexture->image->mean;
+  else if (const TextureImage* t = textures.image(g.baseColorTexture, true)) base *= rgb(t->mean());
   if (const TextureImage* t = textures.image(g.metallicRoughnessTexture, false)) {
     const std::array<float, 4> mean = t->mean();
     metallic *= mean[2];
     roughness *= mean[1];
   }
   MaterialDesc m = metallicRoughnessMaterial(base, metallic, roughness, g.ior);
+  if (albedoTexture) {  // the texture multiplies the base colour factor per point
+    m.albedo = metallicRoughnessMaterial(g.baseColor, metallic, roughness, g.ior).albedo;
+    m.albedoTexture = std::move(albedoTexture);
+  }
   m.emission = g.emissive;
   return m;
 }

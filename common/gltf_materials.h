@@ -1,9 +1,9 @@
 #pragma once
 /// @file gltf_materials.h
 /// glTF 2.0 metallic-roughness materials read from the asset's JSON (assimp 5.2 keeps the factors but not what the
-/// textures mean, and drops KHR_materials_emissive_strength), their textures folded into constant factors until
-/// the renderer has textures (issue 34), and the conversion to firstshot's materials (docs/scene-format.md,
-/// "Asset files as scenes").
+/// textures mean, and drops KHR_materials_emissive_strength), and the conversion to firstshot's materials
+/// (docs/scene-format.md, "Asset files as scenes"): the base-colour texture becomes the material's albedo texture
+/// (common/texture.h); the metallic-roughness and emissive textures are still folded into constant factors.
 #include <map>
 #include <optional>
 #include <string>
@@ -12,6 +12,7 @@
 
 #include "common/gltf_file.h"
 #include "common/scene_desc.h"
+#include "common/texture.h"
 #include "common/texture_image.h"
 
 namespace fs {
@@ -20,6 +21,7 @@ namespace fs {
 struct GltfTextureRef {
   int64_t texture = -1;
   unsigned texCoord = 0;
+  TextureTransform transform;  ///< KHR_texture_transform (its texCoord override included in texCoord)
 };
 
 /// materials[k] of a glTF file as the JSON gives it, absent values at the glTF 2.0 defaults.
@@ -41,6 +43,9 @@ GltfMaterial readGltfMaterial(const nlohmann::json& gltf, size_t k);
 class GltfTextures {
  public:
   explicit GltfTextures(const GltfFile& file) : file_(file) {}
+  /// The base-colour texture of @p ref (image read through OpenImageIO, sRGB decoded; sampler and transform), or
+  /// nullptr when there is none or it cannot be read (then report() names it).
+  std::shared_ptr<const Texture> texture(const GltfTextureRef& ref);
   /// The image of @p ref (sRGB decoded when @p srgb), or nullptr when there is none or it cannot be read.
   const TextureImage* image(const GltfTextureRef& ref, bool srgb);
   /// The sampler's wrap modes (u, v) of @p ref; repeat by default.
@@ -52,6 +57,7 @@ class GltfTextures {
  private:
   const GltfFile& file_;
   std::map<std::pair<int64_t, bool>, std::optional<TextureImage>> images_;
+  std::map<int64_t, std::shared_ptr<const TexelImage>> texels_;  ///< by texture, read once (null: failed)
   std::vector<std::string> failures_;
 };
 
@@ -67,9 +73,10 @@ std::vector<std::string> unsupportedGltfExtensions(const nlohmann::json& gltf);
 /// ignored: A, B". @return the line, or "" when there are none.
 std::string reportUnsupportedGltfExtensions(const nlohmann::json& gltf, const std::string& file);
 
-/// The pbr material of @p g with its base-colour and metallic-roughness textures folded in: base colour × the base-colour
-/// texture's mean linear RGB, metallic × the mean of its metallic-roughness texture's B channel, roughness × the
-/// mean of its G channel. Emission is g.emissive, without its texture (it depends on the mesh: emissionOnMesh).
+/// The pbr material of @p g: its metallic-roughness texture folded in (metallic × the mean of the texture's B channel,
+/// roughness × the mean of its G channel); its base-colour texture, when read through TEXCOORD_0, as the albedo
+/// texture (albedo = the base colour factor, multiplied per point by the texel), else folded in as its mean. Emission
+/// is g.emissive, without its texture (it depends on the mesh: emissionOnMesh).
 MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures);
 
 /// The emission of @p g on a mesh whose triangles cover @p uv (in TEXCOORD_<emissiveTexture.texCoord>, weighted

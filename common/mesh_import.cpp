@@ -9,7 +9,9 @@
 #include <cctype>
 #include <cstring>
 #include <filesystem>
+#include <cstdio>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <unordered_map>
 
@@ -20,6 +22,7 @@
 #include "common/hash.h"
 #include "common/photometry.h"
 #include "common/skipped_faces.h"
+#include "common/texture.h"
 
 namespace fs {
 namespace {
@@ -156,23 +159,37 @@ class Welder {
   std::unordered_map<Vec3d, uint32_t, KeyHash> map_;
 };
 
-/// Appends every triangle of @p mesh, transformed by @p toWorld, keeping degenerate ones. A mirroring
-/// transform (negative determinant) reverses the winding so that the front side stays the front.
+/// Appends every triangle of @p mesh, transformed by @p toWorld, keeping degenerate ones, and its first set of
+/// texture coordinates to @p uv (4 per face, ShapeDesc::uv) unless @p uv is null: (u, 1 − v) of assimp's, which
+/// holds OBJ's vt as it is (v up) and glTF's as 1 − v; (0, 0) when the mesh has none. A mirroring transform
+/// (negative determinant) reverses the winding so that the front side stays the front.
 /// @return false when a face indexes past the mesh's vertices.
-bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, std::vector<Face>& faces) {
+bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, std::vector<Face>& faces,
+                     std::vector<Vec2>* uv) {
   const bool flip = glm::determinant(Mat3d(toWorld)) < 0.0;
+  const aiVector3D* coords = mesh.mTextureCoords[0];
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
     const aiFace& in = mesh.mFaces[f];
     if (in.mNumIndices != 3) continue;  // points and lines
     Face out;
+    Vec2 corner[4] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
     for (int k = 0; k < 3; ++k) {
       if (in.mIndices[k] >= mesh.mNumVertices) return false;
       out.v[k] = welder.index(point(toWorld, mesh.mVertices[in.mIndices[k]]));
+      if (coords) corner[k] = Vec2(coords[in.mIndices[k]].x, 1.0f - coords[in.mIndices[k]].y);
     }
-    if (flip) std::swap(out.v[1], out.v[2]);
+    if (flip) std::swap(out.v[1], out.v[2]), std::swap(corner[1], corner[2]);
     faces.push_back(out);
+    if (uv) uv->insert(uv->end(), corner, corner + 4);
   }
   return true;
+}
+
+/// Whether any mesh of @p scene has texture coordinates (set 0).
+bool hasTextureCoordinates(const aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+    if (scene.mMeshes[m] && scene.mMeshes[m]->mTextureCoords[0]) return true;
+  return false;
 }
 
 /// Calls f(mesh index, node-to-world transform) for every mesh instance, depth first.
@@ -184,8 +201,8 @@ void forEachMeshInstance(const aiNode* node, const Mat4d& parent, const F& f) {
 }
 
 /// Converts an OBJ or PLY material: diffuse colour -> albedo, emissive colour -> emission; assimp's PBR keys
-/// (OBJ's Pm/Pr) to the pbr material through metallicRoughnessMaterial when there are any. Textures and OBJ's
-/// Ks/Ns are ignored (diffuse only).
+/// (OBJ's Pm/Pr) to the pbr material through metallicRoughnessMaterial when there are any. Textures (but map_Kd:
+/// MaterialTable::diffuseTexture) and OBJ's Ks/Ns are ignored (diffuse only).
 MaterialDesc convertMaterial(const aiMaterial& mat) {
   aiColor3D c(0.5f, 0.5f, 0.5f), e(0.0f, 0.0f, 0.0f);
   if (mat.Get(AI_MATKEY_BASE_COLOR, c) != aiReturn_SUCCESS) mat.Get(AI_MATKEY_COLOR_DIFFUSE, c);
@@ -274,8 +291,8 @@ CameraDesc convertCamera(const aiCamera& c, const aiNode& node, bool gltf) {
 /// assimp's OBJ/PLY default (unnamed or "DefaultMaterial") and the one its glTF2 importer appends last.
 class MaterialTable {
  public:
-  MaterialTable(const aiScene& scene, const GltfFile* gltf, std::vector<MaterialDesc>& materials)
-      : scene_(scene), gltf_(gltf), materials_(materials), converted_(scene.mNumMaterials) {
+  MaterialTable(const aiScene& scene, const GltfFile* gltf, std::vector<MaterialDesc>& materials, std::string file)
+      : scene_(scene), gltf_(gltf), materials_(materials), converted_(scene.mNumMaterials), file_(std::move(file)) {
     if (gltf) textures_.emplace(*gltf);
   }
 
@@ -294,9 +311,12 @@ class MaterialTable {
     return add(std::move(m), k, meshName);
   }
 
-  /// Prints the line of textures that could not be read (GltfTextures::report).
+  /// Prints the line of textures that could not be read (GltfTextures::report; likewise for OBJ's map_Kd).
   void reportTextures(const std::string& file) const {
     if (textures_) textures_->report(file);
+    if (!objFailures_.empty())
+      std::fprintf(stderr, "%s: %zu texture%s not read, their factors used alone (first: %s)\n", file.c_str(),
+                   objFailures_.size(), objFailures_.size() == 1 ? "" : "s", objFailures_.front().c_str());
   }
 
  private:
@@ -318,6 +338,7 @@ class MaterialTable {
     std::optional<GltfMaterial> g;
     if (gltf_) g = readGltfMaterial(gltf_->json(), k);
     MaterialDesc m = g ? convertGltfMaterial(*g, *textures_) : convertMaterial(*mat);
+    if (!g) m.albedoTexture = diffuseTexture(*mat);
     m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(k) + "]";
     return {std::move(m), std::move(g)};
   }
@@ -336,12 +357,35 @@ class MaterialTable {
     return int(materials_.size()) - 1;
   }
 
+  /// OBJ/MTL's map_Kd (the file relative to the asset's folder), multiplying Kd; nullptr without one or when it
+  /// cannot be read (then reportTextures() names it).
+  std::shared_ptr<const Texture> diffuseTexture(const aiMaterial& mat) {
+    aiString file;
+    if (mat.GetTexture(aiTextureType_DIFFUSE, 0, &file) != aiReturn_SUCCESS || file.length == 0) return nullptr;
+    std::string name = file.C_Str();
+    std::replace(name.begin(), name.end(), '\\', '/');
+    const std::string path = (std::filesystem::path(file_).parent_path() / name).string();
+    auto texture = std::make_shared<Texture>();
+    try {
+      std::shared_ptr<const TexelImage>& image = objImages_[path];
+      if (!image) image = std::make_shared<const TexelImage>(readTexelImage(path, true));
+      texture->image = image;
+    } catch (const InputError& e) {
+      objFailures_.push_back(e.what());
+      return nullptr;
+    }
+    return texture;
+  }
+
   const aiScene& scene_;
   const GltfFile* gltf_;
   std::vector<MaterialDesc>& materials_;
   std::vector<std::optional<std::pair<MaterialDesc, std::optional<GltfMaterial>>>> converted_;
   std::vector<unsigned> sources_;  ///< the asset material of each of materials_
   std::optional<GltfTextures> textures_;
+  std::string file_;  ///< the asset file
+  std::map<std::string, std::shared_ptr<const TexelImage>> objImages_;  ///< map_Kd images by path
+  std::vector<std::string> objFailures_;
 };
 
 }  // namespace
@@ -352,8 +396,9 @@ MeshData loadMeshFile(const std::string& path, const std::string& sceneFile, con
   const aiScene* scene = readAsset(importer, path, sceneFile, element, gltf);
   MeshData data;
   Welder welder(data.vertices);
+  const bool uv = hasTextureCoordinates(*scene);
   forEachMeshInstance(scene->mRootNode, Mat4d(1.0), [&](unsigned mesh, const Mat4d& m) {
-    if (!appendTriangles(*scene->mMeshes[mesh], m, welder, data.faces))
+    if (!appendTriangles(*scene->mMeshes[mesh], m, welder, data.faces, uv ? &data.uv : nullptr))
       throw InputError(sceneFile, element, "mesh file " + path + ": vertex index out of range");
   });
   if (data.faces.empty()) throw InputError(sceneFile, element, "mesh file " + path + " holds no triangles");
@@ -366,7 +411,7 @@ SceneDesc importAssetScene(const std::string& path) {
   const aiScene* scene = readAsset(importer, path, path, "", gltf);
   SceneDesc s;
   s.file = path;
-  MaterialTable materials(*scene, gltf ? &*gltf : nullptr, s.materials);
+  MaterialTable materials(*scene, gltf ? &*gltf : nullptr, s.materials, path);
   forEachMeshInstance(scene->mRootNode, Mat4d(1.0), [&](unsigned k, const Mat4d& m) {
     const aiMesh& mesh = *scene->mMeshes[k];
     ShapeDesc shape;
@@ -374,7 +419,7 @@ SceneDesc importAssetScene(const std::string& path) {
     shape.name = mesh.mName.length > 0 ? mesh.mName.C_Str() : "mesh[" + std::to_string(k) + "]";
     shape.sourceFile = path;
     Welder welder(shape.vertices);
-    if (!appendTriangles(mesh, m, welder, shape.faces))
+    if (!appendTriangles(mesh, m, welder, shape.faces, mesh.mTextureCoords[0] ? &shape.uv : nullptr))
       throw InputError(path, shape.name, "vertex index out of range");
     if (shape.faces.empty()) return;  // points or lines only
     shape.material = materials.index(mesh, m, shape.name);

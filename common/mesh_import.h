@@ -12,6 +12,7 @@ namespace fs {
 struct MeshData {
   std::vector<Vec3d> vertices;
   std::vector<Face> faces;  ///< all triangles
+  std::vector<Vec2> uv;     ///< per face corner as ShapeDesc::uv (the first set); empty when no mesh has any, (0, 0) for one without
 };
 
 /// Loads all triangles of a mesh file, degenerate ones kept (the scene's loader skips them: skipDegenerateFaces).
@@ -20,9 +21,10 @@ struct MeshData {
 /// pointer or short: named so), or holds no triangles.
 MeshData loadMeshFile(const std::string& path, const std::string& sceneFile, const std::string& element);
 
-/// Imports an asset file as a whole scene: each mesh becomes a shape; OBJ/PLY materials keep their diffuse colour
-/// as albedo and their emissive colour as emission (making the mesh an area light), glTF materials are read from
-/// the JSON with their textures folded into the factors (common/gltf_materials.h); KHR_lights_punctual lights
+/// Imports an asset file as a whole scene: each mesh becomes a shape with its texture coordinates (set 0); OBJ/PLY
+/// materials keep their diffuse colour as albedo (map_Kd as its texture) and their emissive colour as emission
+/// (making the mesh an area light), glTF materials are read from the JSON, the base-colour texture as the albedo
+/// texture and the others folded into the factors (common/gltf_materials.h); KHR_lights_punctual lights
 /// (candela, lux) become point, spot and directional lights in watts; the first camera is used
 /// (SceneDesc::camera.given = false when there is none, so validateScene frames the scene). Zero-area and
 /// duplicate faces are skipped (skipDegenerateFaces). Rules: docs/scene-format.md, "Asset files as scenes".

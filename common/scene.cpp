@@ -12,6 +12,7 @@
 #include "common/ies.h"
 #include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
+#include "common/texture.h"
 
 namespace fs {
 
@@ -178,12 +179,16 @@ uint64_t hashScene(const SceneDesc& scene) {
   for (const auto& m : scene.materials) {
     h.add(m.type).add(m.albedo).add(m.specular).add(m.exponent).add(m.ior).add(m.transmittance).add(m.emission);
     if (m.type == MaterialType::Pbr) h.add(m.metallic).add(m.roughness);  // other types keep their hashes
+    if (m.albedoTexture) h.add(m.albedoTexture->hash());  // untextured scenes hash as before
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {
     h.add(s.material).add(s.small).add<uint64_t>(s.vertices.size()).add<uint64_t>(s.faces.size());
     if (!s.vertices.empty()) h.bytes(s.vertices.data(), s.vertices.size() * sizeof(Vec3d));
     for (const auto& f : s.faces) h.add(f.count).bytes(f.v, sizeof(f.v[0]) * f.count);
+    const bool textured = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
+                          scene.materials[size_t(s.material)].albedoTexture;
+    if (textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));  // only where they change results
   }
   h.add<uint64_t>(scene.lights.size());
   for (const auto& l : scene.lights) {

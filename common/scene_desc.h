@@ -16,6 +16,8 @@ namespace fs {
 /// Pbr is the glTF 2.0 metallic-roughness model (common/bsdf.h, MetallicRoughnessBRDF).
 enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric, Pbr };
 
+struct Texture;  // common/texture.h
+
 /// A surface material. Emission makes the surface an area light (one-sided, front face).
 struct MaterialDesc {
   std::string name;
@@ -28,6 +30,10 @@ struct MaterialDesc {
   float roughness = 1.0f; ///< pbr: perceptual roughness ∈ [0, 1] (GGX α = roughness², common/microfacet.h)
   Color transmittance{1.0f};  ///< dielectric: tint of refracted light
   Color emission{0.0f};  ///< emitted radiance, W/(m² sr)
+  /// Diffuse and glossy: a base-colour texture; at a point with texture coordinates uv the diffuse reflectance
+  /// is albedo × texture.lookup(uv) (albedo is then the factor, 1 by default; render/scene/surface_texture.h).
+  /// Null: none. Shared, immutable once loaded.
+  std::shared_ptr<const Texture> albedoTexture;
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }
 };
 
@@ -72,7 +78,16 @@ struct ShapeDesc {
   std::string sourceFile;  ///< mesh: the file the triangles came from
   std::vector<Vec3d> vertices;
   std::vector<Face> faces;
+  /// Texture coordinates per face corner, (u, v) as glTF defines them (u right, v down from the image's top
+  /// edge; OBJ's vt is flipped to this): uv[4·f + k] for corner k of faces[f], unused corners (0, 0). Empty:
+  /// the shape has none. Per corner rather than per vertex because mesh vertices are welded by position
+  /// (common/mesh_import.cpp), and a texture seam gives one position two coordinates.
+  std::vector<Vec2> uv;
   SmallOverride small = SmallOverride::Auto;  ///< for emissive shapes
+
+  bool hasUv() const { return !uv.empty(); }
+  /// The texture coordinates of corner @p k of faces[@p f] (hasUv() must hold).
+  Vec2 cornerUv(size_t f, int k) const { return uv[4 * f + size_t(k)]; }
 };
 
 /// Pinhole camera.

@@ -15,6 +15,7 @@
 #include "common/scene_desc.h"
 #include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
+#include "common/texture.h"
 
 namespace fs {
 namespace {
@@ -128,15 +129,59 @@ Mat4d parseTransform(const Reader& r, const Json& j, const std::string& where) {
   return T * R * S;
 }
 
-MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& name, const std::string& where) {
+/// Images read so far, by resolved path: a file used by several materials is read once.
+using TextureImages = std::map<std::string, std::shared_ptr<const TexelImage>>;
+
+/// "albedo_texture": a file name (relative to the scene file), or {"file", "wrap", "offset", "scale", "rotation"}
+/// (docs/scene-format.md). A file that cannot be read is an error naming it and the material @p name.
+std::shared_ptr<const Texture> parseTexture(const Reader& r, const Json& j, const std::string& name,
+                                            const std::string& where, TextureImages& images) {
+  auto texture = std::make_shared<Texture>();
+  const Json* file = &j;
+  if (j.is_object()) {
+    r.keys(j, where, {"file", "wrap", "offset", "scale", "rotation"});
+    file = &r.need(j, where, "file");
+    if (j.contains("wrap")) {
+      const std::string w = r.string(j["wrap"], where + ".wrap");
+      if (w != "repeat" && w != "clamp" && w != "mirror")
+        r.fail(where + ".wrap", "unknown wrap mode \"" + w + "\" (repeat, clamp, mirror)");
+      texture->wrapU = texture->wrapV = w == "clamp"    ? TextureWrap::ClampToEdge
+                                        : w == "mirror" ? TextureWrap::MirroredRepeat
+                                                        : TextureWrap::Repeat;
+    }
+    const auto pair = [&](const char* key, Vec2& out) {
+      const Json& v = j[key];
+      const std::string w = where + "." + key;
+      if (!v.is_array() || v.size() != 2) r.fail(w, "expected [u, v]");
+      out = Vec2(float(r.number(v[0], w + "[0]")), float(r.number(v[1], w + "[1]")));
+    };
+    if (j.contains("offset")) pair("offset", texture->transform.offset);
+    if (j.contains("scale")) pair("scale", texture->transform.scale);
+    if (j.contains("rotation"))
+      texture->transform.rotation = float(glm::radians(r.number(j["rotation"], where + ".rotation")));
+  }
+  std::filesystem::path path(r.string(*file, where + (j.is_object() ? ".file" : "")));
+  if (path.is_relative()) path = std::filesystem::path(r.file()).parent_path() / path;
+  std::shared_ptr<const TexelImage>& image = images[path.string()];
+  try {
+    if (!image) image = std::make_shared<const TexelImage>(readTexelImage(path.string(), true));
+  } catch (const InputError& e) {
+    r.fail(where, "material \"" + name + "\": " + e.what());
+  }
+  texture->image = image;
+  return texture;
+}
+
+MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& name, const std::string& where,
+                           TextureImages& images) {
   MaterialDesc m;
   m.name = name;
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
   if (type == "diffuse") {
-    r.keys(j, where, {"type", "albedo", "emission"});
+    r.keys(j, where, {"type", "albedo", "albedo_texture", "emission"});
     m.type = MaterialType::Diffuse;
   } else if (type == "glossy") {
-    r.keys(j, where, {"type", "albedo", "specular", "exponent", "emission"});
+    r.keys(j, where, {"type", "albedo", "albedo_texture", "specular", "exponent", "emission"});
     m.type = MaterialType::Glossy;
     m.specular = r.color(r.need(j, where, "specular"), where + ".specular");
     m.exponent = static_cast<float>(r.nonNegative(r.need(j, where, "exponent"), where + ".exponent"));
@@ -164,6 +209,10 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     if (j.contains("ior")) m.ior = static_cast<float>(r.positive(j["ior"], where + ".ior"));
   } else {
     r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric, pbr)");
+  }
+  if (j.contains("albedo_texture")) {
+    m.albedoTexture = parseTexture(r, j["albedo_texture"], name, where + ".albedo_texture", images);
+    m.albedo = Color(1.0f);  // the factor, unless given
   }
   if (j.contains("albedo")) m.albedo = r.color(j["albedo"], where + ".albedo");
   if (j.contains("specular")) m.specular = r.color(j["specular"], where + ".specular");
@@ -225,6 +274,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     MeshData mesh = loadMeshFile(s.sourceFile, r.file(), where + ".file");
     s.vertices = std::move(mesh.vertices);
     s.faces = std::move(mesh.faces);
+    s.uv = std::move(mesh.uv);
   } else {
     r.fail(where + ".type", "unknown shape type \"" + type + "\" (quad, box, sphere, mesh)");
   }
@@ -383,8 +433,9 @@ SceneDesc parseSceneJson(const std::string& text, const std::string& path) {
   if (root.contains("camera")) parseCamera(r, root["camera"], scene.camera);
   const Json& mats = r.need(root, "scene", "materials");
   if (!mats.is_object()) r.fail("materials", "expected an object of named materials");
+  TextureImages images;
   for (auto it = mats.begin(); it != mats.end(); ++it)
-    scene.materials.push_back(parseMaterial(r, it.value(), it.key(), "materials." + it.key()));
+    scene.materials.push_back(parseMaterial(r, it.value(), it.key(), "materials." + it.key(), images));
   const Json& shapes = r.need(root, "scene", "shapes");
   if (!shapes.is_array()) r.fail("shapes", "expected an array");
   for (size_t i = 0; i < shapes.size(); ++i)

@@ -187,6 +187,7 @@ class SceneReader {
       MeshData mesh = loadMeshFile(s.sourceFile, doc_.file(), doc_.where(node));
       s.vertices = std::move(mesh.vertices);
       s.faces = std::move(mesh.faces);
+      s.uv = std::move(mesh.uv);
     } else if (t == "rectangle") {
       s.type = ShapeType::Quad;
       shapes::makeQuad(s, {Vec3d(-1, -1, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0), Vec3d(-1, 1, 0)});

@@ -18,11 +18,16 @@ void makeQuad(ShapeDesc& s, const std::array<Vec3d, 4>& v) {
   const Vec3d n3 = glm::cross(v[3] - v[2], v[0] - v[2]);
   const Vec3d n4 = glm::cross(v[0] - v[3], v[1] - v[3]);
   const bool convex = glm::dot(n, n2) > 0 && glm::dot(n, n3) > 0 && glm::dot(n, n4) > 0;
+  // Natural coordinates: the image upright on the quad, its bottom-left corner at v[0] (glTF's v points down).
+  static const Vec2 corner[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  if (s.faces.empty()) s.uv.clear();
+  const bool uv = s.faces.size() * 4 == s.uv.size();  // every face so far has coordinates
   if (planar && convex) {
     Face f;
     f.count = 4;
     for (uint32_t i = 0; i < 4; ++i) f.v[i] = base + i;
     s.faces.push_back(f);
+    if (uv) s.uv.insert(s.uv.end(), corner, corner + 4);
     return;
   }
   // Split along the shorter diagonal.
@@ -36,6 +41,9 @@ void makeQuad(ShapeDesc& s, const std::array<Vec3d, 4>& v) {
   }
   s.faces.push_back(a);
   s.faces.push_back(b);
+  if (uv)
+    for (const Face& f : {a, b})
+      for (int k = 0; k < 4; ++k) s.uv.push_back(k < 3 ? corner[f.v[k] - base] : Vec2(0.0f));
 }
 
 void makeBox(ShapeDesc& s, const Vec3d& lo, const Vec3d& hi) {
@@ -45,11 +53,15 @@ void makeBox(ShapeDesc& s, const Vec3d& lo, const Vec3d& hi) {
   // Counter-clockwise seen from outside.
   static const uint32_t quads[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
                                        {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  // Each face gets the whole image, upright-ish: its first corner at the image's bottom left (as makeQuad).
+  static const Vec2 corner[4] = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+  const bool uv = s.faces.empty() || s.faces.size() * 4 == s.uv.size();
   for (const auto& q : quads) {
     Face f;
     f.count = 4;
     for (int i = 0; i < 4; ++i) f.v[i] = base + q[i];
     s.faces.push_back(f);
+    if (uv) s.uv.insert(s.uv.end(), corner, corner + 4);
   }
 }
 
@@ -82,6 +94,7 @@ void makeSphere(ShapeDesc& s, const Vec3d& center, double radius, int subdivisio
     tris.swap(next);
   }
   const uint32_t base = static_cast<uint32_t>(s.vertices.size());
+  s.uv.clear();  // no texture coordinates on spheres
   for (const auto& p : v) s.vertices.push_back(center + radius * p);
   for (const auto& tr : tris) {
     Face f;
@@ -97,7 +110,11 @@ void transform(ShapeDesc& s, const Mat4d& m) {
 }
 
 void flip(ShapeDesc& s) {
-  for (auto& f : s.faces) std::reverse(f.v, f.v + f.count);
+  for (size_t i = 0; i < s.faces.size(); ++i) {
+    Face& f = s.faces[i];
+    std::reverse(f.v, f.v + f.count);
+    if (s.hasUv()) std::reverse(s.uv.begin() + long(4 * i), s.uv.begin() + long(4 * i + f.count));
+  }
 }
 
 double faceArea(const ShapeDesc& s, const Face& f) {

@@ -133,18 +133,6 @@ void decodeJpeg(std::string_view bytes, TextureImage& image) {
   jpeg_destroy_decompress(&info);
 }
 
-/// Texel index @p i folded into [0, n) by @p wrap.
-int64_t fold(int64_t i, int64_t n, TextureWrap wrap) {
-  switch (wrap) {
-    case TextureWrap::ClampToEdge: return std::clamp<int64_t>(i, 0, n - 1);
-    case TextureWrap::MirroredRepeat: {
-      const int64_t m = ((i % (2 * n)) + 2 * n) % (2 * n);
-      return m < n ? m : 2 * n - 1 - m;
-    }
-    default: return ((i % n) + n) % n;
-  }
-}
-
 /// The whole-tile shift that brings @p lo into the first period of @p wrap (none for clamping).
 double tileShift(double lo, TextureWrap wrap) {
   if (wrap == TextureWrap::ClampToEdge) return 0;
@@ -157,13 +145,23 @@ int64_t toIndex(double x) { return int64_t(std::clamp(x, -1e12, 1e12)); }
 
 }  // namespace
 
+int64_t foldTexelIndex(int64_t i, int64_t n, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge: return std::clamp<int64_t>(i, 0, n - 1);
+    case TextureWrap::MirroredRepeat: {
+      const int64_t m = ((i % (2 * n)) + 2 * n) % (2 * n);
+      return m < n ? m : 2 * n - 1 - m;
+    }
+    default: return ((i % n) + n) % n;
+  }
+}
+
+float srgbDecode(double c) { return float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4)); }
+
 float srgbToLinear(uint8_t v) {
   static const std::array<float, 256> table = [] {
     std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) {
-      const double c = i / 255.0;
-      t[i] = float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-    }
+    for (int i = 0; i < 256; ++i) t[i] = srgbDecode(i / 255.0);
     return t;
   }();
   return table[v];
@@ -227,7 +225,8 @@ std::array<float, 4> meanOverTriangles(const TextureImage& image, const std::vec
     std::array<double, 4> triangleSum{};
     size_t n = 0;
     auto add = [&](int64_t x, int64_t y) {
-      const std::array<float, 4> t = image.texel(int(fold(x, image.width, wrapU)), int(fold(y, image.height, wrapV)));
+      const std::array<float, 4> t =
+          image.texel(int(foldTexelIndex(x, image.width, wrapU)), int(foldTexelIndex(y, image.height, wrapV)));
       for (int ch = 0; ch < 4; ++ch) triangleSum[ch] += t[ch];
       ++n;
     };

@@ -28,7 +28,12 @@ struct TextureImage {
   std::array<float, 4> mean() const;
 };
 
-/// Linear value of the 8-bit sRGB-encoded @p v (IEC 61966-2-1).
+/// Texel index @p i folded into [0, @p n) by @p wrap (as the glTF sampler folds texture coordinates).
+int64_t foldTexelIndex(int64_t i, int64_t n, TextureWrap wrap);
+
+/// Linear value of the sRGB-encoded @p c ∈ [0, 1] (IEC 61966-2-1).
+float srgbDecode(double c);
+/// Linear value of the 8-bit sRGB-encoded @p v: srgbDecode(v / 255) from a table.
 float srgbToLinear(uint8_t v);
 
 /// Decodes a PNG or JPEG (told by its signature) of any bit depth and colour type (16 bits are cut to 8, grey and

@@ -10,6 +10,7 @@
 #include "common/error.h"
 #include "common/mesh_import.h"
 #include "common/scene_desc.h"
+#include "common/texture.h"
 #include "common/texture_image.h"
 #include "tests/test_util.h"
 
@@ -180,9 +181,56 @@ TEST(GltfTextures, MetallicRoughnessDefaultsAndTexturesMultiply) {
   const MaterialDesc m = quadMaterial(dir + "/quad.gltf");
   const double base = srgb(128), metallic = 64 / 255.0, roughness = 128 / 255.0;
   EXPECT_EQ(m.type, MaterialType::Pbr);
-  expectColor(m.albedo, Color(float(base)), 1e-6);
+  // The base-colour texture stays a texture (read through TEXCOORD_0): the albedo is the factor (1 here), which
+  // the texture multiplies at each point; on average as the mean folded in.
+  ASSERT_NE(m.albedoTexture, nullptr);
+  expectColor(m.albedo, Color(1.0f), 1e-6);
+  expectColor(m.albedo * m.albedoTexture->image->mean, Color(float(base)), 1e-6);
   EXPECT_NEAR(m.metallic, metallic, 1e-6);
   EXPECT_NEAR(m.roughness, roughness, 1e-6);
+}
+
+TEST(GltfTextures, TextureCoordinatesReachTheShape) {
+  // glTF's TEXCOORD_0 as it is (v down); the quad's first triangle is vertices 0, 1, 2 at v = 1, 1, 0.
+  const SceneDesc s = loadScene(writeQuad(R"({"pbrMetallicRoughness": {"baseColorTexture": {"index": 0,
+      "extensions": {"KHR_texture_transform": {"offset": [0.5, 0], "scale": [2, 2]}}}, "metallicFactor": 0}})",
+                                          png2x2(255, 0)));
+  const ShapeDesc& shape = s.shapes.at(0);
+  ASSERT_EQ(shape.uv.size(), 4 * shape.faces.size());
+  for (size_t f = 0; f < shape.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const Vec3d& p = shape.vertices[shape.faces[f].v[k]];
+      EXPECT_NEAR(shape.cornerUv(f, k).x, p.x, 1e-6);
+      EXPECT_NEAR(shape.cornerUv(f, k).y, 1 - p.y, 1e-6);
+    }
+  const MaterialDesc& m = s.materials.at(shape.material);
+  ASSERT_NE(m.albedoTexture, nullptr);
+  EXPECT_EQ(m.albedoTexture->transform.offset, Vec2(0.5f, 0.0f));
+  EXPECT_EQ(m.albedoTexture->transform.scale, Vec2(2.0f));
+}
+
+TEST(GltfTextures, ObjTextureCoordinatesAreFlippedAndMapKdIsTheAlbedoTexture) {
+  const std::string dir = test::tempDir();
+  test::writeText(dir + "/tex.png", png2x2(255, 0));
+  test::writeText(dir + "/m.mtl", "newmtl wood\nKd 0.5 0.5 0.5\nmap_Kd tex.png\nnewmtl lost\nKd 1 1 1\nmap_Kd none.png\n");
+  test::writeText(dir + "/t.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                                  "usemtl wood\nf 1/1 2/2 3/3\nv 0 0 1\nv 1 0 1\nv 1 1 1\nusemtl lost\nf 4/1 5/2 6/3\n");
+  testing::internal::CaptureStderr();
+  const SceneDesc s = loadScene(dir + "/t.obj");
+  const std::string err = testing::internal::GetCapturedStderr();
+  ASSERT_EQ(s.shapes.size(), 2u);
+  const ShapeDesc& shape = s.shapes[0];
+  ASSERT_EQ(shape.uv.size(), 4u);
+  EXPECT_EQ(shape.cornerUv(0, 0), Vec2(0, 1));  // vt (0, 0): the image's bottom left
+  EXPECT_EQ(shape.cornerUv(0, 1), Vec2(1, 1));
+  EXPECT_EQ(shape.cornerUv(0, 2), Vec2(1, 0));
+  const MaterialDesc& wood = s.materials.at(shape.material);
+  ASSERT_NE(wood.albedoTexture, nullptr);
+  expectColor(wood.albedo, Color(0.5f), 1e-7);
+  EXPECT_EQ(wood.albedoTexture->image->width, 2);
+  EXPECT_EQ(s.materials.at(s.shapes[1].material).albedoTexture, nullptr);  // unreadable: Kd alone, one line
+  EXPECT_THAT(err, HasSubstr("1 texture not read"));
+  EXPECT_THAT(err, HasSubstr("none.png"));
 }
 
 TEST(GltfTextures, UnreadableTextureIsSkippedWithOneLine) {

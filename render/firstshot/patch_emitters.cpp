@@ -27,7 +27,7 @@ Vec3 samplePatchPoint(const Patch& p, Vec2 u) {
 
 float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrradiance, uint32_t j, uint32_t side) {
   const Patch& p = scene.mesh().patches[j];
-  const BSDF& bsdf = scene.bsdf(p.material);
+  const BSDF& bsdf = scene.patchBsdf(j);
   if (bsdf.hasDelta()) return 0.0f;
   const Color phi = bsdf.albedo() * sideIrradiance[2 * size_t(j) + side] * float(p.area);
   return (phi.x + phi.y + phi.z) * (1.0f / 3.0f);
@@ -41,7 +41,7 @@ Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting,
   hit.ng = p.normal;
   hit.patch = j;
   const Frame frame(p.normal);
-  return lighting.eval(hit, frame, frame.toLocal(w), scene.bsdf(p.material));
+  return lighting.eval(hit, frame, frame.toLocal(w), scene.bsdfAt(hit));  // the texture at y itself
 }
 
 }  // namespace fs

@@ -7,7 +7,8 @@
 /// Side s of patch j (s = 0: the side its normal faces) sends the first-shot radiance
 /// Σ_i e_i r_ij f_r(ω'_i, y, ω) of FirstShotLighting into its half-space; its power is about
 /// albedo · E_js · A_j, the weight with which emitters are chosen (any positive weight keeps the
-/// estimators unbiased: they divide by the probability they used).
+/// estimators unbiased: they divide by the probability they used). A textured patch's power takes the
+/// albedo averaged over the patch (RenderScene::patchBsdf); its radiance at a point, the texture there.
 #include "common/patches.h"
 #include "render/firstshot/lighting.h"
 #include "render/scene/render_scene.h"

@@ -47,15 +47,17 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
   for (uint32_t j = 0; j < mesh.size(); ++j) {
     const Patch& p = mesh.patches[j];
     const MaterialDesc& mat = desc.materials[p.material];
-    // The pbr material is shaded with its base colour (its albedo field) as if it were diffuse.
+    // The pbr material is shaded with its base colour (the patch's: a texture averaged over it) as if it were diffuse.
     const bool diffusePart =
         mat.type == MaterialType::Diffuse || mat.type == MaterialType::Glossy || mat.type == MaterialType::Pbr;
+    const BSDF& patchBsdf = scene.patchBsdf(j);  // a texture averaged over the patch
+    const auto* pbr = std::get_if<MetallicRoughnessBRDF>(&patchBsdf.model());
+    const Color* pbrBase = pbr ? &pbr->baseColor : nullptr;
     if (m.firstShot && diffusePart) {
-      const Color f = mat.albedo * kInvPiF;
+      const Color f = (pbrBase ? *pbrBase : patchBsdf.diffuseAlbedo()) * kInvPiF;
       addPolygon(m, p.v, p.count, p.normal, f * e[2 * size_t(j)], f * e[2 * size_t(j) + 1], 0.0f);
     } else {
-      const Color albedo = mat.type == MaterialType::Pbr ? mat.albedo : scene.bsdf(p.material).albedo();
-      const Color base = albedo * (m.firstShot ? level : 1.0f);
+      const Color base = (pbrBase ? *pbrBase : patchBsdf.albedo()) * (m.firstShot ? level : 1.0f);
       addPolygon(m, p.v, p.count, p.normal, base, base, 1.0f);
     }
     for (uint32_t k = 0; k < p.count; ++k) {

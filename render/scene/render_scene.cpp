@@ -41,6 +41,13 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
   lights_ = LightSet(desc_, replaced);
   patchMaterial_.reserve(mesh().size());
   for (const Patch& p : mesh().patches) patchMaterial_.push_back(p.material);
+  textures_ = SurfaceTextures(desc_, mesh());
+  if (!textures_.empty()) {
+    patchBsdfs_.reserve(mesh().size());
+    for (uint32_t j = 0; j < mesh().size(); ++j)
+      patchBsdfs_.push_back(textures_.textured(j) ? makeBSDF(desc_.materials[patchMaterial_[j]], textures_.patchAlbedo(j))
+                                                  : bsdfs_[patchMaterial_[j]]);
+  }
   for (const RenderLight& l : lights_.lights())
     if (l.type == LightType::Area) {
       if (emitterMaterial_.size() <= l.emitter) emitterMaterial_.resize(l.emitter + 1);

@@ -15,6 +15,7 @@
 #include "render/scene/embree_scene.h"
 #include "render/lights/lights.h"
 #include "render/scene/ray.h"
+#include "render/scene/surface_textures.h"
 
 namespace fs {
 
@@ -38,8 +39,20 @@ class RenderScene {
   const LightSet& lights() const { return lights_; }
   /// The first-shot table, or nullptr.
   const FirstShotTable* firstShot() const { return table_ ? &*table_ : nullptr; }
-  /// The BSDF of material @p m.
+  /// The BSDF of material @p m (without its texture: see bsdfAt).
   const BSDF& bsdf(uint32_t m) const { return bsdfs_[m]; }
+  /// The BSDF at @p hit: its material's, with the albedo texture looked up at the hit point when it has one
+  /// (the one place integrators get a surface's BSDF from).
+  BSDF bsdfAt(const Hit& hit) const {
+    const uint32_t m = material(hit);
+    if (textures_.empty() || !hit.onPatch() || !textures_.textured(hit.patch)) return bsdfs_[m];
+    return makeBSDF(desc_.materials[m], textures_.albedoAt(hit.patch, hit.p));
+  }
+  /// The BSDF of patch @p j as a whole, its texture averaged over the patch: for what works per patch (the lit
+  /// patches as emitters, render/firstshot/patch_emitters.h).
+  const BSDF& patchBsdf(uint32_t j) const { return patchBsdfs_.empty() ? bsdfs_[patchMaterial_[j]] : patchBsdfs_[j]; }
+  /// The textures on the patches (empty when the scene has none).
+  const SurfaceTextures& textures() const { return textures_; }
   /// The material of a hit (patch or emitter).
   uint32_t material(const Hit& hit) const {
     return hit.onPatch() ? patchMaterial_[hit.patch] : emitterMaterial_[hit.emitter];
@@ -58,6 +71,8 @@ class RenderScene {
   std::vector<BSDF> bsdfs_;
   std::vector<uint32_t> patchMaterial_;  ///< by patch: a compact copy of Patch::material for the hot path
   std::vector<uint32_t> emitterMaterial_;
+  SurfaceTextures textures_;
+  std::vector<BSDF> patchBsdfs_;  ///< by patch, when the scene has textures
   LightSet lights_;
   std::unique_ptr<EmbreeScene> embree_;
 };

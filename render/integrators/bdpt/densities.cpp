@@ -40,7 +40,7 @@ float BdptDensities::pdf(const SubpathVertex* prev, const SubpathVertex& cur, co
       if (cur.delta || !prev) return 0.0f;
       const Frame frame(cur.hit.ng);
       const BSDFQuery q(frame.toLocal(w), frame.toLocal(directionTo(cur, *prev)));
-      const float pdfDir = scene_.bsdf(cur.material).pdf(q);
+      const float pdfDir = scene_.bsdfAt(cur.hit).pdf(q);
       return toDirectional ? pdfDir : pdfDir * cosNext / dist2;
     }
   }

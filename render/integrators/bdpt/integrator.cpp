@@ -16,7 +16,7 @@ Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
   Hit hit;
   if (!scene_->intersect(ray, hit)) return Color(0.0f);
   const Vec3 wo = -glm::normalize(ray.d);
-  info->albedo = scene_->bsdf(scene_->material(hit)).albedo();
+  info->albedo = scene_->bsdfAt(hit).albedo();
   info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
   return Color(0.0f);
 }

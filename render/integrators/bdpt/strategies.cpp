@@ -76,7 +76,7 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
   }
   const Frame frame(pt.hit.ng);
   const BSDFQuery q(frame.toLocal(wi), frame.toLocal(pt.wi));
-  const Color L = pt.beta * densities.scene().bsdf(pt.material).eval(q) * incident * std::abs(glm::dot(pt.hit.ng, wi));
+  const Color L = pt.beta * densities.scene().bsdfAt(pt.hit).eval(q) * incident * std::abs(glm::dot(pt.hit.ng, wi));
   if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
   ++rays;
   if (densities.scene().occluded(shadowRay(pt.hit, wi, distance))) return Color(0.0f);
@@ -93,9 +93,9 @@ Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, c
   const Vec3 w = d / distance;  // from pt to qs
   const RenderScene& scene = densities.scene();
   const Frame fp(pt.hit.ng), fq(qs.hit.ng);
-  const Color fCamera = scene.bsdf(pt.material).eval(BSDFQuery(fp.toLocal(w), fp.toLocal(pt.wi)));
+  const Color fCamera = scene.bsdfAt(pt.hit).eval(BSDFQuery(fp.toLocal(w), fp.toLocal(pt.wi)));
   const Color fLight =
-      scene.bsdf(qs.material).eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Importance));
+      scene.bsdfAt(qs.hit).eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Importance));
   const float G = std::abs(glm::dot(pt.hit.ng, w)) * std::abs(glm::dot(qs.hit.ng, w)) / dist2;
   const Color L = pt.beta * fCamera * fLight * qs.beta * G;
   if (!(maxComponent(L) > 0.0f)) return Color(0.0f);

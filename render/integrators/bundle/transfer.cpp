@@ -82,7 +82,7 @@ void BundleTransfer::outgoingOf(uint32_t e, int side, const Vec3& w, Color* out)
     const RenderLight& light = scene.lights().lights()[el.light];
     if (!light.replaced) out[0] += light.radiance;  // a replaced light's first reflection is the first-shot term
   }
-  const BSDF& bsdf = scene.bsdf(el.material);
+  const BSDF& bsdf = e < scene.mesh().size() ? scene.patchBsdf(e) : scene.bsdf(el.material);  // patches first
   if (bsdf.hasDelta() || maxComponent(bsdf.albedo()) <= 0.0f || direct >= orders_) return;
   const FirstShotTable* table = scene.firstShot();
   const bool firstShot = table && e < table->mesh.size();

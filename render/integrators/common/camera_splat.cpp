@@ -19,7 +19,7 @@ bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camer
   } else {
     const Frame frame(v.hit.ng);
     const BSDFQuery q(frame.toLocal(v.wi), frame.toLocal(c.wi), TransportMode::Importance);
-    const Color f = scene.bsdf(v.material).eval(q);
+    const Color f = scene.bsdfAt(v.hit).eval(q);
     if (!(maxComponent(f) > 0.0f)) return false;
     L = v.beta * f * (std::abs(cosX) * c.importance);
   }

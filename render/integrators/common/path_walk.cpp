@@ -50,7 +50,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       if (maxComponent(Le) > 0.0f) L += beta * Le * emissionWeight(prev, hit);
     }
 
-    const BSDF& bsdf = scene.bsdf(scene.material(hit));
+    const BSDF bsdf = scene.bsdfAt(hit);
     if (info && depth == 0) {
       info->albedo = bsdf.albedo();
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;

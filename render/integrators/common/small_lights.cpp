@@ -26,7 +26,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
       const SubpathVertex& x = camera[m];
       const Frame frame(x.hit.ng);
       const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
-      const float pdfBsdf = scene_->bsdf(x.material).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
+      const float pdfBsdf = scene_->bsdfAt(x.hit).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
       const Vec3 n = glm::dot(x.wi, x.hit.ng) >= 0.0f ? x.hit.ng : -x.hit.ng;
       const float pdfLight = nextEventPdf(lights_, x.hit.p, n, request_, v.hit);
       weight = pdfLight > 0.0f ? powerHeuristic(pdfBsdf, pdfLight) : 1.0f;
@@ -38,7 +38,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
   if (m < camera.size()) {
     const SubpathVertex& x = camera[m];
     const Frame frame(x.hit.ng);
-    L += x.beta * nextEvent(lights_, x.hit, frame, frame.toLocal(x.wi), scene_->bsdf(x.material), request_, sampler, rays);
+    L += x.beta * nextEvent(lights_, x.hit, frame, frame.toLocal(x.wi), scene_->bsdfAt(x.hit), request_, sampler, rays);
   }
   return L;
 }

@@ -10,16 +10,16 @@ bool SubpathWalk::next(uint64_t& rays) {
   ++rays;
   if (!scene_->intersect(ray_, hit_)) return false;
   material_ = scene_->material(hit_);
-  bsdf_ = &scene_->bsdf(material_);
+  bsdf_ = scene_->bsdfAt(hit_);
   return true;
 }
 
 bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {
   pdf_ = 0.0f;
-  if (depth_ >= settings_.maxHits || maxComponent(bsdf_->albedo()) <= 0.0f) return false;
+  if (depth_ >= settings_.maxHits || maxComponent(bsdf_.albedo()) <= 0.0f) return false;
   const Frame frame(hit_.ng);
   BSDFQuery q(frame.toLocal(wi), settings_.mode);
-  const Color weight = bsdf_->sample(q, sampler.next2D());
+  const Color weight = bsdf_.sample(q, sampler.next2D());
   if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) return false;
   pdf_ = q.pdf;
   const Vec3 w = frame.toWorld(q.wi);

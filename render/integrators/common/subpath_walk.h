@@ -44,7 +44,7 @@ class SubpathWalk {
   const Ray& ray() const { return ray_; }             ///< the ray that reached it (after scatter(): the next one)
   const Color& beta() const { return beta_; }         ///< throughput arriving at the hit (after scatter(): leaving it)
   uint32_t material() const { return material_; }     ///< the hit's material
-  const BSDF& bsdf() const { return *bsdf_; }         ///< the hit's BSDF
+  const BSDF& bsdf() const { return bsdf_; }          ///< the hit's BSDF (its texture looked up)
   /// The solid-angle density of the direction the last scatter() sampled (1/sr; the discrete
   /// probability after a delta lobe), 0 if it sampled none.
   float pdf() const { return pdf_; }
@@ -57,7 +57,7 @@ class SubpathWalk {
   Hit hit_;
   int depth_ = 0;
   uint32_t material_ = kNoId;
-  const BSDF* bsdf_ = nullptr;
+  BSDF bsdf_;
   float pdf_ = 0.0f;
 };
 

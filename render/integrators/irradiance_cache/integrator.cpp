@@ -135,7 +135,7 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
       }
     }
 
-    const BSDF& bsdf = scene.bsdf(scene.material(hit));
+    const BSDF bsdf = scene.bsdfAt(hit);
     if (info && depth == 0) {
       info->albedo = bsdf.albedo();
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;

@@ -30,7 +30,7 @@ Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* i
   Hit hit;
   if (info) info->rays = 1;
   if (!scene_->intersect(ray, hit)) return Color(0.0f);
-  const BSDF& bsdf = scene_->bsdf(scene_->material(hit));
+  const BSDF bsdf = scene_->bsdfAt(hit);
   if (bsdf.hasDelta()) {  // the path tracer's estimate, the first hit traced again (as PathIntegrator::Li)
     uint64_t rays = 0;
     const Color L = fallback_.trace(ray, Color(1.0f), 0, PathVertex(), true, sampler, rays, info);
@@ -68,7 +68,7 @@ Color LightTracingIntegrator::smallLightsAt(const Ray& ray, const Hit& x, Sample
   path.push_back(v);
   const SmallLightsExact& small = shooting_.smallLights();
   if (options_.maxDepth < 1) return small.estimate(path, path.size(), sampler, rays);  // x's own emission only
-  const BSDF& bsdf = scene_->bsdf(path[1].material);
+  const BSDF bsdf = scene_->bsdfAt(path[1].hit);
   if (smallAreaLights_ && maxComponent(bsdf.albedo()) > 0.0f) {
     const Frame frame(x.ng);
     BSDFQuery q(frame.toLocal(path[1].wi));

@@ -1,0 +1,50 @@
+#pragma once
+/// @file surface_textures.h
+/// Base-colour textures on the traced patches (issue 34): which source face each patch of a textured material
+/// lies in, the texture coordinates of a point on it, and the albedo there or averaged over the patch.
+///
+/// Design: the renderer maps patches to source faces when it loads, and the first-shot table (.fsd) does not
+/// change. Every patch, of the uniform split or of the preprocessor's adaptive quadtrees, is a sub-polygon of one
+/// face of its shape (Patch::shape), so that face is the one that holds the patch's centroid; the search walks the
+/// shape's faces from the previous patch's face, and since patches come in face order it is linear in practice.
+/// Only patches of textured materials are mapped: a scene without textures builds nothing and pays one branch
+/// per hit (RenderScene::bsdfAt).
+#include <cstdint>
+#include <vector>
+
+#include "common/math.h"
+#include "common/patches.h"
+#include "common/scene_desc.h"
+
+namespace fs {
+
+class SurfaceTextures {
+ public:
+  SurfaceTextures() = default;
+  /// Maps the patches of @p mesh whose material has an albedo texture to their faces in @p scene and averages
+  /// the albedo over each of them (in parallel; the same for any thread count).
+  SurfaceTextures(const SceneDesc& scene, const PatchMesh& mesh);
+
+  /// True when no material has a texture (nothing was built).
+  bool empty() const { return face_.empty(); }
+  /// Whether patch @p patch has a textured material.
+  bool textured(uint32_t patch) const { return !empty() && face_[patch] != kNoFace; }
+  /// Texture coordinates at point @p p on textured patch @p patch: the face's corner coordinates interpolated
+  /// by @p p's barycentric coordinates in the face (a quad: in its triangle (0, 1, 2) or (0, 2, 3), exact for
+  /// parallelograms mapped affinely, such as the built-in quads). (0, 0) when the shape has no coordinates.
+  Vec2 uvAt(uint32_t patch, const Vec3& p) const;
+  /// Diffuse reflectance at point @p p on textured patch @p patch: the material's albedo × the texture at uvAt
+  /// (× the texture's mean when the shape has no coordinates), the texel clamped to [0, 1].
+  Color albedoAt(uint32_t patch, const Vec3& p) const;
+  /// The albedo of textured patch @p patch averaged over its area (8 × 8 stratified points, computed once).
+  const Color& patchAlbedo(uint32_t patch) const { return patchAlbedo_[patch]; }
+
+ private:
+  static constexpr uint32_t kNoFace = 0xffffffffu;
+  const SceneDesc* scene_ = nullptr;
+  const PatchMesh* mesh_ = nullptr;
+  std::vector<uint32_t> face_;        ///< by patch: the face of its shape it lies in, kNoFace if untextured
+  std::vector<Color> patchAlbedo_;    ///< by patch: mean albedo (textured patches only)
+};
+
+}  // namespace fs
