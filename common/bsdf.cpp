@@ -214,7 +214,7 @@ BSDF makeBSDF(const MaterialDesc& m, const Color& albedo) {
       return StretchedPhongBRDF(albedo, m.specular * StretchedPhongBRDF::glossyEnergyBound(m.exponent), m.exponent);
     case MaterialType::Mirror: return MirrorBRDF{m.specular};
     case MaterialType::Dielectric: return DielectricBSDF{m.ior, m.transmittance};
-    case MaterialType::Pbr: return MetallicRoughnessBRDF{m.albedo, m.metallic, m.roughness, m.ior};
+    case MaterialType::Pbr: return MetallicRoughnessBRDF{albedo, m.metallic, m.roughness, m.ior};
   }
   return LambertBRDF{albedo};
 }

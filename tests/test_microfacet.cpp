@@ -238,5 +238,19 @@ TEST(MetallicRoughness, MetallicAndDielectricLimits) {
   EXPECT_EQ(p->ior, 1.4f);
 }
 
+TEST(MetallicRoughness, PerPointBaseColourReachesTheModel) {
+  // A textured pbr material: makeBSDF(material, colour) takes the looked-up base colour (the texel × the factor).
+  MaterialDesc m;
+  m.type = MaterialType::Pbr;
+  m.albedo = Color(1.0f);
+  m.metallic = 0.3f;
+  m.roughness = 0.6f;
+  const BSDF textured = makeBSDF(m, Color(0.2f, 0.4f, 0.6f));
+  const auto* model = std::get_if<MetallicRoughnessBRDF>(&textured.model());
+  ASSERT_NE(model, nullptr);
+  EXPECT_EQ(model->baseColor, Color(0.2f, 0.4f, 0.6f));
+  EXPECT_EQ(std::get<MetallicRoughnessBRDF>(makeBSDF(m).model()).baseColor, Color(1.0f));
+}
+
 }  // namespace
 }  // namespace fs
