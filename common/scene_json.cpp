@@ -194,7 +194,7 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.type = MaterialType::Dielectric;
     m.ior = static_cast<float>(r.positive(r.need(j, where, "ior"), where + ".ior"));
   } else if (type == "pbr") {
-    r.keys(j, where, {"type", "base_color", "metallic", "roughness", "ior", "emission"});
+    r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "ior", "emission"});
     m.type = MaterialType::Pbr;
     m.albedo = j.contains("base_color") ? r.color(j["base_color"], where + ".base_color") : Color(1.0f);
     if (maxComponent(m.albedo) > 1.0f) r.fail(where + ".base_color", "must be in [0, 1]");
@@ -207,6 +207,8 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.metallic = unit("metallic", m.metallic);
     m.roughness = unit("roughness", m.roughness);
     if (j.contains("ior")) m.ior = static_cast<float>(r.positive(j["ior"], where + ".ior"));
+    if (j.contains("base_color_texture"))  // base colour = base_color (the factor) × the texture at each point
+      m.albedoTexture = parseTexture(r, j["base_color_texture"], name, where + ".base_color_texture", images);
   } else {
     r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric, pbr)");
   }

@@ -214,5 +214,25 @@ TEST(Texture, JsonKeysAndQuadCoordinates) {
   }());
 }
 
+TEST(Texture, PbrBaseColourTextureKey) {
+  const std::string dir = test::tempDir();
+  const uint8_t rgb[3] = {255, 128, 0};
+  image::writePng(dir + "/t.png", 1, 1, rgb);
+  test::writeText(dir + "/scene.json", R"({"materials": {"m": {"type": "pbr", "base_color": [0.5, 0.5, 1],
+      "metallic": 0, "roughness": 0.5, "base_color_texture": {"file": "t.png", "wrap": "mirror"}}},
+    "shapes": [{"type": "quad", "material": "m", "vertices": [[0,0,0],[1,0,0],[1,0,-1],[0,0,-1]]}],
+    "lights": [{"type": "point", "position": [0, 3, 0], "power": 1}]})");
+  const SceneDesc s = loadScene(dir + "/scene.json");
+  const MaterialDesc& m = s.materials[0];
+  EXPECT_EQ(m.type, MaterialType::Pbr);
+  ASSERT_NE(m.albedoTexture, nullptr);
+  EXPECT_EQ(m.albedoTexture->wrapU, TextureWrap::MirroredRepeat);
+  expectColor(m.albedo, Color(0.5f, 0.5f, 1.0f), 0);  // the factor, not reset by the texture
+  // "albedo_texture" is the diffuse and glossy key, not pbr's.
+  test::writeText(dir + "/bad.json", R"({"materials": {"m": {"type": "pbr", "albedo_texture": "t.png"}},
+    "shapes": [{"type": "quad", "material": "m", "vertices": [[0,0,0],[1,0,0],[1,0,-1],[0,0,-1]]}]})");
+  EXPECT_THROW(loadScene(dir + "/bad.json"), InputError);
+}
+
 }  // namespace
 }  // namespace fs
