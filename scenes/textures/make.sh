@@ -1,0 +1,11 @@
+#!/bin/sh
+# The textures of scenes/textured-room.json, made here (no third-party images): run from this folder with
+# OpenImageIO's oiiotool (Debian package openimageio-tools). Stored 8-bit, so read as sRGB.
+set -e
+# Floor: rows of planks 40 texels wide in two wood tones, times a grain of uniform noise; 1 m per image.
+oiiotool --pattern checker:width=256:height=40:color1=0.45,0.28,0.15:color2=0.55,0.36,0.2 256x256 3 \
+  --pattern noise:type=uniform:min=0.85:max=1.0:mono=1:seed=3 256x256 3 --mul -d uint8 -o floor.png
+# Walls: a light paint with a slight texture.
+oiiotool --pattern noise:type=uniform:min=0.78:max=0.86:mono=1:seed=5 128x128 3 -d uint8 -o wall.png
+# Rug: a red and beige check.
+oiiotool --pattern checker:width=16:height=16:color1=0.6,0.12,0.1:color2=0.75,0.65,0.45 128x128 3 -d uint8 -o rug.png
