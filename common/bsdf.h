@@ -189,6 +189,15 @@ class BSDF {
   bool hasDelta() const {
     return std::holds_alternative<MirrorBRDF>(model_) || std::holds_alternative<DielectricBSDF>(model_);
   }
+  /// True for a lobe sharper than a first-shot table resolves: a pbr surface of roughness below
+  /// kTableRoughness. The table's patch-level sum Σ e r f cannot follow such a lobe (it would lose the
+  /// reflections of the replaced lights in polished metal), so the path walk lights these points by NEE to
+  /// every light and lets BSDF rays count the replaced lights they meet (docs/measurements.md, pbr).
+  bool tooSharpForTable() const {
+    const auto* p = std::get_if<MetallicRoughnessBRDF>(&model_);
+    return p && p->roughness < kTableRoughness;
+  }
+  static constexpr float kTableRoughness = 0.3f;  ///< perceptual roughness (α = 0.09)
   /// True if light can pass through (the frame must not be flipped; see the file comment).
   bool hasTransmission() const { return std::holds_alternative<DielectricBSDF>(model_); }
   /// Diffuse reflectance ρd of a Lambertian part that f − ρd/π leaves non-negative for every pair of

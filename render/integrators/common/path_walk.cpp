@@ -59,7 +59,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
 
     const Frame frame(hit.ng);  // no flip: the BSDFs are two-sided and the dielectric needs the outward normal
     const Vec3 woLocal = frame.toLocal(wo);
-    const bool useTable = haveTable && !(options_.primary == PrimaryMode::Exact && specularChain);
+    const bool useTable = haveTable && !(options_.primary == PrimaryMode::Exact && specularChain) &&
+                          !bsdf.tooSharpForTable();  // a polished lobe: NEE to the replaced lights too
     NeeRequest nee;
     if (!bsdf.hasDelta()) {
       // The first-shot term here is the emission of a lit patch, met from prev.
