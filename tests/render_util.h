@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -212,5 +213,37 @@ inline void imageMean(const Film& film, int c, double& mean, double& se) {
   mean = sum / N;
   se = std::sqrt(var) / N;
 }
+
+/// Mean over the pixels of the film's per-pixel means, channels averaged.
+inline double greyImageMean(const Film& film) {
+  double sum = 0;
+  for (int y = 0; y < film.height(); ++y)
+    for (int x = 0; x < film.width(); ++x) {
+      const Vec3d m = film.mean(x, y);
+      sum += (m.x + m.y + m.z) / 3.0;
+    }
+  return sum / (double(film.width()) * film.height());
+}
+
+/// The integrator @p name (makeIntegrator) with @p io, preprocessed for @p scene.
+inline std::unique_ptr<Integrator> preprocessedIntegrator(const std::string& name, const IntegratorOptions& io,
+                                                          const RenderScene& scene) {
+  std::unique_ptr<Integrator> integrator = makeIntegrator(name, io);
+  integrator->preprocess(scene);
+  return integrator;
+}
+
+/// The grey image mean of renderWith(@p integrator, @p scene, @p spp, @p seed), expecting no non-finite sample.
+inline double renderedGreyMean(const Integrator& integrator, const RenderScene& scene, int spp, uint64_t seed,
+                               const std::string& what) {
+  const RenderRun run = renderWith(integrator, scene, spp, seed);
+  EXPECT_EQ(run.stats.nonFinite, 0u) << what;
+  return greyImageMean(run.film);
+}
+
+/// A mean over independent repetitions and its standard error.
+struct Estimate {
+  double mean = 0, se = 0;
+};
 
 }  // namespace fs::test

@@ -48,20 +48,8 @@ constexpr bool kStatistics = true;
 constexpr int kRuns = 12;  ///< independent repetitions per estimate
 #endif
 
-struct Estimate {
-  double mean = 0, se = 0;
-};
-
-/// Mean over the pixels of the film's per-pixel means, channels averaged.
-double greyImageMean(const Film& film) {
-  double sum = 0;
-  for (int y = 0; y < film.height(); ++y)
-    for (int x = 0; x < film.width(); ++x) {
-      const Vec3d m = film.mean(x, y);
-      sum += (m.x + m.y + m.z) / 3.0;
-    }
-  return sum / (double(film.width()) * film.height());
-}
+using test::Estimate;
+using test::greyImageMean;
 
 /// The irradiance cache's settings in these tests: fewer hemisphere samples than the default (the
 /// bounces are counted the same way), B = 3 levels of records, or B = 1 so that the path
@@ -105,15 +93,10 @@ Estimate estimate(const std::string& name, const RenderScene& scene, int depth, 
       m.add(greyImageMean(film));
       continue;
     } else {  // the others keep no state between renders
-      if (!shared) {
-        shared = makeIntegrator(name, io);
-        shared->preprocess(scene);
-      }
+      if (!shared) shared = test::preprocessedIntegrator(name, io, scene);
       integrator = shared.get();
     }
-    const test::RenderRun run = test::renderWith(*integrator, scene, kStatistics ? spp : 1, seed);
-    EXPECT_EQ(run.stats.nonFinite, 0u) << name;
-    m.add(greyImageMean(run.film));
+    m.add(test::renderedGreyMean(*integrator, scene, kStatistics ? spp : 1, seed, name));
   }
   return {m.mean(), m.se()};
 }

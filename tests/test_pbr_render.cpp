@@ -33,9 +33,8 @@ constexpr int kRuns = 10;
 #endif
 constexpr int kDepth = 3;
 
-struct Estimate {
-  double mean = 0, se = 0;
-};
+using test::Estimate;
+using test::greyImageMean;
 
 /// Cornell (looking a little down, its light out of view) with pbr blocks: a rough gold-like metal (short)
 /// and a rough blue plastic (tall).
@@ -88,16 +87,6 @@ const RenderScene& withoutTable(bool polished = false) {
   return *rough;
 }
 
-double greyImageMean(const Film& film) {
-  double sum = 0;
-  for (int y = 0; y < film.height(); ++y)
-    for (int x = 0; x < film.width(); ++x) {
-      const Vec3d m = film.mean(x, y);
-      sum += (m.x + m.y + m.z) / 3.0;
-    }
-  return sum / (double(film.width()) * film.height());
-}
-
 /// kRuns renders of @p name (a makeIntegrator name; the cache gets a cache of its own per seed).
 Estimate estimate(const std::string& name, const RenderScene& scene, int spp) {
   IntegratorOptions io;
@@ -116,15 +105,10 @@ Estimate estimate(const std::string& name, const RenderScene& scene, int spp) {
       own->preprocess(scene);
       integrator = own.get();
     } else {
-      if (!shared) {
-        shared = makeIntegrator(name, io);
-        shared->preprocess(scene);
-      }
+      if (!shared) shared = test::preprocessedIntegrator(name, io, scene);
       integrator = shared.get();
     }
-    const test::RenderRun run = test::renderWith(*integrator, scene, kStatistics ? spp : 1, seed);
-    EXPECT_EQ(run.stats.nonFinite, 0u) << name;
-    m.add(greyImageMean(run.film));
+    m.add(test::renderedGreyMean(*integrator, scene, kStatistics ? spp : 1, seed, name));
   }
   return {m.mean(), m.se()};
 }
