@@ -37,6 +37,7 @@
 /// the top 21 of h' (random below the stratification).
 /// nextBits stays random in this mode (it derives keys): mix(hashKeys(pk, i) + (d + 1) * kWeyl).
 #include <cstdint>
+#include <utility>
 
 #include "common/hash.h"
 #include "common/math.h"
@@ -162,19 +163,24 @@ class Sampler {
   /// Two uniform floats in [0, 1)²; advances by two dimensions (x first).
   Vec2 next2D() {
     if (mode_ == SamplerMode::Sobol) {
-      // owen(vdc(j)) = reverse(prefixHash(j)) and owen(sobol1(j)) = reverse(prefixHash(reverse(sobol1(j)))),
-      // with j = reverse(prefixHash(reverse(i))): the file comment's formula with fewer reversals.
-      const uint64_t h = dimensionHash(dim_);
-      const uint64_t h2 = Hasher::mix(h);
-      dim_ += 2;
-      const uint32_t j = shuffledIndex(h);
-      const uint32_t x = detail::reverseBits32(detail::prefixHash(j, static_cast<uint32_t>(h >> 32)));
-      const uint32_t y = detail::reverseBits32(
-          detail::prefixHash(detail::sobolSecondReversed(j), static_cast<uint32_t>(h2)));
+      uint64_t h;
+      const auto [x, y] = sobolPair(h);
       return {static_cast<float>(x >> 8) * 0x1p-24f, static_cast<float>(y >> 8) * 0x1p-24f};
     }
     const float x = next1D();
     return {x, next1D()};
+  }
+  /// next2D() with x a double of 53 bits (Sobol' mode: the pair's 32 stratified bits, then 21 random
+  /// ones), for a choice among many items by a CDF whose remainder is used again (x) and a float y.
+  Vec2d next2Dd() {
+    if (mode_ == SamplerMode::Sobol) {
+      uint64_t h;
+      const auto [x, y] = sobolPair(h);
+      const uint64_t low = Hasher::mix(h + detail::kWeyl) >> 43;
+      return {static_cast<double>((uint64_t(x) << 21) | low) * 0x1p-53, static_cast<double>(y >> 8) * 0x1p-24};
+    }
+    const double x = next1Dd();
+    return {x, double(next1D())};
   }
   /// Uniform double in [0, 1) (53-bit resolution); advances by one dimension. Sobol' mode: the
   /// 32 stratified bits, then 21 random ones.
@@ -200,6 +206,20 @@ class Sampler {
   SamplerMode mode() const { return mode_; }
 
  private:
+  /// The Owen-scrambled Sobol' pair of the current dimension, 32 bits each; advances by two
+  /// dimensions and sets @p h to the pair's dimension hash.
+  std::pair<uint32_t, uint32_t> sobolPair(uint64_t& h) {
+    // owen(vdc(j)) = reverse(prefixHash(j)) and owen(sobol1(j)) = reverse(prefixHash(reverse(sobol1(j)))),
+    // with j = reverse(prefixHash(reverse(i))): the file comment's formula with fewer reversals.
+    h = dimensionHash(dim_);
+    const uint64_t h2 = Hasher::mix(h);
+    dim_ += 2;
+    const uint32_t j = shuffledIndex(h);
+    const uint32_t x = detail::reverseBits32(detail::prefixHash(j, static_cast<uint32_t>(h >> 32)));
+    const uint32_t y = detail::reverseBits32(
+        detail::prefixHash(detail::sobolSecondReversed(j), static_cast<uint32_t>(h2)));
+    return {x, y};
+  }
   explicit Sampler(uint64_t key) : key_(key) {}
   /// Sobol' mode: the hash of (pixel key, dimension d) that seeds d's shuffle and scrambles.
   uint64_t dimensionHash(uint64_t d) const { return Hasher::mix(key_ + (d + 1) * detail::kWeyl); }

@@ -158,6 +158,30 @@ TEST(SobolSampler, ValuesInUnitInterval) {
   EXPECT_LT(float(0xffffffffu >> 8) * 0x1p-24f, 1.0f);
 }
 
+// next2Dd is next2D with x extended to 53 bits: the same stratified pair (x equal to float precision,
+// y equal), two dimensions consumed, and x's low bits filled (a choice among 2^24+ items stays exact).
+TEST(SobolSampler, PairWithDoubleFirstIsThePairRefined) {
+  int finer = 0, n = 0;
+  for (SamplerMode mode : {SamplerMode::Sobol, SamplerMode::Independent})
+    for (uint64_t p = 0; p < 16; ++p)
+      for (uint32_t i = 0; i < 64; ++i) {
+        Sampler a = Sampler::make(mode, kSeed, p, i), b = Sampler::make(mode, kSeed, p, i);
+        a.setDimension(4);
+        b.setDimension(4);
+        const Vec2 f = a.next2D();
+        const Vec2d d = b.next2Dd();
+        EXPECT_GE(d.x, 0.0);
+        EXPECT_LT(d.x, 1.0);
+        EXPECT_NEAR(d.x, double(f.x), 0x1p-24);
+        EXPECT_GE(d.x, double(f.x));
+        EXPECT_EQ(float(d.y), f.y);
+        EXPECT_EQ(a.dimension(), b.dimension());
+        finer += d.x * 0x1p24 != std::floor(d.x * 0x1p24);
+        ++n;
+      }
+  EXPECT_GT(finer, n * 9 / 10);
+}
+
 TEST(SobolSampler, NumbersDependOnPixelSampleDimensionSeedOnly) {
   // Dimension d of (p, i): the same when drawn alone, after walking the dimensions before it, from
   // a copy, or after other pixels' samplers drew in any order.

@@ -114,8 +114,8 @@ TEST(SobolIntegrators, GlossyScenesAgreeWithIndependent) {
       auto it = makeIntegrator(integrator, io);
       it->preprocess(scene);
       test::expectRepetitionsAgree(fmt::format("{} on {}", integrator, name),
-                                   test::blockRepetitions(*it, scene, SamplerMode::Independent, 16, 4),
-                                   test::blockRepetitions(*it, scene, SamplerMode::Sobol, 16, 4), 8);
+                                   test::blockRepetitions(*it, scene, SamplerMode::Independent, 16, 16),
+                                   test::blockRepetitions(*it, scene, SamplerMode::Sobol, 16, 16), 8);
     }
   }
 }

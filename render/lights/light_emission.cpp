@@ -97,13 +97,28 @@ Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) c
   return fs::patchRadiance(*scene_, *lighting_, patchOf(e), y, w);
 }
 
-bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
-  if (!(total_ > 0)) return false;
+size_t EmissionSampler::pick(double u) const {
   // The answer of upper_bound over the whole CDF, searched between the guides around u's bucket.
   const size_t n = guide_.size() - 1, b = std::min(size_t(std::max(u, 0.0) * double(n)), n - 1);
   const auto lo = cdf_.begin() + guide_[b > 0 ? b - 1 : 0];
   const auto hi = cdf_.begin() + std::min<size_t>(cdf_.size(), size_t(guide_[std::min(b + 2, n)]) + 1);
-  const size_t l = std::min(size_t(std::upper_bound(lo, hi, u) - cdf_.begin()), cdf_.size() - 1);
+  return std::min(size_t(std::upper_bound(lo, hi, u) - cdf_.begin()), cdf_.size() - 1);
+}
+
+bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
+  return total_ > 0 && originOf(pick(u), uPos, out);
+}
+
+bool EmissionSampler::sampleOrigin(const Vec2d& uPair, EmissionSample& out) const {
+  if (!(total_ > 0)) return false;
+  const double u = uPair.x;
+  const size_t l = pick(u);
+  const double lower = l > 0 ? cdf_[l - 1] : 0.0, width = cdf_[l] - lower;
+  const float rest = width > 0 ? std::clamp(float((u - lower) / width), 0.0f, 0x1.fffffep-1f) : 0.5f;
+  return originOf(l, Vec2(rest, float(uPair.y)), out);
+}
+
+bool EmissionSampler::originOf(size_t l, const Vec2& uPos, EmissionSample& out) const {
   if (!(power_[l] > 0)) return false;
   out = EmissionSample();
   out.light = static_cast<uint32_t>(l);

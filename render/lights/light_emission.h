@@ -75,6 +75,10 @@ class EmissionSampler {
   /// n, pdfLight, pdfPos, radiance (area lights) and the delta flags, not d, pdfDir or power (the
   /// NEE strategy s = 1 of bidirectional path tracing). @return false if no light has power.
   bool sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const;
+  /// sampleOrigin() from one stratified pair (Sampler::next2Dd): the light by @p uPair.x, its point
+  /// by (the remainder of uPair.x inside the light's CDF interval, uPair.y), as the path tracer's
+  /// next-event estimation; x's 53 bits keep the choice exact for emitters of tiny power share.
+  bool sampleOrigin(const Vec2d& uPair, EmissionSample& out) const;
 
   /// Probability of choosing emitter @p e (its share of the power).
   float pdfChoice(size_t e) const { return total_ > 0 ? float(power_[e] / total_) : 0.0f; }
@@ -110,6 +114,8 @@ class EmissionSampler {
   void setBounds(const SceneDesc& scene);
   void addLights(EmitterSet set);
   void finish();  ///< total and CDF from power_
+  size_t pick(double u) const;  ///< the emitter whose CDF interval holds u
+  bool originOf(size_t l, const Vec2& uPos, EmissionSample& out) const;  ///< sampleOrigin()'s point part
 
   const LightSet* lights_ = nullptr;
   const RenderScene* scene_ = nullptr;            ///< table mode

@@ -39,7 +39,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   const Ray ray = camera.generateRay(float(pixel % uint32_t(camera.width())) + jitter.x,
                                      float(pixel / uint32_t(camera.width())) + jitter.y);
   traceCameraPath(densities, ray, maxDepth + 1, options_.rrDepth, sampler, ws.camera, rays);
-  const LightPathOptions walk{maxDepth, options_.rrDepth};
+  const LightPathOptions walk{maxDepth, options_.rrDepth, /*sqrtSurvival=*/false};
   if (!traceLightPath(*scene_, emission(), walk, sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
   toBdptLightPath(densities, ws.lightRaw, ws.light);
   const int nt = int(ws.camera.size()), ns = int(ws.light.size());

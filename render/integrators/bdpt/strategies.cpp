@@ -23,11 +23,10 @@ Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, b
 
 Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler,
                          SubpathVertex& sampled, uint64_t& rays) {
-  const double u = sampler.next1Dd();
-  const Vec2 uPos = sampler.next2D();
+  const Vec2d uPair = sampler.next2Dd();  // the light and its point from one stratified pair
   EmissionSample es;
   const EmissionSampler& emission = densities.emission();
-  if (pt.delta || !emission.sampleOrigin(u, uPos, es)) return Color(0.0f);
+  if (pt.delta || !emission.sampleOrigin(uPair, es)) return Color(0.0f);
   sampled = SubpathVertex();
   sampled.kind = SubpathVertex::Kind::Light;
   sampled.light = es.light;

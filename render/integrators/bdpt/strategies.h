@@ -18,8 +18,8 @@ namespace fs {
 /// a lit patch's first-shot radiance; 0 otherwise.
 Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, bool patchEmits);
 
-/// s = 1: samples a light vertex with the emission sampler's light choice and position (3
-/// sampler dimensions, always drawn) into @p sampled and joins it to @p pt. 0 if @p pt is delta,
+/// s = 1: samples a light vertex with the emission sampler's light choice and position (one
+/// next2Dd pair, always drawn: the choice's remainder places the point) into @p sampled and joins it to @p pt. 0 if @p pt is delta,
 /// the light sends nothing towards it, or the segment is blocked. @p rays counts the shadow ray.
 Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler,
                          SubpathVertex& sampled, uint64_t& rays);

@@ -17,7 +17,7 @@ void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int m
   path.push_back(v0);
 
   // W_e·cosθ/pdf = 1 for the pixel the ray goes through.
-  SubpathWalk walk(scene, cameraRay, Color(1.0f), {maxHits, rrDepth, 1.0f, TransportMode::Radiance});
+  SubpathWalk walk(scene, cameraRay, Color(1.0f), {maxHits, rrDepth, 1.0f, TransportMode::Radiance, /*sqrtSurvival=*/false});
   while (walk.next(rays)) {
     SubpathVertex v;
     v.hit = walk.hit();

@@ -55,7 +55,7 @@ class BundleCli : public IntegratorCli {
     if (directions.empty()) directions = setup.sampler == SamplerMode::Sobol ? "halton" : "random";
     if (directions == "random") {
       settings.directions = BundleDirections::Random;
-    } else if (directions == "halton" || directions == "sobol") {
+    } else if (directions == "halton") {
       settings.directions = BundleDirections::Halton;
     } else {
       throw InputError("", "--bundle-directions", "expected random or halton, got \"" + directions + "\"");

@@ -30,7 +30,7 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   const int bounced = emission.isPatch(es.light) ? 1 : 0;
   const int maxDepth = options.maxDepth - bounced, rrDepth = options.rrDepth - bounced;
   SubpathWalk walk(scene, Ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d), es.power,
-                   {maxDepth, rrDepth, start, TransportMode::Importance});
+                   {maxDepth, rrDepth, start, TransportMode::Importance, options.sqrtSurvival});
   float pdfDir = es.pdfDir;
   bool deltaDir = es.deltaDirection;
   while (walk.next(rays)) {

@@ -37,6 +37,7 @@ struct LightVertex {
 struct LightPathOptions {
   int maxDepth = 16;  ///< vertices 1..maxDepth at most: a vertex k connected to the camera makes a path of k bounces
   int rrDepth = 3;    ///< Russian roulette once the particle has bounced this many times
+  bool sqrtSurvival = true;  ///< the roulette's survival: SubpathWalkSettings::sqrtSurvival
   /// Stop at a first hit that is not a delta surface (light tracing's delta-first particles of the
   /// small area lights in table mode: the table holds their other first bounces).
   bool deltaFirstHitOnly = false;

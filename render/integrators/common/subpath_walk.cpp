@@ -2,6 +2,7 @@
 #include "render/integrators/common/subpath_walk.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace fs {
 
@@ -26,7 +27,8 @@ bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {
   beta_ *= weight;
   ray_ = Ray(hit_.spawnOrigin(w), w);
   if (depth_ >= settings_.rrDepth) {
-    const float survive = std::min(0.95f, maxComponent(beta_) / settings_.start);
+    const float ratio = maxComponent(beta_) / settings_.start;
+    const float survive = std::min(0.95f, settings_.sqrtSurvival ? std::sqrt(ratio) : ratio);
     if (!(sampler.next1D() < survive)) return false;
     beta_ /= survive;
   }

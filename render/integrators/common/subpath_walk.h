@@ -18,10 +18,13 @@ namespace fs {
 struct SubpathWalkSettings {
   int maxHits = 16;  ///< hits at most; the walk does not scatter at the last one
   int rrDepth = 3;   ///< Russian roulette after scattering at hit number rrDepth and later ones
-  /// The throughput the roulette measures against: survival min(0.95, max(beta)/start); 1 on the
-  /// camera side, the particle's emitted power on the light side.
+  /// The throughput the roulette measures against: survival min(0.95, √(max(beta)/start)) (or without
+  /// the root, @ref sqrtSurvival); 1 on the camera side, the particle's emitted power on the light side.
   float start = 1.0f;
   TransportMode mode = TransportMode::Radiance;  ///< Importance on a light subpath
+  /// √ survival (as the path walk: longer walks, less noise per walk; light tracing), or max(beta)/start
+  /// (BDPT, whose cost grows with both subpaths' lengths: docs/measurements.md, issue 37).
+  bool sqrtSurvival = true;
 };
 
 class SubpathWalk {
