@@ -205,6 +205,11 @@ Color BSDF::diffuseAlbedo() const {
 
 BSDF makeBSDF(const MaterialDesc& m) { return makeBSDF(m, m.albedo); }
 
+BSDF makeBSDF(const MaterialDesc& m, const Color& albedo, float metallic, float roughness) {
+  if (m.type == MaterialType::Pbr) return MetallicRoughnessBRDF{albedo, metallic, roughness, m.ior};
+  return makeBSDF(m, albedo);
+}
+
 BSDF makeBSDF(const MaterialDesc& m, const Color& albedo) {
   switch (m.type) {
     case MaterialType::Diffuse: return LambertBRDF{albedo};

@@ -219,5 +219,8 @@ BSDF makeBSDF(const MaterialDesc& material);
 /// The BSDF of @p material with @p albedo in place of material.albedo: a textured material at one point
 /// (render/scene/surface_textures.h), albedo = factor × texel.
 BSDF makeBSDF(const MaterialDesc& material, const Color& albedo);
+/// The same with a pbr material's @p metallic and @p roughness in place of the material's (its
+/// metallic-roughness texture at one point); other types ignore them.
+BSDF makeBSDF(const MaterialDesc& material, const Color& albedo, float metallic, float roughness);
 
 }  // namespace fs

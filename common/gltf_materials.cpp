@@ -107,9 +107,9 @@ const TextureImage* GltfTextures::image(const GltfTextureRef& ref, bool srgb) {
   return it->second ? &*it->second : nullptr;
 }
 
-std::shared_ptr<const Texture> GltfTextures::texture(const GltfTextureRef& ref) {
+std::shared_ptr<const Texture> GltfTextures::texture(const GltfTextureRef& ref, bool srgb) {
   if (ref.texture < 0) return nullptr;
-  auto [it, inserted] = texels_.try_emplace(ref.texture);
+  auto [it, inserted] = texels_.try_emplace(std::make_pair(ref.texture, srgb));
   if (inserted) {
     const std::string where = "textures[" + std::to_string(ref.texture) + "]";
     try {
@@ -119,7 +119,7 @@ std::shared_ptr<const Texture> GltfTextures::texture(const GltfTextureRef& ref) 
       if (!source || !source->is_number_unsigned()) throw InputError("", "", where + " has no image source");
       const std::string name = file_.path().string() + " images[" + std::to_string(source->get<size_t>()) + "]";
       it->second = std::make_shared<const TexelImage>(
-          decodeTexelImage(file_.imageBytes(source->get<size_t>()), name, true));
+          decodeTexelImage(file_.imageBytes(source->get<size_t>()), name, srgb));
     } catch (const InputError& e) {
       failures_.push_back(where + ": " + e.what());
     }
@@ -190,16 +190,20 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
   if (g.baseColorTexture.texCoord == 0) albedoTexture = textures.texture(g.baseColorTexture);
   if (albedoTexture) base *= albedoTexture->image->mean;
   else if (const TextureImage* t = textures.image(g.baseColorTexture, true)) base *= rgb(t->mean());
-  if (const TextureImage* t = textures.image(g.metallicRoughnessTexture, false)) {
-    const std::array<float, 4> mean = t->mean();
-    metallic *= mean[2];
-    roughness *= mean[1];
-  }
+  std::shared_ptr<const Texture> mrTexture;
+  if (g.metallicRoughnessTexture.texCoord == 0) mrTexture = textures.texture(g.metallicRoughnessTexture, false);
+  if (!mrTexture)
+    if (const TextureImage* t = textures.image(g.metallicRoughnessTexture, false)) {
+      const std::array<float, 4> mean = t->mean();
+      metallic *= mean[2];
+      roughness *= mean[1];
+    }
   MaterialDesc m = metallicRoughnessMaterial(base, metallic, roughness, g.ior);
   if (albedoTexture) {  // the texture multiplies the base colour factor per point
     m.albedo = metallicRoughnessMaterial(g.baseColor, metallic, roughness, g.ior).albedo;
     m.albedoTexture = std::move(albedoTexture);
   }
+  m.metallicRoughnessTexture = std::move(mrTexture);  // it multiplies the factors per point
   m.emission = g.emissive;
   return m;
 }

@@ -45,7 +45,7 @@ class GltfTextures {
   explicit GltfTextures(const GltfFile& file) : file_(file) {}
   /// The base-colour texture of @p ref (image read through OpenImageIO, sRGB decoded; sampler and transform), or
   /// nullptr when there is none or it cannot be read (then report() names it).
-  std::shared_ptr<const Texture> texture(const GltfTextureRef& ref);
+  std::shared_ptr<const Texture> texture(const GltfTextureRef& ref, bool srgb = true);
   /// The image of @p ref (sRGB decoded when @p srgb), or nullptr when there is none or it cannot be read.
   const TextureImage* image(const GltfTextureRef& ref, bool srgb);
   /// The sampler's wrap modes (u, v) of @p ref; repeat by default.
@@ -57,7 +57,7 @@ class GltfTextures {
  private:
   const GltfFile& file_;
   std::map<std::pair<int64_t, bool>, std::optional<TextureImage>> images_;
-  std::map<int64_t, std::shared_ptr<const TexelImage>> texels_;  ///< by texture, read once (null: failed)
+  std::map<std::pair<int64_t, bool>, std::shared_ptr<const TexelImage>> texels_;  ///< by (texture, sRGB), read once (null: failed)
   std::vector<std::string> failures_;
 };
 

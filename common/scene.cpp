@@ -180,6 +180,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     h.add(m.type).add(m.albedo).add(m.specular).add(m.exponent).add(m.ior).add(m.transmittance).add(m.emission);
     if (m.type == MaterialType::Pbr) h.add(m.metallic).add(m.roughness);  // other types keep their hashes
     if (m.albedoTexture) h.add(m.albedoTexture->hash());  // untextured scenes hash as before
+    if (m.metallicRoughnessTexture) h.add(uint8_t(2)).add(m.metallicRoughnessTexture->hash());
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {
@@ -187,7 +188,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     if (!s.vertices.empty()) h.bytes(s.vertices.data(), s.vertices.size() * sizeof(Vec3d));
     for (const auto& f : s.faces) h.add(f.count).bytes(f.v, sizeof(f.v[0]) * f.count);
     const bool textured = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
-                          scene.materials[size_t(s.material)].albedoTexture;
+                          scene.materials[size_t(s.material)].hasTextures();
     if (textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));  // only where they change results
   }
   h.add<uint64_t>(scene.lights.size());

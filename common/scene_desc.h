@@ -34,6 +34,11 @@ struct MaterialDesc {
   /// is albedo × texture.lookup(uv) (albedo is then the factor, 1 by default; render/scene/surface_texture.h).
   /// Null: none. Shared, immutable once loaded.
   std::shared_ptr<const Texture> albedoTexture;
+  /// Pbr: a metallic-roughness texture, glTF's layout (roughness in G, metallic in B, linear values); at a point
+  /// the metallic and roughness are the factors above × the texture there. Null: none.
+  std::shared_ptr<const Texture> metallicRoughnessTexture;
+  /// Whether any property varies over the surface (a texture to look up per point).
+  bool hasTextures() const { return albedoTexture || metallicRoughnessTexture; }
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }
 };
 

@@ -135,7 +135,7 @@ using TextureImages = std::map<std::string, std::shared_ptr<const TexelImage>>;
 /// "albedo_texture": a file name (relative to the scene file), or {"file", "wrap", "offset", "scale", "rotation"}
 /// (docs/scene-format.md). A file that cannot be read is an error naming it and the material @p name.
 std::shared_ptr<const Texture> parseTexture(const Reader& r, const Json& j, const std::string& name,
-                                            const std::string& where, TextureImages& images) {
+                                            const std::string& where, TextureImages& images, bool srgb = true) {
   auto texture = std::make_shared<Texture>();
   const Json* file = &j;
   if (j.is_object()) {
@@ -162,9 +162,9 @@ std::shared_ptr<const Texture> parseTexture(const Reader& r, const Json& j, cons
   }
   std::filesystem::path path(r.string(*file, where + (j.is_object() ? ".file" : "")));
   if (path.is_relative()) path = std::filesystem::path(r.file()).parent_path() / path;
-  std::shared_ptr<const TexelImage>& image = images[path.string()];
+  std::shared_ptr<const TexelImage>& image = images[path.string() + (srgb ? "" : "\n(linear)")];
   try {
-    if (!image) image = std::make_shared<const TexelImage>(readTexelImage(path.string(), true));
+    if (!image) image = std::make_shared<const TexelImage>(readTexelImage(path.string(), srgb));
   } catch (const InputError& e) {
     r.fail(where, "material \"" + name + "\": " + e.what());
   }
@@ -194,7 +194,8 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.type = MaterialType::Dielectric;
     m.ior = static_cast<float>(r.positive(r.need(j, where, "ior"), where + ".ior"));
   } else if (type == "pbr") {
-    r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "ior", "emission"});
+    r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture",
+                      "ior", "emission"});
     m.type = MaterialType::Pbr;
     m.albedo = j.contains("base_color") ? r.color(j["base_color"], where + ".base_color") : Color(1.0f);
     if (maxComponent(m.albedo) > 1.0f) r.fail(where + ".base_color", "must be in [0, 1]");
@@ -209,6 +210,9 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     if (j.contains("ior")) m.ior = static_cast<float>(r.positive(j["ior"], where + ".ior"));
     if (j.contains("base_color_texture"))  // base colour = base_color (the factor) × the texture at each point
       m.albedoTexture = parseTexture(r, j["base_color_texture"], name, where + ".base_color_texture", images);
+    if (j.contains("metallic_roughness_texture"))  // glTF's layout: roughness × G, metallic × B, not sRGB
+      m.metallicRoughnessTexture = parseTexture(r, j["metallic_roughness_texture"], name,
+                                                where + ".metallic_roughness_texture", images, false);
   } else {
     r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric, pbr)");
   }

@@ -160,8 +160,8 @@ TEST(GltfTextures, JpegEmissiveTexture) {
 }
 
 TEST(GltfTextures, MetallicRoughnessDefaultsAndTexturesMultiply) {
-  // No factors: the glTF 2.0 defaults (base colour 1, metallic 1, roughness 1), times the textures' means:
-  // base colour x the base-colour texture's linear mean, metallic x the mean of B, roughness x the mean of G.
+  // No factors: the glTF 2.0 defaults (base colour 1, metallic 1, roughness 1), times the textures at each point:
+  // base colour x the base-colour texture (sRGB), metallic x its B, roughness x its G (linear).
   const std::string rgbPng = pngBytes(1, 1, {128, 128, 128});
   const SceneDesc plain = loadScene(writeQuad(R"({"name": "metal"})", rgbPng));
   const MaterialDesc& metal = plain.materials.at(plain.shapes.at(0).material);
@@ -186,8 +186,13 @@ TEST(GltfTextures, MetallicRoughnessDefaultsAndTexturesMultiply) {
   ASSERT_NE(m.albedoTexture, nullptr);
   expectColor(m.albedo, Color(1.0f), 1e-6);
   expectColor(m.albedo * m.albedoTexture->image->mean, Color(float(base)), 1e-6);
-  EXPECT_NEAR(m.metallic, metallic, 1e-6);
-  EXPECT_NEAR(m.roughness, roughness, 1e-6);
+  // So does the metallic-roughness texture (not sRGB-decoded): the factors (1 here) times its B and G per point.
+  ASSERT_NE(m.metallicRoughnessTexture, nullptr);
+  EXPECT_EQ(m.metallic, 1.0f);
+  EXPECT_EQ(m.roughness, 1.0f);
+  EXPECT_NEAR(m.metallicRoughnessTexture->image->mean.z, metallic, 1e-6);
+  EXPECT_NEAR(m.metallicRoughnessTexture->image->mean.y, roughness, 1e-6);
+  EXPECT_NEAR(m.metallicRoughnessTexture->lookup(Vec2(0.25f, 0.5f)).y, 100 / 255.0, 1e-6);  // texel 0, not sRGB
 }
 
 TEST(GltfTextures, TextureCoordinatesReachTheShape) {

@@ -234,5 +234,40 @@ TEST(Texture, PbrBaseColourTextureKey) {
   EXPECT_THROW(loadScene(dir + "/bad.json"), InputError);
 }
 
+TEST(Texture, PbrMetallicRoughnessTextureKey) {
+  // Read as stored (not sRGB-decoded): G 128 is roughness × 128/255, B 255 metallic × 1; the same file as a base
+  // colour is decoded (one image per use); hashed; a missing file names the file, the key and the material.
+  const std::string dir = test::tempDir();
+  const uint8_t rgb[3] = {0, 128, 255};
+  image::writePng(dir + "/mr.png", 1, 1, rgb);
+  test::writeText(dir + "/scene.json", R"({"materials": {"m": {"type": "pbr", "roughness": 0.5,
+      "base_color_texture": "mr.png", "metallic_roughness_texture": "mr.png"}},
+    "shapes": [{"type": "quad", "material": "m", "vertices": [[0,0,0],[1,0,0],[1,0,-1],[0,0,-1]]}],
+    "lights": [{"type": "point", "position": [0, 3, 0], "power": 1}]})");
+  const SceneDesc s = loadScene(dir + "/scene.json");
+  const MaterialDesc& m = s.materials[0];
+  ASSERT_NE(m.metallicRoughnessTexture, nullptr);
+  EXPECT_NEAR(m.metallicRoughnessTexture->image->mean.y, 128 / 255.0, 1e-6);
+  EXPECT_NEAR(m.metallicRoughnessTexture->image->mean.z, 1.0, 1e-6);
+  EXPECT_NEAR(m.albedoTexture->image->mean.y, 0.2158605, 1e-4);  // sRGB 128
+  EXPECT_EQ(m.roughness, 0.5f);
+  EXPECT_NE(hashScene(s), [&] {
+    SceneDesc plain = s;
+    plain.materials[0].metallicRoughnessTexture = nullptr;
+    return hashScene(plain);
+  }());
+  test::writeText(dir + "/missing.json", R"({"materials": {"steel": {"type": "pbr", "metallic_roughness_texture": "no.png"}},
+    "shapes": [{"type": "quad", "material": "steel", "vertices": [[0,0,0],[1,0,0],[1,0,-1],[0,0,-1]]}],
+    "lights": [{"type": "point", "position": [0, 3, 0], "power": 1}]})");
+  try {
+    loadScene(dir + "/missing.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("no.png"));
+    EXPECT_THAT(e.what(), HasSubstr("metallic_roughness_texture"));
+    EXPECT_THAT(e.what(), HasSubstr("material \"steel\""));
+  }
+}
+
 }  // namespace
 }  // namespace fs

@@ -44,9 +44,14 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
   textures_ = SurfaceTextures(desc_, mesh());
   if (!textures_.empty()) {
     patchBsdfs_.reserve(mesh().size());
-    for (uint32_t j = 0; j < mesh().size(); ++j)
-      patchBsdfs_.push_back(textures_.textured(j) ? makeBSDF(desc_.materials[patchMaterial_[j]], textures_.patchAlbedo(j))
-                                                  : bsdfs_[patchMaterial_[j]]);
+    for (uint32_t j = 0; j < mesh().size(); ++j) {
+      if (!textures_.textured(j)) {
+        patchBsdfs_.push_back(bsdfs_[patchMaterial_[j]]);
+        continue;
+      }
+      const SurfacePoint& s = textures_.patchSurface(j);
+      patchBsdfs_.push_back(makeBSDF(desc_.materials[patchMaterial_[j]], s.albedo, s.metallic, s.roughness));
+    }
   }
   for (const RenderLight& l : lights_.lights())
     if (l.type == LightType::Area) {

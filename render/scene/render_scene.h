@@ -41,12 +41,13 @@ class RenderScene {
   const FirstShotTable* firstShot() const { return table_ ? &*table_ : nullptr; }
   /// The BSDF of material @p m (without its texture: see bsdfAt).
   const BSDF& bsdf(uint32_t m) const { return bsdfs_[m]; }
-  /// The BSDF at @p hit: its material's, with the albedo texture looked up at the hit point when it has one
-  /// (the one place integrators get a surface's BSDF from).
+  /// The BSDF at @p hit: its material's, with its textures (base colour, metallic-roughness) looked up at the
+  /// hit point when it has some (the one place integrators get a surface's BSDF from).
   BSDF bsdfAt(const Hit& hit) const {
     const uint32_t m = material(hit);
     if (textures_.empty() || !hit.onPatch() || !textures_.textured(hit.patch)) return bsdfs_[m];
-    return makeBSDF(desc_.materials[m], textures_.albedoAt(hit.patch, hit.p));
+    const SurfacePoint s = textures_.at(hit.patch, hit.p);
+    return makeBSDF(desc_.materials[m], s.albedo, s.metallic, s.roughness);
   }
   /// The BSDF of patch @p j as a whole, its texture averaged over the patch: for what works per patch (the lit
   /// patches as emitters, render/firstshot/patch_emitters.h).

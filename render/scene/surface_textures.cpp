@@ -73,13 +73,13 @@ void forEachPatchPoint(const Patch& p, int n, const F& visit) {
 
 SurfaceTextures::SurfaceTextures(const SceneDesc& scene, const PatchMesh& mesh) : scene_(&scene), mesh_(&mesh) {
   const bool any = std::any_of(scene.materials.begin(), scene.materials.end(),
-                               [](const MaterialDesc& m) { return bool(m.albedoTexture); });
+                               [](const MaterialDesc& m) { return m.hasTextures(); });
   if (!any) return;
   face_.assign(mesh.size(), kNoFace);
   uint32_t lastShape = kNoFace, lastFace = 0;
   for (uint32_t j = 0; j < mesh.size(); ++j) {
     const Patch& p = mesh.patches[j];
-    if (!scene.materials[p.material].albedoTexture) continue;
+    if (!scene.materials[p.material].hasTextures()) continue;
     const ShapeDesc& s = scene.shapes[p.shape];
     const uint32_t faces = uint32_t(s.faces.size());
     uint32_t start = p.shape == lastShape && lastFace < faces ? lastFace : 0, best = start;
@@ -92,16 +92,19 @@ SurfaceTextures::SurfaceTextures(const SceneDesc& scene, const PatchMesh& mesh) 
     face_[j] = best;
     lastShape = p.shape, lastFace = best;
   }
-  patchAlbedo_.assign(mesh.size(), Color(0.0f));
+  patchSurface_.assign(mesh.size(), SurfacePoint{});
   tbb::parallel_for(uint32_t(0), mesh.size(), [&](uint32_t j) {
     if (face_[j] == kNoFace) return;
     Vec3d sum(0.0);
-    double weight = 0.0;
+    double metallic = 0.0, roughness = 0.0, weight = 0.0;
     forEachPatchPoint(mesh.patches[j], 8, [&](const Vec3& x, double w) {
-      sum += w * Vec3d(albedoAt(j, x));
+      const SurfacePoint s = at(j, x);
+      sum += w * Vec3d(s.albedo);
+      metallic += w * s.metallic, roughness += w * s.roughness;
       weight += w;
     });
-    patchAlbedo_[j] = weight > 0.0 ? Color(sum / weight) : albedoAt(j, mesh.patches[j].centroid);
+    patchSurface_[j] = weight > 0.0 ? SurfacePoint{Color(sum / weight), float(metallic / weight), float(roughness / weight)}
+                                    : at(j, mesh.patches[j].centroid);
   });
 }
 
@@ -114,14 +117,23 @@ Vec2 SurfaceTextures::uvAt(uint32_t patch, const Vec3& p) const {
   return a + float(t.bary.x) * (b - a) + float(t.bary.y) * (c - a);
 }
 
-Color SurfaceTextures::albedoAt(uint32_t patch, const Vec3& p) const {
+SurfacePoint SurfaceTextures::at(uint32_t patch, const Vec3& p) const {
   const Patch& q = mesh_->patches[patch];
   const MaterialDesc& m = scene_->materials[q.material];
-  // A base colour is a reflectance: texels above 1 (float images) are clamped, so energy is conserved as the
-  // factor's checks in validateScene say.
-  const Color texel =
-      scene_->shapes[q.shape].hasUv() ? m.albedoTexture->lookup(uvAt(patch, p)) : m.albedoTexture->image->mean;
-  return m.albedo * glm::clamp(texel, Color(0.0f), Color(1.0f));
+  const bool hasUv = scene_->shapes[q.shape].hasUv();
+  const Vec2 uv = hasUv ? uvAt(patch, p) : Vec2(0.0f);
+  // Texels above 1 (float images) are clamped: a base colour is a reflectance (energy is conserved as the
+  // factor's checks in validateScene say), metallic and roughness are fractions.
+  const auto texel = [&](const Texture& t) {
+    return glm::clamp(hasUv ? t.lookup(uv) : t.image->mean, Color(0.0f), Color(1.0f));
+  };
+  SurfacePoint s{m.albedo, m.metallic, m.roughness};
+  if (m.albedoTexture) s.albedo *= texel(*m.albedoTexture);
+  if (m.metallicRoughnessTexture) {
+    const Color mr = texel(*m.metallicRoughnessTexture);
+    s.roughness *= mr.y, s.metallic *= mr.z;
+  }
+  return s;
 }
 
 }  // namespace fs
