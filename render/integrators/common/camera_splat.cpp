@@ -24,7 +24,9 @@ bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camer
     L = v.beta * f * (std::abs(cosX) * c.importance);
   }
   ++rays;
-  if (scene.occluded(shadowRay(v.hit, c.wi, c.distance))) return false;
+  const Color through = scene.transmittance(shadowRay(v.hit, c.wi, c.distance));  // thin glass: its T
+  if (!(maxComponent(through) > 0.0f)) return false;
+  L *= through;
   pixel = uint32_t(c.raster.y) * uint32_t(camera.width()) + uint32_t(c.raster.x);
   return true;
 }

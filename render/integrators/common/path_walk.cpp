@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/scene/thin_glass_walk.h"
+
 namespace fs {
 
 void PathWalk::build(const RenderScene& scene, const FirstShotLighting& lighting, const IntegratorOptions& options) {
@@ -35,13 +37,21 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
 
   for (;; ++depth) {
     Hit hit;
-    if (first) {
-      hit = *first;
-      first = nullptr;
-    } else {
-      ++rays;
-      if (!scene.intersect(ray, hit)) break;
+    BSDF bsdf;
+    bool found = true;
+    for (;;) {  // the next hit, thin glass panes crossed on the way (thin_glass_walk.h) not counted as one
+      if (first) {
+        hit = *first;
+        first = nullptr;
+      } else {
+        ++rays;
+        if (!(found = scene.intersect(ray, hit))) break;
+      }
+      bsdf = scene.bsdfAt(hit);
+      const ThinGlassBSDF* glass = bsdf.thinGlass();
+      if (!glass || !crossThinGlass(*glass, hit, sampler.next1D(), ray, beta, bsdf)) break;
     }
+    if (!found) break;
     const Vec3 wo = -glm::normalize(ray.d);
 
     // Emission of area lights met by the path.
@@ -50,7 +60,6 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       if (maxComponent(Le) > 0.0f) L += beta * Le * emissionWeight(prev, hit);
     }
 
-    const BSDF bsdf = scene.bsdfAt(hit);
     if (info && depth == 0) {
       info->albedo = bsdf.albedo();
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;

@@ -3,15 +3,20 @@
 
 #include <algorithm>
 
+#include "render/scene/thin_glass_walk.h"
+
 namespace fs {
 
-bool SubpathWalk::next(uint64_t& rays) {
+bool SubpathWalk::next(uint64_t& rays, Sampler& sampler) {
   if (++depth_ > settings_.maxHits) return false;
-  ++rays;
-  if (!scene_->intersect(ray_, hit_)) return false;
-  material_ = scene_->material(hit_);
-  bsdf_ = scene_->bsdfAt(hit_);
-  return true;
+  for (;;) {
+    ++rays;
+    if (!scene_->intersect(ray_, hit_)) return false;
+    material_ = scene_->material(hit_);
+    bsdf_ = scene_->bsdfAt(hit_);
+    const ThinGlassBSDF* glass = bsdf_.thinGlass();
+    if (!glass || !crossThinGlass(*glass, hit_, sampler.next1D(), ray_, beta_, bsdf_)) return true;
+  }
 }
 
 bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {
