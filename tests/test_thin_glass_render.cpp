@@ -5,6 +5,7 @@
 #include <fmt/core.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 
 #include "common/thin_glass.h"
@@ -198,4 +199,53 @@ TEST(ThinGlassRender, BadTransmittanceExitsTwo) {
     EXPECT_EQ(r.exitCode, 2) << tau << ": " << r.output;
     EXPECT_NE(r.output.find("materials.pane.transmittance"), std::string::npos) << r.output;
   }
+}
+
+// Measurement, not a test (run with --gtest_also_run_disabled_tests): shadow rays between random points of
+// the window room, one thread, as the opaque query occluded() and as transmittance() (the occlusion filter
+// that multiplies the pane's T) or as the alternative, a loop of closest-hit queries stepping over panes;
+// and transmittance() in the room without its pane (occluded() itself).
+TEST(ThinGlassRender, DISABLED_MeasureShadowRays) {
+  SceneDesc glass = loadScene(test::source("scenes/window-room.json"));
+  SceneDesc bare = glass;
+  bare.shapes.erase(bare.shapes.begin() + 9);  // the pane
+  ASSERT_EQ(glass.shapes[9].name.find("pane") != std::string::npos, true);
+  const RenderScene withPane(glass), without(bare);
+  const int n = 1 << 20;
+  std::vector<Ray> rays(n);
+  Sampler s(3, 0, 0);
+  for (Ray& r : rays) {  // from inside the room to anywhere in a box twice its size around it
+    const Vec3 a(0.05f + 3.9f * s.next1D(), 0.05f + 2.6f * s.next1D(), 0.05f + 2.9f * s.next1D());
+    const Vec3 b(-2 + 8 * s.next1D(), -1.35f + 5.4f * s.next1D(), -3 + 6 * s.next1D());
+    r = Ray(a, glm::normalize(b - a), 0.0f, glm::length(b - a));
+  }
+  auto time = [&](auto&& f) {
+    double best = 1e30, sum = 0;
+    for (int rep = 0; rep < 5; ++rep) {
+      const auto t0 = std::chrono::steady_clock::now();
+      sum = 0;
+      for (const Ray& r : rays) sum += f(r);
+      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    return std::make_pair(n / best * 1e-6, sum / n);
+  };
+  const auto a = time([&](const Ray& r) { return withPane.occluded(r) ? 0.0 : 1.0; });
+  const auto b = time([&](const Ray& r) { return double(withPane.transmittance(r).y); });
+  const auto loop = time([&](const Ray& r) {  // closest hits, one after the other
+    Ray q = r;
+    double T = 1;
+    for (Hit h; withPane.intersect(q, h);) {
+      const ThinGlassBSDF* g = withPane.bsdf(withPane.material(h)).thinGlass();
+      if (!g) return 0.0;
+      T *= g->transmittance(std::abs(glm::dot(h.ng, q.d))).y;
+      q.tmin = h.t + h.eps;
+    }
+    return T;
+  });
+  const auto c = time([&](const Ray& r) { return double(without.transmittance(r).y); });
+  const auto d = time([&](const Ray& r) { return without.occluded(r) ? 0.0 : 1.0; });
+  fmt::print("with the pane: occluded() {:.2f} Mrays/s (mean {:.4f}), transmittance() {:.2f} Mrays/s (mean {:.4f})\n", a.first,
+             a.second, b.first, b.second);
+  fmt::print("with the pane, a loop of intersect(): {:.2f} Mrays/s (mean {:.4f})\n", loop.first, loop.second);
+  fmt::print("without it: occluded() {:.2f} Mrays/s, transmittance() {:.2f} Mrays/s (mean {:.4f})\n", d.first, c.first, c.second);
 }
