@@ -3,7 +3,9 @@
 /// What a random walk does at a thin glass pane (issue 35; common/thin_glass.h): every walk of render/ (the
 /// path tracer's, the irradiance cache's, light and camera subpaths) calls crossThinGlass at each hit on one.
 #include "common/bsdf.h"
+#include "common/rng.h"
 #include "render/scene/ray.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 
@@ -28,6 +30,26 @@ inline bool crossThinGlass(const ThinGlassBSDF& glass, const Hit& hit, float u, 
   }
   bsdf = MirrorBRDF{pT < 1.0f ? R / (1.0f - pT) : Color(0.0f)};
   return false;
+}
+
+/// A walk's next hit along @p ray with the panes it crosses on the way skipped (crossThinGlass at each, one
+/// number of @p sampler a pane; @p beta and @p ray updated): the first candidate is @p *known when given
+/// (then set to null: a hit the caller traced already), else traced (counted in @p rays). Fills @p hit and
+/// @p bsdf (RenderScene::bsdfAt, or a pane's reflection). @return false if nothing is hit.
+inline bool nextHitPastPanes(const RenderScene& scene, Ray& ray, const Hit*& known, Sampler& sampler, Color& beta,
+                             uint64_t& rays, Hit& hit, BSDF& bsdf) {
+  for (;;) {
+    if (known) {
+      hit = *known;
+      known = nullptr;
+    } else {
+      ++rays;
+      if (!scene.intersect(ray, hit)) return false;
+    }
+    bsdf = scene.bsdfAt(hit);
+    const ThinGlassBSDF* glass = bsdf.thinGlass();
+    if (!glass || !crossThinGlass(*glass, hit, sampler.next1D(), ray, beta, bsdf)) return true;
+  }
 }
 
 }  // namespace fs

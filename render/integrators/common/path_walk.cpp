@@ -38,20 +38,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
   for (;; ++depth) {
     Hit hit;
     BSDF bsdf;
-    bool found = true;
-    for (;;) {  // the next hit, thin glass panes crossed on the way (thin_glass_walk.h) not counted as one
-      if (first) {
-        hit = *first;
-        first = nullptr;
-      } else {
-        ++rays;
-        if (!(found = scene.intersect(ray, hit))) break;
-      }
-      bsdf = scene.bsdfAt(hit);
-      const ThinGlassBSDF* glass = bsdf.thinGlass();
-      if (!glass || !crossThinGlass(*glass, hit, sampler.next1D(), ray, beta, bsdf)) break;
-    }
-    if (!found) break;
+    if (!nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf)) break;  // a pane crossed is no bounce
     const Vec3 wo = -glm::normalize(ray.d);
 
     // Emission of area lights met by the path.

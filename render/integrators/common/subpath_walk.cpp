@@ -9,14 +9,10 @@ namespace fs {
 
 bool SubpathWalk::next(uint64_t& rays, Sampler& sampler) {
   if (++depth_ > settings_.maxHits) return false;
-  for (;;) {
-    ++rays;
-    if (!scene_->intersect(ray_, hit_)) return false;
-    material_ = scene_->material(hit_);
-    bsdf_ = scene_->bsdfAt(hit_);
-    const ThinGlassBSDF* glass = bsdf_.thinGlass();
-    if (!glass || !crossThinGlass(*glass, hit_, sampler.next1D(), ray_, beta_, bsdf_)) return true;
-  }
+  const Hit* known = nullptr;
+  if (!nextHitPastPanes(*scene_, ray_, known, sampler, beta_, rays, hit_, bsdf_)) return false;
+  material_ = scene_->material(hit_);
+  return true;
 }
 
 bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {

@@ -114,20 +114,7 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
     const int vertex = level + depth;
     Hit hit;
     BSDF bsdf;
-    bool found = true;
-    for (;;) {  // the next hit, thin glass panes crossed on the way (thin_glass_walk.h) not counted as one
-      if (known) {
-        hit = *known;
-        known = nullptr;
-      } else {
-        ++ctx.rays;
-        if (!(found = scene.intersect(ray, hit))) break;
-      }
-      bsdf = scene.bsdfAt(hit);
-      const ThinGlassBSDF* glass = bsdf.thinGlass();
-      if (!glass || !crossThinGlass(*glass, hit, sampler.next1D(), ray, beta, bsdf)) break;
-    }
-    if (!found) break;
+    if (!nextHitPastPanes(scene, ray, known, sampler, beta, ctx.rays, hit, bsdf)) break;  // a pane crossed is no bounce
     if (depth == 0 && first) first->distance = hit.t, first->hit = hit;
     pathLength += hit.t;
     const Vec3 wo = -glm::normalize(ray.d);
