@@ -220,6 +220,7 @@ BSDF makeBSDF(const MaterialDesc& m, const Color& albedo) {
     case MaterialType::Mirror: return MirrorBRDF{m.specular};
     case MaterialType::Dielectric: return DielectricBSDF{m.ior, m.transmittance};
     case MaterialType::Pbr: return MetallicRoughnessBRDF{albedo, m.metallic, m.roughness, m.ior};
+    case MaterialType::ThinGlass: return ThinGlassBSDF(m.transmittance, m.ior);
   }
   return LambertBRDF{albedo};
 }

@@ -15,7 +15,7 @@
 ///     wo.z < 0 inside (index ior). For it the frame must NOT be flipped: use the outward normal.
 /// - A direction with z == 0 (grazing) gets zero BSDF and sample() fails there.
 ///
-/// Delta lobes (mirror, dielectric): eval() and pdf() return 0 (a delta cannot be hit by a direction
+/// Delta lobes (mirror, dielectric, thin glass): eval() and pdf() return 0 (a delta cannot be hit by a direction
 /// chosen elsewhere); sample() sets specular = true and pdf = the discrete probability of having
 /// chosen that lobe (1 for the mirror, R or 1−R for the dielectric). That pdf is not a solid-angle
 /// density and must not enter MIS against one.
@@ -23,6 +23,7 @@
 #include <variant>
 
 #include "common/math.h"
+#include "common/thin_glass.h"
 
 namespace fs {
 
@@ -165,7 +166,8 @@ struct MetallicRoughnessBRDF {
 /// std::visit. Build one per material once and reuse it for every hit.
 class BSDF {
  public:
-  using Model = std::variant<LambertBRDF, StretchedPhongBRDF, MirrorBRDF, DielectricBSDF, MetallicRoughnessBRDF>;
+  using Model = std::variant<LambertBRDF, StretchedPhongBRDF, MirrorBRDF, DielectricBSDF, MetallicRoughnessBRDF,
+                             ThinGlassBSDF>;
   BSDF() = default;  ///< a Lambertian with ρ = 0.5 (LambertBRDF's default)
   template <typename M>
   BSDF(const M& model) : model_(model) {}  // NOLINT: implicit by design
@@ -187,8 +189,12 @@ class BSDF {
   bool isDiffuse() const { return std::holds_alternative<LambertBRDF>(model_); }
   /// True if the BSDF consists of delta lobes only (eval and pdf are identically 0).
   bool hasDelta() const {
-    return std::holds_alternative<MirrorBRDF>(model_) || std::holds_alternative<DielectricBSDF>(model_);
+    return std::holds_alternative<MirrorBRDF>(model_) || std::holds_alternative<DielectricBSDF>(model_) ||
+           std::holds_alternative<ThinGlassBSDF>(model_);
   }
+  /// The thin glass pane (common/thin_glass.h) this BSDF is, or nullptr: walks pass straight through it
+  /// (render/scene/thin_glass_walk.h) and shadow rays cross it with its transmittance.
+  const ThinGlassBSDF* thinGlass() const { return std::get_if<ThinGlassBSDF>(&model_); }
   /// True for a lobe sharper than a first-shot table resolves: a pbr surface of roughness below
   /// kTableRoughness. The table's patch-level sum Σ e r f cannot follow such a lobe (it would lose the
   /// reflections of the replaced lights in polished metal), so the path walk lights these points by NEE to
@@ -199,7 +205,9 @@ class BSDF {
   }
   static constexpr float kTableRoughness = 0.3f;  ///< perceptual roughness (α = 0.09)
   /// True if light can pass through (the frame must not be flipped; see the file comment).
-  bool hasTransmission() const { return std::holds_alternative<DielectricBSDF>(model_); }
+  bool hasTransmission() const {
+    return std::holds_alternative<DielectricBSDF>(model_) || std::holds_alternative<ThinGlassBSDF>(model_);
+  }
   /// Diffuse reflectance ρd of a Lambertian part that f − ρd/π leaves non-negative for every pair of
   /// directions; 0 for mirror, dielectric and metallic-roughness (whose diffuse part is weighted by
   /// 1 − F(h·wo) and so has no direction-independent lower bound above 0).
@@ -213,7 +221,7 @@ class BSDF {
 
 /// BSDF of a material: Diffuse → Lambert(albedo); Glossy → stretched Phong(albedo, ks = specular,
 /// n = exponent); Mirror → mirror(specular); Dielectric → dielectric(ior, transmittance); Pbr →
-/// metallic-roughness(base colour = albedo, metallic, roughness, ior).
+/// metallic-roughness(base colour = albedo, metallic, roughness, ior); ThinGlass → thin glass(transmittance, ior).
 /// Emission is not part of the BSDF.
 BSDF makeBSDF(const MaterialDesc& material);
 /// The BSDF of @p material with @p albedo in place of material.albedo: a textured material at one point

@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "common/thin_glass.h"
+
 namespace fs::mitsuba {
 namespace {
 
@@ -170,9 +172,10 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
     if (t == "roughdielectric") {
       roughness(p);
       doc_.note(t, "roughdielectric approximated as smooth glass (dielectric, roughness dropped)");
-    } else if (t == "thindielectric") {
-      m.ior = 1.0f;
-      doc_.note(t, "thindielectric approximated as a pass-through sheet (dielectric of index 1: its reflection dropped)");
+    } else if (t == "thindielectric") {  // a window pane: thin_glass of that index, lossless unless tinted
+      m.type = MaterialType::ThinGlass;  // Mitsuba's R + T²R/(1 − R²) per face pair, times specular_transmittance
+      if (m.ior > 0.0f && m.ior < 1.0f) m.ior = 1.0f / m.ior;  // a pane is the same seen from either side
+      m.transmittance *= ThinGlassBSDF::maxTransmittance(m.ior);
     }
   } else {
     doc_.fail(node, "bsdf type \"" + t + "\" is not supported (diffuse, twosided, plastic, roughplastic, conductor, "

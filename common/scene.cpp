@@ -13,6 +13,7 @@
 #include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
 #include "common/texture.h"
+#include "common/thin_glass.h"
 
 namespace fs {
 
@@ -81,6 +82,21 @@ void validateShape(const SceneDesc& scene, const ShapeDesc& s) {
   }
 }
 
+/// A thin glass pane's keys (common/thin_glass.h): ior ≥ 1, transmittance in [0, 1] and at most a lossless
+/// pane's. @p w names the material ("materials.NAME").
+void validateThinGlass(const std::string& file, const std::string& w, const MaterialDesc& m) {
+  if (!isFinite(m.transmittance) || !std::isfinite(m.ior)) throw InputError(file, w, "a value is not finite (NaN or Inf)");
+  if (!(m.ior >= 1.0f)) throw InputError(file, w + ".ior", "a glass pane's index must be at least 1 (got " + std::to_string(m.ior) + ")");
+  const float lo = std::min(m.transmittance.x, std::min(m.transmittance.y, m.transmittance.z)), hi = maxComponent(m.transmittance);
+  if (lo < 0.0f || hi > 1.0f)
+    throw InputError(file, w + ".transmittance", "material \"" + m.name + "\": must be in [0, 1] (got " + std::to_string(lo < 0.0f ? lo : hi) + ")");
+  const float most = ThinGlassBSDF::maxTransmittance(m.ior);
+  if (hi > most * (1.0f + 1e-6f))
+    throw InputError(file, w + ".transmittance", "material \"" + m.name + "\": " + std::to_string(hi) + " exceeds " + std::to_string(most) +
+                                                     ", what a lossless pane of ior " + std::to_string(m.ior) +
+                                                     " transmits (its two faces reflect the rest)");
+}
+
 void frameCamera(SceneDesc& scene) {
   Vec3d lo, hi;
   scene.bounds(lo, hi);
@@ -117,6 +133,7 @@ void validateScene(SceneDesc& scene) {
       throw InputError(file, w + ".specular", "mirror reflectance above 1");
     if ((m.type == MaterialType::Dielectric || m.type == MaterialType::Pbr) && !(m.ior > 0))
       throw InputError(file, w + ".ior", "must be positive");
+    if (m.type == MaterialType::ThinGlass) validateThinGlass(file, w, m);
     if (m.type == MaterialType::Pbr && !(m.metallic >= 0.0f && m.metallic <= 1.0f))
       throw InputError(file, w + ".metallic", "must be in [0, 1]");
     if (m.type == MaterialType::Pbr && !(m.roughness >= 0.0f && m.roughness <= 1.0f))

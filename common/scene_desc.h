@@ -13,8 +13,9 @@
 
 namespace fs {
 
-/// Pbr is the glTF 2.0 metallic-roughness model (common/bsdf.h, MetallicRoughnessBRDF).
-enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric, Pbr };
+/// Pbr is the glTF 2.0 metallic-roughness model (common/bsdf.h, MetallicRoughnessBRDF); ThinGlass a window
+/// pane that transmits without displacing the ray (common/thin_glass.h).
+enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric, Pbr, ThinGlass };
 
 struct Texture;  // common/texture.h
 
@@ -25,10 +26,10 @@ struct MaterialDesc {
   Color albedo{0.0f};    ///< diffuse reflectance (diffuse, and the diffuse part of glossy); pbr: the base colour
   Color specular{0.0f};  ///< glossy: the lobe's albedo bound (ks = specular·(n+1)/2π, see makeBSDF); mirror: reflectance
   float exponent = 1.0f; ///< glossy: Phong exponent n
-  float ior = 1.5f;      ///< dielectric, pbr: index of refraction (outside is 1)
+  float ior = 1.5f;      ///< dielectric, pbr, thin glass: index of refraction (outside is 1)
   float metallic = 1.0f;  ///< pbr: metalness ∈ [0, 1] (glTF's default 1)
   float roughness = 1.0f; ///< pbr: perceptual roughness ∈ [0, 1] (GGX α = roughness², common/microfacet.h)
-  Color transmittance{1.0f};  ///< dielectric: tint of refracted light
+  Color transmittance{1.0f};  ///< dielectric: tint of refracted light; thin glass: the pane's transmittance at normal incidence
   Color emission{0.0f};  ///< emitted radiance, W/(m² sr)
   /// Diffuse and glossy: a base-colour texture; at a point with texture coordinates uv the diffuse reflectance
   /// is albedo × texture.lookup(uv) (albedo is then the factor, 1 by default; render/scene/surface_texture.h).

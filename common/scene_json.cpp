@@ -16,6 +16,7 @@
 #include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
 #include "common/texture.h"
+#include "common/thin_glass.h"
 
 namespace fs {
 namespace {
@@ -193,6 +194,11 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     r.keys(j, where, {"type", "ior", "transmittance"});
     m.type = MaterialType::Dielectric;
     m.ior = static_cast<float>(r.positive(r.need(j, where, "ior"), where + ".ior"));
+  } else if (type == "thin_glass") {  // a window pane (common/thin_glass.h); transmittance read below
+    r.keys(j, where, {"type", "transmittance", "ior"});
+    m.type = MaterialType::ThinGlass;
+    m.transmittance = Color(kThinGlassTransmittance);
+    m.ior = j.contains("ior") ? static_cast<float>(r.positive(j["ior"], where + ".ior")) : kThinGlassIor;
   } else if (type == "pbr") {
     r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture",
                       "ior", "emission"});
@@ -214,7 +220,7 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
       m.metallicRoughnessTexture = parseTexture(r, j["metallic_roughness_texture"], name,
                                                 where + ".metallic_roughness_texture", images, false);
   } else {
-    r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric, pbr)");
+    r.fail(where + ".type", "unknown material type \"" + type + "\" (diffuse, glossy, mirror, dielectric, thin_glass, pbr)");
   }
   if (j.contains("albedo_texture")) {
     m.albedoTexture = parseTexture(r, j["albedo_texture"], name, where + ".albedo_texture", images);

@@ -13,7 +13,7 @@ void ItemGeometry::addTriangle(const Vec3& a, const Vec3& b, const Vec3& c, uint
   for (const Vec3& p : {a, b, c}) bounds.extend(Vec3d(p));
 }
 
-ItemGeometry ItemGeometry::fromPatches(const PatchMesh& mesh) {
+ItemGeometry ItemGeometry::fromPatches(const PatchMesh& mesh, const std::vector<uint8_t>& seeThrough) {
   ItemGeometry g;
   size_t tris = 0;
   for (const Patch& p : mesh.patches) tris += p.count == 4 ? 2 : 1;
@@ -21,6 +21,7 @@ ItemGeometry ItemGeometry::fromPatches(const PatchMesh& mesh) {
   g.patchIds.reserve(tris);
   for (uint32_t id = 0; id < mesh.size(); ++id) {
     const Patch& p = mesh.patches[id];
+    if (!seeThrough.empty() && seeThrough[p.material]) continue;
     g.addTriangle(p.v[0], p.v[1], p.v[2], id);
     if (p.count == 4) g.addTriangle(p.v[0], p.v[2], p.v[3], id);
   }

@@ -26,8 +26,10 @@ struct ItemGeometry {
   size_t triangleCount() const { return patchIds.size(); }
   /// Appends one triangle.
   void addTriangle(const Vec3& a, const Vec3& b, const Vec3& c, uint32_t patchId);
-  /// Triangles of every patch of @p mesh, patch ID = index in mesh.patches.
-  static ItemGeometry fromPatches(const PatchMesh& mesh);
+  /// Triangles of every patch of @p mesh, patch ID = index in mesh.patches; with @p seeThrough (by
+  /// material, non-empty), the patches of the materials it flags are left out: thin glass panes, which
+  /// the item buffers see through (preprocess/pane_transmittance.h).
+  static ItemGeometry fromPatches(const PatchMesh& mesh, const std::vector<uint8_t>& seeThrough = {});
 };
 
 /// Near plane used by both back ends: @p relative × the scene diagonal (1e-6 by default), so that a

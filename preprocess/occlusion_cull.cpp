@@ -30,7 +30,9 @@ OcclusionCull::OcclusionCull(const SceneDesc& scene, const PatchMesh& mesh, uint
   faces_.resize(scene.shapes.size());
   for (size_t s = 0; s < scene.shapes.size(); ++s) {
     const ShapeDesc& shape = scene.shapes[s];
-    if (scene.materials[shape.material].isEmissive() || shape.faces.size() > kMaxFacesPerShape) continue;
+    if (scene.materials[shape.material].isEmissive() || shape.faces.size() > kMaxFacesPerShape ||
+        scene.materials[shape.material].type == MaterialType::ThinGlass)  // a pane hides nothing
+      continue;
     for (const fs::Face& f : shape.faces) {
       Face F;
       F.count = f.count;

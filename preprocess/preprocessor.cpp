@@ -25,6 +25,7 @@
 #include "preprocess/adaptive_mesh.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
+#include "preprocess/pane_transmittance.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/kept_item_buffers.h"
 #include "preprocess/light_samples.h"
@@ -124,7 +125,7 @@ struct Shooter {
     for (size_t k = 0; k < tasks.size(); ++k)
       if (comm.mine(tasks[k].sample)) mine.push_back(k);
     profile::Scope meshTime(profile::Mesh);
-    const ItemGeometry geometry = ItemGeometry::fromPatches(mesh);
+    const ItemGeometry geometry = ItemGeometry::fromPatches(mesh, seeThroughMaterials(scene));  // panes left out
     meshTime.stop();
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min<int>(threads, static_cast<int>(mine.size())));
@@ -294,6 +295,32 @@ void carryOver(const PatchMesh& mesh, const std::vector<SampleSetup>& setups, co
   }
 }
 
+/// Thin glass (issue 35): each factor times the panes' transmittance between its light sample and its
+/// patch's centroid (preprocess/pane_transmittance.h); the item buffers did not draw the panes. The panes'
+/// own patches lose their factors (the analytic estimator's point tests found them lit: a pane is a delta
+/// surface, never a lit patch), as do factors that no light crosses to. Nothing for a scene without glass.
+void applyPaneTransmittance(const SceneDesc& scene, const PatchMesh& mesh, const std::vector<LightSample>& samples,
+                            std::vector<std::vector<Entry>>& results) {
+  const PaneTransmittance panes(scene);
+  if (panes.empty()) return;
+  const std::vector<uint8_t> seeThrough = seeThroughMaterials(scene);
+  tbb::parallel_for(size_t(0), results.size(), [&](size_t i) {
+    const LightSample& s = samples[i];
+    const bool directional = s.kind == LightSampleKind::Directional;
+    std::vector<Entry>& r = results[i];
+    for (Entry& e : r) {
+      if (seeThrough[mesh.patches[e.patch].material]) {
+        e.factor = 0.0f;
+        continue;
+      }
+      const Vec3d c(mesh.patches[e.patch].centroid);
+      const double T = directional ? panes.toward(c, -glm::normalize(Vec3d(s.normal))) : panes.between(c, Vec3d(s.position));
+      e.factor = static_cast<float>(e.factor * T);
+    }
+    r.erase(std::remove_if(r.begin(), r.end(), [](const Entry& e) { return !(e.factor > 0.0f); }), r.end());
+  });
+}
+
 /// Rejects an item-buffer resolution out of the windows' range, or whose windows and item buffers
 /// cannot fit in memory: weights (8 bytes a pixel) of a cube (6R²) and of a cubic tetrahedron (4
 /// faces of (√2R)², the largest area-light window) or hemicube (3R²), plus one view's IDs (4 bytes a
@@ -439,6 +466,7 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     shooter.run(adaptive.mesh(), tasks, true, "refine " + std::to_string(level), results, &first, level);
   }
   shooter.kept.clear();
+  applyPaneTransmittance(scene, adaptive.mesh(), t.samples, results);
   profile::Scope tableTime(profile::Table);
   t.mesh = adaptive.mesh();
   // CSR by patch; within a row, samples ascend.

@@ -98,7 +98,7 @@ TEST(LightTracing, TransportPathWeighsTheSameBothWays) {
   uint32_t pixel = 0;
   Color light(0.0f);
   uint64_t rays = 0;
-  ASSERT_TRUE(connectToCamera(scene, v, camera, pixel, light, rays));
+  ASSERT_TRUE(connectToCamera(scene, v, camera, pixel, light, rays, false));
   // Camera side, from the camera's own description.
   const Vec3 wc = glm::normalize(x2 - c), fwd = glm::normalize(Vec3(d.camera.lookAt) - c);
   const float cosC = glm::dot(wc, fwd), tanHalf = std::tan(glm::radians(float(d.camera.fovYDeg)) * 0.5f);

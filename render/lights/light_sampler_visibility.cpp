@@ -139,7 +139,7 @@ void LightSampler::buildVisibility() {
         for (size_t k = 0; k < cut.size(); ++k) {
           if (members[k].empty()) continue;
           Sampler sampler(kSeed, r, k);
-          int visible = 0;
+          float visible = 0.0f;  // rays that reach the emitter, a pane's transmittance counted as a fraction
           for (int m = 0; m < rays; ++m) {
             const Receiver& rc = receivers[r][size_t(m) % receivers[r].size()];
             const Vec3 q = rc.p + ((m / int(receivers[r].size())) % 2 == 0 ? offset : -offset) * rc.n;
@@ -150,12 +150,13 @@ void LightSampler::buildVisibility() {
             const Vec3 d = y - q;
             const float dist = glm::length(d);
             if (!(dist > 0.0f)) {
-              ++visible;
+              visible += 1.0f;
               continue;
             }
-            visible += !scene_->occluded(Ray(q, d / dist, 0.0f, dist * (1.0f - 1e-3f)));
+            const Color through = scene_->transmittance(Ray(q, d / dist, 0.0f, dist * (1.0f - 1e-3f)));
+            visible += (through.x + through.y + through.z) * (1.0f / 3.0f);
           }
-          v[r * cut.size() + k] = float(visible) / float(rays);
+          v[r * cut.size() + k] = visible / float(rays);
         }
     });
     g.tree.setVisibility(&grid_, D, v, kEpsilon);

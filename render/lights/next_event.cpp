@@ -25,12 +25,14 @@ Color weighLightSample(const RenderScene& scene, const Hit& hit, const Frame& fr
   if (request.nonDiffuseOnly && q.wi.z * q.wo.z > 0.0f)
     f = glm::max(f - bsdf.diffuseAlbedo() * kInvPiF, Color(0.0f));
   if (!(maxComponent(f) > 0.0f)) return Color(0.0f);
+  Color through(1.0f);  // thin glass on the way: its transmittance (issue 35)
   if (seen != TableVisibility::Visible) {
     ++rays;
-    if (scene.occluded(shadowRay(hit, rec.wi, rec.distance))) return Color(0.0f);
+    through = scene.transmittance(shadowRay(hit, rec.wi, rec.distance));
+    if (!(maxComponent(through) > 0.0f)) return Color(0.0f);
   }
   const float weight = delta || !request.mis ? 1.0f : powerHeuristic(rec.pdf, bsdf.pdf(q));
-  return f * (std::abs(q.wi.z) * weight) * rec.value;
+  return f * (std::abs(q.wi.z) * weight) * rec.value * through;
 }
 
 /// The point of patch emitter @p e chosen with probability @p pSelect for @p u, seen from @p x:

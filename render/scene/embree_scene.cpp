@@ -66,6 +66,7 @@ struct EmbreeScene::Impl {
   std::string lastError;
   std::vector<Vec3> patchNormals;                ///< by patch ID
   std::vector<std::vector<Vec3>> emitterNormals; ///< by emitter, by triangle
+  GlassPatches glass;                            ///< the thin glass panes (transmittance())
   /// Smallest ray offset, m: 16 float ulps of the largest vertex coordinate (a point interpolated
   /// from the vertices is that accurate), so that offsets scale with the scene.
   float epsFloor = 0.0f;
@@ -100,9 +101,10 @@ struct EmbreeScene::Impl {
   }
 };
 
-EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters)
+EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
+  m.glass = std::move(glass);
   m.device = rtcNewDevice("verbose=0");
   if (!m.device) throw std::runtime_error("cannot create the Embree device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(m.device, onEmbreeError, &m.lastError);
@@ -262,6 +264,59 @@ void EmbreeScene::allHits(const Ray& ray, std::vector<Hit>& out) const {
     impl_->fill(ray, hits[k].first, unsigned(hits[k].second >> 32), unsigned(hits[k].second), hit);
     out.push_back(hit);
   }
+}
+
+namespace {
+
+/// An occlusion context that multiplies the thin glass panes' transmittance (transmittance()).
+struct GlassContext {
+  RTCIntersectContext context;  ///< first, as Embree requires
+  const GlassPatches* glass;
+  const Vec3* dir;              ///< the ray's direction
+  float tolerance;              ///< two pane hits closer than this in t are one
+  Color T{1.0f};
+  float counted[8];             ///< the t of the panes multiplied so far (the first 8)
+  int n = 0;
+};
+
+void crossGlass(const RTCFilterFunctionNArguments* args) {
+  auto* c = reinterpret_cast<GlassContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const unsigned geom = RTCHitN_geomID(args->hit, args->N, i);
+    const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+    const uint16_t pane = geom == kPatchGeometry ? c->glass->paneOfPatch[prim] : 0;
+    if (pane == 0) continue;  // opaque: accept, the traversal ends
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    bool seen = false;
+    for (int k = 0; k < std::min(c->n, 8); ++k) seen = seen || std::abs(c->counted[k] - t) <= c->tolerance;
+    if (!seen) {
+      const Vec3 ng(RTCHitN_Ng_x(args->hit, args->N, i), RTCHitN_Ng_y(args->hit, args->N, i), RTCHitN_Ng_z(args->hit, args->N, i));
+      const float cosTheta = std::abs(glm::dot(ng, *c->dir)) / (glm::length(ng) * glm::length(*c->dir));
+      c->T *= c->glass->panes[pane - 1u].transmittance(cosTheta);
+      if (c->n < 8) c->counted[c->n] = t;
+      ++c->n;
+    }
+    if (maxComponent(c->T) > 0.0f) args->valid[i] = 0;  // reject: go on to the next candidate
+  }
+}
+
+}  // namespace
+
+bool EmbreeScene::hasGlass() const { return !impl_->glass.empty(); }
+
+Color EmbreeScene::transmittance(const Ray& ray) const {
+  if (impl_->glass.empty()) return occluded(ray) ? Color(0.0f) : Color(1.0f);
+  GlassContext c;
+  rtcInitIntersectContext(&c.context);
+  c.context.filter = crossGlass;
+  c.glass = &impl_->glass;
+  c.dir = &ray.d;
+  const float len = glm::length(ray.d);
+  c.tolerance = len > 0.0f ? impl_->eps(ray.o, 0.0f) / len + 1e-6f * std::abs(ray.tmax < 1e30f ? ray.tmax : 0.0f) : 0.0f;
+  RTCRay r = toRTC(ray);
+  rtcOccluded1(impl_->scene, &c.context, &r);
+  return r.tfar < 0.0f ? Color(0.0f) : c.T;
 }
 
 size_t EmbreeScene::intersectRaw(const Ray* rays, size_t count) const {

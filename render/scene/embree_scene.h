@@ -9,6 +9,7 @@
 
 #include "common/math.h"
 #include "common/patches.h"
+#include "common/thin_glass.h"
 #include "render/scene/ray.h"
 
 namespace fs {
@@ -20,12 +21,21 @@ struct EmitterMesh {
   uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
 };
 
+/// The thin glass panes (common/thin_glass.h) that transmittance() sees through: their optics, and which
+/// pane each patch is. Empty: the scene has none, and transmittance() is occluded() (no filter, no cost).
+struct GlassPatches {
+  std::vector<ThinGlassBSDF> panes;
+  std::vector<uint16_t> paneOfPatch;  ///< by patch ID: 0 opaque, k + 1 for panes[k]; empty when panes is
+  bool empty() const { return panes.empty(); }
+};
+
 /// An immutable Embree scene. Queries are const and thread-safe.
 class EmbreeScene {
  public:
-  /// Builds the BVH over @p patches (triangles and planar quads) and @p emitters.
+  /// Builds the BVH over @p patches (triangles and planar quads) and @p emitters; @p glass the
+  /// patches that are thin glass panes (for transmittance()).
   /// @throws std::runtime_error if Embree fails.
-  EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters);
+  EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass = {});
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
@@ -42,6 +52,14 @@ class EmbreeScene {
   void intersect16(const Ray* rays, const bool* active, int count, Hit* hits, bool* found) const;
   /// True if anything lies on the ray within [ray.tmin, ray.tmax].
   bool occluded(const Ray& ray) const;
+  /// The fraction of light that crosses the segment [ray.tmin, ray.tmax] (issue 35): 0 if an opaque
+  /// surface lies on it, else the product of T(θ) of the thin glass panes it crosses (1 for none). One
+  /// occlusion traversal whose context filter multiplies each pane's T(θ) and rejects the hit (a pane
+  /// met twice at the same distance, on a quad's diagonal or the edge two patches share, counts once);
+  /// an opaque hit ends it. Without glass it is occluded().
+  Color transmittance(const Ray& ray) const;
+  /// True if the scene has thin glass (transmittance() may be neither 0 nor 1).
+  bool hasGlass() const;
   /// Every surface the ray crosses within [ray.tmin, ray.tmax], sorted by t, appended to @p out: one
   /// traversal whose context filter records each candidate and rejects it (a hit found twice, e.g.
   /// on a quad's diagonal, is listed once). The ray bundles' alternative to successive closest hits.

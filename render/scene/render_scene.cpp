@@ -58,7 +58,19 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
       if (emitterMaterial_.size() <= l.emitter) emitterMaterial_.resize(l.emitter + 1);
       emitterMaterial_[l.emitter] = static_cast<uint32_t>(desc_.shapes[size_t(l.desc.shape)].material);
     }
-  embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes());
+  // Thin glass panes: the patches shadow rays see through (EmbreeScene::transmittance).
+  GlassPatches glass;
+  std::vector<uint16_t> paneOfMaterial(bsdfs_.size(), 0);
+  for (size_t m = 0; m < bsdfs_.size(); ++m)
+    if (const ThinGlassBSDF* g = bsdfs_[m].thinGlass()) {
+      glass.panes.push_back(*g);
+      paneOfMaterial[m] = static_cast<uint16_t>(glass.panes.size());
+    }
+  if (!glass.empty()) {
+    glass.paneOfPatch.reserve(patchMaterial_.size());
+    for (uint32_t m : patchMaterial_) glass.paneOfPatch.push_back(paneOfMaterial[m]);
+  }
+  embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes(), std::move(glass));
 }
 
 }  // namespace fs

@@ -61,6 +61,10 @@ class RenderScene {
 
   bool intersect(const Ray& ray, Hit& hit) const { return embree_->intersect(ray, hit); }
   bool occluded(const Ray& ray) const { return embree_->occluded(ray); }
+  /// What crosses the segment: 0 when an opaque surface blocks it, else the product of the thin glass
+  /// panes' T(θ) along it (EmbreeScene::transmittance; occluded() for a scene without glass). Every shadow
+  /// ray of render/ asks this.
+  Color transmittance(const Ray& ray) const { return embree_->transmittance(ray); }
   const EmbreeScene& embree() const { return *embree_; }
 
  private:

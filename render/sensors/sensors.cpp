@@ -60,12 +60,25 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   const Ray ray(hit.spawnOrigin(wi), wi);
   Hit first;
   Color Le(0.0f);
-  ++rays;
-  if (scene.intersect(ray, first) && !first.onPatch()) Le = scene.lights().emitted(first.emitter, first.ng, -wi);
+  Color through(1.0f);  // the thin glass panes before the first other hit: their T (issue 35)
+  bool glass = false;
+  for (Ray r = ray;;) {
+    ++rays;
+    if (!scene.intersect(r, first)) break;
+    const ThinGlassBSDF* pane = scene.bsdf(scene.material(first)).thinGlass();
+    if (!pane) {
+      if (!first.onPatch()) Le = through * scene.lights().emitted(first.emitter, first.ng, -wi);
+      break;
+    }
+    glass = true;
+    through *= pane->transmittance(std::abs(glm::dot(first.ng, wi)));
+    r.tmin = first.t + first.eps;
+  }
   SampleInfo info;
   const Color L = li(ray, sampler, &info);
   rays += info.rays;
-  E += kPiF * glm::max(L - Le, Color(0.0f));  // cos θ/pdf = π
+  // Li() met that emission with weight T/P_T or not at all: L − Le is then unbiased but may be negative.
+  E += kPiF * (glass ? L - Le : glm::max(L - Le, Color(0.0f)));  // cos θ/pdf = π
   return E;
 }
 

@@ -87,7 +87,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   const float invN = 1.0f / float(particlesPerPass(camera));
   for (int s = 2; s <= ns && s - 1 + lightExtra <= maxDepth; ++s) {
     Splat splat;
-    if (!connectToCamera(*scene_, ws.lightRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays)) continue;
+    if (!connectToCamera(*scene_, ws.lightRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays, true)) continue;
     splat.L *= misWeight(densities, lightPath, cameraPath.first(1), s, 1) * invN;
     out.push_back(splat);
   }

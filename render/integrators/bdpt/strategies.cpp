@@ -78,8 +78,8 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
   const Color L = pt.beta * densities.scene().bsdfAt(pt.hit).eval(q) * incident * std::abs(glm::dot(pt.hit.ng, wi));
   if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
   ++rays;
-  if (densities.scene().occluded(shadowRay(pt.hit, wi, distance))) return Color(0.0f);
-  return L;
+  const Color through = densities.scene().transmittance(shadowRay(pt.hit, wi, distance));  // thin glass: its T
+  return maxComponent(through) > 0.0f ? L * through : Color(0.0f);
 }
 
 Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt,
@@ -99,8 +99,8 @@ Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, c
   const Color L = pt.beta * fCamera * fLight * qs.beta * G;
   if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
   ++rays;
-  if (scene.occluded(shadowRay(pt.hit, w, distance))) return Color(0.0f);
-  return L;
+  const Color through = scene.transmittance(shadowRay(pt.hit, w, distance));  // thin glass: its T
+  return maxComponent(through) > 0.0f ? L * through : Color(0.0f);
 }
 
 }  // namespace fs

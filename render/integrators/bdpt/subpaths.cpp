@@ -18,7 +18,7 @@ void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int m
 
   // W_e·cosθ/pdf = 1 for the pixel the ray goes through.
   SubpathWalk walk(scene, cameraRay, Color(1.0f), {maxHits, rrDepth, 1.0f, TransportMode::Radiance, /*sqrtSurvival=*/false});
-  while (walk.next(rays)) {
+  while (walk.next(rays, sampler)) {
     SubpathVertex v;
     v.hit = walk.hit();
     v.wi = -glm::normalize(walk.ray().d);

@@ -8,7 +8,7 @@
 namespace fs {
 
 bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L,
-                     uint64_t& rays) {
+                     uint64_t& rays, bool throughPanes) {
   if (v.delta) return false;
   CameraConnection c;
   if (!camera.connect(v.hit.p, c)) return false;
@@ -24,7 +24,14 @@ bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camer
     L = v.beta * f * (std::abs(cosX) * c.importance);
   }
   ++rays;
-  if (scene.occluded(shadowRay(v.hit, c.wi, c.distance))) return false;
+  const Ray ray = shadowRay(v.hit, c.wi, c.distance);
+  if (!throughPanes) {
+    if (scene.occluded(ray)) return false;
+  } else {
+    const Color through = scene.transmittance(ray);  // thin glass: its T
+    if (!(maxComponent(through) > 0.0f)) return false;
+    L *= through;
+  }
   pixel = uint32_t(c.raster.y) * uint32_t(camera.width()) + uint32_t(c.raster.x);
   return true;
 }

@@ -14,8 +14,11 @@ namespace fs {
 ///     beta · f(ω_light, ω_camera) · |cosθ_x| · W_e·cosθ_c/d²
 /// (an area light's vertex 0: beta · cosθ_x · W_e·cosθ_c/d², front side only). False if it
 /// cannot reach the pinhole (delta, behind the camera, off the film, occluded, or on the far
-/// side). @p pixel receives y·width + x. @p rays counts the shadow ray.
+/// side). @p pixel receives y·width + x. @p rays counts the shadow ray. @p throughPanes: the shadow ray sees
+/// through thin glass with its T(θ) (BDPT, whose camera subpaths cross panes too); false: a pane blocks it
+/// (light tracing, which hands a pixel sample whose first hit is a pane to the path tracer: a splat through a
+/// pane would count that light twice).
 bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L,
-                     uint64_t& rays);
+                     uint64_t& rays, bool throughPanes);
 
 }  // namespace fs

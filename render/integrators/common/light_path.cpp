@@ -33,7 +33,7 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
                    {maxDepth, rrDepth, start, TransportMode::Importance, options.sqrtSurvival});
   float pdfDir = es.pdfDir;
   bool deltaDir = es.deltaDirection;
-  while (walk.next(rays)) {
+  while (walk.next(rays, sampler)) {
     const Hit& hit = walk.hit();
     LightVertex v;
     v.hit = hit;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/scene/thin_glass_walk.h"
+
 namespace fs {
 
 void PathWalk::build(const RenderScene& scene, const FirstShotLighting& lighting, const IntegratorOptions& options) {
@@ -35,13 +37,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
 
   for (;; ++depth) {
     Hit hit;
-    if (first) {
-      hit = *first;
-      first = nullptr;
-    } else {
-      ++rays;
-      if (!scene.intersect(ray, hit)) break;
-    }
+    BSDF bsdf;
+    if (!nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf)) break;  // a pane crossed is no bounce
     const Vec3 wo = -glm::normalize(ray.d);
 
     // Emission of area lights met by the path.
@@ -50,7 +47,6 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       if (maxComponent(Le) > 0.0f) L += beta * Le * emissionWeight(prev, hit);
     }
 
-    const BSDF bsdf = scene.bsdfAt(hit);
     if (info && depth == 0) {
       info->albedo = bsdf.albedo();
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;

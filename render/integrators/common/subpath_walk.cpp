@@ -4,14 +4,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/scene/thin_glass_walk.h"
+
 namespace fs {
 
-bool SubpathWalk::next(uint64_t& rays) {
+bool SubpathWalk::next(uint64_t& rays, Sampler& sampler) {
   if (++depth_ > settings_.maxHits) return false;
-  ++rays;
-  if (!scene_->intersect(ray_, hit_)) return false;
+  const Hit* known = nullptr;
+  if (!nextHitPastPanes(*scene_, ray_, known, sampler, beta_, rays, hit_, bsdf_)) return false;
   material_ = scene_->material(hit_);
-  bsdf_ = scene_->bsdfAt(hit_);
   return true;
 }
 

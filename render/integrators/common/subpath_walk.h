@@ -33,9 +33,10 @@ class SubpathWalk {
   SubpathWalk(const RenderScene& scene, const Ray& ray, const Color& beta, const SubpathWalkSettings& settings)
       : scene_(&scene), settings_(settings), ray_(ray), beta_(beta) {}
 
-  /// Traces the current ray (counted in @p rays) unless maxHits hits are made. @return false if the
-  /// walk ends (no hit, or no hit left).
-  bool next(uint64_t& rays);
+  /// Traces the current ray (counted in @p rays) unless maxHits hits are made; crosses the thin glass
+  /// panes on the way (render/scene/thin_glass_walk.h, one dimension of @p sampler each), which are no
+  /// hits of the walk. @return false if the walk ends (no hit, or no hit left).
+  bool next(uint64_t& rays, Sampler& sampler);
   /// At the current hit, with @p wi the unit direction to the previous vertex: stops at the last
   /// hit or a black surface; else samples the BSDF (2 dimensions of @p sampler), updates the
   /// throughput and the ray, and from hit rrDepth on plays Russian roulette (1 dimension).

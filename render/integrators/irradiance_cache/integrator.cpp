@@ -9,6 +9,7 @@
 #include "common/interrupt.h"
 #include "common/sampling.h"
 #include "render/scene/embree_scene.h"
+#include "render/scene/thin_glass_walk.h"
 #include "render/firstshot/table_rows.h"
 #include "render/integrators/irradiance_cache/hemisphere_samples.h"
 #include "render/integrators/irradiance_cache/context.h"
@@ -112,13 +113,8 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
     // records at: a record's gather is that vertex's bounce, mirrors, glass and glossy samples are too.
     const int vertex = level + depth;
     Hit hit;
-    if (known) {
-      hit = *known;
-      known = nullptr;
-    } else {
-      ++ctx.rays;
-      if (!scene.intersect(ray, hit)) break;
-    }
+    BSDF bsdf;
+    if (!nextHitPastPanes(scene, ray, known, sampler, beta, ctx.rays, hit, bsdf)) break;  // a pane crossed is no bounce
     if (depth == 0 && first) first->distance = hit.t, first->hit = hit;
     pathLength += hit.t;
     const Vec3 wo = -glm::normalize(ray.d);
@@ -135,7 +131,6 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
       }
     }
 
-    const BSDF bsdf = scene.bsdfAt(hit);
     if (info && depth == 0) {
       info->albedo = bsdf.albedo();
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;

@@ -59,9 +59,10 @@ Color IrradianceCacheIntegrator::patchNeeIrradiance(const Hit& hit, const Vec3& 
     const float cosTheta = glm::dot(ps.wi, n);
     if (!(cosTheta > 0.0f)) continue;  // below the record's hemisphere: no irradiance
     ++ctx.rays;
-    if (scene_->occluded(shadowRay(hit, ps.wi, ps.distance))) continue;
+    const Color through = scene_->transmittance(shadowRay(hit, ps.wi, ps.distance));  // thin glass: its T
+    if (!(maxComponent(through) > 0.0f)) continue;
     const double wl = 1.0 - power2(double(cells) * double(cosTheta) * kInvPi, double(K) * double(ps.pdf));
-    sum += Vec3d(ps.Le) * (wl * double(cosTheta) / double(ps.pdf));
+    sum += Vec3d(ps.Le * through) * (wl * double(cosTheta) / double(ps.pdf));
   }
   return Color(sum / double(K));
 }

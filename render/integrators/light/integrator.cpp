@@ -92,7 +92,7 @@ void LightTracingIntegrator::splatPath(const std::vector<LightVertex>& path, siz
                                        float invN, std::vector<Splat>& out, uint64_t& rays) const {
   for (size_t k = first; k < path.size(); ++k) {
     Splat s;
-    if (!connectToCamera(*scene_, path[k], camera, s.pixel, s.L, rays)) continue;
+    if (!connectToCamera(*scene_, path[k], camera, s.pixel, s.L, rays, false)) continue;  // panes: delta pixels
     s.L *= invN;
     out.push_back(s);  // the renderer counts and drops non-finite ones
   }
