@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "common/sampling.h"
+#include "render/lights/sky_light.h"
 
 namespace fs {
 
@@ -65,6 +66,7 @@ LightSet::LightSet(const SceneDesc& scene, const std::vector<uint32_t>& replaced
     }
     lights_.push_back(std::move(l));
   }
+  environment_ = makeInfiniteLight(scene);
 }
 
 size_t LightSet::unreplacedCount() const {

@@ -61,7 +61,11 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   Hit first;
   Color Le(0.0f);
   ++rays;
-  if (scene.intersect(ray, first) && !first.onPatch()) Le = scene.lights().emitted(first.emitter, first.ng, -wi);
+  if (!scene.intersect(ray, first)) {
+    if (const EnvironmentMap* env = scene.lights().environment()) Le = env->radiance(wi);  // the sky: NEE counted it
+  } else if (!first.onPatch()) {
+    Le = scene.lights().emitted(first.emitter, first.ng, -wi);
+  }
   SampleInfo info;
   const Color L = li(ray, sampler, &info);
   rays += info.rays;

@@ -26,6 +26,16 @@ float PathWalk::emissionWeight(const PathVertex& prev, const Hit& hit) const {
   return pdf > 0.0f ? powerHeuristic(prev.pdf, pdf) : 1.0f;
 }
 
+Color PathWalk::escaped(const PathVertex& prev, const Vec3& dir) const {
+  const EnvironmentMap* env = scene_->lights().environment();
+  if (!env) return Color(0.0f);
+  const Vec3 d = glm::normalize(dir);
+  const Color Le = env->radiance(d);
+  if (prev.delta) return Le;  // the camera or a mirror: no light sampling could have found this direction
+  const float pdf = nextEventEnvironmentPdf(lights_, prev.nee, d);
+  return pdf > 0.0f ? Le * powerHeuristic(prev.pdf, pdf) : Le;
+}
+
 Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool specularChain, Sampler& sampler,
                       uint64_t& rays, SampleInfo* info, const Hit* first) const {
   const RenderScene& scene = *scene_;
@@ -40,7 +50,10 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       first = nullptr;
     } else {
       ++rays;
-      if (!scene.intersect(ray, hit)) break;
+      if (!scene.intersect(ray, hit)) {
+        L += beta * escaped(prev, ray.d);
+        break;
+      }
     }
     const Vec3 wo = -glm::normalize(ray.d);
 
