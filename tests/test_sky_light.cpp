@@ -123,6 +123,21 @@ TEST(SkyLight, UpwardSensorReadsHorizontalIlluminance) {
   }
 }
 
+TEST(SkyLight, CameraSeesTheModelNotTheTexels) {
+  // Looking 60° from the zenith through a 0.05° field of view at the overcast sky: L = Lz (1 + 2 cos 60°)/3 = 2Lz/3.
+  // The baked map's texel there (rows of 1.4°, its centre 0.23° away) would be 0.35% off.
+  SceneDesc desc = test::sceneFromJson(planeScene(R"("sky": {"type": "cie-overcast", "zenith_luminance": 5000})"));
+  desc.camera.position = Vec3d(0, 1, 0);
+  desc.camera.lookAt = Vec3d(0, 1.5, -std::sqrt(0.75));
+  desc.camera.up = Vec3d(0, 1, 0);
+  desc.camera.fovYDeg = 0.05;
+  desc.camera.width = desc.camera.height = 1;
+  const RenderScene scene(std::move(desc), 0);
+  const test::RenderRun run = test::renderPath(scene, IntegratorOptions(), 16);
+  const double expected = skyRadiance(5000.0 * 2.0 / 3.0);
+  EXPECT_NEAR(run.film.mean(0, 0).y, expected, 2e-4 * expected);
+}
+
 TEST(SkyLight, NeeBsdfSamplingAndMisAgree) {
   // A clear sky (a bright circumsolar region) and an area light 3 m up beside it: the kept group chooses the sky
   // beside the tree. Reflected radiance at one point of a diffuse plane by three estimators.

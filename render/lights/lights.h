@@ -61,6 +61,10 @@ class LightSet {
   /// The scene's infinite light (a sky or an environment map, render/lights/sky_light.h), or null: radiance from
   /// infinitely far away, a large light never replaced by first-shot (not one of lights()).
   const EnvironmentMap* environment() const { return environment_.get(); }
+  /// Radiance of the infinite light along @p dir (unit) where no light sampling could have found it (camera rays,
+  /// after a mirror or glass): a sky's model itself (smooth at any map resolution; no MIS weight pairs it with the
+  /// map), an environment map's texel; 0 without either.
+  Color background(const Vec3& dir) const;
 
   /// Samples light @p l from the shading point @p x with @p u ∈ [0,1)².
   /// @return false when the light sends nothing towards x (outside a spot cone, behind an area
@@ -84,6 +88,7 @@ class LightSet {
   std::vector<EmitterMesh> meshes_;
   std::vector<uint32_t> emitterLight_;  ///< emitter mesh -> index into lights_
   std::shared_ptr<const EnvironmentMap> environment_;
+  std::shared_ptr<const SkyDesc> sky_;  ///< the scene's sky, for background()
 };
 
 }  // namespace fs

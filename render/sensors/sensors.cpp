@@ -62,7 +62,7 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   Color Le(0.0f);
   ++rays;
   if (!scene.intersect(ray, first)) {
-    if (const EnvironmentMap* env = scene.lights().environment()) Le = env->radiance(wi);  // the sky: NEE counted it
+    Le = scene.lights().background(wi);  // the sky or environment map, as Li() sees it there: NEE counted it
   } else if (!first.onPatch()) {
     Le = scene.lights().emitted(first.emitter, first.ng, -wi);
   }

@@ -26,8 +26,7 @@ void PacketIntegrator::LiBlock(const Ray* rays, const bool* traced, const bool* 
 }
 
 Color PacketIntegrator::background(const Vec3& dir) const {
-  const EnvironmentMap* env = scene_->lights().environment();
-  return env ? env->radiance(glm::normalize(dir)) : Color(0.0f);
+  return scene_->lights().background(glm::normalize(dir));
 }
 
 }  // namespace fs

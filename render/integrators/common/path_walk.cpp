@@ -30,8 +30,9 @@ Color PathWalk::escaped(const PathVertex& prev, const Vec3& dir) const {
   const EnvironmentMap* env = scene_->lights().environment();
   if (!env) return Color(0.0f);
   const Vec3 d = glm::normalize(dir);
+  // The camera or a mirror: no light sampling could have found this direction (a sky: its model, not the map).
+  if (prev.delta) return scene_->lights().background(d);
   const Color Le = env->radiance(d);
-  if (prev.delta) return Le;  // the camera or a mirror: no light sampling could have found this direction
   const float pdf = nextEventEnvironmentPdf(lights_, prev.nee, d);
   return pdf > 0.0f ? Le * powerHeuristic(prev.pdf, pdf) : Le;
 }
