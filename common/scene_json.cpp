@@ -355,7 +355,8 @@ SceneDesc parseSceneJson(const std::string& text, const std::string& path) {
   Reader r(path);
   SceneDesc scene;
   scene.file = path;
-  r.keys(root, "scene", {"description", "camera", "materials", "shapes", "lights", "settings", "sky", "sun", "environment"});
+  r.keys(root, "scene",
+         {"description", "camera", "materials", "shapes", "lights", "settings", "sky", "sun", "environment"});
   if (root.contains("description")) r.string(root["description"], "description");
   if (root.contains("settings")) parseSettings(r, root["settings"], scene.settings);
   if (root.contains("camera")) parseCamera(r, root["camera"], scene.camera);

@@ -40,7 +40,8 @@ int sunDayOfYear(const CivilTime& t) {
   return int(std::lround(julianDay(noon) - julianDay(first))) + 1;
 }
 
-/// The moment of a "sun" block: "date" YYYY-MM-DD, "time" HH:MM or HH:MM:SS (civil time) and "timezone" (hours from UTC).
+/// The moment of a "sun" block: "date" YYYY-MM-DD, "time" HH:MM or HH:MM:SS (civil time), "timezone" (hours from
+/// UTC).
 CivilTime sunCivilTime(const SceneJsonReader& r, const Json& j, const std::string& where) {
   CivilTime t;
   char tail = 0;
@@ -53,9 +54,10 @@ CivilTime sunCivilTime(const SceneJsonReader& r, const Json& j, const std::strin
   t.utcOffsetHours = r.number(r.need(j, where, "timezone"), where + ".timezone");
   std::string why;
   if (!isValidCivilTime(t, &why)) {
-    const char* key = why.rfind("UTC", 0) == 0 ? ".timezone"
-                      : (why.rfind("year", 0) == 0 || why.rfind("month", 0) == 0 || why.rfind("day", 0) == 0) ? ".date"
-                                                                                                                : ".time";
+    auto starts = [&](const char* word) { return why.rfind(word, 0) == 0; };
+    const char* key = starts("UTC")                                        ? ".timezone"
+                      : starts("year") || starts("month") || starts("day") ? ".date"
+                                                                           : ".time";
     r.fail(where + key, "no such moment (" + why + ")");
   }
   return t;
@@ -121,10 +123,13 @@ void parseSky(const SceneJsonReader& r, const Json& j, SunInput& sun, SceneDesc&
     const bool overcast = type == "cie-overcast";
     if (!overcast && !sun.given) r.fail(where, "a CIE clear sky needs a \"sun\" (its position shapes the sky)");
     if (!overcast && !sun.hasIrradiance)
-      r.fail(sun.where, "missing key \"irradiance\" (or \"illuminance\"): the CIE clear sky has no direct part of its own");
+      r.fail(sun.where,
+             "missing key \"irradiance\" (or \"illuminance\"): the CIE clear sky has no direct part of its own");
     if (j.contains("horizontal_illuminance") == j.contains("zenith_luminance"))
       r.fail(where, "give one of \"horizontal_illuminance\" (lux) and \"zenith_luminance\" (cd/m²)");
-    auto make = [&](double lux) { return overcast ? SkyLuminance::overcast(lux) : SkyLuminance::clear(sun.toSun, lux); };
+    auto make = [&](double lux) {
+      return overcast ? SkyLuminance::overcast(lux) : SkyLuminance::clear(sun.toSun, lux);
+    };
     if (j.contains("horizontal_illuminance")) {
       sky->dome = make(r.positive(j["horizontal_illuminance"], where + ".horizontal_illuminance"));
     } else {  // the model at 1 lux has zenith luminance Lz1: Lz lux / Lz1 gives Lz
@@ -162,7 +167,8 @@ void parseEnvironment(const SceneJsonReader& r, const Json& j, SceneDesc& scene)
   auto env = std::make_shared<EnvironmentDesc>();
   std::filesystem::path p(r.string(r.need(j, where, "file"), where + ".file"));
   if (p.is_relative()) p = std::filesystem::path(r.file()).parent_path() / p;
-  if (!std::filesystem::is_regular_file(p)) r.fail(where + ".file", "cannot open the environment map \"" + p.string() + "\"");
+  if (!std::filesystem::is_regular_file(p))
+    r.fail(where + ".file", "cannot open the environment map \"" + p.string() + "\"");
   env->file = p.string();
   if (j.contains("scale")) env->scale = float(r.nonNegative(j["scale"], where + ".scale"));
   if (j.contains("rotate")) env->rotateDeg = r.number(j["rotate"], where + ".rotate");

@@ -135,7 +135,8 @@ void RenderCommand::makeIntegrator() {
   // Issue 35: only the path walk meets the infinite light (NEE, escaped paths, background) so far.
   if ((scene_.sky || scene_.environment) && integrators_.name != "path")
     throw InputError(scene_.file, scene_.sky ? "sky" : "environment",
-                     "the " + integrators_.name + " integrator does not support a sky/environment yet (use --integrator path)");
+                     "the " + integrators_.name +
+                         " integrator does not support a sky/environment yet (use --integrator path)");
   checkpoint_.configure(app_, outputs_, *integrator_);
   if (sensors_.active()) requireSensorIntegrator(*integrator_);
   checkImageOutputs();

@@ -156,7 +156,10 @@ Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
 
 float LightSampler::environmentPmf() const {
   if (!scene_ || !scene_->lights().environment()) return 0.0f;
-  if (strategy_ == LightStrategy::All) return std::all_of(included_.begin(), included_.end(), [](uint8_t i) { return i != 0; }) ? 1.0f : 0.0f;
+  if (strategy_ == LightStrategy::All) {
+    const bool all = std::all_of(included_.begin(), included_.end(), [](uint8_t i) { return i != 0; });
+    return all ? 1.0f : 0.0f;
+  }
   const Group& g = groups_[kKept];
   return g.environment ? g.pDirectional() / float(g.besideCount()) : 0.0f;
 }

@@ -16,8 +16,8 @@
 /// also samples the lit patches as area emitters of that radiance: a BSDF-sampled path that meets
 /// a lit patch weights its first-shot term against that by MIS, so nothing is counted twice.
 /// Large lights keep NEE + MIS; the scene's infinite light (a sky or an environment map) is one of them: NEE
-/// samples it, a path that leaves the scene meets it (escaped()), a camera ray that does sees it as the background. A small area light met by a path is counted only where the
-/// first-shot term could not have counted it: seen by the camera, after a delta bounce (mirror,
+/// samples it, a path that leaves the scene meets it (escaped()), a camera ray that does sees it as the background.
+/// A small area light met by a path is counted only where the first-shot term could not have counted it: seen by the camera, after a delta bounce (mirror,
 /// glass), or from a vertex that sampled it by NEE (PrimaryMode::Exact).
 #include <cstdint>
 #include <vector>
