@@ -12,6 +12,7 @@
 #include "common/ies.h"
 #include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
+#include "common/sky_desc.h"
 #include "common/texture.h"
 #include "common/thin_glass.h"
 
@@ -218,6 +219,21 @@ uint64_t hashScene(const SceneDesc& scene) {
       h.bytes(l.ies->horizontal.data(), l.ies->horizontal.size() * sizeof(double));
       h.bytes(l.ies->candela.data(), l.ies->candela.size() * sizeof(double));
     }
+  }
+  // Daylight (issue 35): only when present, so that scenes without it keep their hashes. The table does not hold the
+  // sky (a large light), but a table belongs to one scene: the renderer's check then also catches a changed sky.
+  if (scene.sky) {
+    const SkyDesc& s = *scene.sky;
+    h.add(std::string_view("sky")).add(s.dome.type()).add(s.dome.sunDirection()).add(s.dome.zenithLuminance());
+    h.add(s.dome.horizontalIlluminance()).add(s.perez.diffuseHorizontal).add(s.perez.directNormal);
+    h.add(s.perez.dayOfYear).add(s.groundReflectance).add(s.sunHorizontalLux);
+  }
+  if (scene.environment) {
+    const EnvironmentDesc& e = *scene.environment;
+    std::ifstream in(e.file, std::ios::binary);  // the image's bytes, not its name: a moved scene keeps its hash
+    std::stringstream bytes;
+    bytes << in.rdbuf();
+    h.add(std::string_view("environment")).add(std::string_view(bytes.str())).add(e.scale).add(e.rotateDeg);
   }
   return h.value();
 }

@@ -139,6 +139,9 @@ struct SettingsDesc : FirstShotSettings {
   int maxDepth = 16;               ///< longest path, in bounces
 };
 
+struct SkyDesc;          // common/sky_desc.h
+struct EnvironmentDesc;  // common/sky_desc.h
+
 /// The whole scene.
 struct SceneDesc {
   std::string file;  ///< the file it was read from
@@ -147,6 +150,11 @@ struct SceneDesc {
   std::vector<ShapeDesc> shapes;
   std::vector<LightDesc> lights;  ///< including one Area entry per emissive shape
   SettingsDesc settings;
+  /// Daylight (issue 35, common/sky_desc.h): a sky model or an environment map, at most one, lighting the scene from
+  /// infinitely far away (a large light of the renderer, never replaced by first-shot). Null: none. The sun is a
+  /// directional light in @c lights.
+  std::shared_ptr<const SkyDesc> sky;
+  std::shared_ptr<const EnvironmentDesc> environment;
 
   /// Index of a material by name, or -1.
   int findMaterial(const std::string& name) const;

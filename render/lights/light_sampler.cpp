@@ -29,8 +29,9 @@ LightBounds surfaceBounds(const Vec3* v, int count, const Vec3& normal, float ph
 }  // namespace
 
 float LightSampler::Group::pDirectional() const {
-  if (directional.empty()) return 0.0f;
-  return float(directional.size()) / float(directional.size() + (tree.empty() ? 0 : 1));
+  const uint32_t beside = besideCount();
+  if (beside == 0) return 0.0f;
+  return float(beside) / float(beside + (tree.empty() ? 0 : 1));
 }
 
 void LightSampler::addLight(Group& g, GroupId id, uint32_t l, std::vector<LightBounds>& bounds) {
@@ -115,6 +116,8 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
       const GroupId id = scene.lights().lights()[l].replaced ? kReplaced : kKept;
       addLight(groups_[id], id, l, bounds[id]);
     }
+  // The infinite light: never replaced, so a kept light; left out of a sampler over a subset of the lights.
+  if (strategy == LightStrategy::Tree && scene.lights().environment() && !include) groups_[kKept].environment = true;
   if (patchEmitters && scene.firstShot()) {
     addPatches(groups_[kPatches], kPatches, bounds[kPatches]);
   }
@@ -145,8 +148,20 @@ Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
     }
     case Emitter::Kind::Patch:
       return samplePatchPoint(scene_->mesh().patches[e.index], u);
+    case Emitter::Kind::Environment:
+      break;  // a direction, no point
   }
   return Vec3(0.0f);
+}
+
+float LightSampler::environmentPmf() const {
+  if (!scene_ || !scene_->lights().environment()) return 0.0f;
+  if (strategy_ == LightStrategy::All) {
+    const bool all = std::all_of(included_.begin(), included_.end(), [](uint8_t i) { return i != 0; });
+    return all ? 1.0f : 0.0f;
+  }
+  const Group& g = groups_[kKept];
+  return g.environment ? g.pDirectional() / float(g.besideCount()) : 0.0f;
 }
 
 uint32_t LightSampler::patchEmitter(const Hit& y, const Vec3& x) const {
@@ -188,11 +203,12 @@ bool LightSampler::sample(LightGroup group, const Vec3& x, const Vec3& n, float 
   const float pDir = g.pDirectional();
   if (pDir > 0.0f) {
     if (uSelect < pDir) {
-      const uint32_t count = static_cast<uint32_t>(g.directional.size());
+      const uint32_t count = g.besideCount();
       const float scaled = uSelect / pDir * float(count);
       const uint32_t k = std::min(count - 1, static_cast<uint32_t>(scaled));
       if (rest) *rest = std::clamp(scaled - float(k), 0.0f, 0x1.fffffep-1f);
-      out = {{Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count)};
+      out = k < g.directional.size() ? SampledEmitter{{Emitter::Kind::Light, g.directional[k], 0, 0.0f}, pDir / float(count)}
+                                     : SampledEmitter{{Emitter::Kind::Environment, 0, 0, 0.0f}, pDir / float(count)};
       return true;
     }
     uSelect = std::min((uSelect - pDir) / (1.0f - pDir), 0x1.fffffep-1f);

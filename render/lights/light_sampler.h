@@ -15,7 +15,9 @@
 /// for one emitter of each group it takes. Strategies (LightStrategy):
 /// - Tree: in each light group, one light chosen by a light tree (light_tree.h); area lights enter
 ///   the trees triangle by triangle. Directional lights are chosen uniformly beside a tree with
-///   probability n_dir/(n_dir + 1).
+///   probability n_dir/(n_dir + 1). The scene's infinite light (a sky or an environment map,
+///   LightSet::environment) counts as one more of them in the kept group, as pbrt-v4's
+///   BVHLightSampler gives its infinite lights a fixed share: (n_dir + 1)/(n_dir + 2) for all of them.
 /// - All: no light is chosen: NEE takes every light with probability 1 (nextEventEveryLight).
 /// Either way the patches group is a tree over the patch emitters. The trees' top levels are
 /// weighted by the visibility of their emitters from each grid cell (light_sampler_visibility.cpp).
@@ -38,7 +40,8 @@ enum class LightGroup : uint8_t { Kept = 0, Replaced = 1, Patches = 2 };
 
 /// Something a LightSampler chooses.
 struct Emitter {
-  enum class Kind : uint8_t { Light, Triangle, Patch } kind = Kind::Light;
+  /// Environment: the scene's infinite light (LightSet::environment), a direction, no point.
+  enum class Kind : uint8_t { Light, Triangle, Patch, Environment } kind = Kind::Light;
   uint32_t index = 0;  ///< LightSet index (Light, Triangle) or patch ID
   uint32_t sub = 0;    ///< Triangle: LightSampler::triangle() index; Patch: the side (0 front, 1 back)
   float area = 0.0f;   ///< m² (Triangle, Patch)
@@ -89,6 +92,9 @@ class LightSampler {
   /// @p area (m²); 1 for an included light under LightStrategy::All. 0 where @p y is on no emitter
   /// of this sampler. Whether the emitter's group was asked for is the caller's matter.
   float pmf(const Vec3& x, const Vec3& n, const Hit& y, float& area) const;
+  /// The probability with which sample() chooses the infinite light (the same at every point): 1 under
+  /// LightStrategy::All, 0 without one or when build()'s @c include leaves lights out.
+  float environmentPmf() const;
 
   /// A point of emitter @p e for @p u ∈ [0,1)² (uniform by area; the position of a point light).
   Vec3 emitterPoint(const Emitter& e, const Vec2& u) const;
@@ -101,9 +107,12 @@ class LightSampler {
     LightTree tree;
     std::vector<Emitter> emitters;
     std::vector<uint32_t> directional;  ///< LightSet indices
+    bool environment = false;           ///< the infinite light is chosen beside the tree, after the directional lights
+    /// Directional lights and the infinite light: chosen uniformly beside the tree.
+    uint32_t besideCount() const { return uint32_t(directional.size()) + (environment ? 1u : 0u); }
     float pDirectional() const;
-    /// Nothing to sample (no directional light, no tree).
-    bool empty() const { return directional.empty() && tree.empty(); }
+    /// Nothing to sample (no directional or infinite light, no tree).
+    bool empty() const { return besideCount() == 0 && tree.empty(); }
   };
   enum GroupId : uint8_t { kKept = 0, kReplaced = 1, kPatches = 2, kNone = 255 };
 

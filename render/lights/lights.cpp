@@ -6,6 +6,8 @@
 #include <limits>
 
 #include "common/sampling.h"
+#include "common/sky_desc.h"
+#include "render/lights/sky_light.h"
 
 namespace fs {
 
@@ -65,6 +67,13 @@ LightSet::LightSet(const SceneDesc& scene, const std::vector<uint32_t>& replaced
     }
     lights_.push_back(std::move(l));
   }
+  environment_ = makeInfiniteLight(scene);
+  sky_ = scene.sky;
+}
+
+Color LightSet::background(const Vec3& dir) const {
+  if (sky_) return Color(skyRadiance(dir.y > 0.0f ? sky_->dome.luminance(Vec3d(dir)) : sky_->groundLuminance()));
+  return environment_ ? environment_->radiance(dir) : Color(0.0f);
 }
 
 size_t LightSet::unreplacedCount() const {

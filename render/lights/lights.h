@@ -4,11 +4,13 @@
 /// lights, and the emission of area-light geometry met by a path. Emission profiles come from
 /// common/emission_profile.h so that the preprocessor and the renderer agree.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/emission_profile.h"
 #include "common/math.h"
 #include "common/scene_desc.h"
+#include "render/lights/environment_map.h"
 #include "render/scene/embree_scene.h"
 
 namespace fs {
@@ -56,6 +58,13 @@ class LightSet {
   const RenderLight& emitterLight(uint32_t emitter) const { return lights_[emitterLight_[emitter]]; }
   /// Number of lights not replaced by first-shot.
   size_t unreplacedCount() const;
+  /// The scene's infinite light (a sky or an environment map, render/lights/sky_light.h), or null: radiance from
+  /// infinitely far away, a large light never replaced by first-shot (not one of lights()).
+  const EnvironmentMap* environment() const { return environment_.get(); }
+  /// Radiance of the infinite light along @p dir (unit) where no light sampling could have found it (camera rays,
+  /// after a mirror or glass): a sky's model itself (smooth at any map resolution; no MIS weight pairs it with the
+  /// map), an environment map's texel; 0 without either.
+  Color background(const Vec3& dir) const;
 
   /// Samples light @p l from the shading point @p x with @p u ∈ [0,1)².
   /// @return false when the light sends nothing towards x (outside a spot cone, behind an area
@@ -78,6 +87,8 @@ class LightSet {
   std::vector<RenderLight> lights_;
   std::vector<EmitterMesh> meshes_;
   std::vector<uint32_t> emitterLight_;  ///< emitter mesh -> index into lights_
+  std::shared_ptr<const EnvironmentMap> environment_;
+  std::shared_ptr<const SkyDesc> sky_;  ///< the scene's sky, for background()
 };
 
 }  // namespace fs

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "render/firstshot/lighting.h"
 #include "render/firstshot/patch_emitters.h"
@@ -56,6 +57,18 @@ bool patchPoint(const LightSampler& lights, const Emitter& e, float pSelect, con
   return true;
 }
 
+/// A direction of the infinite light (LightSet::environment), chosen with probability @p pSelect, from @p u:
+/// rec.value = L/pdf. False if the map sends nothing.
+bool environmentDirection(const EnvironmentMap& env, float pSelect, const Vec2& u, LightRecord& rec) {
+  float pdf = 0.0f;
+  const Color L = env.sample(u, rec.wi, pdf);
+  if (!(pdf > 0.0f) || !(maxComponent(L) > 0.0f)) return false;
+  rec.distance = std::numeric_limits<float>::infinity();
+  rec.pdf = pSelect * pdf;
+  rec.value = L / rec.pdf;
+  return true;
+}
+
 /// NEE to the chosen emitter @p c with the point from @p u ∈ [0,1)².
 Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, const Hit& hit, const Frame& frame,
                           const Vec3& woLocal, const BSDF& bsdf, const Vec2& u, const NeeRequest& request,
@@ -98,6 +111,9 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
       if (!patchPoint(lights, e, pSelect, hit.p, u, rec, Le)) return Color(0.0f);
       break;
     }
+    case Emitter::Kind::Environment:
+      if (!environmentDirection(*scene.lights().environment(), pSelect, u, rec)) return Color(0.0f);
+      break;
   }
   return weighLightSample(scene, hit, frame, woLocal, bsdf, rec, delta, seen, request, rays);
 }
@@ -142,6 +158,13 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
     sum += weighLightSample(scene, hit, frame, woLocal, bsdf, rec, light.isDelta(), seen, request, rays);
   }
   sampler.setDimension(d0 + 2 * uint64_t(lights.lights().size()));
+  // The infinite light, after the lights (scenes without one draw exactly as before), with every light included.
+  const EnvironmentMap* env = lights.environment();
+  if (env && request.kept && (!include || std::all_of(include->begin(), include->end(), [](uint8_t i) { return i != 0; }))) {
+    LightRecord rec;
+    if (environmentDirection(*env, 1.0f, sampler.next2D(), rec))
+      sum += weighLightSample(scene, hit, frame, woLocal, bsdf, rec, false, TableVisibility::Unknown, request, rays);
+  }
   return sum;
 }
 
@@ -194,6 +217,13 @@ float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, con
   // Every light (p = 1): the light's own density of the point.
   if (light && lights.strategy() == LightStrategy::All) return lights.scene().lights().pdf(*light, x, y.p, y.ng);
   return p * dist2 / (cosY * area);
+}
+
+float nextEventEnvironmentPdf(const LightSampler& lights, const NeeRequest& request, const Vec3& dir) {
+  const EnvironmentMap* env = lights.scene().lights().environment();
+  if (!env || !request.kept) return 0.0f;
+  const float p = lights.environmentPmf();
+  return p > 0.0f ? p * env->pdf(dir) : 0.0f;
 }
 
 bool samplePatchEmitter(const LightSampler& lights, const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s) {

@@ -18,6 +18,10 @@
 /// share of [0,1) (LightSampler::sample's rest), is the point's first number, y its second. So the
 /// pair's stratification covers the whole light (both triangles of a quad, say), not the choice
 /// and the point separately (issue 37).
+///
+/// The scene's infinite light (a sky or an environment map, issue 35) is a kept light: one more choice of the kept
+/// group beside the tree (light_sampler.h), its direction drawn from the map's density; with every light, one
+/// sample after the lights' dimensions (d0 + 2n, d0 + 2n + 1), so scenes without it draw as before.
 #include <cstdint>
 #include <vector>
 
@@ -75,6 +79,11 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
 /// @p request, samples the point of @p y: a hit on an area light or on a patch. 0 where that
 /// emitter is not requested (or not an emitter).
 float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y);
+
+/// Solid-angle density with which nextEvent() under @p request samples direction @p dir (unit) of the scene's
+/// infinite light (LightSet::environment), for the MIS weight of a path that escapes along it: 0 without one or
+/// when @p request does not take the kept lights.
+float nextEventEnvironmentPdf(const LightSampler& lights, const NeeRequest& request, const Vec3& dir);
 
 /// One point of a lit first-shot patch chosen for a receiver (samplePatchEmitter).
 struct PatchSample {

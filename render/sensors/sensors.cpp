@@ -64,7 +64,10 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   bool glass = false;
   for (Ray r = ray;;) {
     ++rays;
-    if (!scene.intersect(r, first)) break;
+    if (!scene.intersect(r, first)) {  // the sky or environment map, as Li() sees it there: NEE counted it
+      Le = through * scene.lights().background(wi);
+      break;
+    }
     const ThinGlassBSDF* pane = scene.bsdf(scene.material(first)).thinGlass();
     if (!pane) {
       if (!first.onPatch()) Le = through * scene.lights().emitted(first.emitter, first.ng, -wi);

@@ -11,7 +11,8 @@
 /// chosen by the integrator's own light sampler over its first-shot lighting (Integrator::lightSampler: built
 /// once by the integrator's preprocessing and shared, never a second copy),
 /// the second one cosine-distributed direction ω (pdf cos θ/π) whose radiance arriving at x is the
-/// integrator's Li() along the ray minus the emission of a light it meets first (counted by NEE).
+/// integrator's Li() along the ray minus the emission of a light it meets first (counted by NEE), or minus the
+/// radiance of the scene's sky or environment map where the ray leaves the scene (issue 35: NEE counted that too).
 /// The integrator is the path tracer or the irradiance cache (requireSensorIntegrator): the
 /// estimator needs Li() per ray, which the splatting and per-pass ones do not have. The irradiance
 /// cache is filled from the sensors' own rays (preprocessSensors), not from the camera's pixels.

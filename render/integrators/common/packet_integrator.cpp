@@ -20,9 +20,13 @@ void PacketIntegrator::LiBlock(const Ray* rays, const bool* traced, const bool* 
   for (int k = 0; k < count; ++k) {
     if (!wanted[k]) continue;
     uint64_t n = 1;  // the camera ray
-    L[k] = found[k] ? LiFrom(rays[k], &hits[k], samplers[k], &infos[k], n) : Color(0.0f);
+    L[k] = found[k] ? LiFrom(rays[k], &hits[k], samplers[k], &infos[k], n) : background(rays[k].d);
     infos[k].rays = n;
   }
+}
+
+Color PacketIntegrator::background(const Vec3& dir) const {
+  return scene_->lights().background(glm::normalize(dir));
 }
 
 }  // namespace fs

@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
 
 namespace fs {
 
@@ -15,7 +16,7 @@ class PacketIntegrator : public Integrator {
  public:
   /// LiFrom() with the first hit traced here.
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const final;
-  /// The block's traced rays as one packet, then LiFrom() per wanted ray that hits (0 for one that misses).
+  /// The block's traced rays as one packet, then LiFrom() per wanted ray that hits (background() for one that misses).
   void LiBlock(const Ray* rays, const bool* traced, const bool* wanted, int count, Sampler* samplers,
                SampleInfo* infos, Color* L) const final;
 
@@ -25,6 +26,9 @@ class PacketIntegrator : public Integrator {
   /// @p rays counts the rays traced; @p info, if given, receives the AOVs.
   virtual Color LiFrom(const Ray& ray, const Hit* first, Sampler& sampler, SampleInfo* info,
                        uint64_t& rays) const = 0;
+
+  /// What a camera ray that misses the scene sees along @p dir: the infinite light's radiance (0 without one).
+  Color background(const Vec3& dir) const;
 
   const RenderScene* scene_ = nullptr;  ///< the scene, kept by the integrator's preprocess()
 };

@@ -28,6 +28,17 @@ float PathWalk::emissionWeight(const PathVertex& prev, const Hit& hit) const {
   return pdf > 0.0f ? powerHeuristic(prev.pdf, pdf) : 1.0f;
 }
 
+Color PathWalk::escaped(const PathVertex& prev, const Vec3& dir) const {
+  const EnvironmentMap* env = scene_->lights().environment();
+  if (!env) return Color(0.0f);
+  const Vec3 d = glm::normalize(dir);
+  // The camera or a mirror: no light sampling could have found this direction (a sky: its model, not the map).
+  if (prev.delta) return scene_->lights().background(d);
+  const Color Le = env->radiance(d);
+  const float pdf = nextEventEnvironmentPdf(lights_, prev.nee, d);
+  return pdf > 0.0f ? Le * powerHeuristic(prev.pdf, pdf) : Le;
+}
+
 Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool specularChain, Sampler& sampler,
                       uint64_t& rays, SampleInfo* info, const Hit* first) const {
   const RenderScene& scene = *scene_;
@@ -38,7 +49,10 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
   for (;; ++depth) {
     Hit hit;
     BSDF bsdf;
-    if (!nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf)) break;  // a pane crossed is no bounce
+    if (!nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf)) {  // a pane crossed is no bounce
+      L += beta * escaped(prev, ray.d);  // the sky or environment map (through the panes crossed: beta has their T)
+      break;
+    }
     const Vec3 wo = -glm::normalize(ray.d);
 
     // Emission of area lights met by the path.

@@ -15,8 +15,9 @@
 /// (FirstShotLighting), and, with patch NEE (IntegratorOptions::patchNee), every non-delta vertex
 /// also samples the lit patches as area emitters of that radiance: a BSDF-sampled path that meets
 /// a lit patch weights its first-shot term against that by MIS, so nothing is counted twice.
-/// Large lights keep NEE + MIS. A small area light met by a path is counted only where the
-/// first-shot term could not have counted it: seen by the camera, after a delta bounce (mirror,
+/// Large lights keep NEE + MIS; the scene's infinite light (a sky or an environment map) is one of them: NEE
+/// samples it, a path that leaves the scene meets it (escaped()), a camera ray that does sees it as the background.
+/// A small area light met by a path is counted only where the first-shot term could not have counted it: seen by the camera, after a delta bounce (mirror,
 /// glass), or from a vertex that sampled it by NEE (PrimaryMode::Exact).
 #include <cstdint>
 #include <vector>
@@ -65,6 +66,9 @@ class PathWalk {
   /// Weight of emission met at @p hit (an area light or, for the first-shot term, a patch) by a
   /// segment from @p prev.
   float emissionWeight(const PathVertex& prev, const Hit& hit) const;
+  /// Radiance of the scene's infinite light (LightSet::environment; 0 without one) met by a segment from @p prev
+  /// that leaves the scene along @p dir, weighted against NEE's choice of that direction (power heuristic).
+  Color escaped(const PathVertex& prev, const Vec3& dir) const;
 
   IntegratorOptions options_;
   const RenderScene* scene_ = nullptr;
