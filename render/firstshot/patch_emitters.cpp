@@ -28,9 +28,19 @@ Vec3 samplePatchPoint(const Patch& p, Vec2 u) {
 float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrradiance, uint32_t j, uint32_t side) {
   const Patch& p = scene.mesh().patches[j];
   const BSDF& bsdf = scene.patchBsdf(j);
-  if (bsdf.hasDelta()) return 0.0f;
+  // The material's own roughness bounds the textured one from above: below the table's it is polished everywhere.
+  if (bsdf.hasDelta() || scene.bsdf(p.material).tooSharpForTable()) return 0.0f;
   const Color phi = bsdf.albedo() * sideIrradiance[2 * size_t(j) + side] * float(p.area);
   return (phi.x + phi.y + phi.z) * (1.0f / 3.0f);
+}
+
+bool mayBePolished(const RenderScene& scene) {
+  const std::vector<MaterialDesc>& materials = scene.desc().materials;
+  for (size_t m = 0; m < materials.size(); ++m)
+    if (scene.bsdf(uint32_t(m)).tooSharpForTable() ||
+        (materials[m].type == MaterialType::Pbr && materials[m].metallicRoughnessTexture))
+      return true;
+  return false;
 }
 
 Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting, uint32_t j, const Vec3& y,
@@ -40,8 +50,10 @@ Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting,
   hit.p = y;
   hit.ng = p.normal;
   hit.patch = j;
+  const BSDF bsdf = scene.bsdfAt(hit);  // the texture at y itself
+  if (bsdf.tooSharpForTable()) return Color(0.0f);  // a polished point: its reflection is not the table's
   const Frame frame(p.normal);
-  return lighting.eval(hit, frame, frame.toLocal(w), scene.bsdfAt(hit));  // the texture at y itself
+  return lighting.eval(hit, frame, frame.toLocal(w), bsdf);
 }
 
 }  // namespace fs

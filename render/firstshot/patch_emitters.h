@@ -9,6 +9,12 @@
 /// albedo · E_js · A_j, the weight with which emitters are chosen (any positive weight keeps the
 /// estimators unbiased: they divide by the probability they used). A textured patch's power takes the
 /// albedo averaged over the patch (RenderScene::patchBsdf); its radiance at a point, the texture there.
+///
+/// A polished point (BSDF::tooSharpForTable: pbr below roughness 0.3) emits nothing: the table's patch-level
+/// sum cannot follow its lobe, and every integrator takes the replaced lights' reflection there from the
+/// lights themselves (the path walk's NEE to every light, the shooting integrators' polished-first particles
+/// and camera-side NEE: docs/light-tracing.md, docs/bdpt.md). A patch whose material is polished everywhere
+/// has no power.
 #include "common/patches.h"
 #include "render/firstshot/lighting.h"
 #include "render/scene/render_scene.h"
@@ -20,14 +26,18 @@ Vec3 samplePatchPoint(const Patch& p, Vec2 u);
 
 /// Power that side @p side of patch @p j re-emits, channel mean, W: albedo · E · A with E the
 /// side's first-shot irradiance (@p sideIrradiance = FirstShotTable::sideIrradiance()). 0 for
-/// delta BSDFs (mirrors and glass reflect no first-shot term).
+/// delta BSDFs (mirrors and glass reflect no first-shot term) and polished materials.
 float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrradiance, uint32_t j, uint32_t side);
+
+/// Whether a point of @p scene may be polished (BSDF::tooSharpForTable): a pbr material below the table's
+/// roughness, or one with a metallic-roughness texture (which scales the roughness down).
+bool mayBePolished(const RenderScene& scene);
 
 /// Unit normal of side @p side of patch @p p (the direction it emits into).
 inline Vec3 patchSideNormal(const Patch& p, uint32_t side) { return side == 0 ? p.normal : -p.normal; }
 
 /// First-shot radiance leaving the point @p y of patch @p j in the unit direction @p w, W/(m² sr)
-/// (0 where that side sends nothing). @p lighting must be built for @p scene.
+/// (0 where that side sends nothing, and at a polished point). @p lighting must be built for @p scene.
 Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting, uint32_t j, const Vec3& y,
                     const Vec3& w);
 

@@ -60,7 +60,8 @@ void EmissionSampler::addLights(EmitterSet set) {
       case LightType::Area: p = mean(l.radiance) * l.area * kPi; break;
     }
     const bool emits = set == EmitterSet::All || (set == EmitterSet::Kept && !l.replaced) ||
-                       (set == EmitterSet::ReplacedAreaLights && l.replaced && l.type == LightType::Area);
+                       (set == EmitterSet::ReplacedAreaLights && l.replaced && l.type == LightType::Area) ||
+                       (set == EmitterSet::Replaced && l.replaced);
     power_.push_back(emits ? std::max(0.0, p) : 0.0);
   }
   lightCount_ = uint32_t(power_.size());

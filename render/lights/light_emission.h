@@ -53,6 +53,7 @@ enum class EmitterSet {
   All,                 ///< every light
   Kept,                ///< the lights a first-shot table does not replace (table mode)
   ReplacedAreaLights,  ///< only the replaced area lights (light tracing's delta-first particles)
+  Replaced,            ///< every replaced light (light tracing's first-hit particles in scenes with polished surfaces)
 };
 
 class EmissionSampler {

@@ -78,9 +78,11 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
     }
   }
   // x_m's direct light is a bounce at x_m (camera vertex m is the path tracer's vertex m − 1): only
-  // while m ≤ D; past it the small lights count only where the delta chain meets them.
+  // while m ≤ D; past it the small lights count only where the delta chain meets them. So is that of
+  // a polished vertex after x_m (the table's patch sum does not hold it).
   if (shooting_.tableMode())
-    L += shooting_.smallLights().estimate(cameraPath, int(m) <= maxDepth ? m : cameraPath.size(), sampler, rays);
+    L += shooting_.smallLights().estimate(cameraPath, int(m) <= maxDepth ? m : cameraPath.size(), sampler, rays,
+                                          size_t(std::max(maxDepth, 0)));
   out.push_back(Splat{pixel, L});
 
   // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.

@@ -45,7 +45,9 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
     v.material = walk.material();
     v.delta = walk.bsdf().hasDelta();
     path.push_back(v);
-    if (walk.depth() == 1 && options.deltaFirstHitOnly && !v.delta) break;
+    if (walk.depth() == 1 && options.deltaFirstHitOnly && !(v.delta && !path[0].delta) &&
+        !(options.polishedFirstHit && walk.bsdf().tooSharpForTable()))
+      break;
     // Scatter: sample the adjoint BSDF with wo towards the light side.
     const bool more = walk.scatter(v.wi, sampler);
     path.back().pdfDir = pdfDir = walk.pdf();

@@ -39,8 +39,13 @@ struct LightPathOptions {
   int rrDepth = 3;    ///< Russian roulette once the particle has bounced this many times
   bool sqrtSurvival = true;  ///< the roulette's survival: SubpathWalkSettings::sqrtSurvival
   /// Stop at a first hit that is not a delta surface (light tracing's delta-first particles of the
-  /// small area lights in table mode: the table holds their other first bounces).
+  /// small area lights in table mode: the table holds their other first bounces). A delta first hit
+  /// stops too where the light is delta (a point, spot or directional light: the path tracer cannot
+  /// close such paths either).
   bool deltaFirstHitOnly = false;
+  /// With deltaFirstHitOnly: also go on from a first hit too sharp for the table
+  /// (BSDF::tooSharpForTable: the lit patches do not emit its reflection), from any light.
+  bool polishedFirstHit = false;
 };
 
 /// Traces one light subpath into @p path (cleared first). A particle leaving a lit patch (table

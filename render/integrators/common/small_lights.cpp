@@ -1,6 +1,7 @@
 // Table mode of the shooting integrators: the small lights' own part of a camera subpath.
 #include "render/integrators/common/small_lights.h"
 
+#include "render/firstshot/patch_emitters.h"
 #include "render/lights/next_event.h"
 
 namespace fs {
@@ -10,10 +11,17 @@ void SmallLightsExact::build(const RenderScene& scene, const FirstShotLighting& 
   scene_ = &scene;
   lights_.build(scene, lighting, options.lightSampler, false, options.lightVisibility);
   request_.tableVisibility = options.tableVisibility;
+  polished_ = mayBePolished(scene);
 }
 
-Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler,
-                                 uint64_t& rays) const {
+bool SmallLightsExact::gathers(std::span<const SubpathVertex> camera, size_t i, size_t m, size_t polishedUpTo) const {
+  if (i == m) return true;
+  return polished_ && i > m && i <= polishedUpTo && i < camera.size() && !camera[i].delta &&
+         scene_->bsdfAt(camera[i].hit).tooSharpForTable();
+}
+
+Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler, uint64_t& rays,
+                                 size_t polishedUpTo) const {
   const LightSet& lights = scene_->lights();
   Color L(0.0f);
   for (size_t i = 1; i < camera.size(); ++i) {
@@ -22,8 +30,8 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
     const Color Le = lights.emitted(v.hit.emitter, v.hit.ng, v.wi);
     if (!(maxComponent(Le) > 0.0f)) continue;
     float weight = 1.0f;
-    if (i == m + 1) {  // the BSDF sample of x_m against its next-event estimation
-      const SubpathVertex& x = camera[m];
+    if (i > m && gathers(camera, i - 1, m, polishedUpTo)) {  // a BSDF sample against its vertex's NEE
+      const SubpathVertex& x = camera[i - 1];
       const Frame frame(x.hit.ng);
       const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
       const float pdfBsdf = scene_->bsdfAt(x.hit).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
@@ -35,8 +43,9 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
     }
     L += v.beta * Le * weight;
   }
-  if (m < camera.size()) {
-    const SubpathVertex& x = camera[m];
+  for (size_t i = m; i < camera.size() && (i == m || (polished_ && i <= polishedUpTo)); ++i) {
+    if (!gathers(camera, i, m, polishedUpTo)) continue;
+    const SubpathVertex& x = camera[i];
     const Frame frame(x.hit.ng);
     L += x.beta * nextEvent(lights_, x.hit, frame, frame.toLocal(x.wi), scene_->bsdfAt(x.hit), request_, sampler, rays);
   }

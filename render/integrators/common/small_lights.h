@@ -12,10 +12,14 @@
 ///   - the direct light at x_m: next-event estimation to the small lights (nextEvent), and a
 ///     small area light met by the subpath's BSDF sample from x_m, weighted against it by the
 ///     power heuristic;
-///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1.
+///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1;
+///   - with @p polishedUpTo (BDPT): at every polished vertex after x_m (BSDF::tooSharpForTable, whose
+///     lit patch emits nothing: render/firstshot/patch_emitters.h) up to that vertex number, the
+///     direct light by NEE, and a small area light met by its BSDF sample, by the power heuristic —
+///     the path tracer's rule at such a point.
 /// BDPT passes its whole camera subpath. Light tracing (render/integrators/light/integrator.h)
 /// passes x_m (the camera's first hit) and the hit of x_m's BSDF sample only: light reflected by
-/// mirrors and glass before x_m comes from its delta-first particles there.
+/// mirrors and glass before x_m, or by a polished surface, comes from its first-hit particles.
 #include <span>
 
 #include "common/rng.h"
@@ -31,15 +35,22 @@ class SmallLightsExact {
   /// @p lighting must be built for @p scene; both must outlive the object.
   void build(const RenderScene& scene, const FirstShotLighting& lighting, const IntegratorOptions& options);
   /// The small lights' contribution to the camera subpath @p camera (vertex 0 the pinhole) whose
-  /// first non-delta vertex is @p m (camera.size() if none), W/(m² sr). Draws the NEE sample's
-  /// dimensions from @p sampler; @p rays counts the shadow rays.
-  Color estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler, uint64_t& rays) const;
+  /// first non-delta vertex is @p m (camera.size() if none), W/(m² sr); polished vertices after
+  /// it up to vertex @p polishedUpTo (0: none) take the small lights' direct light as x_m does.
+  /// Draws the NEE samples' dimensions from @p sampler (x_m's first); @p rays counts the shadow rays.
+  Color estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler, uint64_t& rays,
+                 size_t polishedUpTo = 0) const;
 
  private:
+  /// Whether camera vertex @p i takes the small lights' direct light by NEE: x_m, or a polished one up to
+  /// @p polishedUpTo.
+  bool gathers(std::span<const SubpathVertex> camera, size_t i, size_t m, size_t polishedUpTo) const;
+
   const RenderScene* scene_ = nullptr;
   LightSampler lights_;
   /// The replaced lights, with MIS; no shadow ray where the table decides (IntegratorOptions::tableVisibility).
   NeeRequest request_{false, true, false, true};
+  bool polished_ = false;  ///< the scene may have polished points (mayBePolished)
 };
 
 }  // namespace fs

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/firstshot/patch_emitters.h"
 #include "render/integrators/common/camera_splat.h"
 
 namespace fs {
@@ -13,10 +14,19 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   fallback_.build(scene, lighting_, options_);
   mirrors_ = false;
   for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
+  polished_ = mayBePolished(scene);
   if (!shooting_.tableMode()) return;
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
   smallAreaLights_ = deltaFirst_.totalPower() > 0;
   deltaParticles_ = smallAreaLights_ && mirrors_;
+  if (!polished_) return;
+  // Polished surfaces: the first-hit particles leave every replaced light (NEE reaches them all there).
+  deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::Replaced);
+  deltaParticles_ = deltaFirst_.totalPower() > 0;
+}
+
+bool LightTracingIntegrator::pathTraced(const Hit& hit, const BSDF& bsdf) const {
+  return bsdf.hasDelta() || (polished_ && hit.onPatch() && bsdf.tooSharpForTable());
 }
 
 int LightTracingIntegrator::pathsPerPixel(const Camera& camera) const {
@@ -31,7 +41,7 @@ Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* i
   if (info) info->rays = 1;
   if (!scene_->intersect(ray, hit)) return Color(0.0f);
   const BSDF bsdf = scene_->bsdfAt(hit);
-  if (bsdf.hasDelta()) {  // the path tracer's estimate, the first hit traced again (as PathIntegrator::Li)
+  if (pathTraced(hit, bsdf)) {  // the path tracer's estimate, the first hit traced again (as PathIntegrator::Li)
     uint64_t rays = 0;
     const Color L = fallback_.trace(ray, Color(1.0f), 0, PathVertex(), true, sampler, rays, info);
     if (info) info->rays = rays + 1;
@@ -92,6 +102,7 @@ void LightTracingIntegrator::splatPath(const std::vector<LightVertex>& path, siz
                                        float invN, std::vector<Splat>& out, uint64_t& rays) const {
   for (size_t k = first; k < path.size(); ++k) {
     Splat s;
+    if (polished_ && k > 0 && pathTraced(path[k].hit, scene_->bsdfAt(path[k].hit))) continue;  // Li() has it
     if (!connectToCamera(*scene_, path[k], camera, s.pixel, s.L, rays, false)) continue;  // panes: delta pixels
     s.L *= invN;
     out.push_back(s);  // the renderer counts and drops non-finite ones
@@ -115,6 +126,7 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
   std::vector<LightVertex> path;
   LightPathOptions deltaFirst = po;
   deltaFirst.deltaFirstHitOnly = true;
+  deltaFirst.polishedFirstHit = polished_;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler = particleSampler(mode, seed, i, pass, n, kParticleStream);
     if (traceLightPath(*scene_, shooting_.emission(), po, sampler, path, rays, i, n)) {
@@ -124,7 +136,8 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
       splatPath(path, shooting_.emission().isPatch(path[0].light) ? 1 : 0, camera, invN, out, rays);
     }
     // Table mode with mirrors or glass: a small area light's particle whose first hit is a delta
-    // surface (no table holds that bounce). Its vertex 0 seen by the camera comes from Li().
+    // surface (no table holds that bounce); with polished surfaces also any small light's particle
+    // whose first hit is polished. Its vertex 0 seen by the camera and its vertex 1 come from Li().
     if (!deltaParticles_) continue;
     Sampler second = particleSampler(mode, seed, i, pass, n, kDeltaFirstStream);
     if (traceLightPath(*scene_, deltaFirst_, deltaFirst, second, path, rays, i, n) && path.size() > 2)

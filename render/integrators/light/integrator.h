@@ -14,10 +14,11 @@
 /// are per pass.
 ///
 /// Paths a pinhole cannot close from the light side are gathered instead, per pixel, in Li():
-/// camera samples whose first hit is a delta surface (mirror, glass) take the path tracer's
-/// estimate (the path walk, common/path_walk.h, over the integrator's first-shot lighting); the
-/// splats skip them (they start from non-delta vertices only), so the two parts partition the
-/// pixel's paths. Point and spot lights are not seen by the camera (as in gathering).
+/// camera samples whose first hit is a delta surface (mirror, glass) or a polished patch
+/// (BSDF::tooSharpForTable: a lobe a particle's connection would almost never meet) take the path
+/// tracer's estimate (the path walk, common/path_walk.h, over the integrator's first-shot
+/// lighting); the splats skip them (they start from the other vertices only), so the two parts
+/// partition the pixel's paths. Point and spot lights are not seen by the camera (as in gathering).
 ///
 /// With a first-shot table and IntegratorOptions::shootFromPatches (table mode) the small lights
 /// are not shot: particles leave the kept lights and the lit patch sides (EmissionSampler's table
@@ -28,7 +29,9 @@
 /// x — comes from Li() per pixel (SmallLightsExact, common/small_lights.h, shared with BDPT). A
 /// small area light's light whose first bounce is a mirror or glass (no table holds it) comes from
 /// a second particle per particle index when the scene has both: shot from the small area lights,
-/// stopped at a first hit that is not delta. This is the path space of the path tracer with the
+/// stopped at a first hit that is not delta. In a scene with polished surfaces (whose lit patches
+/// emit nothing: render/firstshot/patch_emitters.h) that second particle leaves every small light
+/// and also goes on from a polished first hit. This is the path space of the path tracer with the
 /// same table and PrimaryMode::Exact. Without the option the table's small lights are shot like the
 /// others (shooting is exact without the table), and only the path-traced delta pixels read the
 /// table.
@@ -94,14 +97,21 @@ class LightTracingIntegrator : public ShootingIntegrator {
   /// Splats vertices @p first, … of @p path (those that reach the pinhole), scaled by @p invN.
   void splatPath(const std::vector<LightVertex>& path, size_t first, const Camera& camera, float invN,
                  std::vector<Splat>& out, uint64_t& rays) const;
-  /// Table mode, first hit @p x (non-delta) of @p ray: the small lights' own part of the pixel.
+  /// Whether a camera ray whose first hit is @p hit (with BSDF @p bsdf there) takes the path
+  /// tracer's estimate (a delta surface, a polished patch), so that no particle splats through it.
+  bool pathTraced(const Hit& hit, const BSDF& bsdf) const;
+  /// Table mode, first hit @p x (not pathTraced) of @p ray: the small lights' own part of the pixel.
   Color smallLightsAt(const Ray& ray, const Hit& x, Sampler& sampler, uint64_t& rays) const;
 
   PathWalk fallback_;  ///< for camera rays whose first hit is a delta surface, over lighting_
   bool mirrors_ = false;  ///< the scene has a delta (mirror, glass) material
+  bool polished_ = false;  ///< the scene may have polished points (a pbr material below or with a roughness texture)
   bool smallAreaLights_ = false;  ///< table mode: a replaced light has a surface (a BSDF sample can meet it)
-  bool deltaParticles_ = false;   ///< table mode: small area lights and delta surfaces: shoot deltaFirst_ too
-  EmissionSampler deltaFirst_;    ///< table mode: the replaced area lights, for particles whose first hit is delta
+  /// Table mode: small area lights and delta surfaces, or small lights and polished surfaces: shoot deltaFirst_ too.
+  bool deltaParticles_ = false;
+  /// Table mode: the replaced area lights (with polished surfaces every replaced light), for particles whose first
+  /// hit is delta (or polished).
+  EmissionSampler deltaFirst_;
 };
 
 }  // namespace fs
