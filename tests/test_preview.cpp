@@ -4,6 +4,8 @@
 //    per-pixel sample order), and the window shows exactly the offline PNG (±1 level of 8 bits);
 //  - the instant picture equals the offline direct first-shot render (--primary patch
 //    --max-depth 1) wherever a pixel lies inside one patch.
+//  - the instant picture shows albedo textures: on a one-patch checker floor, texel × the patch's
+//    flat shading per pixel, and elsewhere the untextured scene's picture byte for byte (issue 34).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
