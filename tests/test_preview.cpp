@@ -4,6 +4,8 @@
 //    per-pixel sample order), and the window shows exactly the offline PNG (±1 level of 8 bits);
 //  - the instant picture equals the offline direct first-shot render (--primary patch
 //    --max-depth 1) wherever a pixel lies inside one patch.
+//  - the instant picture shows albedo textures: on a one-patch checker floor, texel × the patch's
+//    flat shading per pixel, and elsewhere the untextured scene's picture byte for byte (issue 34).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -13,9 +15,12 @@
 #include <cmath>
 #include <filesystem>
 #include <numeric>
+#include <optional>
+#include <utility>
 
 #include "render/scene/camera.h"
 #include "render/output/film.h"
+#include "render/output/image_io.h"
 #include "render/integrators/path/integrator.h"
 #include "render/preview/orbit_camera.h"
 #include "render/preview/preview_app.h"
@@ -332,4 +337,128 @@ TEST(PreviewCli, WithoutTableShowsAHeadlightPicture) {
   }
   EXPECT_GT(lit, im.v.size() / 3 / 2) << "most pixels see a lit surface";
   EXPECT_GT(light, 0u) << "the light is visible";
+}
+
+namespace {
+
+/// The two colours of the checker texture below (linear RGB, very different chroma: r/b = 16 and 1/16).
+const Color kCheckerA(0.8f, 0.2f, 0.05f), kCheckerB(0.05f, 0.2f, 0.8f);
+
+/// Writes @p dir/scene.json: a 1 m floor quad (x ∈ [0, 1], z ∈ [−1, 0], uv = (x, 1 + z)) with an 8 × 8-texel EXR
+/// whose 4 × 4 blocks make a 2 × 2 checker (A top left and bottom right), wrap clamp, factor 1; a grey back wall;
+/// a point light. Without @p textured the floor is plain grey instead. Every face is one patch (patch_size 2).
+void writeCheckerScene(const std::string& dir, bool textured) {
+  std::vector<float> texels;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      const Color c = ((x >= 4) != (y >= 4)) ? kCheckerB : kCheckerA;
+      texels.insert(texels.end(), {c.x, c.y, c.z});
+    }
+  image::writeExr(dir + "/checker.exr", 8, 8, {"R", "G", "B"}, texels.data());
+  const std::string floor = textured ? R"({"type": "diffuse", "albedo_texture": {"file": "checker.exr", "wrap": "clamp"}})"
+                                     : R"({"type": "diffuse", "albedo": 0.5})";
+  test::writeText(dir + "/scene.json", R"({
+    "camera": {"position": [0.5, 1.1, 0.5], "look_at": [0.5, 0.0, -0.5], "fov_y": 60, "resolution": [96, 96]},
+    "settings": {"patch_size": 2, "min_patch_size": 2},
+    "materials": {"floor": )" + floor + R"(, "wall": {"type": "diffuse", "albedo": 0.6}},
+    "shapes": [
+      {"type": "quad", "material": "floor", "vertices": [[0, 0, 0], [1, 0, 0], [1, 0, -1], [0, 0, -1]]},
+      {"type": "quad", "material": "wall", "vertices": [[-1, 0, -1], [2, 0, -1], [2, 2, -1], [-1, 2, -1]]}],
+    "lights": [{"type": "point", "position": [0.4, 0.8, -0.3], "power": 5}]})");
+}
+
+/// The checker's colour at floor texture coordinates @p uv, or nullopt where the bilinear lookup blends the
+/// blocks (texel centres of one block span [1/16, 7/16] of the image; clamp makes the outer borders flat), with
+/// a margin of 0.01 in uv for the raster's rounding (a pixel covers about 0.02 of the floor).
+std::optional<Color> checkerAt(const Vec2& uv) {
+  const auto flat = [](float t) { return t >= 0.0f && t <= 1.0f && std::abs(t - 0.5f) >= 1.0f / 16.0f + 0.01f; };
+  if (!flat(uv.x) || !flat(uv.y)) return std::nullopt;
+  return (uv.x < 0.5f) != (uv.y < 0.5f) ? kCheckerB : kCheckerA;
+}
+
+/// Runs the preview's instant picture of @p dir/scene.json (with the table @p fsd when not empty) and returns it.
+Image instantPicture(const std::string& dir, const std::string& fsd, const std::string& name) {
+  const auto r = runUnderXvfb(dir + "/scene.json" + (fsd.empty() ? "" : " --firstshot " + fsd) + " --preview --frames 0 --screenshot " +
+                              dir + "/" + name + ".png");
+  EXPECT_EQ(r.exitCode, 0) << r.output;
+  return load(dir + "/" + name + ".exr");
+}
+
+}  // namespace
+
+/// Issue 34: the instant picture shows albedo textures. A diffuse patch side's radiance is ∝ its albedo, so
+/// the raster multiplies the patch's flat colour by ρ(x)/ρ̄(patch): on the one-patch checker floor each pixel
+/// must be texel × (E_side/π with the table, |cos θ| under the headlight) — exact up to float rounding, where
+/// the patch average alone would show one mixed colour (r/b ≈ 1 instead of 16 and 1/16). And the textures leave
+/// everything else alone: outside the floor the picture is the untextured scene's, byte for byte.
+TEST(PreviewCli, InstantPictureShowsTextures) {
+  if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  for (const bool table : {false, true}) {
+    SCOPED_TRACE(table ? "first-shot table" : "headlight");
+    const std::string dir = test::tempDir(), plainDir = test::tempDir();
+    writeCheckerScene(dir, true);
+    writeCheckerScene(plainDir, false);
+    std::string fsd, plainFsd;
+    if (table) {
+      fsd = dir + "/s.fsd", plainFsd = plainDir + "/s.fsd";
+      for (const auto& [sceneDir, out] : {std::pair{dir, fsd}, std::pair{plainDir, plainFsd}}) {
+        const auto pre = test::run(kPreprocess + " " + sceneDir + "/scene.json -o " + out + " --backend embree --resolution 16 -q");
+        ASSERT_EQ(pre.exitCode, 0) << pre.output;
+      }
+    }
+    const Image textured = instantPicture(dir, fsd, "t"), plain = instantPicture(plainDir, plainFsd, "p");
+    ASSERT_EQ(textured.width, 96);
+    ASSERT_EQ(textured.v.size(), plain.v.size());
+
+    // Ray-cast every pixel centre: the floor point, its uv and the expected radiance.
+    SceneDesc desc = loadScene(dir + "/scene.json");
+    const RenderScene scene = table ? RenderScene(desc, readFirstShot(fsd), fsd) : RenderScene(desc);
+    const std::vector<Color> side = table ? scene.firstShot()->sideIrradiance() : std::vector<Color>();
+    const Camera camera(desc.camera);
+    size_t checked[2][2] = {}, wrong = 0, differOffFloor = 0, sameLit = 0;
+    Vec3d sumA(0.0), sumB(0.0);
+    for (int y = 0; y < textured.height; ++y)
+      for (int x = 0; x < textured.width; ++x) {
+        const size_t i = (size_t(y) * size_t(textured.width) + size_t(x)) * 3;
+        const Color got(textured.v[i], textured.v[i + 1], textured.v[i + 2]);
+        const Ray ray = camera.generateRay(float(x) + 0.5f, float(y) + 0.5f);
+        Hit hit;
+        const bool floor = scene.intersect(ray, hit) && hit.onPatch() && scene.mesh().patches[hit.patch].shape == 0;
+        if (!floor) {
+          const bool same = std::equal(&textured.v[i], &textured.v[i + 3], &plain.v[i]);
+          differOffFloor += !same;
+          sameLit += same && got.x > 0.0f;
+          continue;
+        }
+        const Vec2 uv(hit.p.x, 1.0f + hit.p.z);
+        const std::optional<Color> texel = checkerAt(uv);
+        if (!texel) continue;
+        const Vec3 toEye = Vec3(desc.camera.position) - hit.p;
+        const float c = glm::dot(hit.ng, toEye) / glm::length(toEye);
+        const Color expected = *texel * (table ? side[2 * size_t(hit.patch) + (c > 0 ? 0 : 1)] * kInvPiF : Color(std::abs(c)));
+        // Float rounding of ~6 factors and the raster's interpolated position (in |cos θ|): well below 1e-3.
+        bool ok = true;
+        for (int k = 0; k < 3; ++k) ok = ok && std::abs(got[k] - expected[k]) <= 1e-3f * expected[k];
+        wrong += !ok;
+        if (!ok && wrong <= 3)
+          ADD_FAILURE() << "pixel (" << x << ", " << y << ") uv (" << uv.x << ", " << uv.y << "): got " << got.x << " " << got.y << " "
+                        << got.z << ", expected " << expected.x << " " << expected.y << " " << expected.z;
+        ++checked[uv.x < 0.5f][uv.y < 0.5f];
+        (*texel == kCheckerA ? sumA : sumB) += Vec3d(got);
+      }
+    // The two colours in their places: every cell seen by many pixels, and the chroma of each colour's
+    // region mean (r/b) is the texel's: 16 and 1/16, to float rounding.
+    for (const auto& row : checked)
+      for (size_t n : row) EXPECT_GT(n, 50u);
+    EXPECT_EQ(wrong, 0u);
+    const double ratioA = sumA.x / sumA.z, ratioB = sumB.x / sumB.z;
+    fmt::print("textured instant picture ({}): r/b of the regions' means {:.5f} (texel 16) and {:.6f} (texel 0.0625); "
+               "{} pixels checked; off the floor {} pixels differ, {} lit ones equal\n",
+               table ? "first-shot" : "headlight", ratioA, ratioB, checked[0][0] + checked[0][1] + checked[1][0] + checked[1][1],
+               differOffFloor, sameLit);
+    EXPECT_NEAR(ratioA, 16.0, 16.0 * 1e-4);
+    EXPECT_NEAR(ratioB, 1.0 / 16.0, 1e-4 / 16.0);
+    EXPECT_EQ(differOffFloor, 0u);
+    EXPECT_GT(sameLit, 500u) << "the wall is visible";
+  }
 }

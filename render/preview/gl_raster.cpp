@@ -11,31 +11,41 @@
 #include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace fs {
 
 namespace {
 
-// The instant picture: flat radiance per patch side, or albedo under a headlight.
+// The instant picture: flat radiance per patch side, or albedo under a headlight; a textured batch
+// (uTextured) multiplies it by texScale × the texel, clamped to [0, 1] as SurfaceTextures::at does
+// (bilinear, level 0, the texture's wrap modes: Texture::lookup). Untextured batches skip the product.
 const char* kRasterVS = R"(#version 330 core
 layout(location = 0) in vec3 aPos;
 layout(location = 1) in vec3 aNormal;
 layout(location = 2) in vec3 aFront;
 layout(location = 3) in vec3 aBack;
 layout(location = 4) in float aHeadlight;
+layout(location = 5) in vec2 aUV;
+layout(location = 6) in vec3 aTexScale;
 uniform mat4 uViewProj;
 out vec3 vPos;
-flat out vec3 vNormal, vFront, vBack;
+out vec2 vUV;
+flat out vec3 vNormal, vFront, vBack, vTexScale;
 flat out float vHeadlight;
 void main() {
   vPos = aPos; vNormal = aNormal; vFront = aFront; vBack = aBack; vHeadlight = aHeadlight;
+  vUV = aUV; vTexScale = aTexScale;
   gl_Position = uViewProj * vec4(aPos, 1.0);
 })";
 
 const char* kRasterFS = R"(#version 330 core
 uniform vec3 uEye;
+uniform bool uTextured;
+uniform sampler2D uAlbedo;
 in vec3 vPos;
-flat in vec3 vNormal, vFront, vBack;
+in vec2 vUV;
+flat in vec3 vNormal, vFront, vBack, vTexScale;
 flat in float vHeadlight;
 layout(location = 0) out vec4 fragColor;
 void main() {
@@ -43,6 +53,7 @@ void main() {
   float c = dot(vNormal, toEye);
   vec3 L = c > 0.0 ? vFront : vBack;
   if (vHeadlight > 0.5) L *= abs(c) / max(length(toEye), 1e-20);
+  if (uTextured) L *= vTexScale * clamp(texture(uAlbedo, vUV).rgb, 0.0, 1.0);
   fragColor = vec4(L, 1.0);
 })";
 
@@ -133,6 +144,31 @@ void setTextureFilter(GLuint tex, GLint filter) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
+GLint glWrap(TextureWrap w) {
+  switch (w) {
+    case TextureWrap::ClampToEdge: return GL_CLAMP_TO_EDGE;
+    case TextureWrap::MirroredRepeat: return GL_MIRRORED_REPEAT;
+    default: return GL_REPEAT;
+  }
+}
+
+/// Uploads @p t's image as a linear RGB float texture (rows from the top: GL's t = 0 is v = 0), bilinear on
+/// level 0 with the texture's wrap modes, as Texture::lookup samples it.
+GLuint uploadTexture(const Texture& t) {
+  GLuint tex = 0;
+  glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, glWrap(t.wrapU));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(t.wrapV));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  const TexelImage& im = *t.image;
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, im.width, im.height, 0, GL_RGB, GL_FLOAT, im.texels.data());
+  return tex;
+}
+
 /// A vertex array with one buffer of points (lines).
 struct LineBuffer {
   GLuint vao = 0, vbo = 0;
@@ -163,6 +199,10 @@ struct GLRaster::Impl {
   GLuint rasterProgram = 0, displayProgram = 0, lineProgram = 0;
   GLuint meshVao = 0, meshVbo = 0, emptyVao = 0;
   GLsizei meshCount = 0;
+  std::vector<RasterBatch> batches;
+  // Albedo textures, uploaded once each (kept across setMesh) and the GL texture of each batch's index.
+  std::vector<std::pair<std::shared_ptr<const Texture>, GLuint>> uploaded;
+  std::vector<GLuint> batchTextures;
   LineBuffer edges, records;
   Vec3 lo{0.0f}, hi{0.0f};  // mesh bounds, for the depth range
 
@@ -233,6 +273,7 @@ GLRaster::~GLRaster() {
     glDeleteTextures(1, &m.depthTex);
   }
   if (m.filmTex) glDeleteTextures(1, &m.filmTex);
+  for (const auto& u : m.uploaded) glDeleteTextures(1, &u.second);
 }
 
 void GLRaster::setMesh(const RasterMesh& mesh) {
@@ -252,12 +293,21 @@ void GLRaster::setMesh(const RasterMesh& mesh) {
     attrib(2, 3, offsetof(RasterVertex, front));
     attrib(3, 3, offsetof(RasterVertex, back));
     attrib(4, 1, offsetof(RasterVertex, headlight));
+    attrib(5, 2, offsetof(RasterVertex, uv));
+    attrib(6, 3, offsetof(RasterVertex, texScale));
   }
   glBindVertexArray(m.meshVao);
   glBindBuffer(GL_ARRAY_BUFFER, m.meshVbo);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * sizeof(RasterVertex)), mesh.triangles.data(),
                GL_STATIC_DRAW);
   m.meshCount = GLsizei(mesh.triangles.size());
+  m.batches = mesh.batches;
+  m.batchTextures.clear();
+  for (const std::shared_ptr<const Texture>& t : mesh.textures) {
+    auto it = std::find_if(m.uploaded.begin(), m.uploaded.end(), [&](const auto& u) { return u.first == t; });
+    if (it == m.uploaded.end()) it = m.uploaded.insert(m.uploaded.end(), {t, uploadTexture(*t)});
+    m.batchTextures.push_back(it->second);
+  }
   m.edges.upload(mesh.edges);
   m.lo = mesh.lo, m.hi = mesh.hi;
 }
@@ -293,8 +343,15 @@ void GLRaster::renderInstant(const CameraDesc& camera) {
     glUniformMatrix4fv(glGetUniformLocation(m.rasterProgram, "uViewProj"), 1, GL_FALSE, glm::value_ptr(m.viewProj));
     const Vec3 eye(camera.position);
     glUniform3f(glGetUniformLocation(m.rasterProgram, "uEye"), eye.x, eye.y, eye.z);
+    glUniform1i(glGetUniformLocation(m.rasterProgram, "uAlbedo"), 0);
+    const GLint textured = glGetUniformLocation(m.rasterProgram, "uTextured");
+    glActiveTexture(GL_TEXTURE0);
     glBindVertexArray(m.meshVao);
-    glDrawArrays(GL_TRIANGLES, 0, m.meshCount);
+    for (const RasterBatch& b : m.batches) {
+      glUniform1i(textured, b.texture >= 0 ? 1 : 0);
+      if (b.texture >= 0) glBindTexture(GL_TEXTURE_2D, m.batchTextures[size_t(b.texture)]);
+      glDrawArrays(GL_TRIANGLES, GLint(b.first), GLsizei(b.count));
+    }
   }
   glDisable(GL_DEPTH_TEST);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

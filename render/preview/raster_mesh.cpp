@@ -13,11 +13,27 @@ std::vector<Color> sideIrradiance(const RenderScene& scene) {
 
 namespace {
 
-/// Appends polygon @p v (3 or 4 vertices, planar) as a triangle fan with the given colours.
+/// Appends polygon @p v (3 or 4 vertices, planar) as a triangle fan with the given colours, and texture
+/// coordinates @p uv (one per vertex) when given.
 void addPolygon(RasterMesh& m, const Vec3* v, uint32_t count, const Vec3& normal, const Color& front,
-                const Color& back, float headlight) {
+                const Color& back, float headlight, const Vec2* uv = nullptr, const Color& texScale = Color(1.0f)) {
   for (uint32_t k = 1; k + 1 < count; ++k)
-    for (uint32_t idx : {0u, k, k + 1}) m.triangles.push_back({v[idx], normal, front, back, headlight});
+    for (uint32_t idx : {0u, k, k + 1})
+      m.triangles.push_back({v[idx], normal, front, back, headlight, uv ? uv[idx] : Vec2(0.0f), texScale});
+}
+
+/// Starts a new batch at the end of @p m's triangles unless the last one already uses @p texture.
+void useTexture(RasterMesh& m, int texture) {
+  if (m.batches.empty() || m.batches.back().texture != texture)
+    m.batches.push_back({uint32_t(m.triangles.size()), 0, texture});
+}
+
+/// The index of @p t in @p m.textures, appended on first use.
+int textureIndex(RasterMesh& m, const std::shared_ptr<const Texture>& t) {
+  for (size_t i = 0; i < m.textures.size(); ++i)
+    if (m.textures[i] == t) return int(i);
+  m.textures.push_back(t);
+  return int(m.textures.size() - 1);
 }
 
 }  // namespace
@@ -44,6 +60,7 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
 
   m.triangles.reserve(size_t(mesh.size()) * 6);
   m.edges.reserve(size_t(mesh.size()) * 8);
+  const SurfaceTextures& textures = scene.textures();
   for (uint32_t j = 0; j < mesh.size(); ++j) {
     const Patch& p = mesh.patches[j];
     const MaterialDesc& mat = desc.materials[p.material];
@@ -53,12 +70,23 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
     const BSDF& patchBsdf = scene.patchBsdf(j);  // a texture averaged over the patch
     const auto* pbr = std::get_if<MetallicRoughnessBRDF>(&patchBsdf.model());
     const Color* pbrBase = pbr ? &pbr->baseColor : nullptr;
+    // An albedo texture shows its texels relative to the patch's mean: texScale · texel = ρ(x) / ρ̄.
+    Vec2 uv[4];
+    Color texScale(1.0f);
+    const bool textured = diffusePart && mat.albedoTexture && textures.textured(j) && desc.shapes[p.shape].hasUv();
+    useTexture(m, textured ? textureIndex(m, mat.albedoTexture) : -1);
+    if (textured) {
+      for (uint32_t k = 0; k < p.count; ++k) uv[k] = mat.albedoTexture->transform.apply(textures.uvAt(j, p.v[k]));
+      const Color mean = textures.patchAlbedo(j);
+      for (int c = 0; c < 3; ++c) texScale[c] = mean[c] > 0.0f ? mat.albedo[c] / mean[c] : 0.0f;
+    }
+    const Vec2* uvs = textured ? uv : nullptr;
     if (m.firstShot && diffusePart) {
       const Color f = (pbrBase ? *pbrBase : patchBsdf.diffuseAlbedo()) * kInvPiF;
-      addPolygon(m, p.v, p.count, p.normal, f * e[2 * size_t(j)], f * e[2 * size_t(j) + 1], 0.0f);
+      addPolygon(m, p.v, p.count, p.normal, f * e[2 * size_t(j)], f * e[2 * size_t(j) + 1], 0.0f, uvs, texScale);
     } else {
       const Color base = (pbrBase ? *pbrBase : patchBsdf.albedo()) * (m.firstShot ? level : 1.0f);
-      addPolygon(m, p.v, p.count, p.normal, base, base, 1.0f);
+      addPolygon(m, p.v, p.count, p.normal, base, base, 1.0f, uvs, texScale);
     }
     for (uint32_t k = 0; k < p.count; ++k) {
       m.edges.push_back(p.v[k]);
@@ -67,6 +95,7 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
   }
 
   // Emitters are not patches: take their polygons from the scene description.
+  useTexture(m, -1);
   for (const ShapeDesc& s : desc.shapes) {
     const MaterialDesc& mat = desc.materials[size_t(s.material)];
     if (!mat.isEmissive()) continue;
@@ -79,6 +108,10 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
       addPolygon(m, v, f.count, n / len, mat.emission, Color(0.0f), 0.0f);
     }
   }
+
+  for (size_t b = 0; b < m.batches.size(); ++b)
+    m.batches[b].count = (b + 1 < m.batches.size() ? m.batches[b + 1].first : uint32_t(m.triangles.size())) - m.batches[b].first;
+  std::erase_if(m.batches, [](const RasterBatch& b) { return b.count == 0; });
 
   if (!m.triangles.empty()) {
     m.lo = m.hi = m.triangles.front().position;

@@ -8,10 +8,18 @@
 /// which is what the path integrator adds at a camera-visible patch with --primary patch (for
 /// glossy patches the raster keeps the diffuse part only). Without a table (or with it switched
 /// off) patches show their albedo under a headlight: ρ·|cos θ| to the viewing direction.
+///
+/// Textures (issue 34): a patch of a material with an albedo (base-colour) texture carries texture
+/// coordinates per vertex (the KHR transform already applied: it is affine, so interpolating the
+/// transformed corners is exact) and the factor ρ_factor / ρ̄_patch, so that the GPU shows
+///     L(x) = flat colour · ρ_factor · texel(x) / ρ̄_patch = flat colour · ρ(x) / ρ̄_patch,
+/// the texture's detail on the patch's mean (a diffuse side's radiance is ∝ its albedo).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/math.h"
+#include "common/texture.h"
 #include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
 
@@ -24,10 +32,21 @@ struct RasterVertex {
   Color front{0.0f};              ///< radiance (or headlight base colour) seen from the front side
   Color back{0.0f};               ///< ... and from the back side
   float headlight = 0.0f;         ///< 1: multiply by |cos| to the viewing direction; 0: show as is
+  Vec2 uv{0.0f};                  ///< texture coordinates after the texture's transform (textured batches)
+  Color texScale{1.0f};           ///< ρ_factor / ρ̄_patch per channel (textured batches; 0 where ρ̄ is 0)
+};
+
+/// A run of consecutive triangles drawn with one albedo texture, or none.
+struct RasterBatch {
+  uint32_t first = 0;   ///< first vertex in RasterMesh::triangles
+  uint32_t count = 0;   ///< vertices
+  int texture = -1;     ///< index into RasterMesh::textures; -1: untextured (flat colours as they are)
 };
 
 struct RasterMesh {
   std::vector<RasterVertex> triangles;  ///< three vertices per triangle
+  std::vector<RasterBatch> batches;     ///< the triangles in order, split where the texture changes
+  std::vector<std::shared_ptr<const Texture>> textures;  ///< the albedo textures the batches use, each once
   std::vector<Vec3> edges;              ///< patch outlines, two points per line segment
   Vec3 lo{0.0f}, hi{0.0f};              ///< bounds of all vertices
   bool firstShot = false;               ///< coloured by the first-shot table
@@ -35,6 +54,7 @@ struct RasterMesh {
 
 /// Builds the instant picture of @p scene: first-shot radiance when @p useFirstShot and the scene
 /// has a table, headlight shading otherwise. Emissive shapes show their radiance on the front.
+/// Patches of albedo-textured materials (with texture coordinates) get textured batches.
 RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot);
 
 /// Per patch j, the first-shot irradiance from samples in front of (index 2j) and behind (2j + 1)
