@@ -220,7 +220,7 @@ TEST(ThinGlassRender, BadTransmittanceExitsTwo) {
   const std::string dir = test::tempDir();
   for (const char* tau : {"1.5", "-0.2", "0.95"}) {
     test::writeText(dir + "/scene.json", paneOverFloor(fmt::format(R"({{"type": "thin_glass", "transmittance": {}}})", tau), 0.5));
-    const auto r = test::run(std::string(FIRSTSHOT_RENDER_EXE) + " " + dir + "/scene.json -q -o " + dir + "/out.exr");
+    const auto r = test::run(fmt::format("{} {}/scene.json -q -o {}/out.exr", FIRSTSHOT_RENDER_EXE, dir, dir));
     EXPECT_EQ(r.exitCode, 2) << tau << ": " << r.output;
     EXPECT_NE(r.output.find("materials.pane.transmittance"), std::string::npos) << r.output;
   }
