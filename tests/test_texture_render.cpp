@@ -15,14 +15,17 @@ using namespace fs;
 
 namespace {
 
-/// A 4 × 4 checker of two colours (linear), one texel per square.
-std::shared_ptr<const Texture> checker() {
+/// A 4 × 4 checker of two linear values @p odd and @p even, one texel per square.
+std::shared_ptr<const Texture> checkerOf(const Color& odd, const Color& even, const char* name) {
   std::vector<Color> texels(16);
-  for (int i = 0; i < 16; ++i) texels[size_t(i)] = (i % 4 + i / 4) % 2 ? Color(0.9f, 0.3f, 0.1f) : Color(0.1f, 0.4f, 0.8f);
+  for (int i = 0; i < 16; ++i) texels[size_t(i)] = (i % 4 + i / 4) % 2 ? odd : even;
   auto t = std::make_shared<Texture>();
-  t->image = std::make_shared<const TexelImage>(makeTexelImage(4, 4, std::move(texels), "checker"));
+  t->image = std::make_shared<const TexelImage>(makeTexelImage(4, 4, std::move(texels), name));
   return t;
 }
+
+/// A base-colour checker of two colours.
+std::shared_ptr<const Texture> checker() { return checkerOf(Color(0.9f, 0.3f, 0.1f), Color(0.1f, 0.4f, 0.8f), "checker"); }
 
 /// The plane y = 0 (2 m × 2 m, its texture's v[0] corner at (−1, 0, −1)) seen from 3 m above under a point light.
 SceneDesc texturedPlane(double patchSize) {
@@ -79,11 +82,7 @@ TEST(TextureRender, PointLightOnATexturedPlaneShowsTexelTimesIrradiance) {
 /// A 4 × 4 metallic-roughness checker (glTF layout: roughness in G, metallic in B): a rough dielectric
 /// (roughness 1, metallic 0) and a glossy metal (roughness 0.5, metallic 1), one texel per square.
 std::shared_ptr<const Texture> mrChecker() {
-  std::vector<Color> texels(16);
-  for (int i = 0; i < 16; ++i) texels[size_t(i)] = (i % 4 + i / 4) % 2 ? Color(0.0f, 0.5f, 1.0f) : Color(0.0f, 1.0f, 0.0f);
-  auto t = std::make_shared<Texture>();
-  t->image = std::make_shared<const TexelImage>(makeTexelImage(4, 4, std::move(texels), "mr-checker"));
-  return t;
+  return checkerOf(Color(0.0f, 0.5f, 1.0f), Color(0.0f, 1.0f, 0.0f), "mr-checker");
 }
 
 TEST(TextureRender, MetallicRoughnessTextureSetsTheLobeAtEachPoint) {
