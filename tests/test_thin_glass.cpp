@@ -37,7 +37,7 @@ TEST(ThinGlass, NormalIncidenceGivesTheTransmittance) {
 TEST(ThinGlass, LosslessPaneMatchesTheClosedForm) {
   // a = 1: T = (1 − r)/(1 + r) per polarisation, R = 2r/(1 + r), R + T = 1 at every angle.
   const double n = 1.52;
-  const ThinGlassBSDF g(Color(ThinGlassBSDF::maxTransmittance(float(n))), float(n));
+  const ThinGlassBSDF g{Color(ThinGlassBSDF::maxTransmittance(float(n))), float(n)};
   for (double deg : {0.0, 20.0, 45.0, 60.0, 75.0, 85.0, 89.0}) {
     const double ci = std::cos(deg * M_PI / 180);
     const auto [s, p] = faceFresnel(ci, n);
