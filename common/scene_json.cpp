@@ -200,7 +200,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     s.type = ShapeType::Sphere;
     const Vec3d c = r.vec3(r.need(j, where, "center"), where + ".center");
     const double rad = r.positive(r.need(j, where, "radius"), where + ".radius");
-    const int sub = j.contains("subdivisions") ? int(r.integer(j["subdivisions"], where + ".subdivisions", 0, 8)) : 3;
+    const int sub = j.contains("subdivisions") ? int(r.integer(j["subdivisions"], where + ".subdivisions", 0, 7)) : 3;
     shapes::makeSphere(s, c, rad, sub);
   } else if (type == "mesh") {
     allow({"file"});
