@@ -1,5 +1,6 @@
 // SceneDesc: loading by file type, validation, bounds and the content hash.
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -179,6 +180,8 @@ void validateScene(SceneDesc& scene) {
       scene.lights.push_back(l);
     }
   }
+  if (scene.lights.empty() && !scene.sky && !scene.environment)  // e.g. a glTF asset made for a viewer's lighting
+    std::fprintf(stderr, "%s: no lights, no emissive surfaces, no sky: the images are black\n", file.c_str());
   // Camera.
   CameraDesc& c = scene.camera;
   if (!(c.fovYDeg > 0 && c.fovYDeg < 180)) throw InputError(file, "camera.fov_y", "must be in (0, 180) degrees");

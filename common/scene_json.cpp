@@ -5,6 +5,7 @@
 #include <array>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "common/error.h"
@@ -221,6 +222,39 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
   return s;
 }
 
+/// A mesh shape without "material": the asset file's own meshes and materials (importAssetScene: glTF
+/// metallic-roughness with its textures, OBJ/MTL colours and maps), each mesh a shape, the materials appended to the
+/// scene's under the shape's name; the shape's transform, "small" and "flip_normals" apply to every mesh. The file's
+/// lights and cameras are not used (the JSON scene places its own).
+void appendAssetShapes(const Reader& r, const Json& j, const std::string& where, SceneDesc& scene) {
+  for (auto it = j.begin(); it != j.end(); ++it) {
+    static const std::set<std::string> allowed = {"type", "name", "file", "transform", "small", "flip_normals"};
+    if (!allowed.count(it.key())) r.fail(where, "unknown key \"" + it.key() + "\" for a mesh shape");
+  }
+  std::string name = where;
+  if (j.contains("name")) name = where + " (\"" + r.string(j["name"], where + ".name") + "\")";
+  std::filesystem::path p(r.string(r.need(j, where, "file"), where + ".file"));
+  if (p.is_relative()) p = std::filesystem::path(r.file()).parent_path() / p;
+  SceneDesc asset = importAssetScene(p.string());
+  const int offset = static_cast<int>(scene.materials.size());
+  for (MaterialDesc& m : asset.materials) {
+    m.name = name + ": " + m.name;
+    scene.materials.push_back(std::move(m));
+  }
+  const std::optional<Mat4d> m =
+      j.contains("transform") ? std::optional(parseTransform(r, j["transform"], where + ".transform")) : std::nullopt;
+  const bool flip = j.contains("flip_normals") && r.boolean(j["flip_normals"], where + ".flip_normals");
+  const SmallOverride small = j.contains("small") ? r.small(j["small"], where + ".small") : SmallOverride::Auto;
+  for (ShapeDesc& s : asset.shapes) {
+    s.name = name + ": " + s.name;
+    s.material += offset;
+    s.small = small;
+    if (m) shapes::transform(s, *m);
+    if (flip) shapes::flip(s);
+    scene.shapes.push_back(std::move(s));
+  }
+}
+
 /// The unit keys of a point, spot or IES light → LightDesc::power in W (docs/photometry.md, "Light units"):
 /// exactly one of power (RGB W), lumens or candela (with a chromaticity "color" normalised to Y = 1);
 /// an IES light may give none (its file's absolute candela).
@@ -377,8 +411,14 @@ SceneDesc parseSceneJson(const std::string& text, const std::string& path) {
     scene.materials.push_back(parseMaterial(r, it.value(), it.key(), "materials." + it.key(), images));
   const Json& shapes = r.need(root, "scene", "shapes");
   if (!shapes.is_array()) r.fail("shapes", "expected an array");
-  for (size_t i = 0; i < shapes.size(); ++i)
-    scene.shapes.push_back(parseShape(r, shapes[i], "shapes[" + std::to_string(i) + "]", scene));
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const std::string where = "shapes[" + std::to_string(i) + "]";
+    const Json& j = shapes[i];
+    if (j.is_object() && !j.contains("material") && j.contains("type") && j["type"] == "mesh")
+      appendAssetShapes(r, j, where, scene);  // the file's own materials
+    else
+      scene.shapes.push_back(parseShape(r, j, where, scene));
+  }
   if (root.contains("lights")) {
     const Json& lights = root["lights"];
     if (!lights.is_array()) r.fail("lights", "expected an array");

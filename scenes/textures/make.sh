@@ -9,3 +9,6 @@ oiiotool --pattern checker:width=256:height=40:color1=0.45,0.28,0.15:color2=0.55
 oiiotool --pattern noise:type=uniform:min=0.78:max=0.86:mono=1:seed=5 128x128 3 -d uint8 -o wall.png
 # Rug: a red and beige check.
 oiiotool --pattern checker:width=16:height=16:color1=0.6,0.12,0.1:color2=0.75,0.65,0.45 128x128 3 -d uint8 -o rug.png
+# The crate's metallic-roughness texture (scenes/assets/crate.gltf; glTF layout: roughness in G, metallic in B, read
+# as linear): a dielectric whose planks alternate between roughness 0.35 and 0.8.
+oiiotool --pattern checker:width=128:height=40:color1=0,0.35,0:color2=0,0.8,0 128x128 3 -d uint8 -o crate_mr.png
