@@ -12,6 +12,7 @@
 #include "common/rng.h"
 #include "common/sampling.h"
 #include "render/lights/environment_map.h"
+#include "tests/test_util.h"
 
 using namespace fs;
 
@@ -146,5 +147,33 @@ TEST(EnvironmentMap, UnreadableFileNamesIt) {
     FAIL() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent/sky.exr"), std::string::npos) << e.what();
+  }
+}
+
+// A Radiance .hdr map (read through OpenImageIO; PNG and EXR through render/output/image_io.h): 4 × 2 texels in flat
+// RGBE (rows under 8 texels wide are never run-length encoded), the top row (2, 2, 2), the bottom (0.5, 0.25, 0.125):
+// the zenith and the nadir get them back within the format's 8-bit mantissa (RGBE decoders differ by half a unit).
+TEST(EnvironmentMap, ReadsRadianceHdr) {
+  const std::string path = test::tempDir() + "/sky.hdr";
+  std::string bytes = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+  for (int i = 0; i < 4; ++i) bytes += std::string{char(128), char(128), char(128), char(130)};  // 128·2^(130−136)
+  for (int i = 0; i < 4; ++i) bytes += std::string{char(128), char(64), char(32), char(128)};    // 0.5, 0.25, 0.125
+  test::writeText(path, bytes);
+  const EnvironmentMap map = EnvironmentMap::load(path);
+  const Color up = map.radiance(Vec3(0, 1, 0)), down = map.radiance(Vec3(0, -1, 0));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(up[c], 2.0f, 0.02f) << c;
+  EXPECT_NEAR(down.x, 0.5f, 0.005f);
+  EXPECT_NEAR(down.y, 0.25f, 0.005f);
+  EXPECT_NEAR(down.z, 0.125f, 0.005f);
+}
+
+TEST(EnvironmentMap, UnreadableHdrNamesIt) {
+  const std::string path = test::tempDir() + "/broken.hdr";
+  test::writeText(path, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n");  // no pixels
+  try {
+    EnvironmentMap::load(path);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("broken.hdr"), std::string::npos) << e.what();
   }
 }

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 
 #include "common/error.h"
 #include "common/photometry.h"
+#include "common/texture.h"
 #include "render/output/image_io.h"
 
 namespace fs {
@@ -26,8 +28,34 @@ EnvironmentMap::EnvironmentMap(std::vector<Color> texels, int width, int height,
   distribution_ = Distribution2D(weights, size_t(width_), size_t(height_));
 }
 
+namespace {
+/// Whether @p path starts with the PNG or OpenEXR signature (read by render/output/image_io.h; anything else
+/// goes through OpenImageIO).
+bool pngOrExr(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[4] = {0, 0, 0, 0};
+  in.read(reinterpret_cast<char*>(b), 4);
+  return (b[0] == 0x89 && b[1] == 'P' && b[2] == 'N' && b[3] == 'G') ||
+         (b[0] == 0x76 && b[1] == 0x2f && b[2] == 0x31 && b[3] == 0x01);
+}
+
+/// Radiance .hdr, float TIFF, PFM and whatever else OpenImageIO reads (common/texture.h's module): float data as
+/// stored, integer data / its maximum (as a PNG's bytes / 255), grey as RGB.
+image::Image readThroughOiio(const std::string& path) {
+  const TexelImage t = readTexelImage(path, false);
+  image::Image img;
+  img.width = t.width;
+  img.height = t.height;
+  img.channels = {"R", "G", "B"};
+  img.data.reserve(t.texels.size() * 3);
+  for (const Color& c : t.texels) img.data.insert(img.data.end(), {c.x, c.y, c.z});
+  return img;
+}
+}  // namespace
+
 EnvironmentMap EnvironmentMap::load(const std::string& path, float scale, double rotationDeg) {
-  const image::Image img = image::read(path);
+  if (!std::ifstream(path, std::ios::binary)) throw InputError(path, "", "cannot open image");
+  const image::Image img = pngOrExr(path) ? image::read(path) : readThroughOiio(path);
   auto channel = [&](const char* name) {
     const auto it = std::find(img.channels.begin(), img.channels.end(), name);
     if (it == img.channels.end()) throw InputError(path, "", std::string("no ") + name + " channel");
