@@ -105,18 +105,20 @@ TEST(SkyLight, BakedMapKeepsHorizontalIlluminance) {
 }
 
 TEST(SkyLight, UpwardSensorReadsHorizontalIlluminance) {
+  for (const char* name : {"path", "irradiance-cache"})
   for (const SkyCase& c : skyCases()) {
-    SCOPED_TRACE(c.name);
+    SCOPED_TRACE(std::string(name) + ": " + c.name);
     const RenderScene scene(test::sceneFromJson(planeScene(c.json)), 0);
-    auto integrator = makeIntegrator("path", IntegratorOptions());
-    integrator->preprocess(scene);
+    auto integrator = makeIntegrator(name, IntegratorOptions());
     SensorOptions so;
     so.samples = 1 << 15;
-    const auto res = estimateSensors(*integrator, scene, {{Vec3(0.3f, 0.0f, -0.2f), Vec3(0, 1, 0)}}, so);
+    const std::vector<Sensor> sensors = {{Vec3(0.3f, 0.0f, -0.2f), Vec3(0, 1, 0)}};
+    preprocessSensors(*integrator, scene, sensors, so);
+    const auto res = estimateSensors(*integrator, scene, sensors, so);
     // The map's discretisation, measured by quadrature, is allowed beside 3σ.
     const double bake = std::abs(mapHorizontalLux(*scene.lights().environment()) - scene.desc().sky->dome.horizontalIlluminance());
-    fmt::print("{}: {:.1f} ± {:.1f} lux, expected {:.1f} (bake {:.2f})\n", c.name, res[0].lux, res[0].stderrLux,
-               c.expectedLux, bake);
+    fmt::print("{} {}: {:.1f} ± {:.1f} lux, expected {:.1f} (bake {:.2f})\n", name, c.name, res[0].lux,
+               res[0].stderrLux, c.expectedLux, bake);
     EXPECT_GT(res[0].stderrLux, 0.0);
     EXPECT_LT(res[0].stderrLux, 0.01 * c.expectedLux);  // a sharp test
     EXPECT_LE(std::abs(res[0].lux - c.expectedLux), 3 * res[0].stderrLux + bake + 1e-5 * c.expectedLux);
@@ -267,4 +269,30 @@ TEST(SkyLight, CommandLineExitsTwoNamingTheKey) {
   const auto r = test::run(kRender + " " + dir + "/scene.json --integrator bdpt --spp 1 -q -o " + dir + "/out.exr");
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("does not support a sky/environment yet"), std::string::npos) << r.output;
+}
+
+// The irradiance cache takes the sky as direct light (NEE at every vertex, the background for the camera's rays): a
+// 2 m box on a plane under the overcast sky, the camera seeing plane, box and sky, renders as the path tracer does
+// (the cache's interpolation bias, measured 0.02–0.2% on this scene, allowed beside 3σ of the two means). Without the
+// sky the cache's image mean would be the sky's pixels alone (−60% here).
+TEST(SkyLight, IrradianceCacheAgreesWithPathTracing) {
+  const std::string box = R"(, {"type": "box", "material": "ground", "min": [-1, 0, -1], "max": [1, 2, 1]})";
+  SceneDesc desc = test::sceneFromJson(
+      planeScene(R"("sky": {"type": "cie-overcast", "horizontal_illuminance": 10000})", 0.5, box));
+  desc.camera.position = Vec3d(4, 3, 5);
+  desc.camera.lookAt = Vec3d(0, 1, 0);
+  desc.camera.up = Vec3d(0, 1, 0);
+  desc.camera.width = 32, desc.camera.height = 24;
+  const RenderScene scene(std::move(desc), 0);
+  double mean[2], se[2];
+  const char* names[2] = {"path", "irradiance-cache"};
+  for (int k = 0; k < 2; ++k) {
+    auto integrator = makeIntegrator(names[k], IntegratorOptions());
+    integrator->preprocess(scene);
+    const test::RenderRun run = test::renderWith(*integrator, scene, 256);
+    test::imageMean(run.film, 1, mean[k], se[k]);
+    fmt::print("{}: {:.5f} ± {:.5f}\n", names[k], mean[k], se[k]);
+  }
+  EXPECT_GT(se[0], 0.0);
+  EXPECT_LE(std::abs(mean[1] - mean[0]), 3 * std::hypot(se[0], se[1]) + 0.005 * mean[0]);
 }

@@ -132,11 +132,11 @@ void RenderCommand::makeIntegrator() {
   cli.configure(setup);
   spp_ = setup.spp;
   integrator_ = cli.make(integratorOptions_);
-  // Issue 35: only the path walk meets the infinite light (NEE, escaped paths, background) so far.
-  if ((scene_.sky || scene_.environment) && integrators_.name != "path")
+  // Issue 35: the path walk and the irradiance cache meet the infinite light (NEE, escaped paths, background) so far.
+  if ((scene_.sky || scene_.environment) && integrators_.name != "path" && integrators_.name != "irradiance-cache")
     throw InputError(scene_.file, scene_.sky ? "sky" : "environment",
                      "the " + integrators_.name +
-                         " integrator does not support a sky/environment yet (use --integrator path)");
+                         " integrator does not support a sky/environment yet (use --integrator path or irradiance-cache)");
   checkpoint_.configure(app_, outputs_, *integrator_);
   if (sensors_.active()) requireSensorIntegrator(*integrator_);
   checkImageOutputs();

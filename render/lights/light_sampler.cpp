@@ -95,7 +95,7 @@ void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bo
 }
 
 void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
-                         bool patchEmitters, bool visibility, const std::vector<uint8_t>* include) {
+                         bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite) {
   scene_ = &scene;
   firstShot_ = &firstShot;
   strategy_ = strategy;
@@ -116,8 +116,10 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
       const GroupId id = scene.lights().lights()[l].replaced ? kReplaced : kKept;
       addLight(groups_[id], id, l, bounds[id]);
     }
-  // The infinite light: never replaced, so a kept light; left out of a sampler over a subset of the lights.
-  if (strategy == LightStrategy::Tree && scene.lights().environment() && !include) groups_[kKept].environment = true;
+  // The infinite light: never replaced, so a kept light; left out of a sampler over a subset of the lights unless
+  // asked for (the irradiance cache's direct lights).
+  if (strategy == LightStrategy::Tree && scene.lights().environment() && (!include || infinite))
+    groups_[kKept].environment = true;
   if (patchEmitters && scene.firstShot()) {
     addPatches(groups_[kPatches], kPatches, bounds[kPatches]);
   }

@@ -66,9 +66,10 @@ class LightSampler {
   /// @p visibility: weight the trees' top levels by the visibility of their emitters from each
   /// grid cell (light_tree.h, VisibilityGrid), estimated here with a few shadow rays per cell.
   /// @p include: if set, only the lights l with (*include)[l] != 0 (LightSet indices) are
-  /// sampled; the mask is copied.
+  /// sampled; the mask is copied. The infinite light (sky, environment map) is sampled without @p include, or with
+  /// it when @p infinite.
   void build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy, bool patchEmitters,
-             bool visibility = true, const std::vector<uint8_t>* include = nullptr);
+             bool visibility = true, const std::vector<uint8_t>* include = nullptr, bool infinite = false);
 
   LightStrategy strategy() const { return strategy_; }
   const RenderScene& scene() const { return *scene_; }

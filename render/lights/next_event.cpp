@@ -160,7 +160,8 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
   sampler.setDimension(d0 + 2 * uint64_t(lights.lights().size()));
   // The infinite light, after the lights (scenes without one draw exactly as before), with every light included.
   const EnvironmentMap* env = lights.environment();
-  if (env && request.kept && (!include || std::all_of(include->begin(), include->end(), [](uint8_t i) { return i != 0; }))) {
+  if (env && request.kept &&
+      (!include || request.infinite || std::all_of(include->begin(), include->end(), [](uint8_t i) { return i != 0; }))) {
     LightRecord rec;
     if (environmentDirection(*env, 1.0f, sampler.next2D(), rec))
       sum += weighLightSample(scene, hit, frame, woLocal, bsdf, rec, false, TableVisibility::Unknown, request, rays);

@@ -61,6 +61,9 @@ struct NeeRequest {
   /// Integrate only f − ρd/π, the BSDF without its Lambertian part (the part an irradiance cache
   /// leaves out).
   bool nonDiffuseOnly = false;
+  /// nextEventEveryLight: take the infinite light (sky, environment map) even when its @c include leaves some lights
+  /// out (the irradiance cache, whose direct light is every light but the large area ones it gathers).
+  bool infinite = false;
 };
 
 /// NEE at a non-delta vertex through @p lights: Σ f·|cos θ_i|·L/pdf over the chosen emitters that

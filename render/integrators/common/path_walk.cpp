@@ -30,7 +30,7 @@ float PathWalk::emissionWeight(const PathVertex& prev, const Hit& hit) const {
 
 Color PathWalk::escaped(const PathVertex& prev, const Vec3& dir) const {
   const EnvironmentMap* env = scene_->lights().environment();
-  if (!env) return Color(0.0f);
+  if (!env || prev.countedInfinite) return Color(0.0f);
   const Vec3 d = glm::normalize(dir);
   // The camera or a mirror: no light sampling could have found this direction (a sky: its model, not the map).
   if (prev.delta) return scene_->lights().background(d);
@@ -97,6 +97,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     prev.n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;
     prev.nee = nee;
     prev.counted = nullptr;
+    prev.countedInfinite = false;
     specularChain = specularChain && q.specular;
     ray = Ray(hit.spawnOrigin(wi), wi);
 

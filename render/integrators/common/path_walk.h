@@ -39,6 +39,8 @@ struct PathVertex {
   NeeRequest nee;           ///< what the vertex sampled by NEE
   /// Lights (LightSet indices) the vertex counted in full by other means: they count 0 when met.
   const std::vector<uint8_t>* counted = nullptr;
+  /// The vertex counted the infinite light (sky, environment map) in full by other means: it counts 0 when met.
+  bool countedInfinite = false;
 };
 
 class PathWalk {

@@ -114,7 +114,12 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
     const int vertex = level + depth;
     Hit hit;
     BSDF bsdf;
-    if (!nextHitPastPanes(scene, ray, known, sampler, beta, ctx.rays, hit, bsdf)) break;  // a pane crossed is no bounce
+    if (!nextHitPastPanes(scene, ray, known, sampler, beta, ctx.rays, hit, bsdf)) {  // a pane crossed is no bounce
+      // The sky or environment map is direct light at every vertex (NEE, weight 1): only the camera's rays and
+      // those past mirrors and glass count it where they leave the scene.
+      if (kind == RayKind::Camera || kind == RayKind::Delta) L += beta * lights.background(glm::normalize(ray.d));
+      break;
+    }
     if (depth == 0 && first) first->distance = hit.t, first->hit = hit;
     pathLength += hit.t;
     const Vec3 wo = -glm::normalize(ray.d);
@@ -195,6 +200,7 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     o.kept = true;
     o.replaced = !useTable;
     o.mis = false;  // cache and BSDF rays never count the direct lights
+    o.infinite = true;  // nor the sky
     o.tableVisibility = scene_->firstShot() && options_.tableVisibility;
     L += nextEventEveryLight(*scene_, firstShot_, &direct_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
   } else {
@@ -203,6 +209,7 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     nee.kept = true;
     nee.replaced = !useTable;  // only off the patches: no table visibility there
     nee.mis = false;
+    nee.infinite = true;
     L += nextEvent(directLights_, hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
   }
   const Color rho = bsdf.diffuseAlbedo();
@@ -225,6 +232,7 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     prev.n = n;
     prev.pdf = squareToCosineHemispherePdf(Vec3(0.0f, 0.0f, glm::dot(w, n)));
     prev.counted = &direct_;
+    prev.countedInfinite = true;
     return kPiF *
            continuation_.trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, sampler, ctx.rays);
   };

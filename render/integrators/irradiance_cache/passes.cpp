@@ -114,7 +114,7 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
     gatheredEmitter_[light.emitter] = 1;
   }
   directLights_.build(scene, firstShot_, options_.lightSampler, scene.firstShot() && settings_.patchNee > 0.0f,
-                      options_.lightVisibility, &direct_);
+                      options_.lightVisibility, &direct_, true);  // with the sky: direct light too
 
   Vec3d lo, hi;
   scene.desc().bounds(lo, hi);
