@@ -201,18 +201,33 @@ void forEachMeshInstance(const aiNode* node, const Mat4d& parent, const F& f) {
 }
 
 /// Converts an OBJ or PLY material: diffuse colour -> albedo, emissive colour -> emission; assimp's PBR keys
-/// (OBJ's Pm/Pr) to the pbr material through metallicRoughnessMaterial when there are any. Textures (but map_Kd:
-/// MaterialTable::diffuseTexture) and OBJ's Ks/Ns are ignored (diffuse only).
+/// (OBJ's Pm/Pr) to the pbr material through metallicRoughnessMaterial when there are any. Else OBJ's Phong
+/// highlight (illum 2, which assimp reports as Phong shading, with Ks > 0 and Ns > 0) makes a glossy material:
+/// specular = Ks, exponent = Ns, the MTL's own Phong model; where Kd + Ks exceeds 1 (common in exported files) both
+/// are scaled down to sum to 1 in that channel's maximum. Other textures than map_Kd (MaterialTable::diffuseTexture)
+/// are not read here.
 MaterialDesc convertMaterial(const aiMaterial& mat) {
-  aiColor3D c(0.5f, 0.5f, 0.5f), e(0.0f, 0.0f, 0.0f);
+  aiColor3D c(0.5f, 0.5f, 0.5f), e(0.0f, 0.0f, 0.0f), ks(0.0f, 0.0f, 0.0f);
   if (mat.Get(AI_MATKEY_BASE_COLOR, c) != aiReturn_SUCCESS) mat.Get(AI_MATKEY_COLOR_DIFFUSE, c);
   mat.Get(AI_MATKEY_COLOR_EMISSIVE, e);
-  float metallic = 0.0f, roughness = 1.0f;
+  float metallic = 0.0f, roughness = 1.0f, ns = 0.0f;
   const bool pbr = mat.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == aiReturn_SUCCESS;
   mat.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness);
+  int shading = 0;
+  mat.Get(AI_MATKEY_SHADING_MODEL, shading);
+  mat.Get(AI_MATKEY_COLOR_SPECULAR, ks);
+  mat.Get(AI_MATKEY_SHININESS, ns);
   MaterialDesc m;
   m.albedo = color(c);
-  if (pbr) m = metallicRoughnessMaterial(color(c), metallic, roughness);
+  if (pbr) {
+    m = metallicRoughnessMaterial(color(c), metallic, roughness);
+  } else if (shading == aiShadingMode_Phong && maxComponent(color(ks)) > 0.0f && ns > 0.0f && std::isfinite(ns)) {
+    m.type = MaterialType::Glossy;
+    m.specular = glm::max(color(ks), Color(0.0f));
+    m.exponent = ns;
+    const float sum = maxComponent(m.albedo + m.specular);
+    if (sum > 1.0f) m.albedo /= sum, m.specular /= sum;
+  }
   m.emission = color(e);
   return m;
 }

@@ -430,5 +430,29 @@ TEST(MeshImport, BrokenGltfBufferIsNamed) {
               HasSubstr("is a Git LFS pointer"));
 }
 
+// OBJ/MTL's Phong highlight (illum 2: Ks, Ns) becomes the glossy material, the MTL's own model; illum 1 (no highlight)
+// stays diffuse; Kd + Ks above 1 is scaled down to 1.
+TEST(MeshImport, ObjPhongHighlightIsGlossy) {
+  const std::string dir = test::tempDir();
+  test::writeText(dir + "/m.mtl",
+                  "newmtl shiny\nKd 0.5 0.4 0.3\nKs 0.3 0.3 0.3\nNs 50\nillum 2\n"
+                  "newmtl matte\nKd 0.5 0.4 0.3\nKs 0.3 0.3 0.3\nNs 50\nillum 1\n"
+                  "newmtl bright\nKd 0.8 0.8 0.8\nKs 0.5 0.5 0.5\nNs 10\nillum 2\n");
+  test::writeText(dir + "/m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n"
+                                  "o a\nusemtl shiny\nf 1 2 3\no b\nusemtl matte\nf 1 2 4\no c\nusemtl bright\nf 1 3 4\n");
+  const SceneDesc s = importAssetScene(dir + "/m.obj");
+  ASSERT_EQ(s.shapes.size(), 3u);
+  const MaterialDesc& shiny = s.materials.at(s.shapes[0].material);
+  EXPECT_EQ(shiny.type, MaterialType::Glossy);
+  expectNear(shiny.albedo, {0.5f, 0.4f, 0.3f}, 1e-6);
+  expectNear(shiny.specular, {0.3f, 0.3f, 0.3f}, 1e-6);
+  EXPECT_FLOAT_EQ(shiny.exponent, 50.0f);
+  EXPECT_EQ(s.materials.at(s.shapes[1].material).type, MaterialType::Diffuse);
+  const MaterialDesc& bright = s.materials.at(s.shapes[2].material);
+  EXPECT_EQ(bright.type, MaterialType::Glossy);
+  expectNear(bright.albedo, {0.8f / 1.3f, 0.8f / 1.3f, 0.8f / 1.3f}, 1e-6);
+  expectNear(bright.specular, {0.5f / 1.3f, 0.5f / 1.3f, 0.5f / 1.3f}, 1e-6);
+}
+
 }  // namespace
 }  // namespace fs
