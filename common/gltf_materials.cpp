@@ -6,6 +6,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/thin_glass.h"
 
 namespace fs {
 namespace {
@@ -87,6 +88,12 @@ GltfMaterial readGltfMaterial(const Json& gltf, size_t k) {
   if (strength) g.emissive *= number(*strength, "emissiveStrength", 1.0f);
   const Json* ior = extensions ? jsonMember(*extensions, "KHR_materials_ior") : nullptr;
   if (ior) g.ior = number(*ior, "ior", g.ior);
+  if (const Json* t = extensions ? jsonMember(*extensions, "KHR_materials_transmission") : nullptr) {
+    g.transmission = std::clamp(number(*t, "transmissionFactor", 0.0f), 0.0f, 1.0f);
+    g.transmissionTexture = textureRef(*t, "transmissionTexture");
+  }
+  if (const Json* v = extensions ? jsonMember(*extensions, "KHR_materials_volume") : nullptr)
+    g.volume = number(*v, "thicknessFactor", 0.0f) > 0.0f;
   return g;
 }
 
@@ -165,7 +172,8 @@ std::vector<std::string> unsupportedGltfExtensions(const Json& gltf) {
   // mean; KHR_materials_variants: the default material is the file's own).
   static const std::set<std::string> handled = {
       "KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_lights_punctual", "KHR_mesh_quantization",
-      "KHR_texture_transform", "KHR_materials_variants", "KHR_xmp_json_ld"};
+      "KHR_texture_transform", "KHR_materials_variants", "KHR_xmp_json_ld", "KHR_materials_transmission",
+      "KHR_materials_volume"};
   std::vector<std::string> names;
   const Json* used = jsonMember(gltf, "extensionsUsed");
   if (!used || !used->is_array()) return names;
@@ -175,6 +183,17 @@ std::vector<std::string> unsupportedGltfExtensions(const Json& gltf) {
 }
 
 std::string reportUnsupportedGltfExtensions(const Json& gltf, const std::string& file) {
+  // KHR_materials_transmission is read as smooth glass (convertGltfMaterial): name the rough ones.
+  size_t rough = 0;
+  std::string first;
+  const Json* materials = jsonMember(gltf, "materials");
+  for (size_t k = 0; materials && materials->is_array() && k < materials->size(); ++k) {
+    const GltfMaterial g = readGltfMaterial(gltf, k);
+    if (g.transmission > 0.0f && g.metallic < 1.0f && g.roughness > 0.0f && rough++ == 0) first = std::to_string(k);
+  }
+  if (rough > 0)
+    std::fprintf(stderr, "%s: %zu rough KHR_materials_transmission material%s rendered as smooth glass (first: materials[%s])\n",
+                 file.c_str(), rough, rough == 1 ? "" : "s", first.c_str());
   const std::vector<std::string> names = unsupportedGltfExtensions(gltf);
   if (names.empty()) return "";
   std::string line = file + ": glTF extension" + (names.size() == 1 ? "" : "s") + " not supported, ignored:";
@@ -205,6 +224,18 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
   }
   m.metallicRoughnessTexture = std::move(mrTexture);  // it multiplies the factors per point
   m.emission = g.emissive;
+  float t = g.transmission * (1.0f - std::clamp(metallic, 0.0f, 1.0f));
+  if (t > 0.0f)
+    if (const TextureImage* tt = textures.image(g.transmissionTexture, false)) t *= tt->mean()[0];
+  if (t > 0.0f) {  // KHR_materials_transmission: glass (see the header)
+    MaterialDesc glass;
+    glass.emission = g.emissive;
+    glass.ior = g.ior >= 1.0f ? g.ior : 1.5f;
+    const Color tint = glm::clamp(base * t, Color(0.0f), Color(1.0f));
+    glass.type = g.volume ? MaterialType::Dielectric : MaterialType::ThinGlass;
+    glass.transmittance = g.volume ? tint : tint * ThinGlassBSDF::maxTransmittance(glass.ior);
+    return glass;
+  }
   return m;
 }
 

@@ -31,7 +31,10 @@ struct GltfMaterial {
   float roughness = 1.0f;   ///< pbrMetallicRoughness.roughnessFactor
   Color emissive{0.0f};     ///< emissiveFactor × KHR_materials_emissive_strength, W/(m² sr)
   float ior = 1.5f;         ///< KHR_materials_ior's ior (1.5 without it; 0 stands for an infinite index)
+  float transmission = 0.0f;  ///< KHR_materials_transmission's transmissionFactor
+  bool volume = false;        ///< KHR_materials_volume with thicknessFactor > 0: a solid, not a thin wall
   GltfTextureRef baseColorTexture, metallicRoughnessTexture, emissiveTexture;
+  GltfTextureRef transmissionTexture;  ///< its R channel multiplies transmission
 };
 
 /// Reads materials[@p k] of @p gltf (defaults where it is absent or malformed).
@@ -73,7 +76,11 @@ std::vector<std::string> unsupportedGltfExtensions(const nlohmann::json& gltf);
 /// ignored: A, B". @return the line, or "" when there are none.
 std::string reportUnsupportedGltfExtensions(const nlohmann::json& gltf, const std::string& file);
 
-/// The pbr material of @p g: its metallic-roughness texture folded in (metallic × the mean of the texture's B channel,
+/// The material of @p g. With KHR_materials_transmission (t = transmission × the mean R of its texture × (1 −
+/// metallic) > 0), glass: a thin pane (ThinGlass; glTF's thin-walled default) of transmittance base colour × t × a
+/// lossless pane's at its ior, or with KHR_materials_volume a solid dielectric tinted by base colour × t; the rest of
+/// the base (1 − t of the diffuse layer) is dropped and a rough surface is rendered smooth
+/// (reportUnsupportedGltfExtensions names such materials). Else the pbr material: its metallic-roughness texture folded in (metallic × the mean of the texture's B channel,
 /// roughness × the mean of its G channel); its base-colour texture, when read through TEXCOORD_0, as the albedo
 /// texture (albedo = the base colour factor, multiplied per point by the texel), else folded in as its mean. Emission
 /// is g.emissive, without its texture (it depends on the mesh: emissionOnMesh).
