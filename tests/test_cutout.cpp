@@ -221,3 +221,57 @@ TEST(Cutout, BadInput) {
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("materials.m.alpha"), std::string::npos) << r.output;
 }
+
+// First-shot against NEE in the shipped scenes/cutout-screen.json (a small area light through a perforated
+// screen onto a table): the path tracer with and without the table, every light sampled at every vertex, on
+// the same camera samples; the image mean of the difference within 0.3% + 3σ of the NEE image's mean.
+TEST(Cutout, ShippedScreenFirstShotAgreesWithNee) {
+  FIRSTSHOT_STATISTICS_ONLY("Cutout.ImagesOfTheFloorUnderTheScreen");
+  SceneDesc desc = loadScene(test::source("scenes/cutout-screen.json"));
+  desc.camera.width = 48, desc.camera.height = 36;
+  const RenderScene plain(desc);
+  PreprocessOptions po = defaultOptions(desc);
+  po.settings.resolution = 128;
+  po.quiet = true;
+  const RenderScene tabled(desc, preprocessScene(desc, po));
+  IntegratorOptions io;
+  io.lightSampler = LightStrategy::All;  // the same NEE at the first vertex: the difference is the table's
+  auto nee = test::preprocessedIntegrator("path", io, plain);
+  auto firstShot = test::preprocessedIntegrator("path", io, tabled);
+  double mean = 0, seMean = 0;
+  test::imageMean(test::renderWith(*nee, plain, 64).film, 1, mean, seMean);
+  const test::PairedDifference d = test::renderPairedDifference(*firstShot, *nee, Camera(desc.camera), 256, 5, 1);
+  const double diff = d.imageMean(), se = d.imageStandardError();
+  fmt::print("cutout-screen: NEE {:.5f} ± {:.5f}; first-shot − NEE {:+.3f}% ± {:.3f}%\n", mean, seMean, 100 * diff / mean,
+             100 * se / mean);
+  EXPECT_GT(mean, 0.0);
+  EXPECT_LE(std::abs(diff), 3 * se + 0.003 * mean);
+  EXPECT_LT(se, 0.002 * mean);  // sharp enough to mean something
+}
+
+// The same scene with the table by light tracing, BDPT and the irradiance cache against the path tracer's NEE
+// image (independent renders): each image mean within 0.3% + 3σ of it.
+TEST(Cutout, ShippedScreenShootingIntegratorsAgreeWithNee) {
+  FIRSTSHOT_STATISTICS_ONLY("Cutout.ImagesOfTheFloorUnderTheScreen");
+  SceneDesc desc = loadScene(test::source("scenes/cutout-screen.json"));
+  desc.camera.width = 48, desc.camera.height = 36;
+  const RenderScene plain(desc);
+  PreprocessOptions po = defaultOptions(desc);
+  po.settings.resolution = 128;
+  po.quiet = true;
+  const RenderScene tabled(desc, preprocessScene(desc, po));
+  IntegratorOptions io;
+  io.lightSampler = LightStrategy::All;
+  double ref = 0, seRef = 0;
+  test::imageMean(test::renderWith(*test::preprocessedIntegrator("path", io, plain), plain, 1024).film, 1, ref, seRef);
+  for (const char* name : {"light", "bdpt", "irradiance-cache"}) {
+    IntegratorOptions o = io;
+    o.lightPathsPerPixel = std::string(name) == "light" ? 16 : 0;
+    double mean = 0, se = 0;
+    test::imageMean(test::renderWith(*test::preprocessedIntegrator(name, o, tabled), tabled, 256).film, 1, mean, se);
+    const double s = std::hypot(se, seRef);
+    fmt::print("cutout-screen, {} with the table: {:.5f} ± {:.5f} against NEE {:.5f} ± {:.5f}: {:+.3f}% ± {:.3f}%\n", name,
+               mean, se, ref, seRef, 100 * (mean - ref) / ref, 100 * s / ref);
+    EXPECT_LE(std::abs(mean - ref), 3 * s + 0.003 * ref) << name;
+  }
+}
