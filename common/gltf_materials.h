@@ -26,12 +26,16 @@ struct GltfTextureRef {
 
 /// materials[k] of a glTF file as the JSON gives it, absent values at the glTF 2.0 defaults.
 struct GltfMaterial {
-  Color baseColor{1.0f};    ///< pbrMetallicRoughness.baseColorFactor (RGB; alpha is not used)
+  Color baseColor{1.0f};    ///< pbrMetallicRoughness.baseColorFactor (RGB; its alpha is `alpha` below)
   float metallic = 1.0f;    ///< pbrMetallicRoughness.metallicFactor
   float roughness = 1.0f;   ///< pbrMetallicRoughness.roughnessFactor
   Color emissive{0.0f};     ///< emissiveFactor × KHR_materials_emissive_strength, W/(m² sr)
   float ior = 1.5f;         ///< KHR_materials_ior's ior (1.5 without it; 0 stands for an infinite index)
   GltfTextureRef baseColorTexture, metallicRoughnessTexture, emissiveTexture;
+  // Alpha (issue 34's cut-outs): alphaMode, alphaCutoff and baseColorFactor's alpha.
+  AlphaMode alphaMode = AlphaMode::Opaque;  ///< "OPAQUE" (default), "MASK", "BLEND"
+  float alphaCutoff = 0.5f;                 ///< alphaCutoff (MASK)
+  float alpha = 1.0f;                       ///< baseColorFactor[3]
 };
 
 /// Reads materials[@p k] of @p gltf (defaults where it is absent or malformed).

@@ -275,3 +275,47 @@ TEST(Cutout, ShippedScreenShootingIntegratorsAgreeWithNee) {
     EXPECT_LE(std::abs(mean - ref), 3 * s + 0.003 * ref) << name;
   }
 }
+
+// Imported assets: glTF's alphaMode, alphaCutoff and baseColorFactor's alpha; OBJ/MTL's map_d (a mask of alpha
+// d × the texture's alpha channel); an emitting glTF material stays opaque.
+TEST(Cutout, ImportedAlpha) {
+  const std::string dir = test::tempDir();
+  const auto gltf = [&](const std::string& material) {
+    test::writeText(dir + "/t.gltf", R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+      "nodes": [{"mesh": 0}], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+      "materials": [)" + material + R"(],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, -1], "max": [1, 0, 0]}],
+      "bufferViews": [{"buffer": 0, "byteLength": 36}],
+      "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAAAAAAIC/"}]})");
+    const SceneDesc s = loadScene(dir + "/t.gltf");
+    for (const ShapeDesc& shape : s.shapes) return s.materials[size_t(shape.material)];
+    return MaterialDesc();
+  };
+  const MaterialDesc mask = gltf(R"({"alphaMode": "MASK", "alphaCutoff": 0.25, "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.4]}})");
+  EXPECT_EQ(mask.alphaMode, AlphaMode::Mask);
+  EXPECT_FLOAT_EQ(mask.alphaCutoff, 0.25f);
+  EXPECT_FLOAT_EQ(mask.alpha, 0.4f);
+  EXPECT_EQ(gltf(R"({"alphaMode": "BLEND"})").alphaMode, AlphaMode::Blend);
+  EXPECT_EQ(gltf(R"({"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.4]}})").alphaMode, AlphaMode::Opaque);
+  EXPECT_EQ(gltf(R"({"alphaMode": "MASK", "emissiveFactor": [1, 1, 1]})").alphaMode, AlphaMode::Opaque);
+
+  std::filesystem::copy_file(test::source("scenes/textures/perforated.png"), dir + "/holes.png");
+  test::writeText(dir + "/m.mtl", "newmtl sheet\nKd 0.5 0.5 0.5\nd 0.9\nmap_d holes.png\n");
+  test::writeText(dir + "/m.obj", "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 0 -1\nv 0 0 -1\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                  "usemtl sheet\nf 1/1 2/2 3/3 4/4\n");
+  const SceneDesc obj = loadScene(dir + "/m.obj");
+  const MaterialDesc& sheet = obj.materials[size_t(obj.shapes.at(0).material)];
+  EXPECT_EQ(sheet.alphaMode, AlphaMode::Mask);
+  EXPECT_NEAR(sheet.alpha, 0.9f, 1e-6f);
+  ASSERT_TRUE(sheet.alphaTexture);
+  EXPECT_EQ(sheet.alphaTexture->image->alpha.size(), size_t(64 * 64));  // the PNG's alpha channel, not its grey
+  // Half the sheet is holes: rays straight down on a grid meet it half the time.
+  const RenderScene scene(obj);
+  int hits = 0;
+  for (int i = 0; i < 64; ++i)
+    for (int k = 0; k < 64; ++k) {
+      Hit hit;
+      hits += scene.intersect(Ray(Vec3((i + 0.5f) / 64, 1, -(k + 0.5f) / 64), Vec3(0, -1, 0)), hit);
+    }
+  EXPECT_NEAR(hits / 4096.0, 0.5, 0.03);
+}
