@@ -259,7 +259,7 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
     const Vec3d d = persp ? view.forward + uv.x * view.right + uv.y * view.up : view.forward;
     const double t = self.planeDepth(o, d);
     if (exposure && exposure->buried(o + t * d)) return;
-    if (selfCut && !cutouts->exists(patch, o + t * d, cutoutKey(Vec3(o), Vec3(d), patch))) return;  // a hole
+    if (selfCut && cutouts->coverage(patch, o + t * d) == 0.0f) return;  // a mask's hole (a blend's points all count)
     r.expected += w, ++r.pixels;
     if (clear || !occludedNear(view, ids, mesh, patch, i, j, o, d, t, near, polygons, cutouts)) r.visible += w;
   });

@@ -43,8 +43,9 @@ struct PatchCoverage {
 /// With @p exposure, centres whose point on the patch is buried (preprocess/exposure.h) count in
 /// neither sum.
 /// With @p cutouts (issue 34), an occluder proposed on a cut-out patch occludes only where its surface exists, and
-/// on a cut-out patch itself the centres whose point is absent count in neither sum, as buried ones: the fraction
-/// is that of its existing part (the receiving factor is the irradiance at its solid points).
+/// on a mask cut-out patch itself the centres over its holes count in neither sum, as buried ones: the fraction is
+/// that of its existing part (the receiving factor is the irradiance at its solid points; a blend patch's points all
+/// count).
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
                             const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure = nullptr,
                             const PatchCutouts* cutouts = nullptr);

@@ -51,7 +51,7 @@ double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s
   for (uint32_t k = spread ? 0 : p.count; k <= p.count; ++k) {
     const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
     if (exposure && exposure->buried(x)) continue;
-    if (rays.cutouts() && rays.cutouts()->coverage(patch, x) < 0.5f) continue;  // a hole of a cut-out (issue 34)
+    if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) continue;  // a mask's hole (issue 34)
     const int v = pointVisibility(views, *s.weights, rays, x, near);
     if (v >= 0) ++seen, visible += v;
   }
