@@ -69,6 +69,32 @@ Color rgb(const std::array<float, 4>& v) { return {v[0], v[1], v[2]}; }
 
 }  // namespace
 
+namespace {
+
+/// Material @p m's alpha (issue 34): alphaMode, alphaCutoff and baseColorFactor's fourth number, into @p g.
+void readGltfAlpha(const Json& m, GltfMaterial& g) {
+  const Json* mode = jsonMember(m, "alphaMode");
+  if (mode && mode->is_string())
+    g.alphaMode = *mode == "MASK" ? AlphaMode::Mask : *mode == "BLEND" ? AlphaMode::Blend : AlphaMode::Opaque;
+  g.alphaCutoff = std::clamp(number(m, "alphaCutoff", g.alphaCutoff), 0.0f, 1.0f);
+  const Json* pbr = jsonMember(m, "pbrMetallicRoughness");
+  const Json* factor = pbr ? jsonMember(*pbr, "baseColorFactor") : nullptr;
+  if (factor && factor->is_array() && factor->size() >= 4 && (*factor)[3].is_number())
+    g.alpha = std::clamp((*factor)[3].get<float>(), 0.0f, 1.0f);
+}
+
+/// @p m's alpha from @p g: its mode, cut-off and factor, and the base-colour texture's A channel when it has one.
+/// An emitting material stays opaque (an emitter cannot be a cut-out).
+void convertGltfAlpha(const GltfMaterial& g, MaterialDesc& m) {
+  if (g.alphaMode == AlphaMode::Opaque || m.isEmissive()) return;
+  m.alphaMode = g.alphaMode;
+  m.alphaCutoff = g.alphaCutoff;
+  m.alpha = g.alpha;
+  if (m.albedoTexture && !m.albedoTexture->image->alpha.empty()) m.alphaTexture = m.albedoTexture;
+}
+
+}  // namespace
+
 GltfMaterial readGltfMaterial(const Json& gltf, size_t k) {
   GltfMaterial g;
   const Json* material = jsonArrayElement(gltf, "materials", k);
@@ -88,6 +114,7 @@ GltfMaterial readGltfMaterial(const Json& gltf, size_t k) {
   if (strength) g.emissive *= number(*strength, "emissiveStrength", 1.0f);
   const Json* ior = extensions ? jsonMember(*extensions, "KHR_materials_ior") : nullptr;
   if (ior) g.ior = number(*ior, "ior", g.ior);
+  readGltfAlpha(m, g);
   if (const Json* t = extensions ? jsonMember(*extensions, "KHR_materials_transmission") : nullptr) {
     g.transmission = std::clamp(number(*t, "transmissionFactor", 0.0f), 0.0f, 1.0f);
     g.transmissionTexture = textureRef(*t, "transmissionTexture");
@@ -224,6 +251,7 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
   }
   m.metallicRoughnessTexture = std::move(mrTexture);  // it multiplies the factors per point
   m.emission = g.emissive;
+  convertGltfAlpha(g, m);
   float t = g.transmission * (1.0f - std::clamp(metallic, 0.0f, 1.0f));
   if (t > 0.0f)
     if (const TextureImage* tt = textures.image(g.transmissionTexture, false)) t *= tt->mean()[0];

@@ -26,7 +26,7 @@ struct GltfTextureRef {
 
 /// materials[k] of a glTF file as the JSON gives it, absent values at the glTF 2.0 defaults.
 struct GltfMaterial {
-  Color baseColor{1.0f};    ///< pbrMetallicRoughness.baseColorFactor (RGB; alpha is not used)
+  Color baseColor{1.0f};    ///< pbrMetallicRoughness.baseColorFactor (RGB; its alpha is `alpha` below)
   float metallic = 1.0f;    ///< pbrMetallicRoughness.metallicFactor
   float roughness = 1.0f;   ///< pbrMetallicRoughness.roughnessFactor
   Color emissive{0.0f};     ///< emissiveFactor × KHR_materials_emissive_strength, W/(m² sr)
@@ -35,6 +35,10 @@ struct GltfMaterial {
   bool volume = false;        ///< KHR_materials_volume with thicknessFactor > 0: a solid, not a thin wall
   GltfTextureRef baseColorTexture, metallicRoughnessTexture, emissiveTexture;
   GltfTextureRef transmissionTexture;  ///< its R channel multiplies transmission
+  // Alpha (issue 34's cut-outs): alphaMode, alphaCutoff and baseColorFactor's alpha.
+  AlphaMode alphaMode = AlphaMode::Opaque;  ///< "OPAQUE" (default), "MASK", "BLEND"
+  float alphaCutoff = 0.5f;                 ///< alphaCutoff (MASK)
+  float alpha = 1.0f;                       ///< baseColorFactor[3]
 };
 
 /// Reads materials[@p k] of @p gltf (defaults where it is absent or malformed).

@@ -354,6 +354,7 @@ class MaterialTable {
     if (gltf_) g = readGltfMaterial(gltf_->json(), k);
     MaterialDesc m = g ? convertGltfMaterial(*g, *textures_) : convertMaterial(*mat);
     if (!g) m.albedoTexture = diffuseTexture(*mat);
+    if (!g) opacityCutout(*mat, m);  // map_d (issue 34)
     m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(k) + "]";
     return {std::move(m), std::move(g)};
   }
@@ -370,6 +371,31 @@ class MaterialTable {
     materials_.push_back(std::move(m));
     sources_.push_back(k);
     return int(materials_.size()) - 1;
+  }
+
+  /// OBJ/MTL's map_d (assimp's opacity texture) makes @p m a mask cut-out (issue 34): alpha = d × the texture
+  /// (its alpha channel, else its grey, linear), cut-off 0.5. Without map_d, or when it cannot be read (then
+  /// reportTextures() names it), or on an emitting material, @p m stays opaque (d alone is not read).
+  void opacityCutout(const aiMaterial& mat, MaterialDesc& m) {
+    aiString file;
+    if (m.isEmissive() || mat.GetTexture(aiTextureType_OPACITY, 0, &file) != aiReturn_SUCCESS || file.length == 0) return;
+    std::string name = file.C_Str();
+    std::replace(name.begin(), name.end(), '\\', '/');
+    const std::string path = (std::filesystem::path(file_).parent_path() / name).string();
+    auto texture = std::make_shared<Texture>();
+    try {
+      std::shared_ptr<const TexelImage>& image = objImages_[path + "\n(linear)"];
+      if (!image) image = std::make_shared<const TexelImage>(readTexelImage(path, false));
+      texture->image = image;
+    } catch (const InputError& e) {
+      objFailures_.push_back(e.what());
+      return;
+    }
+    float d = 1.0f;
+    if (mat.Get(AI_MATKEY_OPACITY, d) != aiReturn_SUCCESS) d = 1.0f;
+    m.alphaMode = AlphaMode::Mask;
+    m.alpha = std::clamp(d, 0.0f, 1.0f);
+    m.alphaTexture = std::move(texture);
   }
 
   /// OBJ/MTL's map_Kd (the file relative to the asset's folder), multiplying Kd; nullptr without one or when it

@@ -14,6 +14,7 @@
 #include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
 #include "common/sky_desc.h"
+#include "common/patch_cutouts.h"
 #include "common/texture.h"
 #include "common/thin_glass.h"
 
@@ -136,6 +137,7 @@ void validateScene(SceneDesc& scene) {
     if ((m.type == MaterialType::Dielectric || m.type == MaterialType::Pbr) && !(m.ior > 0))
       throw InputError(file, w + ".ior", "must be positive");
     if (m.type == MaterialType::ThinGlass) validateThinGlass(file, w, m);
+    validateCutout(file, w, m);  // alpha (issue 34)
     if (m.type == MaterialType::Pbr && !(m.metallic >= 0.0f && m.metallic <= 1.0f))
       throw InputError(file, w + ".metallic", "must be in [0, 1]");
     if (m.type == MaterialType::Pbr && !(m.roughness >= 0.0f && m.roughness <= 1.0f))
@@ -191,6 +193,19 @@ void validateScene(SceneDesc& scene) {
     throw InputError(file, "camera.up", "up is zero or parallel to the viewing direction");
 }
 
+namespace {
+
+/// A cut-out material's alpha (issue 34): nothing for an opaque one, so that scenes without cut-outs keep their hashes.
+void hashAlpha(Hasher& h, const MaterialDesc& m) {
+  if (!m.isCutout()) return;
+  h.add(std::string_view("alpha")).add(m.alphaMode).add(m.alphaCutoff).add(m.alpha);
+  if (!m.alphaTexture) return;
+  const TexelImage& im = *m.alphaTexture->image;
+  h.add(m.alphaTexture->hash()).bytes(im.alpha.data(), im.alpha.size() * sizeof(float));
+}
+
+}  // namespace
+
 uint64_t hashScene(const SceneDesc& scene) {
   // Everything that changes light transport: geometry, materials, lights. Not the camera or the
   // render settings, so a first-shot table stays valid when only the view changes.
@@ -202,6 +217,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     if (m.type == MaterialType::Pbr) h.add(m.metallic).add(m.roughness);  // other types keep their hashes
     if (m.albedoTexture) h.add(m.albedoTexture->hash());  // untextured scenes hash as before
     if (m.metallicRoughnessTexture) h.add(uint8_t(2)).add(m.metallicRoughnessTexture->hash());
+    hashAlpha(h, m);
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {
@@ -211,6 +227,9 @@ uint64_t hashScene(const SceneDesc& scene) {
     const bool textured = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
                           scene.materials[size_t(s.material)].hasTextures();
     if (textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));  // only where they change results
+    const bool cutByTexture = !textured && s.material >= 0 && size_t(s.material) < scene.materials.size() &&
+                              scene.materials[size_t(s.material)].isCutout() && scene.materials[size_t(s.material)].alphaTexture;
+    if (cutByTexture && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
   }
   h.add<uint64_t>(scene.lights.size());
   for (const auto& l : scene.lights) {

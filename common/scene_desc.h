@@ -19,6 +19,11 @@ enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric, Pbr, Th
 
 struct Texture;  // common/texture.h
 
+/// How a material's alpha (coverage) is used (issue 34, glTF's alphaMode): opaque ignores it; mask makes the
+/// surface absent where alpha < the cut-off (leaves, fences, grilles, perforated shades); blend lets a ray pass a
+/// point with probability 1 − alpha (stochastic transparency, decided by a hash of the ray and the hit).
+enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
+
 /// A surface material. Emission makes the surface an area light (one-sided, front face).
 struct MaterialDesc {
   std::string name;
@@ -38,6 +43,16 @@ struct MaterialDesc {
   /// Pbr: a metallic-roughness texture, glTF's layout (roughness in G, metallic in B, linear values); at a point
   /// the metallic and roughness are the factors above × the texture there. Null: none.
   std::shared_ptr<const Texture> metallicRoughnessTexture;
+  // Alpha cut-outs (issue 34; docs/scene-format.md, "Cut-outs"; common/patch_cutouts.h) ---------------------
+  AlphaMode alphaMode = AlphaMode::Opaque;
+  float alphaCutoff = 0.5f;  ///< mask: the surface exists where alpha ≥ this (glTF's default 0.5)
+  float alpha = 1.0f;        ///< the alpha factor: alpha at a point is this × the alpha texture there
+  /// The alpha texture: its image's alpha channel, or its first channel (linear) when it has none; may be the
+  /// base-colour texture itself (its A channel). Null: alpha is the factor alone.
+  std::shared_ptr<const Texture> alphaTexture;
+  /// Whether some points of the surface may be absent (a mask or blend alpha mode).
+  bool isCutout() const { return alphaMode != AlphaMode::Opaque; }
+  // ----------------------------------------------------------------------------------------------------------
   /// Whether any property varies over the surface (a texture to look up per point).
   bool hasTextures() const { return albedoTexture || metallicRoughnessTexture; }
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }

@@ -2,6 +2,7 @@
 // unknown keys are errors, and every error names the file and the element's JSON path.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <filesystem>
 #include <map>
@@ -159,6 +160,49 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   if (j.contains("emission")) m.emission = r.color(j["emission"], where + ".emission");
   return m;
 }
+
+// Alpha cut-outs (issue 34; docs/scene-format.md, "Cut-outs") ----------------------------------------------
+
+/// The alpha keys every textured material type (diffuse, glossy, pbr) takes; parseAlpha reads them.
+constexpr std::array<const char*, 4> kAlphaKeys = {"alpha_mode", "alpha_cutoff", "alpha", "alpha_texture"};
+
+/// Material @p j without the alpha keys (what parseMaterial checks).
+Json withoutAlphaKeys(const Json& j) {
+  Json rest = j;
+  if (rest.is_object())
+    for (const char* k : kAlphaKeys) rest.erase(k);
+  return rest;
+}
+
+/// Reads the alpha keys of material @p j into @p m (parsed by parseMaterial): the mode, the cut-off, the factor and
+/// the alpha texture (linear; without one, the base-colour texture's A channel when it has one).
+void parseAlpha(const Reader& r, const Json& j, const std::string& where, TextureImages& images, MaterialDesc& m) {
+  if (!j.is_object() || std::none_of(kAlphaKeys.begin(), kAlphaKeys.end(), [&](const char* k) { return j.contains(k); }))
+    return;
+  const char* key = *std::find_if(kAlphaKeys.begin(), kAlphaKeys.end(), [&](const char* k) { return j.contains(k); });
+  if (m.type != MaterialType::Diffuse && m.type != MaterialType::Glossy && m.type != MaterialType::Pbr)
+    r.fail(where + "." + key, "alpha keys apply to diffuse, glossy and pbr materials");
+  if (j.contains("alpha_mode")) {
+    const std::string mode = r.string(j["alpha_mode"], where + ".alpha_mode");
+    if (mode != "opaque" && mode != "mask" && mode != "blend")
+      r.fail(where + ".alpha_mode", "unknown alpha mode \"" + mode + "\" (opaque, mask, blend)");
+    m.alphaMode = mode == "mask" ? AlphaMode::Mask : mode == "blend" ? AlphaMode::Blend : AlphaMode::Opaque;
+  }
+  const auto unit = [&](const char* k, float& out) {
+    if (!j.contains(k)) return;
+    const double v = r.number(j[k], where + "." + k);
+    if (!(v >= 0 && v <= 1)) r.fail(where + "." + k, "must be in [0, 1] (got " + std::to_string(v) + ")");
+    out = float(v);
+  };
+  unit("alpha_cutoff", m.alphaCutoff);
+  unit("alpha", m.alpha);
+  if (j.contains("alpha_texture"))
+    m.alphaTexture = parseTexture(r, j["alpha_texture"], m.name, where + ".alpha_texture", images, false);
+  else if (m.albedoTexture && !m.albedoTexture->image->alpha.empty())
+    m.alphaTexture = m.albedoTexture;
+}
+
+// -------------------------------------------------------------------------------------------------------------
 
 ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, const SceneDesc& scene) {
   ShapeDesc s;
@@ -407,8 +451,10 @@ SceneDesc parseSceneJson(const std::string& text, const std::string& path) {
   const Json& mats = r.need(root, "scene", "materials");
   if (!mats.is_object()) r.fail("materials", "expected an object of named materials");
   TextureImages images;
-  for (auto it = mats.begin(); it != mats.end(); ++it)
-    scene.materials.push_back(parseMaterial(r, it.value(), it.key(), "materials." + it.key(), images));
+  for (auto it = mats.begin(); it != mats.end(); ++it) {
+    scene.materials.push_back(parseMaterial(r, withoutAlphaKeys(it.value()), it.key(), "materials." + it.key(), images));
+    parseAlpha(r, it.value(), "materials." + it.key(), images, scene.materials.back());
+  }
   const Json& shapes = r.need(root, "scene", "shapes");
   if (!shapes.is_array()) r.fail("shapes", "expected an array");
   for (size_t i = 0; i < shapes.size(); ++i) {

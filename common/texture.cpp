@@ -55,7 +55,29 @@ TexelImage toTexels(const ModuleImage& m, const std::string& name, bool srgb) {
       const float v = m.pixels[i * n + (n >= 3 ? size_t(c) : 0)];
       texels[i][c] = m.integer && srgb ? srgbDecode(std::clamp(double(v), 0.0, 1.0)) : v;
     }
-  return makeTexelImage(m.width, m.height, std::move(texels), name);
+  TexelImage im = makeTexelImage(m.width, m.height, std::move(texels), name);
+  if (n == 2 || n == 4) {  // grey + alpha, RGBA: alpha is always linear (not in im.hash: hashScene adds it for cut-outs)
+    im.alpha.resize(im.texels.size());
+    for (size_t i = 0; i < im.alpha.size(); ++i) im.alpha[i] = std::clamp(m.pixels[i * n + n - 1], 0.0f, 1.0f);
+  }
+  return im;
+}
+
+/// The bilinear lookup of a texture at @p uvIn: @p fetch(x, y) gives texel (x, y)'s value (Color or float).
+template <typename Fetch>
+auto bilinear(const Texture& t, const Vec2& uvIn, const Fetch& fetch) {
+  const TexelImage& im = *t.image;
+  const Vec2 uv = t.transform.apply(uvIn);
+  // Texel centres at (i + ½)/w: the lookup is exact there and linear between them.
+  const double x = double(uv.x) * im.width - 0.5, y = double(uv.y) * im.height - 0.5;
+  const double fx = std::floor(x), fy = std::floor(y);
+  const auto ix = int64_t(std::clamp(fx, -1e15, 1e15)), iy = int64_t(std::clamp(fy, -1e15, 1e15));
+  const float tx = float(x - fx), ty = float(y - fy);
+  const int x0 = int(foldTexelIndex(ix, im.width, t.wrapU)), x1 = int(foldTexelIndex(ix + 1, im.width, t.wrapU));
+  const int y0 = int(foldTexelIndex(iy, im.height, t.wrapV)), y1 = int(foldTexelIndex(iy + 1, im.height, t.wrapV));
+  const auto top = fetch(x0, y0) * (1.0f - tx) + fetch(x1, y0) * tx;
+  const auto bottom = fetch(x0, y1) * (1.0f - tx) + fetch(x1, y1) * tx;
+  return top * (1.0f - ty) + bottom * ty;
 }
 
 }  // namespace
@@ -68,17 +90,13 @@ Vec2 TextureTransform::apply(const Vec2& uv) const {
 
 Color Texture::lookup(const Vec2& uvIn) const {
   const TexelImage& im = *image;
-  const Vec2 uv = transform.apply(uvIn);
-  // Texel centres at (i + ½)/w: the lookup is exact there and linear between them.
-  const double x = double(uv.x) * im.width - 0.5, y = double(uv.y) * im.height - 0.5;
-  const double fx = std::floor(x), fy = std::floor(y);
-  const auto ix = int64_t(std::clamp(fx, -1e15, 1e15)), iy = int64_t(std::clamp(fy, -1e15, 1e15));
-  const float tx = float(x - fx), ty = float(y - fy);
-  const int x0 = int(foldTexelIndex(ix, im.width, wrapU)), x1 = int(foldTexelIndex(ix + 1, im.width, wrapU));
-  const int y0 = int(foldTexelIndex(iy, im.height, wrapV)), y1 = int(foldTexelIndex(iy + 1, im.height, wrapV));
-  const Color top = im.at(x0, y0) * (1.0f - tx) + im.at(x1, y0) * tx;
-  const Color bottom = im.at(x0, y1) * (1.0f - tx) + im.at(x1, y1) * tx;
-  return top * (1.0f - ty) + bottom * ty;
+  return bilinear(*this, uvIn, [&](int x, int y) { return im.at(x, y); });
+}
+
+float Texture::alphaLookup(const Vec2& uvIn) const {
+  const TexelImage& im = *image;
+  if (im.alpha.empty()) return bilinear(*this, uvIn, [&](int x, int y) { return im.at(x, y).x; });
+  return bilinear(*this, uvIn, [&](int x, int y) { return im.alpha[size_t(y) * size_t(im.width) + size_t(x)]; });
 }
 
 uint64_t Texture::hash() const {

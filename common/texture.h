@@ -41,9 +41,12 @@ struct TextureTransform {
 struct TexelImage {
   int width = 0, height = 0;
   std::vector<Color> texels;  ///< width·height, row-major
+  /// Linear alpha per texel (width·height, row-major), never sRGB-decoded; empty when the image has no alpha
+  /// channel (issue 34's cut-outs: Texture::alphaLookup).
+  std::vector<float> alpha;
   Color mean{0.0f};           ///< mean of the texels
   std::string name;           ///< the file (or glTF image) it came from, for messages
-  uint64_t hash = 0;          ///< of the texels and size
+  uint64_t hash = 0;          ///< of the texels and size (not the alpha)
   const Color& at(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
@@ -56,6 +59,9 @@ struct Texture {
   /// Bilinear lookup at texture coordinates @p uv (glTF convention), after the transform; texel indices outside
   /// the image fold back by the wrap modes. Linear RGB.
   Color lookup(const Vec2& uv) const;
+  /// Bilinear lookup of the alpha at @p uv as lookup(): the image's alpha channel, or its first channel (R, or grey)
+  /// when it has none.
+  float alphaLookup(const Vec2& uv) const;
   /// A hash of the image, wrap modes and transform (for scene hashes).
   uint64_t hash() const;
 };
@@ -64,7 +70,7 @@ struct Texture {
 TexelImage makeTexelImage(int width, int height, std::vector<Color> texels, std::string name);
 
 /// Reads an image file through OpenImageIO; integer data are sRGB-decoded when @p srgb. Grey becomes RGB;
-/// alpha is ignored. @throws InputError (no file or element) saying why.
+/// an alpha channel is kept in TexelImage::alpha (linear). @throws InputError (no file or element) saying why.
 TexelImage readTexelImage(const std::string& path, bool srgb);
 
 /// Decodes an image held in memory (e.g. embedded in a .glb); @p name names it and its extension tells the

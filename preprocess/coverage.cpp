@@ -169,7 +169,8 @@ class PolygonCache {
 /// True if a patch seen at pixel (i, j) of @p view or one of its 8 neighbours, other than @p patch,
 /// is hit by the ray o + t·d strictly before depth @p tSelf (and not before @p near).
 bool occludedNear(const View& view, const std::vector<uint32_t>& ids, const PatchMesh& mesh, uint32_t patch, int i, int j,
-                  const Vec3d& o, const Vec3d& d, double tSelf, double near, PolygonCache& polygons) {
+                  const Vec3d& o, const Vec3d& d, double tSelf, double near, PolygonCache& polygons,
+                  const PatchCutouts* cutouts) {
   // Depth tolerance: planes of neighbours rebuilt from float vertices agree to ~1e-7 relative.
   constexpr double kRelativeTolerance = 1e-6;
   const double tMax = tSelf - kRelativeTolerance * std::abs(tSelf);
@@ -187,7 +188,9 @@ bool occludedNear(const View& view, const std::vector<uint32_t>& ids, const Patc
       if (!c.inFront) continue;
       const ExactPolygon& other = c.polygon;
       const double t = other.planeDepth(o, d);
-      if (t >= near && t < tMax && other.contains(o + t * d)) return true;
+      if (t >= near && t < tMax && other.contains(o + t * d) &&
+          (!cutouts || cutouts->exists(id, o + t * d, cutoutKey(Vec3(o), Vec3(d), id))))
+        return true;
     }
   return false;
 }
@@ -213,7 +216,8 @@ double coveredWeight(const View& view, const std::vector<double>& weights, const
 }
 
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
-                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure) {
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure,
+                            const PatchCutouts* cutouts) {
   PatchCoverage r;
   const Patch& p = mesh.patches[patch];
   Vec3d poly[4];
@@ -245,7 +249,8 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
     // No other patch shows at this pixel or its 8 neighbours: nothing to propose as an occluder,
     // so the centre is visible (what occludedNear() would find, without computing the ray).
     const bool clear = clean(std::max(0, i - 1), j) && clean(i, j) && clean(std::min(view.width - 1, i + 1), j);
-    if (clear && !exposure) {
+    const bool selfCut = cutouts && cutouts->cutout(patch);
+    if (clear && !exposure && !selfCut) {
       r.expected += w, ++r.pixels, r.visible += w;
       return;
     }
@@ -254,8 +259,9 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
     const Vec3d d = persp ? view.forward + uv.x * view.right + uv.y * view.up : view.forward;
     const double t = self.planeDepth(o, d);
     if (exposure && exposure->buried(o + t * d)) return;
+    if (selfCut && cutouts->coverage(patch, o + t * d) == 0.0f) return;  // a mask's hole (a blend's points all count)
     r.expected += w, ++r.pixels;
-    if (clear || !occludedNear(view, ids, mesh, patch, i, j, o, d, t, near, polygons)) r.visible += w;
+    if (clear || !occludedNear(view, ids, mesh, patch, i, j, o, d, t, near, polygons, cutouts)) r.visible += w;
   });
   return r;
 }

@@ -42,8 +42,13 @@ struct PatchCoverage {
 /// clamped at 1), and an unoccluded patch gets exactly 1.
 /// With @p exposure, centres whose point on the patch is buried (preprocess/exposure.h) count in
 /// neither sum.
+/// With @p cutouts (issue 34), an occluder proposed on a cut-out patch occludes only where its surface exists, and
+/// on a mask cut-out patch itself the centres over its holes count in neither sum, as buried ones: the fraction is
+/// that of its existing part (the receiving factor is the irradiance at its solid points; a blend patch's points all
+/// count).
 PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights, const std::vector<uint32_t>& ids,
-                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure = nullptr);
+                            const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure = nullptr,
+                            const PatchCutouts* cutouts = nullptr);
 
 /// Visibility of the point @p x from the common eye of @p views (a window placed at one light
 /// sample, with its weights): the first view whose pixel under x has a non-zero weight decides, by a

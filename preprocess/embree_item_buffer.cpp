@@ -83,6 +83,22 @@ void tracePackets(RTCScene scene, const RaySetup& setup, const std::vector<uint3
     }
 }
 
+/// The alpha cut-outs' filter (issue 34): rejects each valid candidate hit on a cut-out patch where the surface is
+/// absent. Embree calls it for candidate hits in any order; rejecting is all it does.
+void rejectCutoutHoles(const RTCFilterFunctionNArguments* args) {
+  const auto* f = static_cast<const std::pair<const PatchCutouts*, const uint32_t*>*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const uint32_t patch = f->second[RTCHitN_primID(args->hit, args->N, i)];
+    if (!f->first->cutout(patch)) continue;
+    const Vec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                 RTCRayN_org_z(args->ray, args->N, i));
+    const Vec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                 RTCRayN_dir_z(args->ray, args->N, i));
+    if (!f->first->existsOnRay(patch, o, d, RTCRayN_tfar(args->ray, args->N, i))) args->valid[i] = 0;
+  }
+}
+
 /// A single ray with no hit yet.
 void fillRay(RTCRayHit& rh, const float org[3], const float dir[3], float tnear, float tfar) {
   rh.ray.org_x = org[0], rh.ray.org_y = org[1], rh.ray.org_z = org[2];
@@ -112,7 +128,7 @@ EmbreeItemBuffer::EmbreeItemBuffer(const PatchMesh& mesh, const Bounds3d& sceneB
 EmbreeItemBuffer::EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBounds, double nearRelative,
                                    EmbreeRayMode mode, bool robust)
     : triPatch_(geometry.patchIds), bounds_(sceneBounds), near_(itemBufferNear(sceneBounds, nearRelative)),
-      mode_(mode) {
+      mode_(mode), cutouts_(geometry.cutouts) {
   if (geometry.positions.size() != 3 * geometry.patchIds.size())
     throw std::invalid_argument("Embree item buffer: positions must be 3 per triangle");
   FlushDenormals ftz;
@@ -134,6 +150,12 @@ EmbreeItemBuffer::EmbreeItemBuffer(const ItemGeometry& geometry, const Bounds3d&
       vb[3 * k + 1] = geometry.positions[k].y;
       vb[3 * k + 2] = geometry.positions[k].z;
       ib[k] = static_cast<uint32_t>(k);
+    }
+    if (cutouts_) {  // alpha cut-outs: a filter for closest hits and occlusion (none without cut-outs)
+      cutoutFilter_ = {cutouts_.get(), triPatch_.data()};
+      rtcSetGeometryUserData(geom, &cutoutFilter_);
+      rtcSetGeometryIntersectFilterFunction(geom, rejectCutoutHoles);
+      rtcSetGeometryOccludedFilterFunction(geom, rejectCutoutHoles);
     }
     rtcCommitGeometry(geom);
     rtcAttachGeometry(scene_, geom);

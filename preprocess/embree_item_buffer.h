@@ -6,6 +6,8 @@
 /// RTC_SCENE_FLAG_ROBUST so that rays through shared edges never slip between two triangles.
 /// Ray origins are rounded to float (Embree's ray format), i.e. by ≤ half an ulp of the eye coordinates.
 #include <cstdint>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "preprocess/item_buffer.h"
@@ -53,6 +55,13 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   Bounds3d bounds_;
   double near_ = 0;
   EmbreeRayMode mode_ = EmbreeRayMode::Packet16;
+  /// Alpha cut-outs (ItemGeometry::cutouts) and what their filter reads (null: no filter installed).
+  std::shared_ptr<const PatchCutouts> cutouts_;
+  std::pair<const PatchCutouts*, const uint32_t*> cutoutFilter_{nullptr, nullptr};  ///< the filter's user data
+
+ public:
+  /// The alpha cut-outs these rays see through, or nullptr (issue 34).
+  const PatchCutouts* cutouts() const { return cutouts_.get(); }
 };
 
 }  // namespace fs

@@ -131,6 +131,8 @@ GLItemBuffer::GLItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBo
     : context_(backend), bounds_(sceneBounds), near_(itemBufferNear(sceneBounds, nearRelative)) {
   if (geometry.positions.size() != 3 * geometry.patchIds.size())
     throw std::invalid_argument("GL item buffer: positions must be 3 per triangle");
+  if (geometry.cutouts)  // resolveSettings refuses such a scene first (issue 34)
+    throw std::invalid_argument("GL item buffer: alpha cut-outs are not drawn by the GL back end (use embree)");
   vertexCount_ = static_cast<int64_t>(geometry.positions.size());
   if (vertexCount_ > std::numeric_limits<GLsizei>::max())
     throw std::runtime_error("GL item buffer: too many triangles for one draw call");

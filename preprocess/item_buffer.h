@@ -4,9 +4,11 @@
 /// Two interchangeable back ends implement ItemBufferRenderer: OpenGL (gl_item_buffer.h, rasterised
 /// with OSMesa or EGL) and Embree (embree_item_buffer.h, one ray per pixel centre).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/math.h"
+#include "common/patch_cutouts.h"
 #include "common/patches.h"
 #include "preprocess/view.h"
 
@@ -22,6 +24,9 @@ struct ItemGeometry {
   std::vector<Vec3> positions;    ///< 3 per triangle, world space (the patches' float vertices)
   std::vector<uint32_t> patchIds; ///< 1 per triangle; never kNoPatch
   Bounds3d bounds;                ///< of all positions
+  /// Alpha cut-outs on the patches (issue 34; null: none): the Embree back end sees through their holes (a filter),
+  /// the GL back end refuses them.
+  std::shared_ptr<const PatchCutouts> cutouts;
 
   size_t triangleCount() const { return patchIds.size(); }
   /// Appends one triangle.

@@ -31,7 +31,8 @@ OcclusionCull::OcclusionCull(const SceneDesc& scene, const PatchMesh& mesh, uint
   for (size_t s = 0; s < scene.shapes.size(); ++s) {
     const ShapeDesc& shape = scene.shapes[s];
     if (scene.materials[shape.material].isEmissive() || shape.faces.size() > kMaxFacesPerShape ||
-        scene.materials[shape.material].type == MaterialType::ThinGlass)  // a pane hides nothing
+        scene.materials[shape.material].type == MaterialType::ThinGlass ||  // a pane hides nothing
+        scene.materials[shape.material].isCutout())  // nor does a face with holes (issue 34)
       continue;
     for (const fs::Face& f : shape.faces) {
       Face F;

@@ -36,6 +36,21 @@
 
 namespace fs {
 
+namespace {
+
+/// Alpha cut-outs (issue 34) need the Embree back end (its filter sees through their holes; the GL one does not draw
+/// them): taken by default and by "auto"; "gl" asked for on the command line is an error.
+void resolveCutoutBackend(const SceneDesc& scene, const SettingsOverrides& cli, FirstShotSettings& s) {
+  const auto m = std::find_if(scene.materials.begin(), scene.materials.end(), [](const MaterialDesc& d) { return d.isCutout(); });
+  if (m == scene.materials.end()) return;
+  if (cli.backend && *cli.backend == "gl")
+    throw InputError(scene.file, "--backend", "the GL back end cannot draw alpha cut-outs (material \"" + m->name +
+                                                  "\"): use --backend embree or auto");
+  s.backend = "embree";
+}
+
+}  // namespace
+
 FirstShotSettings resolveSettings(const SceneDesc& scene, const SettingsOverrides& cli) {
   FirstShotSettings s = scene.settings;  // the scene's values, or the defaults where it gives none
   if (cli.resolution) s.resolution = static_cast<uint32_t>(*cli.resolution);
@@ -49,6 +64,7 @@ FirstShotSettings resolveSettings(const SceneDesc& scene, const SettingsOverride
   if (cli.estimator) s.estimator = *cli.estimator;
   if (cli.rotationSeed) s.rotationSeed = *cli.rotationSeed;
   resolvePatchSizes(scene, s);
+  resolveCutoutBackend(scene, cli, s);
   if (s.resolution % 2) throw InputError("", "--resolution", "must be even (the hemicube's side faces are R/2 high)");
   return s;
 }
@@ -125,7 +141,8 @@ struct Shooter {
     for (size_t k = 0; k < tasks.size(); ++k)
       if (comm.mine(tasks[k].sample)) mine.push_back(k);
     profile::Scope meshTime(profile::Mesh);
-    const ItemGeometry geometry = ItemGeometry::fromPatches(mesh, seeThroughMaterials(scene));  // panes left out
+    ItemGeometry geometry = ItemGeometry::fromPatches(mesh, seeThroughMaterials(scene));  // panes left out
+    geometry.cutouts = PatchCutouts::build(scene, mesh);  // alpha cut-outs (issue 34): null without
     meshTime.stop();
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min<int>(threads, static_cast<int>(mine.size())));

@@ -51,6 +51,7 @@ double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s
   for (uint32_t k = spread ? 0 : p.count; k <= p.count; ++k) {
     const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
     if (exposure && exposure->buried(x)) continue;
+    if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) continue;  // a mask's hole (issue 34)
     const int v = pointVisibility(views, *s.weights, rays, x, near);
     if (v >= 0) ++seen, visible += v;
   }
@@ -68,7 +69,8 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
   auto coverage = [&](const ExposureQuery* mask) {
     PatchCoverage total;
     for (size_t v = 0; v < views.size(); ++v) {
-      const PatchCoverage c = patchCoverage(views[v], (*s.weights)[v], ids[v], mesh, patch, near, mask);
+      const PatchCoverage c = patchCoverage(views[v], (*s.weights)[v], ids[v], mesh, patch, near, mask,
+                                            exposure->rays().cutouts());
       total.expected += c.expected, total.visible += c.visible, total.pixels += c.pixels;
     }
     return total;

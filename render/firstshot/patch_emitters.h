@@ -33,6 +33,12 @@ float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrr
 /// roughness, or one with a metallic-roughness texture (which scales the roughness down).
 bool mayBePolished(const RenderScene& scene);
 
+/// The coverage of point @p y of patch @p j (PatchCutouts::coverage; 1 without cut-outs): what a point sampled
+/// on a patch emitter, rather than hit by a ray, multiplies its radiance by (issue 34).
+inline float cutoutCoverage(const RenderScene& scene, uint32_t j, const Vec3& y) {
+  return scene.cutouts() ? scene.cutouts()->coverage(j, Vec3d(y)) : 1.0f;
+}
+
 /// Unit normal of side @p side of patch @p p (the direction it emits into).
 inline Vec3 patchSideNormal(const Patch& p, uint32_t side) { return side == 0 ? p.normal : -p.normal; }
 

@@ -93,6 +93,8 @@ Vec3 EmissionSampler::patchNormal(uint32_t e) const {
   return patchSideNormal(scene_->mesh().patches[ps / 2], ps % 2);
 }
 
+float EmissionSampler::coverage(uint32_t e, const Vec3& y) const { return cutoutCoverage(*scene_, patchOf(e), y); }
+
 Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) const {
   if (!(glm::dot(patchNormal(e), w) > 0.0f)) return Color(0.0f);
   return fs::patchRadiance(*scene_, *lighting_, patchOf(e), y, w);
@@ -185,7 +187,8 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t str
     out.d = Frame(out.n).toWorld(local);
     out.pdfDir = squareToCosineHemispherePdf(local);
     if (!(out.pdfDir > 0.0f)) return false;
-    out.power = patchRadiance(out.light, out.p, out.d) * (local.z / (out.pdfLight * out.pdfPos * out.pdfDir));
+    out.power = patchRadiance(out.light, out.p, out.d) * cutoutCoverage(*scene_, patchOf(out.light), out.p) *
+                (local.z / (out.pdfLight * out.pdfPos * out.pdfDir));
     return maxComponent(out.power) > 0.0f;
   }
   const RenderLight& light = lights_->lights()[out.light];

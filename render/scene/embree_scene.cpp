@@ -1,6 +1,8 @@
 // Embree 3 behind EmbreeScene: build, closest hit, occlusion.
 #include "render/scene/embree_scene.h"
 
+#include "render/scene/embree_cutout_filter.h"
+
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -67,6 +69,7 @@ struct EmbreeScene::Impl {
   std::vector<Vec3> patchNormals;                ///< by patch ID
   std::vector<std::vector<Vec3>> emitterNormals; ///< by emitter, by triangle
   GlassPatches glass;                            ///< the thin glass panes (transmittance())
+  std::shared_ptr<const PatchCutouts> cutouts;   ///< alpha cut-outs (null: none)
   /// Smallest ray offset, m: 16 float ulps of the largest vertex coordinate (a point interpolated
   /// from the vertices is that accurate), so that offsets scale with the scene.
   float epsFloor = 0.0f;
@@ -101,10 +104,12 @@ struct EmbreeScene::Impl {
   }
 };
 
-EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass)
+EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass,
+                         std::shared_ptr<const PatchCutouts> cutouts)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.glass = std::move(glass);
+  m.cutouts = std::move(cutouts);
   m.device = rtcNewDevice("verbose=0");
   if (!m.device) throw std::runtime_error("cannot create the Embree device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(m.device, onEmbreeError, &m.lastError);
@@ -133,6 +138,7 @@ EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh
       m.patchNormals[j] = p.normal;
       for (uint32_t k = 0; k < p.count; ++k) m.epsFloor = std::max(m.epsFloor, 1e-6f * maxAbs(p.v[k]));
     }
+    if (m.cutouts) installCutoutFilter(g, *m.cutouts);
     rtcCommitGeometry(g);
     rtcAttachGeometryByID(m.scene, g, kPatchGeometry);
     rtcReleaseGeometry(g);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/math.h"
+#include "common/patch_cutouts.h"
 #include "common/patches.h"
 #include "common/thin_glass.h"
 #include "render/scene/ray.h"
@@ -33,9 +34,11 @@ struct GlassPatches {
 class EmbreeScene {
  public:
   /// Builds the BVH over @p patches (triangles and planar quads) and @p emitters; @p glass the
-  /// patches that are thin glass panes (for transmittance()).
+  /// patches that are thin glass panes (for transmittance()); @p cutouts the alpha cut-outs every query sees
+  /// through (render/scene/embree_cutout_filter.h; null: none, no filter), kept alive by the scene.
   /// @throws std::runtime_error if Embree fails.
-  EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass = {});
+  EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass = {},
+              std::shared_ptr<const PatchCutouts> cutouts = nullptr);
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

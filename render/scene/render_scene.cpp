@@ -70,7 +70,8 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
     glass.paneOfPatch.reserve(patchMaterial_.size());
     for (uint32_t m : patchMaterial_) glass.paneOfPatch.push_back(paneOfMaterial[m]);
   }
-  embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes(), std::move(glass));
+  cutouts_ = PatchCutouts::build(desc_, mesh());  // alpha cut-outs (issue 34): null for a scene without
+  embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes(), std::move(glass), cutouts_);
 }
 
 }  // namespace fs

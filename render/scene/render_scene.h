@@ -66,6 +66,8 @@ class RenderScene {
   /// ray of render/ asks this.
   Color transmittance(const Ray& ray) const { return embree_->transmittance(ray); }
   const EmbreeScene& embree() const { return *embree_; }
+  /// The alpha cut-outs on the traced mesh, or nullptr when the scene has none (common/patch_cutouts.h).
+  const PatchCutouts* cutouts() const { return cutouts_.get(); }
 
  private:
   void build(const std::vector<uint32_t>& replaced);
@@ -79,6 +81,7 @@ class RenderScene {
   SurfaceTextures textures_;
   std::vector<BSDF> patchBsdfs_;  ///< by patch, when the scene has textures
   LightSet lights_;
+  std::shared_ptr<const PatchCutouts> cutouts_;  ///< alpha cut-outs on the traced mesh (null: none; issue 34)
   std::unique_ptr<EmbreeScene> embree_;
 };
 
