@@ -32,6 +32,8 @@ struct GltfMaterial {
   Color emissive{0.0f};     ///< emissiveFactor × KHR_materials_emissive_strength, W/(m² sr)
   float ior = 1.5f;         ///< KHR_materials_ior's ior (1.5 without it; 0 stands for an infinite index)
   GltfTextureRef baseColorTexture, metallicRoughnessTexture, emissiveTexture;
+  GltfTextureRef normalTexture;  ///< issue 34: the tangent-space normal map
+  float normalScale = 1.0f;      ///< normalTexture.scale
 };
 
 /// Reads materials[@p k] of @p gltf (defaults where it is absent or malformed).

@@ -199,6 +199,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     if (m.type == MaterialType::Pbr) h.add(m.metallic).add(m.roughness);  // other types keep their hashes
     if (m.albedoTexture) h.add(m.albedoTexture->hash());  // untextured scenes hash as before
     if (m.metallicRoughnessTexture) h.add(uint8_t(2)).add(m.metallicRoughnessTexture->hash());
+    if (m.normalTexture) h.add(uint8_t(3)).add(m.normalTexture->hash()).add(m.normalScale);  // issue 34
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {
@@ -208,6 +209,11 @@ uint64_t hashScene(const SceneDesc& scene) {
     const bool textured = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
                           scene.materials[size_t(s.material)].hasTextures();
     if (textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));  // only where they change results
+    // Issue 34: shading normals, and the coordinates a normal map alone reads (untextured, unmapped shapes as before).
+    const bool mapped = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
+                        scene.materials[size_t(s.material)].normalTexture;
+    if (mapped && !textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
+    if (s.hasNormals()) h.add(uint8_t(4)).bytes(s.normals.data(), s.normals.size() * sizeof(Vec3));
   }
   h.add<uint64_t>(scene.lights.size());
   for (const auto& l : scene.lights) {
