@@ -172,11 +172,15 @@ class BSDF {
   template <typename M>
   BSDF(const M& model) : model_(model) {}  // NOLINT: implicit by design
 
-  /// See the model comments above for the exact contract of each call.
+  /// See the model comments above for the exact contract of each call. With a shading normal (setGeometricNormal)
+  /// a direction on different sides of the geometric and the shading normal gets 0 and fails sample().
   Color sample(BSDFQuery& q, const Vec2& u) const {
-    return std::visit([&](const auto& m) { return m.sample(q, u); }, model_);
+    const Color w = std::visit([&](const auto& m) { return m.sample(q, u); }, model_);
+    if (shaded_ && !sidesAgree(q)) return q.pdf = 0.0f, Color(0.0f);
+    return w;
   }
   Color eval(const BSDFQuery& q) const {
+    if (shaded_ && !sidesAgree(q)) return Color(0.0f);
     return std::visit([&](const auto& m) { return m.eval(q); }, model_);
   }
   float pdf(const BSDFQuery& q) const {
@@ -185,8 +189,9 @@ class BSDF {
   Color albedo() const {
     return std::visit([](const auto& m) { return m.albedo(); }, model_);
   }
-  /// True only for a purely Lambertian BSDF (irradiance caching may replace it by E·ρ/π).
-  bool isDiffuse() const { return std::holds_alternative<LambertBRDF>(model_); }
+  /// True only for a purely Lambertian BSDF (irradiance caching may replace it by E·ρ/π) in the geometric frame (a
+  /// shaded one's irradiance is about another normal than the patch's).
+  bool isDiffuse() const { return !shaded_ && std::holds_alternative<LambertBRDF>(model_); }
   /// True if the BSDF consists of delta lobes only (eval and pdf are identically 0).
   bool hasDelta() const {
     return std::holds_alternative<MirrorBRDF>(model_) || std::holds_alternative<DielectricBSDF>(model_) ||
@@ -215,8 +220,23 @@ class BSDF {
 
   const Model& model() const { return model_; }
 
+  // --- Shading normals (issue 34) ---
+  /// Makes this the BSDF of a point whose shading normal (the local z) differs from its geometric normal
+  /// @p ngLocal (unit, in the shading frame, ngLocal.z > 0): eval and sample then give 0 to a direction that lies
+  /// on one side of the surface and on the other of the shading normal (pbrt's and Mitsuba's rule, against light
+  /// leaking through), and isDiffuse and diffuseAlbedo say 0 (the shortcuts E·ρ/π assume the geometric normal).
+  /// The adjoint correction of particle paths is the integrators' (render/scene/shading_normals.h).
+  void setGeometricNormal(const Vec3& ngLocal) { ngLocal_ = ngLocal, shaded_ = true; }
+  /// Whether setGeometricNormal was called.
+  bool shaded() const { return shaded_; }
+
  private:
+  bool sidesAgree(const BSDFQuery& q) const {
+    return glm::dot(q.wo, ngLocal_) * q.wo.z > 0.0f && glm::dot(q.wi, ngLocal_) * q.wi.z > 0.0f;
+  }
   Model model_;
+  Vec3 ngLocal_{0.0f, 0.0f, 1.0f};
+  bool shaded_ = false;
 };
 
 /// BSDF of a material: Diffuse → Lambert(albedo); Glossy → stretched Phong(albedo, ks = specular,

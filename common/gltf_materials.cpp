@@ -109,6 +109,8 @@ GltfMaterial readGltfMaterial(const Json& gltf, size_t k) {
   }
   g.emissive = color(m, "emissiveFactor", g.emissive);
   g.emissiveTexture = textureRef(m, "emissiveTexture");
+  g.normalTexture = textureRef(m, "normalTexture");  // issue 34
+  if (const Json* normal = jsonMember(m, "normalTexture")) g.normalScale = number(*normal, "scale", g.normalScale);
   const Json* extensions = jsonMember(m, "extensions");
   const Json* strength = extensions ? jsonMember(*extensions, "KHR_materials_emissive_strength") : nullptr;
   if (strength) g.emissive *= number(*strength, "emissiveStrength", 1.0f);
@@ -251,6 +253,10 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
   }
   m.metallicRoughnessTexture = std::move(mrTexture);  // it multiplies the factors per point
   m.emission = g.emissive;
+  // Issue 34: the normal map, read linear, when it uses the coordinates the shapes keep (TEXCOORD_0); otherwise
+  // the surface stays unperturbed (a normal map has no mean to fold in).
+  if (g.normalTexture.texCoord == 0)
+    if ((m.normalTexture = textures.texture(g.normalTexture, false))) m.normalScale = g.normalScale;
   convertGltfAlpha(g, m);
   float t = g.transmission * (1.0f - std::clamp(metallic, 0.0f, 1.0f));
   if (t > 0.0f)

@@ -39,6 +39,8 @@ struct GltfMaterial {
   AlphaMode alphaMode = AlphaMode::Opaque;  ///< "OPAQUE" (default), "MASK", "BLEND"
   float alphaCutoff = 0.5f;                 ///< alphaCutoff (MASK)
   float alpha = 1.0f;                       ///< baseColorFactor[3]
+  GltfTextureRef normalTexture;  ///< issue 34: the tangent-space normal map
+  float normalScale = 1.0f;      ///< normalTexture.scale
 };
 
 /// Reads materials[@p k] of @p gltf (defaults where it is absent or malformed).

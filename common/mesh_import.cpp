@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <cstdio>
@@ -140,6 +141,14 @@ const aiScene* readAsset(Assimp::Importer& importer, const std::string& path, co
   return scene;
 }
 
+/// A file's normal @p n in world space (by @p normalMatrix, the inverse transpose), unit; 0 where it is not finite
+/// or zero (such a corner then takes its face's geometric normal: render/scene/shading_normals.h).
+Vec3 importedNormal(const Mat3d& normalMatrix, const aiVector3D& n) {
+  const Vec3d w = normalMatrix * Vec3d(n.x, n.y, n.z);
+  const double length = glm::length(w);
+  return std::isfinite(length) && length > 0.0 ? Vec3(w / length) : Vec3(0.0f);
+}
+
 /// Joins vertices at bit-identical positions, so that triangles sharing an edge share its vertices.
 class Welder {
  public:
@@ -161,28 +170,40 @@ class Welder {
 
 /// Appends every triangle of @p mesh, transformed by @p toWorld, keeping degenerate ones, and its first set of
 /// texture coordinates to @p uv (4 per face, ShapeDesc::uv) unless @p uv is null: (u, 1 − v) of assimp's, which
-/// holds OBJ's vt as it is (v up) and glTF's as 1 − v; (0, 0) when the mesh has none. A mirroring transform
+/// holds OBJ's vt as it is (v up) and glTF's as 1 − v; (0, 0) when the mesh has none; and its normals to
+/// @p normals (4 per face, ShapeDesc::normals) unless null: world space, 0 when the mesh has none. A mirroring transform
 /// (negative determinant) reverses the winding so that the front side stays the front.
 /// @return false when a face indexes past the mesh's vertices.
 bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, std::vector<Face>& faces,
-                     std::vector<Vec2>* uv) {
+                     std::vector<Vec2>* uv, std::vector<Vec3>* normals) {
   const bool flip = glm::determinant(Mat3d(toWorld)) < 0.0;
   const aiVector3D* coords = mesh.mTextureCoords[0];
+  const Mat3d normalMatrix = glm::transpose(glm::inverse(Mat3d(toWorld)));  // issue 34
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
     const aiFace& in = mesh.mFaces[f];
     if (in.mNumIndices != 3) continue;  // points and lines
     Face out;
     Vec2 corner[4] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
+    Vec3 normal[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};
     for (int k = 0; k < 3; ++k) {
       if (in.mIndices[k] >= mesh.mNumVertices) return false;
       out.v[k] = welder.index(point(toWorld, mesh.mVertices[in.mIndices[k]]));
       if (coords) corner[k] = Vec2(coords[in.mIndices[k]].x, 1.0f - coords[in.mIndices[k]].y);
+      if (mesh.mNormals) normal[k] = importedNormal(normalMatrix, mesh.mNormals[in.mIndices[k]]);
     }
-    if (flip) std::swap(out.v[1], out.v[2]), std::swap(corner[1], corner[2]);
+    if (flip) std::swap(out.v[1], out.v[2]), std::swap(corner[1], corner[2]), std::swap(normal[1], normal[2]);
     faces.push_back(out);
     if (uv) uv->insert(uv->end(), corner, corner + 4);
+    if (normals) normals->insert(normals->end(), normal, normal + 4);
   }
   return true;
+}
+
+/// Whether any mesh of @p scene has normals (glTF NORMAL, OBJ vn, PLY nx ny nz).
+bool hasNormals(const aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+    if (scene.mMeshes[m] && scene.mMeshes[m]->mNormals) return true;
+  return false;
 }
 
 /// Whether any mesh of @p scene has texture coordinates (set 0).
@@ -332,6 +353,9 @@ class MaterialTable {
     if (!objFailures_.empty())
       std::fprintf(stderr, "%s: %zu texture%s not read, their factors used alone (first: %s)\n", file.c_str(),
                    objFailures_.size(), objFailures_.size() == 1 ? "" : "s", objFailures_.front().c_str());
+    if (!bumpMaps_.empty())
+      std::fprintf(stderr, "%s: %zu bump (height) map%s not supported, ignored (first: %s); give a normal map (norm)\n",
+                   file.c_str(), bumpMaps_.size(), bumpMaps_.size() == 1 ? "" : "s", bumpMaps_.front().c_str());
   }
 
  private:
@@ -355,6 +379,7 @@ class MaterialTable {
     MaterialDesc m = g ? convertGltfMaterial(*g, *textures_) : convertMaterial(*mat);
     if (!g) m.albedoTexture = diffuseTexture(*mat);
     if (!g) opacityCutout(*mat, m);  // map_d (issue 34)
+    if (!g) objNormalMaps(*mat, m);
     m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(k) + "]";
     return {std::move(m), std::move(g)};
   }
@@ -400,22 +425,30 @@ class MaterialTable {
 
   /// OBJ/MTL's map_Kd (the file relative to the asset's folder), multiplying Kd; nullptr without one or when it
   /// cannot be read (then reportTextures() names it).
-  std::shared_ptr<const Texture> diffuseTexture(const aiMaterial& mat) {
+  std::shared_ptr<const Texture> diffuseTexture(const aiMaterial& mat, aiTextureType type = aiTextureType_DIFFUSE) {
     aiString file;
-    if (mat.GetTexture(aiTextureType_DIFFUSE, 0, &file) != aiReturn_SUCCESS || file.length == 0) return nullptr;
+    if (mat.GetTexture(type, 0, &file) != aiReturn_SUCCESS || file.length == 0) return nullptr;
     std::string name = file.C_Str();
     std::replace(name.begin(), name.end(), '\\', '/');
     const std::string path = (std::filesystem::path(file_).parent_path() / name).string();
     auto texture = std::make_shared<Texture>();
     try {
       std::shared_ptr<const TexelImage>& image = objImages_[path];
-      if (!image) image = std::make_shared<const TexelImage>(readTexelImage(path, true));
+      if (!image) image = std::make_shared<const TexelImage>(readTexelImage(path, type == aiTextureType_DIFFUSE));
       texture->image = image;
     } catch (const InputError& e) {
       objFailures_.push_back(e.what());
       return nullptr;
     }
     return texture;
+  }
+
+  /// Issue 34: MTL's `norm` (assimp's NORMALS) as the normal map, read linear as glTF's; a bump (height) map
+  /// (`bump`, `map_bump`: assimp's HEIGHT) is not supported: reportTextures() names the first one.
+  void objNormalMaps(const aiMaterial& mat, MaterialDesc& m) {
+    m.normalTexture = diffuseTexture(mat, aiTextureType_NORMALS);
+    aiString file;
+    if (mat.GetTexture(aiTextureType_HEIGHT, 0, &file) == aiReturn_SUCCESS && file.length > 0) bumpMaps_.push_back(file.C_Str());
   }
 
   const aiScene& scene_;
@@ -427,6 +460,7 @@ class MaterialTable {
   std::string file_;  ///< the asset file
   std::map<std::string, std::shared_ptr<const TexelImage>> objImages_;  ///< map_Kd images by path
   std::vector<std::string> objFailures_;
+  std::vector<std::string> bumpMaps_;  ///< MTL bump maps met (not supported)
 };
 
 }  // namespace
@@ -437,9 +471,10 @@ MeshData loadMeshFile(const std::string& path, const std::string& sceneFile, con
   const aiScene* scene = readAsset(importer, path, sceneFile, element, gltf);
   MeshData data;
   Welder welder(data.vertices);
-  const bool uv = hasTextureCoordinates(*scene);
+  const bool uv = hasTextureCoordinates(*scene), normals = hasNormals(*scene);
   forEachMeshInstance(scene->mRootNode, Mat4d(1.0), [&](unsigned mesh, const Mat4d& m) {
-    if (!appendTriangles(*scene->mMeshes[mesh], m, welder, data.faces, uv ? &data.uv : nullptr))
+    if (!appendTriangles(*scene->mMeshes[mesh], m, welder, data.faces, uv ? &data.uv : nullptr,
+                         normals ? &data.normals : nullptr))
       throw InputError(sceneFile, element, "mesh file " + path + ": vertex index out of range");
   });
   if (data.faces.empty()) throw InputError(sceneFile, element, "mesh file " + path + " holds no triangles");
@@ -460,7 +495,8 @@ SceneDesc importAssetScene(const std::string& path) {
     shape.name = mesh.mName.length > 0 ? mesh.mName.C_Str() : "mesh[" + std::to_string(k) + "]";
     shape.sourceFile = path;
     Welder welder(shape.vertices);
-    if (!appendTriangles(mesh, m, welder, shape.faces, mesh.mTextureCoords[0] ? &shape.uv : nullptr))
+    if (!appendTriangles(mesh, m, welder, shape.faces, mesh.mTextureCoords[0] ? &shape.uv : nullptr,
+                         mesh.mNormals ? &shape.normals : nullptr))
       throw InputError(path, shape.name, "vertex index out of range");
     if (shape.faces.empty()) return;  // points or lines only
     shape.material = materials.index(mesh, m, shape.name);

@@ -218,6 +218,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     if (m.albedoTexture) h.add(m.albedoTexture->hash());  // untextured scenes hash as before
     if (m.metallicRoughnessTexture) h.add(uint8_t(2)).add(m.metallicRoughnessTexture->hash());
     hashAlpha(h, m);
+    if (m.normalTexture) h.add(uint8_t(3)).add(m.normalTexture->hash()).add(m.normalScale);  // issue 34
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {
@@ -230,6 +231,11 @@ uint64_t hashScene(const SceneDesc& scene) {
     const bool cutByTexture = !textured && s.material >= 0 && size_t(s.material) < scene.materials.size() &&
                               scene.materials[size_t(s.material)].isCutout() && scene.materials[size_t(s.material)].alphaTexture;
     if (cutByTexture && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
+    // Issue 34: shading normals, and the coordinates a normal map alone reads (untextured, unmapped shapes as before).
+    const bool mapped = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
+                        scene.materials[size_t(s.material)].normalTexture;
+    if (mapped && !textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
+    if (s.hasNormals()) h.add(uint8_t(4)).bytes(s.normals.data(), s.normals.size() * sizeof(Vec3));
   }
   h.add<uint64_t>(scene.lights.size());
   for (const auto& l : scene.lights) {

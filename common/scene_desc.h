@@ -53,6 +53,12 @@ struct MaterialDesc {
   /// Whether some points of the surface may be absent (a mask or blend alpha mode).
   bool isCutout() const { return alphaMode != AlphaMode::Opaque; }
   // ----------------------------------------------------------------------------------------------------------
+  // --- Shading normals (issue 34) ---
+  /// A tangent-space normal map (glTF's normalTexture: +x along u, +y up the image, linear texels in [0, 1] mapped
+  /// to 2t − 1), read through the shape's texture coordinates; null: none. The shading normal at a point is the
+  /// texel's direction in the tangent frame of the interpolated normal (render/scene/shading_normals.h).
+  std::shared_ptr<const Texture> normalTexture;
+  float normalScale = 1.0f;  ///< glTF's normalTexture.scale: multiplies the texel's x and y (after 2t − 1)
   /// Whether any property varies over the surface (a texture to look up per point).
   bool hasTextures() const { return albedoTexture || metallicRoughnessTexture; }
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }
@@ -104,6 +110,14 @@ struct ShapeDesc {
   /// the shape has none. Per corner rather than per vertex because mesh vertices are welded by position
   /// (common/mesh_import.cpp), and a texture seam gives one position two coordinates.
   std::vector<Vec2> uv;
+  // --- Shading normals (issue 34) ---
+  /// Unit shading normals per face corner, world space, as uv: normals[4·f + k] (unused corners 0). Empty: the
+  /// shape is shaded flat (its geometric normals; the built-in shapes, and meshes without normals in their file).
+  /// Their side does not decide the front: a face's winding does, and normals that point behind it are turned.
+  std::vector<Vec3> normals;
+  bool hasNormals() const { return !normals.empty(); }
+  /// The shading normal of corner @p k of faces[@p f] (hasNormals() must hold).
+  Vec3 cornerNormal(size_t f, int k) const { return normals[4 * f + size_t(k)]; }
   SmallOverride small = SmallOverride::Auto;  ///< for emissive shapes
 
   bool hasUv() const { return !uv.empty(); }

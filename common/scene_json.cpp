@@ -107,15 +107,16 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   m.name = name;
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
   if (type == "diffuse") {
-    r.keys(j, where, {"type", "albedo", "albedo_texture", "emission"});
+    r.keys(j, where, {"type", "albedo", "albedo_texture", "emission", "normal_texture", "normal_scale"});
     m.type = MaterialType::Diffuse;
   } else if (type == "glossy") {
-    r.keys(j, where, {"type", "albedo", "albedo_texture", "specular", "exponent", "emission"});
+    r.keys(j, where, {"type", "albedo", "albedo_texture", "specular", "exponent", "emission", "normal_texture",
+                      "normal_scale"});
     m.type = MaterialType::Glossy;
     m.specular = r.color(r.need(j, where, "specular"), where + ".specular");
     m.exponent = static_cast<float>(r.nonNegative(r.need(j, where, "exponent"), where + ".exponent"));
   } else if (type == "mirror") {
-    r.keys(j, where, {"type", "specular"});
+    r.keys(j, where, {"type", "specular", "normal_texture", "normal_scale"});
     m.type = MaterialType::Mirror;
     m.specular = Color(1.0f);
   } else if (type == "dielectric") {
@@ -129,7 +130,7 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.ior = j.contains("ior") ? static_cast<float>(r.positive(j["ior"], where + ".ior")) : kThinGlassIor;
   } else if (type == "pbr") {
     r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture",
-                      "ior", "emission"});
+                      "ior", "emission", "normal_texture", "normal_scale"});
     m.type = MaterialType::Pbr;
     m.albedo = j.contains("base_color") ? r.color(j["base_color"], where + ".base_color") : Color(1.0f);
     if (maxComponent(m.albedo) > 1.0f) r.fail(where + ".base_color", "must be in [0, 1]");
@@ -158,6 +159,13 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   if (j.contains("specular")) m.specular = r.color(j["specular"], where + ".specular");
   if (j.contains("transmittance")) m.transmittance = r.color(j["transmittance"], where + ".transmittance");
   if (j.contains("emission")) m.emission = r.color(j["emission"], where + ".emission");
+  // Issue 34: a tangent-space normal map (linear texels, glTF's convention) and its scale.
+  if (j.contains("normal_texture"))
+    m.normalTexture = parseTexture(r, j["normal_texture"], name, where + ".normal_texture", images, false);
+  if (j.contains("normal_scale")) {
+    if (!m.normalTexture) r.fail(where + ".normal_scale", "goes with \"normal_texture\"");
+    m.normalScale = static_cast<float>(r.number(j["normal_scale"], where + ".normal_scale"));
+  }
   return m;
 }
 
@@ -241,12 +249,13 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     if (!(hi.x > lo.x && hi.y > lo.y && hi.z > lo.z)) r.fail(where, "box max must exceed min on every axis");
     shapes::makeBox(s, lo, hi);
   } else if (type == "sphere") {
-    allow({"center", "radius", "subdivisions"});
+    allow({"center", "radius", "subdivisions", "smooth"});
     s.type = ShapeType::Sphere;
     const Vec3d c = r.vec3(r.need(j, where, "center"), where + ".center");
     const double rad = r.positive(r.need(j, where, "radius"), where + ".radius");
     const int sub = j.contains("subdivisions") ? int(r.integer(j["subdivisions"], where + ".subdivisions", 0, 7)) : 3;
     shapes::makeSphere(s, c, rad, sub);
+    if (j.contains("smooth") && r.boolean(j["smooth"], where + ".smooth")) shapes::smoothSphere(s, c);  // issue 34
   } else if (type == "mesh") {
     allow({"file"});
     s.type = ShapeType::Mesh;
@@ -258,6 +267,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     s.vertices = std::move(mesh.vertices);
     s.faces = std::move(mesh.faces);
     s.uv = std::move(mesh.uv);
+    s.normals = std::move(mesh.normals);  // issue 34: shading normals from the file
   } else {
     r.fail(where + ".type", "unknown shape type \"" + type + "\" (quad, box, sphere, mesh)");
   }

@@ -188,6 +188,7 @@ class SceneReader {
       s.vertices = std::move(mesh.vertices);
       s.faces = std::move(mesh.faces);
       s.uv = std::move(mesh.uv);
+      s.normals = std::move(mesh.normals);  // issue 34
     } else if (t == "rectangle") {
       s.type = ShapeType::Quad;
       shapes::makeQuad(s, {Vec3d(-1, -1, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0), Vec3d(-1, 1, 0)});

@@ -106,7 +106,13 @@ void makeSphere(ShapeDesc& s, const Vec3d& center, double radius, int subdivisio
 
 void transform(ShapeDesc& s, const Mat4d& m) {
   for (auto& p : s.vertices) p = Vec3d(m * glm::dvec4(p, 1.0));
-  if (glm::determinant(Mat4d(m)) < 0) flip(s);
+  const bool mirror = glm::determinant(Mat4d(m)) < 0;
+  if (s.hasNormals()) {  // normals by the inverse transpose; a mirror's flip below turns them back
+    const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(m)));
+    for (auto& n : s.normals)
+      if (n != Vec3(0.0f)) n = Vec3(glm::normalize(normalMatrix * Vec3d(n))) * (mirror ? -1.0f : 1.0f);
+  }
+  if (mirror) flip(s);
 }
 
 void flip(ShapeDesc& s) {
@@ -114,7 +120,16 @@ void flip(ShapeDesc& s) {
     Face& f = s.faces[i];
     std::reverse(f.v, f.v + f.count);
     if (s.hasUv()) std::reverse(s.uv.begin() + long(4 * i), s.uv.begin() + long(4 * i + f.count));
+    if (s.hasNormals()) std::reverse(s.normals.begin() + long(4 * i), s.normals.begin() + long(4 * i + f.count));
   }
+  for (auto& n : s.normals) n = -n;  // issue 34: the shading normals follow the front side
+}
+
+void smoothSphere(ShapeDesc& s, const Vec3d& center) {
+  s.normals.assign(4 * s.faces.size(), Vec3(0.0f));
+  for (size_t i = 0; i < s.faces.size(); ++i)
+    for (int k = 0; k < s.faces[i].count; ++k)
+      s.normals[4 * i + size_t(k)] = Vec3(glm::normalize(s.vertices[s.faces[i].v[k]] - center));
 }
 
 double faceArea(const ShapeDesc& s, const Face& f) {

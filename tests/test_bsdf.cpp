@@ -363,7 +363,7 @@ TEST(MakeBSDF, MapsMaterials) {
   const BSDF d = makeBSDF(m);
   EXPECT_TRUE(d.hasTransmission());
   EXPECT_FLOAT_EQ(std::get<DielectricBSDF>(d.model()).ior, 1.33f);
-  EXPECT_LE(sizeof(BSDF), 48u);  // a small value type
+  EXPECT_LE(sizeof(BSDF), 52u);  // a small value type (issue 34: + a shaded point's geometric normal, 13 bytes)
 }
 
 }  // namespace

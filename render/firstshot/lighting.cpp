@@ -201,6 +201,19 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
     e = v * sampleKernel(s, spots_[factor.sample], hit.p, hit.ng, sign, wi);
     return e > 0.0f;
   };
+  if (bsdf.shaded()) {
+    // Issue 34, a shading normal (a diffuse one too: BSDF::isDiffuse is false): the factors' irradiance is about
+    // the geometric normal, the reflected radiance about the shading one, so each term is weighted by
+    // |ω'_i·n_s|/|ω'_i·n_g| (the BSDF's side test drops samples the two normals disagree on).
+    auto shadedWeight = [&](const TableFactor& factor, const LightSample& s, Vec3& wi, float& e) {
+      if (!weight(factor, s, wi, e)) return false;
+      const float cosG = std::abs(glm::dot(wi, hit.ng));
+      e *= cosG > 0.0f ? std::abs(glm::dot(wi, frame.n)) / cosG : 0.0f;
+      return e > 0.0f;
+    };
+    return sumReflectedFirstShot(scene_->firstShot()->samples, rows_[hit.patch], hit.p, frame, woLocal, bsdf,
+                                 FirstShotProduct::EmissionLast, Color(0.0f), shadedWeight);
+  }
   return sumReflectedFirstShot(scene_->firstShot()->samples, rows_[hit.patch], hit.p, frame, woLocal, bsdf,
                                FirstShotProduct::EmissionLast, Color(0.0f), weight);
 }

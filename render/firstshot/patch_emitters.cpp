@@ -52,7 +52,7 @@ Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting,
   hit.patch = j;
   const BSDF bsdf = scene.bsdfAt(hit);  // the texture at y itself
   if (bsdf.tooSharpForTable()) return Color(0.0f);  // a polished point: its reflection is not the table's
-  const Frame frame(p.normal);
+  const Frame frame = scene.shadingFrame(hit);  // issue 34: as the path walk's first-shot term at y
   return lighting.eval(hit, frame, frame.toLocal(w), bsdf);
 }
 

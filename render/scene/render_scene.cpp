@@ -42,6 +42,7 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
   patchMaterial_.reserve(mesh().size());
   for (const Patch& p : mesh().patches) patchMaterial_.push_back(p.material);
   textures_ = SurfaceTextures(desc_, mesh());
+  shading_ = ShadingNormals(desc_, mesh());  // issue 34: nothing without mesh normals or normal maps
   if (!textures_.empty()) {
     patchBsdfs_.reserve(mesh().size());
     for (uint32_t j = 0; j < mesh().size(); ++j) {

@@ -15,6 +15,7 @@
 #include "render/scene/embree_scene.h"
 #include "render/lights/lights.h"
 #include "render/scene/ray.h"
+#include "render/scene/shading_normals.h"
 #include "render/scene/surface_textures.h"
 
 namespace fs {
@@ -43,12 +44,27 @@ class RenderScene {
   const BSDF& bsdf(uint32_t m) const { return bsdfs_[m]; }
   /// The BSDF at @p hit: its material's, with its textures (base colour, metallic-roughness) looked up at the
   /// hit point when it has some (the one place integrators get a surface's BSDF from).
+  /// A point with a shading normal (shadingNormal) gets a BSDF that knows the geometric normal in the shading
+  /// frame (BSDF::setGeometricNormal): integrators evaluate and sample it in shadingFrame(hit).
   BSDF bsdfAt(const Hit& hit) const {
-    const uint32_t m = material(hit);
-    if (textures_.empty() || !hit.onPatch() || !textures_.textured(hit.patch)) return bsdfs_[m];
-    const SurfacePoint s = textures_.at(hit.patch, hit.p);
-    return makeBSDF(desc_.materials[m], s.albedo, s.metallic, s.roughness);
+    BSDF b = texturedBsdf(hit);
+    if (!shading_.empty() && hit.onPatch() && shading_.shaded(hit.patch)) {  // issue 34
+      const Vec3 ns = shading_.normalAt(hit.patch, hit.p, hit.ng);
+      if (ns != hit.ng) b.setGeometricNormal(Frame(ns).toLocal(hit.ng));
+    }
+    return b;
   }
+  // --- Shading normals (issue 34, render/scene/shading_normals.h) ---
+  /// The unit shading normal at @p hit, on the front side of hit.ng: the source face's corner normals
+  /// interpolated, perturbed by the material's normal map; hit.ng itself (the same bits) where there are none.
+  Vec3 shadingNormal(const Hit& hit) const {
+    if (shading_.empty() || !hit.onPatch() || !shading_.shaded(hit.patch)) return hit.ng;
+    return shading_.normalAt(hit.patch, hit.p, hit.ng);
+  }
+  /// The frame BSDFs are evaluated in at @p hit: about shadingNormal(hit) (Frame(hit.ng) without shading normals).
+  Frame shadingFrame(const Hit& hit) const { return Frame(shadingNormal(hit)); }
+  /// The shading normals on the patches (empty when the scene has none).
+  const ShadingNormals& shadingNormals() const { return shading_; }
   /// The BSDF of patch @p j as a whole, its texture averaged over the patch: for what works per patch (the lit
   /// patches as emitters, render/firstshot/patch_emitters.h).
   const BSDF& patchBsdf(uint32_t j) const { return patchBsdfs_.empty() ? bsdfs_[patchMaterial_[j]] : patchBsdfs_[j]; }
@@ -71,6 +87,13 @@ class RenderScene {
 
  private:
   void build(const std::vector<uint32_t>& replaced);
+  /// The BSDF at @p hit with its textures, before shading normals.
+  BSDF texturedBsdf(const Hit& hit) const {
+    const uint32_t m = material(hit);
+    if (textures_.empty() || !hit.onPatch() || !textures_.textured(hit.patch)) return bsdfs_[m];
+    const SurfacePoint s = textures_.at(hit.patch, hit.p);
+    return makeBSDF(desc_.materials[m], s.albedo, s.metallic, s.roughness);
+  }
 
   SceneDesc desc_;
   std::optional<FirstShotTable> table_;
@@ -79,6 +102,7 @@ class RenderScene {
   std::vector<uint32_t> patchMaterial_;  ///< by patch: a compact copy of Patch::material for the hot path
   std::vector<uint32_t> emitterMaterial_;
   SurfaceTextures textures_;
+  ShadingNormals shading_;  ///< issue 34
   std::vector<BSDF> patchBsdfs_;  ///< by patch, when the scene has textures
   LightSet lights_;
   std::shared_ptr<const PatchCutouts> cutouts_;  ///< alpha cut-outs on the traced mesh (null: none; issue 34)

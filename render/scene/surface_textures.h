@@ -4,11 +4,8 @@
 /// texture coordinates of a point on it, and the surface there or averaged over the patch: the base colour
 /// (albedo texture) and a pbr material's metallic and roughness (metallic-roughness texture).
 ///
-/// Design: the renderer maps patches to source faces when it loads, and the first-shot table (.fsd) does not
-/// change. Every patch, of the uniform split or of the preprocessor's adaptive quadtrees, is a sub-polygon of one
-/// face of its shape (Patch::shape), so that face is the one that holds the patch's centroid; the search walks the
-/// shape's faces from the previous patch's face, and since patches come in face order it is linear in practice.
-/// Only patches of textured materials are mapped: a scene without textures builds nothing and pays one branch
+/// Design: the renderer maps patches to source faces when it loads (render/scene/patch_faces.h), and the
+/// first-shot table (.fsd) does not change. Only patches of textured materials are mapped: a scene without textures builds nothing and pays one branch
 /// per hit (RenderScene::bsdfAt).
 #include <cstdint>
 #include <vector>
@@ -16,6 +13,7 @@
 #include "common/math.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
+#include "render/scene/patch_faces.h"
 
 namespace fs {
 
@@ -52,7 +50,6 @@ class SurfaceTextures {
   const Color& patchAlbedo(uint32_t patch) const { return patchSurface_[patch].albedo; }
 
  private:
-  static constexpr uint32_t kNoFace = 0xffffffffu;
   const SceneDesc* scene_ = nullptr;
   const PatchMesh* mesh_ = nullptr;
   std::vector<uint32_t> face_;        ///< by patch: the face of its shape it lies in, kNoFace if untextured

@@ -74,9 +74,9 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
       default: incident = light.intensity / (es.pdfLight * dist2); break;
     }
   }
-  const Frame frame(pt.hit.ng);
+  const Frame frame = densities.scene().shadingFrame(pt.hit);  // issue 34: cos θ about the shading normal
   const BSDFQuery q(frame.toLocal(wi), frame.toLocal(pt.wi));
-  const Color L = pt.beta * densities.scene().bsdfAt(pt.hit).eval(q) * incident * std::abs(glm::dot(pt.hit.ng, wi));
+  const Color L = pt.beta * densities.scene().bsdfAt(pt.hit).eval(q) * incident * std::abs(glm::dot(frame.n, wi));
   if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
   ++rays;
   const Color through = densities.scene().transmittance(shadowRay(pt.hit, wi, distance));  // thin glass: its T
@@ -92,11 +92,15 @@ Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, c
   const float distance = std::sqrt(dist2);
   const Vec3 w = d / distance;  // from pt to qs
   const RenderScene& scene = densities.scene();
-  const Frame fp(pt.hit.ng), fq(qs.hit.ng);
+  const Frame fp = scene.shadingFrame(pt.hit), fq = scene.shadingFrame(qs.hit);  // issue 34
   const Color fCamera = scene.bsdfAt(pt.hit).eval(BSDFQuery(fp.toLocal(w), fp.toLocal(pt.wi)));
-  const Color fLight =
-      scene.bsdfAt(qs.hit).eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Importance));
-  const float G = std::abs(glm::dot(pt.hit.ng, w)) * std::abs(glm::dot(qs.hit.ng, w)) / dist2;
+  const BSDF bsdfLight = scene.bsdfAt(qs.hit);
+  const Color fLight = bsdfLight.eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Importance));
+  // The camera side's cosine about its shading normal; the light side's f·|cos| with the adjoint factor
+  // (render/scene/shading_normals.h) is f·|w·n_g|·|ω_prev·n_s|/|ω_prev·n_g|.
+  float G = std::abs(glm::dot(fp.n, w)) * std::abs(glm::dot(qs.hit.ng, w)) / dist2;
+  if (bsdfLight.shaded()) G *= adjointCorrection(qs.wi, -w, fq.n, qs.hit.ng) * std::abs(glm::dot(fq.n, w)) /
+                               std::abs(glm::dot(qs.hit.ng, w));
   const Color L = pt.beta * fCamera * fLight * qs.beta * G;
   if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
   ++rays;

@@ -83,7 +83,7 @@ Color BundleIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* i
     // Vertex `depth` scatters (reflects the transfer's light, takes NEE, follows a mirror) only below
     // the max depth; its emission above counts up to it (docs/irradiance-cache.md, "What --max-depth counts").
     if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
-    const Frame frame(hit.ng);  // not flipped: the dielectric needs the outward normal
+    const Frame frame = scene.shadingFrame(hit);  // not flipped: the dielectric needs the outward normal
     const Vec3 woLocal = frame.toLocal(wo);
     if (!bsdf.hasDelta()) {
       L += beta * surface(hit, frame, woLocal, bsdf, depth, sampler, rays);

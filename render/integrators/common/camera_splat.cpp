@@ -17,11 +17,14 @@ bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camer
     if (!(cosX > 0.0f)) return false;
     L = v.beta * (cosX * c.importance);
   } else {
-    const Frame frame(v.hit.ng);
+    const Frame frame = scene.shadingFrame(v.hit);  // issue 34
     const BSDFQuery q(frame.toLocal(v.wi), frame.toLocal(c.wi), TransportMode::Importance);
-    const Color f = scene.bsdfAt(v.hit).eval(q);
+    const BSDF bsdf = scene.bsdfAt(v.hit);
+    const Color f = bsdf.eval(q);
     if (!(maxComponent(f) > 0.0f)) return false;
     L = v.beta * f * (std::abs(cosX) * c.importance);
+    // Shading normal: f·|ω_cam·n_s| times the adjoint factor is f·|ω_cam·n_g|·|ω_prev·n_s|/|ω_prev·n_g|.
+    if (bsdf.shaded()) L *= adjointCorrection(v.wi, c.wi, frame.n, v.hit.ng) * std::abs(q.wo.z) / std::abs(cosX);
   }
   ++rays;
   const Ray ray = shadowRay(v.hit, c.wi, c.distance);

@@ -67,7 +67,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     }
     if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
 
-    const Frame frame(hit.ng);  // no flip: the BSDFs are two-sided and the dielectric needs the outward normal
+    // No flip: the BSDFs are two-sided and the dielectric needs the outward normal; issue 34: the shading normal.
+    const Frame frame = scene.shadingFrame(hit);
     const Vec3 woLocal = frame.toLocal(wo);
     const bool useTable = haveTable && !(options_.primary == PrimaryMode::Exact && specularChain) &&
                           !bsdf.tooSharpForTable();  // a polished lobe: NEE to the replaced lights too

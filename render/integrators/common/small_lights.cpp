@@ -32,7 +32,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
     float weight = 1.0f;
     if (i > m && gathers(camera, i - 1, m, polishedUpTo)) {  // a BSDF sample against its vertex's NEE
       const SubpathVertex& x = camera[i - 1];
-      const Frame frame(x.hit.ng);
+      const Frame frame = scene_->shadingFrame(x.hit);  // issue 34
       const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
       const float pdfBsdf = scene_->bsdfAt(x.hit).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
       const Vec3 n = glm::dot(x.wi, x.hit.ng) >= 0.0f ? x.hit.ng : -x.hit.ng;
@@ -46,7 +46,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
   for (size_t i = m; i < camera.size() && (i == m || (polished_ && i <= polishedUpTo)); ++i) {
     if (!gathers(camera, i, m, polishedUpTo)) continue;
     const SubpathVertex& x = camera[i];
-    const Frame frame(x.hit.ng);
+    const Frame frame = scene_->shadingFrame(x.hit);
     L += x.beta * nextEvent(lights_, x.hit, frame, frame.toLocal(x.wi), scene_->bsdfAt(x.hit), request_, sampler, rays);
   }
   return L;

@@ -19,13 +19,15 @@ bool SubpathWalk::next(uint64_t& rays, Sampler& sampler) {
 bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {
   pdf_ = 0.0f;
   if (depth_ >= settings_.maxHits || maxComponent(bsdf_.albedo()) <= 0.0f) return false;
-  const Frame frame(hit_.ng);
+  const Frame frame = scene_->shadingFrame(hit_);  // issue 34
   BSDFQuery q(frame.toLocal(wi), settings_.mode);
   const Color weight = bsdf_.sample(q, sampler.next2D());
   if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) return false;
   pdf_ = q.pdf;
   const Vec3 w = frame.toWorld(q.wi);
   beta_ *= weight;
+  if (settings_.mode == TransportMode::Importance && bsdf_.shaded())  // a particle: Veach's adjoint factor
+    beta_ *= adjointCorrection(wi, w, frame.n, hit_.ng);
   ray_ = Ray(hit_.spawnOrigin(w), w);
   if (depth_ >= settings_.rrDepth) {
     const float ratio = maxComponent(beta_) / settings_.start;
