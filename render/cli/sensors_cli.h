@@ -36,8 +36,8 @@ struct SensorsCli {
   CLI::Option* gridOption = nullptr;
   CLI::Option* quadOption = nullptr;
   /// Called by run() with the sets and every sensor's illuminance (lx, in the sets' order; with --daylight-factor
-  /// its DF in percent) before
-  /// the outputs are written (the false-colour picture of a grid, render/cli/falsecolor_cli.h).
+  /// its DF in percent) before the outputs are written (the false-colour picture of a grid,
+  /// render/cli/falsecolor_cli.h).
   std::function<void(const std::vector<SensorSet>&, const std::vector<double>&)> onResults;
 
   void add(CLI::App& app) {
