@@ -3,7 +3,8 @@
 /// firstshot-render's photometric outputs (header-only, included by render/cli/render_command.cpp,
 /// which links CLI11): --units luminance (EXR outputs in cd/m²) and --falsecolor OUT.png with --falsecolor-scale,
 /// --falsecolor-range and --falsecolor-contours, of the image's luminance or of a --grid's
-/// illuminance (README.md, "Photometric outputs"; docs/photometry.md; render/output/falsecolor.h).
+/// illuminance, or its daylight factor with --daylight-factor (README.md, "Photometric outputs"; docs/photometry.md;
+/// render/output/falsecolor.h).
 #include <CLI/CLI.hpp>
 
 #include <cmath>
@@ -29,7 +30,8 @@ struct FalseColorCli {
                                      "cd/m², --efficacy · Y; docs/photometry.md)")
         ->check(CLI::IsMember({"radiance", "luminance"}))->capture_default_str();
     app.add_option("--falsecolor", output, "false-colour picture OUT.png of the image's luminance (cd/m²) or, with "
-                                           "--grid, of the first grid's illuminance (lx), with a labelled legend");
+                                           "--grid, of the first grid's illuminance (lx; with --daylight-factor its "
+                                           "DF in %, 0 to 10% unless --falsecolor-range), with a labelled legend");
     app.add_option("--falsecolor-scale", scale, "log or linear (default: log for images, linear for grids)");
     app.add_option("--falsecolor-range", range, "MIN,MAX of the colour scale in the legend's units (default: the 1st "
                                                 "to 99th percentile, widened to nice numbers)");
@@ -66,13 +68,18 @@ struct FalseColorCli {
     falsecolor::requireFont();
   }
 
-  /// The drawing options; a grid defaults to a linear scale, an image to a log one.
+  /// The drawing options; a grid defaults to a linear scale, an image to a log one. A daylight factor
+  /// (@p daylightFactor) has the fixed default range 0–10% (0.1–10% on a log scale), so pictures compare.
   /// @throws InputError for a malformed --falsecolor-range or one that does not fit the scale.
-  falsecolor::Options options(bool grid) const {
+  falsecolor::Options options(bool grid, bool daylightFactor = false) const {
     falsecolor::Options o;
     o.scale = scale.empty() ? (grid ? falsecolor::Scale::Linear : falsecolor::Scale::Log)
                             : scale == "log" ? falsecolor::Scale::Log : falsecolor::Scale::Linear;
     o.contours = contours;
+    if (range.empty() && daylightFactor) {
+      o.autoRange = false;
+      o.range = {o.scale == falsecolor::Scale::Log ? 0.1 : 0.0, 10.0};
+    }
     if (range.empty()) return o;
     std::string text = range;
     for (char& c : text)
@@ -96,13 +103,15 @@ struct FalseColorCli {
     falsecolor::writePng(output, falsecolor::draw(f, options(false)));
   }
 
-  /// Writes the picture of the first grid of @p sets; @p lux holds every set's sensors in order.
-  void writeGrid(const std::vector<SensorSet>& sets, const std::vector<double>& lux) const {
+  /// Writes the picture of the first grid of @p sets; @p values holds every set's sensors in order: illuminance in
+  /// lux, or with @p daylightFactor the daylight factor in percent.
+  void writeGrid(const std::vector<SensorSet>& sets, const std::vector<double>& values, bool daylightFactor) const {
     size_t at = 0;
     for (const auto& s : sets) {
       if (s.columns > 0) {
-        falsecolor::Field f{s.columns, s.rows, {lux.begin() + long(at), lux.begin() + long(at + s.sensors.size())}, "lx"};
-        falsecolor::writePng(output, falsecolor::draw(f, options(true)));
+        const auto first = values.begin() + long(at);
+        falsecolor::Field f{s.columns, s.rows, {first, first + long(s.sensors.size())}, daylightFactor ? "DF %" : "lx"};
+        falsecolor::writePng(output, falsecolor::draw(f, options(true, daylightFactor)));
         return;
       }
       at += s.sensors.size();

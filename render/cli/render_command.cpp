@@ -109,10 +109,25 @@ void RenderCommand::checkOptions() {
 
 void RenderCommand::loadScene() {
   scene_ = fs::loadScene(scenePath_);
+  if (sensors_.daylightFactor) switchToDaylightFactorScene();
   sensors_.addQuadGrids(scene_, sensorSets_);  // --grid-quad: on the scene's quads
   if (width_ > 0) scene_.camera.width = width_;
   if (height_ > 0) scene_.camera.height = height_;
   if (!preview_ && !sensors_.active()) Film::requireFits(scene_.camera.width, scene_.camera.height, scene_.file);  // before any other work
+}
+
+void RenderCommand::switchToDaylightFactorScene() {  // issue 35: the CIE overcast sky alone
+  const DaylightFactorSetup setup = daylightFactorScene(scene_);
+  if (!fsdPath_.empty() && !setup.switchedOff.empty())
+    throw InputError(fsdPath_, "--firstshot",
+                     "--daylight-factor switches the scene's lights off, so a table of them does not apply (render "
+                     "without --firstshot, or give a table of a scene without lights)");
+  sensors_.outsideLux = setup.outsideLux;
+  std::string off;
+  for (const auto& name : setup.switchedOff) off += (off.empty() ? "" : ", ") + name;
+  if (comm_.root())
+    fmt::print(stderr, "firstshot-render: daylight factor under the CIE overcast sky alone (E_outside {:.6g} lx); "
+                       "switched off: {}\n", setup.outsideLux, off.empty() ? "nothing (no sun, lights or emission)" : off);
 }
 
 uint64_t RenderCommand::seed() const { return app_.count("--seed") ? seed_ : scene_.settings.seed; }
@@ -170,7 +185,9 @@ int RenderCommand::renderSensors() {  // sensors_.run preprocesses the integrato
   so.sampler = samplerMode();
   so.comm = &comm_;
   if (photometric_.active())
-    sensors_.onResults = [&](const auto& sets, const auto& lux) { photometric_.writeGrid(sets, lux); };
+    sensors_.onResults = [&](const auto& sets, const auto& values) {
+      photometric_.writeGrid(sets, values, sensors_.daylightFactor);
+    };
   const int rc = sensors_.run(*integrator_, *renderScene_, sensorSets_, outputs_, so);
   if (comm_.root()) integrators_.chosen().finish(*integrator_, nullptr, 0.0f, 0.0, quiet_);  // --cache-file, the record counts
   return rc;

@@ -37,6 +37,8 @@ class RenderCommand {
   void checkOptions();
   /// Loads the scene, resizes its camera and reads the sensor sets that need it.
   void loadScene();
+  /// --daylight-factor: makes scene_ the CIE overcast sky alone (render/sensors/daylight_factor.h), says so on stderr.
+  void switchToDaylightFactorScene();
   /// Checks the chosen integrator's options against the scene and makes it.
   void makeIntegrator();
   /// The scene the integrator traces: the table's patches, or the scene's faces (cut into patches

@@ -3,7 +3,8 @@
 /// firstshot-render's sensor mode (header-only, included by render/cli/render_command.cpp, which links CLI11):
 /// --sensors FILE and --grid SPEC choose the points, --samples/--time the effort, -o OUT.csv or
 /// OUT.json receives one row per sensor; the summary per set (E_min, E_avg, E_max, U0) goes to
-/// stdout and into the JSON (README.md, "Illuminance at sensors"; docs/photometry.md).
+/// stdout and into the JSON (README.md, "Illuminance at sensors"; docs/photometry.md). --daylight-factor (issue 35)
+/// renders under the CIE overcast sky alone and adds each sensor's daylight factor (render/sensors/daylight_factor.h).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -18,6 +19,7 @@
 #include "common/atomic_file.h"
 #include "common/error.h"
 #include "common/photometry.h"
+#include "render/sensors/daylight_factor.h"
 #include "render/sensors/sensors.h"
 
 namespace fs {
@@ -28,11 +30,14 @@ struct SensorsCli {
   std::vector<std::string> quadGrids;
   int samples = 256;
   double efficacy = photometry::kEfficacy;
+  bool daylightFactor = false;  ///< --daylight-factor
+  double outsideLux = 0;        ///< its E_outside (lux), set by the caller from daylightFactorScene(); 0: no DF
   CLI::Option* pointsOption = nullptr;
   CLI::Option* gridOption = nullptr;
   CLI::Option* quadOption = nullptr;
-  /// Called by run() with the sets and every sensor's illuminance (lx, in the sets' order) before
-  /// the outputs are written (the false-colour picture of a grid, render/cli/falsecolor_cli.h).
+  /// Called by run() with the sets and every sensor's illuminance (lx, in the sets' order; with --daylight-factor
+  /// its DF in percent) before the outputs are written (the false-colour picture of a grid,
+  /// render/cli/falsecolor_cli.h).
   std::function<void(const std::vector<SensorSet>&, const std::vector<double>&)> onResults;
 
   void add(CLI::App& app) {
@@ -48,6 +53,10 @@ struct SensorsCli {
     app.add_option("--efficacy", efficacy, "sensor mode: luminous efficacy in lm/W turning W/m² into lux "
                                            "(docs/photometry.md)")
         ->check(CLI::Range(1e-6, 1e6))->capture_default_str();
+    app.add_flag("--daylight-factor", daylightFactor,
+                 "sensor mode: daylight factor DF = E/E_outside in % under the scene's sky, which must be "
+                 "cie-overcast, alone (sun, lights and emission switched off); E_outside = the sky's unobstructed "
+                 "horizontal illuminance (docs/photometry.md)");
   }
   bool active() const { return pointsOption->count() > 0 || gridOption->count() > 0 || quadOption->count() > 0; }
 
@@ -55,6 +64,7 @@ struct SensorsCli {
   void checkOptions(const CLI::App& app, const std::vector<std::string>& outputs) const {
     if (!active()) {
       if (app.count("--samples")) throw InputError("", "--samples", "only with --sensors, --grid or --grid-quad");
+      if (daylightFactor) throw InputError("", "--daylight-factor", "only with --sensors, --grid or --grid-quad");
       // --efficacy also serves --units luminance and --falsecolor: checked in render/cli/falsecolor_cli.h
       return;
     }
@@ -99,13 +109,13 @@ struct SensorsCli {
     std::vector<SensorSummary> summaries;
     size_t at = 0;
     for (const auto& s : sets) {
-      summaries.push_back(summarize({results.begin() + long(at), results.begin() + long(at + s.sensors.size())}));
+      summaries.push_back(summarize(setResults(results, at, s)));
       at += s.sensors.size();
     }
     if (onResults) {
-      std::vector<double> lux;
-      for (const auto& r : results) lux.push_back(r.lux);
-      onResults(sets, lux);
+      std::vector<double> values;
+      for (const auto& r : results) values.push_back(outsideLux > 0 ? daylightFactorPercent(r.lux, outsideLux) : r.lux);
+      onResults(sets, values);
     }
     for (const auto& out : outputs)
       writeAtomically(out, [&](const std::string& tmp) {
@@ -114,10 +124,21 @@ struct SensorsCli {
         else writeCsv(f, all, results);
         if (!f) throw std::runtime_error(out + ": write failed");
       });
-    for (size_t k = 0; k < sets.size(); ++k)
-      fmt::print("{}: {} sensors, E_min {:.6g} lx, E_avg {:.6g} lx, E_max {:.6g} lx, U0 {:.4f}\n", sets[k].name,
+    if (outsideLux > 0)
+      fmt::print("E_outside {:.6g} lx (the CIE overcast sky on an unobstructed horizontal plane)\n", outsideLux);
+    at = 0;
+    for (size_t k = 0; k < sets.size(); ++k) {
+      fmt::print("{}: {} sensors, E_min {:.6g} lx, E_avg {:.6g} lx, E_max {:.6g} lx, U0 {:.4f}", sets[k].name,
                  sets[k].sensors.size(), summaries[k].minLux, summaries[k].avgLux, summaries[k].maxLux,
                  summaries[k].uniformity);
+      if (outsideLux > 0) {
+        const DaylightFactorSummary d = summarizeDaylightFactor(setResults(results, at, sets[k]), outsideLux);
+        fmt::print(", DF_min {:.4g}%, DF_avg {:.4g}%, DF_max {:.4g}%, DF_median {:.4g}%", d.min, d.avg, d.max,
+                   d.median);
+      }
+      fmt::print("\n");
+      at += sets[k].sensors.size();
+    }
     if (st.nonFinite > 0)
       fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
     if (!options.quiet && integrator.hasRecords())  // its cache was filled from the sensors' rays
@@ -128,22 +149,40 @@ struct SensorsCli {
     return 0;
   }
 
-  static void writeRow(std::ostream& f, const Sensor& s, const SensorResult& r, const char* sep) {
+  /// The results of set @p s, which start at @p at in @p results.
+  static std::vector<SensorResult> setResults(const std::vector<SensorResult>& results, size_t at, const SensorSet& s) {
+    return {results.begin() + long(at), results.begin() + long(at + s.sensors.size())};
+  }
+
+  /// The columns of a row: with a daylight factor two more, df_percent and stderr_df_percent.
+  std::string columns(const char* quote, const char* sep) const {
+    std::string c;
+    for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "irradiance_r", "irradiance_g", "irradiance_b",
+                             "illuminance_lux", "stderr_lux", "df_percent", "stderr_df_percent"}) {
+      if (outsideLux <= 0 && std::string(name).find("df_") != std::string::npos) break;
+      c += (c.empty() ? "" : sep) + std::string(quote) + name + quote;
+    }
+    return c;
+  }
+  void writeRow(std::ostream& f, const Sensor& s, const SensorResult& r, const char* sep) const {
     f << fmt::format("{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}{}{:.9g}", s.p.x, sep,
                      s.p.y, sep, s.p.z, sep, s.n.x, sep, s.n.y, sep, s.n.z, sep, r.irradiance.x, sep, r.irradiance.y,
                      sep, r.irradiance.z, sep, r.lux, sep, r.stderrLux);
+    if (outsideLux > 0)
+      f << fmt::format("{}{:.9g}{}{:.9g}", sep, daylightFactorPercent(r.lux, outsideLux), sep,
+                       daylightFactorPercent(r.stderrLux, outsideLux));
   }
-  static void writeCsv(std::ostream& f, const std::vector<Sensor>& sensors, const std::vector<SensorResult>& results) {
-    f << "x,y,z,nx,ny,nz,irradiance_r,irradiance_g,irradiance_b,illuminance_lux,stderr_lux\n";
+  void writeCsv(std::ostream& f, const std::vector<Sensor>& sensors, const std::vector<SensorResult>& results) const {
+    f << columns("", ",") << '\n';
     for (size_t i = 0; i < sensors.size(); ++i) {
       writeRow(f, sensors[i], results[i], ",");
       f << '\n';
     }
   }
-  static void writeJson(std::ostream& f, const std::vector<SensorSet>& sets, const std::vector<SensorResult>& results,
-                        const std::vector<SensorSummary>& summaries, const SensorStats& st) {
-    f << "{\n  \"columns\": [\"x\", \"y\", \"z\", \"nx\", \"ny\", \"nz\", \"irradiance_r\", \"irradiance_g\", "
-         "\"irradiance_b\", \"illuminance_lux\", \"stderr_lux\"],\n";
+  void writeJson(std::ostream& f, const std::vector<SensorSet>& sets, const std::vector<SensorResult>& results,
+                 const std::vector<SensorSummary>& summaries, const SensorStats& st) const {
+    f << "{\n  \"columns\": [" << columns("\"", ", ") << "],\n";
+    if (outsideLux > 0) f << fmt::format("  \"E_outside_lux\": {:.9g},\n", outsideLux);
     f << fmt::format("  \"samples\": {},\n  \"sets\": [", st.samples);
     size_t at = 0;
     for (size_t k = 0; k < sets.size(); ++k) {
@@ -151,8 +190,14 @@ struct SensorsCli {
       std::string name;
       for (char c : sets[k].name) name += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
       f << fmt::format("{}\n    {{\"name\": \"{}\", \"E_min\": {:.9g}, \"E_avg\": {:.9g}, \"E_max\": {:.9g}, "
-                       "\"U0\": {:.9g},\n     \"rows\": [",
+                       "\"U0\": {:.9g},",
                        k ? "," : "", name, m.minLux, m.avgLux, m.maxLux, m.uniformity);
+      if (outsideLux > 0) {
+        const DaylightFactorSummary d = summarizeDaylightFactor(setResults(results, at, sets[k]), outsideLux);
+        f << fmt::format(" \"DF_min\": {:.9g}, \"DF_avg\": {:.9g}, \"DF_max\": {:.9g}, \"DF_median\": {:.9g},",
+                         d.min, d.avg, d.max, d.median);
+      }
+      f << "\n     \"rows\": [";
       for (size_t i = 0; i < sets[k].sensors.size(); ++i, ++at) {
         f << (i ? ",\n       [" : "\n       [");
         writeRow(f, sets[k].sensors[i], results[at], ", ");
