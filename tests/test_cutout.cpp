@@ -15,6 +15,7 @@
 #include "preprocess/preprocessor.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
+#include "shipped_first_shot.h"
 #include "test_util.h"
 
 using namespace fs;
@@ -227,26 +228,7 @@ TEST(Cutout, BadInput) {
 // the same camera samples; the image mean of the difference within 0.3% + 3σ of the NEE image's mean.
 TEST(Cutout, ShippedScreenFirstShotAgreesWithNee) {
   FIRSTSHOT_STATISTICS_ONLY("Cutout.ImagesOfTheFloorUnderTheScreen");
-  SceneDesc desc = loadScene(test::source("scenes/cutout-screen.json"));
-  desc.camera.width = 48, desc.camera.height = 36;
-  const RenderScene plain(desc);
-  PreprocessOptions po = defaultOptions(desc);
-  po.settings.resolution = 128;
-  po.quiet = true;
-  const RenderScene tabled(desc, preprocessScene(desc, po));
-  IntegratorOptions io;
-  io.lightSampler = LightStrategy::All;  // the same NEE at the first vertex: the difference is the table's
-  auto nee = test::preprocessedIntegrator("path", io, plain);
-  auto firstShot = test::preprocessedIntegrator("path", io, tabled);
-  double mean = 0, seMean = 0;
-  test::imageMean(test::renderWith(*nee, plain, 64).film, 1, mean, seMean);
-  const test::PairedDifference d = test::renderPairedDifference(*firstShot, *nee, Camera(desc.camera), 256, 5, 1);
-  const double diff = d.imageMean(), se = d.imageStandardError();
-  fmt::print("cutout-screen: NEE {:.5f} ± {:.5f}; first-shot − NEE {:+.3f}% ± {:.3f}%\n", mean, seMean, 100 * diff / mean,
-             100 * se / mean);
-  EXPECT_GT(mean, 0.0);
-  EXPECT_LE(std::abs(diff), 3 * se + 0.003 * mean);
-  EXPECT_LT(se, 0.002 * mean);  // sharp enough to mean something
+  test::expectShippedSceneFirstShotAgreesWithNee("cutout-screen");
 }
 
 // The same scene with the table by light tracing, BDPT and the irradiance cache against the path tracer's NEE

@@ -21,6 +21,7 @@
 #include "render/sensors/daylight_factor.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
+#include "shipped_first_shot.h"
 #include "test_util.h"
 
 using namespace fs;
@@ -265,24 +266,5 @@ TEST(DaylightFactor, BadInputExits2) {
 // mean of the difference within 0.3% + 3σ of the NEE image's mean (as window-room in tests/test_thin_glass_render.cpp).
 TEST(DaylightFactor, DaylitOfficeFirstShotAgreesWithNee) {
   FIRSTSHOT_STATISTICS_ONLY("DaylightFactor.UnobstructedSensorIsOneHundredPercent");
-  SceneDesc desc = loadScene(test::source("scenes/daylit-office.json"));
-  desc.camera.width = 48, desc.camera.height = 36;
-  const RenderScene plain(desc);
-  PreprocessOptions po = defaultOptions(desc);
-  po.settings.backend = "embree";
-  po.settings.resolution = 128;
-  const RenderScene tabled(desc, preprocessScene(desc, po));
-  IntegratorOptions io;
-  io.lightSampler = LightStrategy::All;
-  auto nee = test::preprocessedIntegrator("path", io, plain);
-  auto firstShot = test::preprocessedIntegrator("path", io, tabled);
-  double mean = 0, seMean = 0;
-  test::imageMean(test::renderWith(*nee, plain, 64).film, 1, mean, seMean);
-  const test::PairedDifference d = test::renderPairedDifference(*firstShot, *nee, Camera(desc.camera), 256, 5, 1);
-  const double diff = d.imageMean(), se = d.imageStandardError();
-  fmt::print("daylit-office: NEE {:.5f} ± {:.5f}; first-shot − NEE {:+.3f}% ± {:.3f}%\n", mean, seMean,
-             100 * diff / mean, 100 * se / mean);
-  EXPECT_GT(mean, 0.0);
-  EXPECT_LE(std::abs(diff), 3 * se + 0.003 * mean);
-  EXPECT_LT(se, 0.002 * mean);  // sharp enough to mean something
+  test::expectShippedSceneFirstShotAgreesWithNee("daylit-office");
 }

@@ -12,6 +12,7 @@
 #include "preprocess/preprocessor.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
+#include "shipped_first_shot.h"
 #include "test_util.h"
 
 using namespace fs;
@@ -193,26 +194,7 @@ TEST(ThinGlassRender, ImagesThroughThePane) {
 // difference within 0.3% + 3σ of the NEE image's mean.
 TEST(ThinGlassRender, WindowRoomFirstShotAgreesWithNee) {
   FIRSTSHOT_STATISTICS_ONLY("ThinGlassRender.ImagesOfTheFloorUnderThePane");
-  SceneDesc desc = loadScene(test::source("scenes/window-room.json"));
-  desc.camera.width = 48, desc.camera.height = 36;
-  const RenderScene plain(desc);
-  PreprocessOptions po = defaultOptions(desc);
-  po.settings.backend = "embree";
-  po.settings.resolution = 128;
-  const RenderScene tabled(desc, preprocessScene(desc, po));
-  IntegratorOptions io;
-  io.lightSampler = LightStrategy::All;  // the same NEE at the first vertex: the difference is the table's
-  auto nee = test::preprocessedIntegrator("path", io, plain);
-  auto firstShot = test::preprocessedIntegrator("path", io, tabled);
-  double mean = 0, seMean = 0;
-  test::imageMean(test::renderWith(*nee, plain, 64).film, 1, mean, seMean);
-  const test::PairedDifference d = test::renderPairedDifference(*firstShot, *nee, Camera(desc.camera), 256, 5, 1);
-  const double diff = d.imageMean(), se = d.imageStandardError();
-  fmt::print("window-room: NEE {:.5f} ± {:.5f}; first-shot − NEE {:+.3f}% ± {:.3f}%\n", mean, seMean, 100 * diff / mean,
-             100 * se / mean);
-  EXPECT_GT(mean, 0.0);
-  EXPECT_LE(std::abs(diff), 3 * se + 0.003 * mean);
-  EXPECT_LT(se, 0.002 * mean);  // sharp enough to mean something
+  test::expectShippedSceneFirstShotAgreesWithNee("window-room");
 }
 
 // A pane transmitting more than 1, less than 0, or more than a lossless pane can: exit 2 naming the material.
