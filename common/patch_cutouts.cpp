@@ -123,15 +123,21 @@ float PatchCutouts::coverage(uint32_t patch, const Vec3d& p) const {
 }
 
 float PatchCutouts::alphaAt(uint32_t patch, const Vec3d& p) const {
+  const MaterialDesc& m = scene_->materials[mesh_->patches[patch].material];
+  Vec2 uv;
+  if (!uvAt(patch, p, uv)) return meanAlpha_[mesh_->patches[patch].material];
+  return std::clamp(m.alpha * m.alphaTexture->alphaLookup(uv), 0.0f, 1.0f);
+}
+
+bool PatchCutouts::uvAt(uint32_t patch, const Vec3d& p, Vec2& uv) const {
   const Patch& q = mesh_->patches[patch];
-  const MaterialDesc& m = scene_->materials[q.material];
   const ShapeDesc& s = scene_->shapes[q.shape];
-  if (!m.alphaTexture || !s.hasUv()) return meanAlpha_[q.material];
+  if (!scene_->materials[q.material].alphaTexture || !s.hasUv() || face_[patch] == kNoFace) return false;
   const uint32_t f = face_[patch];
   const CutoutTriangle t = cutoutTriangle(s, s.faces[f], p);
   const Vec2 a = s.cornerUv(f, 0), b = s.cornerUv(f, t.k1), c = s.cornerUv(f, t.k2);
-  const Vec2 uv = a + float(t.bary.x) * (b - a) + float(t.bary.y) * (c - a);
-  return std::clamp(m.alpha * m.alphaTexture->alphaLookup(uv), 0.0f, 1.0f);
+  uv = a + float(t.bary.x) * (b - a) + float(t.bary.y) * (c - a);
+  return true;
 }
 
 }  // namespace fs

@@ -48,6 +48,15 @@ class PatchCutouts {
   /// The alpha at point @p p of cut-out patch @p patch: the factor × the alpha texture at its texture coordinates
   /// (the texture's mean alpha when the shape has none), in [0, 1].
   float alphaAt(uint32_t patch, const Vec3d& p) const;
+  /// The texture coordinates at point @p p of cut-out patch @p patch, before the alpha texture's transform, in
+  /// @p uv; false (uv untouched) when its material has no alpha texture or its shape no texture coordinates, where
+  /// alphaAt is the material's mean alpha (meanAlpha). The map is affine within each triangle of the patch's face.
+  bool uvAt(uint32_t patch, const Vec3d& p, Vec2& uv) const;
+  /// The alpha of a surface of material @p material without texture coordinates: the factor × its texture's mean.
+  float meanAlpha(uint32_t material) const { return meanAlpha_[material]; }
+  /// The material index of patch @p patch and the material itself.
+  uint32_t materialOf(uint32_t patch) const { return mesh_->patches[patch].material; }
+  const MaterialDesc& material(uint32_t patch) const { return scene_->materials[materialOf(patch)]; }
   /// Whether the surface exists at point @p p of patch @p patch for the ray of key @p key (true for a patch that
   /// is no cut-out).
   bool exists(uint32_t patch, const Vec3d& p, uint64_t key) const {

@@ -16,7 +16,9 @@ namespace fs {
 
 namespace {
 
-const char* kVertexShader = R"(#version 450 core
+// The version line is given apart: a scene with alpha cut-outs puts GLCutouts::vertexDefines() between.
+const char* kVersion = "#version 450 core\n";
+const char* kVertexShader = R"(
 layout(location = 0) in vec3 position;
 layout(location = 1) in uint patchId;
 uniform vec3 eyeHi;      // eye = eyeHi + eyeLo
@@ -28,7 +30,17 @@ uniform vec4 plane;      // clip.x = plane.x*x + plane.y*w, clip.y = plane.z*y +
 uniform vec2 depthAB;    // clip.z = depthAB.x*d + depthAB.y: reversed Z, 1 at near, 0 at far
 uniform int ortho;
 flat out uint vPatch;
+#ifdef CUTOUTS
+layout(location = 2) in vec2 uv;
+layout(location = 3) in uint slot;
+out vec2 vUV;
+flat out uint vSlot;
+#endif
 void main() {
+#ifdef CUTOUTS
+  vUV = uv;
+  vSlot = slot;
+#endif
   // Camera-relative first: each difference is correctly rounded relative to its own size.
   precise vec3 rel = (position - eyeHi) - eyeLo;
   float x = dot(rel, axisRight);
@@ -46,9 +58,13 @@ layout(location = 0) out uint outPatch;
 void main() { outPatch = vPatch; }
 )";
 
-GLuint compile(GLenum type, const char* source) {
+GLuint compile(GLenum type, const char* source, const char* prefix = nullptr, const char* defines = "") {
   const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &source, nullptr);
+  const char* parts[3] = {prefix ? prefix : source, defines, source};
+  if (prefix)
+    glShaderSource(s, 3, parts, nullptr);
+  else
+    glShaderSource(s, 1, &source, nullptr);
   glCompileShader(s);
   GLint ok = 0;
   glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
@@ -131,15 +147,14 @@ GLItemBuffer::GLItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBo
     : context_(backend), bounds_(sceneBounds), near_(itemBufferNear(sceneBounds, nearRelative)) {
   if (geometry.positions.size() != 3 * geometry.patchIds.size())
     throw std::invalid_argument("GL item buffer: positions must be 3 per triangle");
-  if (geometry.cutouts)  // resolveSettings refuses such a scene first (issue 34)
-    throw std::invalid_argument("GL item buffer: alpha cut-outs are not drawn by the GL back end (use embree)");
   vertexCount_ = static_cast<int64_t>(geometry.positions.size());
   if (vertexCount_ > std::numeric_limits<GLsizei>::max())
     throw std::runtime_error("GL item buffer: too many triangles for one draw call");
 
   // Program.
-  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fsh = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  const bool cutouts = geometry.cutouts != nullptr;  // issue 34: absent fragments discarded (gl_cutouts.h)
+  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, kVersion, cutouts ? GLCutouts::vertexDefines() : "");
+  const GLuint fsh = compile(GL_FRAGMENT_SHADER, cutouts ? GLCutouts::fragmentShader() : kFragmentShader);
   program_ = glCreateProgram();
   glAttachShader(program_, vs);
   glAttachShader(program_, fsh);
@@ -187,6 +202,10 @@ GLItemBuffer::GLItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBo
   glEnableVertexArrayAttrib(vao_, 1);
   glVertexArrayAttribIFormat(vao_, 1, 1, GL_UNSIGNED_INT, offsetof(Vertex, patch));
   glVertexArrayAttribBinding(vao_, 1, 0);
+  if (cutouts) {
+    cutouts_ = std::make_unique<GLCutouts>(geometry, order);
+    cutouts_->attach(vao_);
+  }
 
   // Fixed state: reversed Z, nothing that could alter an integer ID.
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
@@ -213,6 +232,7 @@ GLItemBuffer::~GLItemBuffer() {
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   if (colour_) glDeleteRenderbuffers(1, &colour_);
   if (depth_) glDeleteRenderbuffers(1, &depth_);
+  cutouts_.reset();
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (vbo_) glDeleteBuffers(1, &vbo_);
   if (program_) glDeleteProgram(program_);
@@ -288,6 +308,7 @@ void GLItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
   const double B = ortho ? f / (f - n) : n * f / (f - n);
   glUniform2f(locDepth_, float(A), float(B));
   glUniform1i(locOrtho_, ortho ? 1 : 0);
+  if (cutouts_) cutouts_->bind(program_, view);
 
   // Clusters that may reach the frustum, merged into runs.
   Plane planes[6];

@@ -14,10 +14,15 @@
 /// Speed: triangles are sorted along a Morton curve at upload and grouped into clusters of 128; each
 /// render draws only the clusters whose bounding sphere meets the view frustum (glMultiDrawArrays).
 /// The order of triangles only matters between coplanar overlapping triangles (exact depth ties).
+///
+/// Alpha cut-outs (issue 34): a scene with them draws with preprocess/gl_cutouts.h's shaders, which discard the
+/// fragments where a cut-out surface is absent.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "preprocess/gl_context.h"
+#include "preprocess/gl_cutouts.h"
 #include "preprocess/item_buffer.h"
 
 namespace fs {
@@ -62,6 +67,7 @@ class GLItemBuffer final : public ItemBufferRenderer {
   std::vector<int> drawFirst_, drawCount_;  // scratch for glMultiDrawArrays
   int locEyeHi_ = -1, locEyeLo_ = -1, locRight_ = -1, locUp_ = -1, locForward_ = -1;
   int locPlane_ = -1, locDepth_ = -1, locOrtho_ = -1;
+  std::unique_ptr<GLCutouts> cutouts_;  ///< alpha cut-outs (issue 34); null in a scene without them
 };
 
 }  // namespace fs

@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(2, 8192));
     app.add_option("--window", cli.window, "area-light window: hemicube | tetra (default: settings.window)")
         ->check(CLI::IsMember({"hemicube", "tetra"}));
-    app.add_option("--backend", cli.backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree); a scene with alpha cut-outs takes embree (gl is refused)")
+    app.add_option("--backend", cli.backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree); a scene with alpha cut-outs takes embree unless gl is asked for")
         ->check(CLI::IsMember({"gl", "embree", "auto"}));
     app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
     app.add_option("--patch-size", cli.patchSize, "longest patch edge in metres (default: settings.patch_size, else automatic from the scene's faces)")->check(CLI::PositiveNumber);

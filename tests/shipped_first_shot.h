@@ -1,7 +1,8 @@
 #pragma once
 /// @file shipped_first_shot.h
 /// First-shot against NEE on a shipped scene (tests/test_thin_glass_render.cpp, test_cutout.cpp,
-/// test_daylight_factor.cpp): the path tracer with and without the scene's table (Embree item buffers, R = 128) at
+/// test_daylight_factor.cpp): the path tracer with and without the scene's table (Embree item buffers unless
+/// @p backend says otherwise, R = 128) at
 /// 48 × 36, every light sampled at every vertex, on the same camera samples (256 spp, 5 batches); the image mean of
 /// the difference within 0.3% + 3σ of the NEE image's mean, and σ below 0.2% of it (sharp enough to mean something).
 #include <fmt/core.h>
@@ -17,12 +18,12 @@
 
 namespace fs::test {
 
-inline void expectShippedSceneFirstShotAgreesWithNee(const std::string& name) {
+inline void expectShippedSceneFirstShotAgreesWithNee(const std::string& name, const std::string& backend = "embree") {
   SceneDesc desc = loadScene(source("scenes/" + name + ".json"));
   desc.camera.width = 48, desc.camera.height = 36;
   const RenderScene plain(desc);
   PreprocessOptions po = defaultOptions(desc);
-  po.settings.backend = "embree";
+  po.settings.backend = backend;
   po.settings.resolution = 128;
   po.quiet = true;
   const RenderScene tabled(desc, preprocessScene(desc, po));
@@ -34,7 +35,7 @@ inline void expectShippedSceneFirstShotAgreesWithNee(const std::string& name) {
   imageMean(renderWith(*nee, plain, 64).film, 1, mean, seMean);
   const PairedDifference d = renderPairedDifference(*firstShot, *nee, Camera(desc.camera), 256, 5, 1);
   const double diff = d.imageMean(), se = d.imageStandardError();
-  fmt::print("{}: NEE {:.5f} ± {:.5f}; first-shot − NEE {:+.3f}% ± {:.3f}%\n", name, mean, seMean, 100 * diff / mean,
+  fmt::print("{} ({}): NEE {:.5f} ± {:.5f}; first-shot − NEE {:+.3f}% ± {:.3f}%\n", name, backend, mean, seMean, 100 * diff / mean,
              100 * se / mean);
   EXPECT_GT(mean, 0.0);
   EXPECT_LE(std::abs(diff), 3 * se + 0.003 * mean);
