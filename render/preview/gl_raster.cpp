@@ -20,6 +20,9 @@ namespace {
 // The instant picture: flat radiance per patch side, or albedo under a headlight; a textured batch
 // (uTextured) multiplies it by texScale × the texel, clamped to [0, 1] as SurfaceTextures::at does
 // (bilinear, level 0, the texture's wrap modes: Texture::lookup). Untextured batches skip the product.
+// A cut-out batch (uCutout) discards the fragments where the surface is absent: mask where factor × the alpha
+// texture (its first channel: the alpha as Texture::alphaLookup reads it) is below the cut-off, blend with
+// probability 1 − alpha by a hash of the pixel (a screen-door dither).
 const char* kRasterVS = R"(#version 330 core
 layout(location = 0) in vec3 aPos;
 layout(location = 1) in vec3 aNormal;
@@ -28,14 +31,16 @@ layout(location = 3) in vec3 aBack;
 layout(location = 4) in float aHeadlight;
 layout(location = 5) in vec2 aUV;
 layout(location = 6) in vec3 aTexScale;
+layout(location = 7) in vec2 aAlphaUV;
 uniform mat4 uViewProj;
 out vec3 vPos;
 out vec2 vUV;
+out vec2 vAlphaUV;
 flat out vec3 vNormal, vFront, vBack, vTexScale;
 flat out float vHeadlight;
 void main() {
   vPos = aPos; vNormal = aNormal; vFront = aFront; vBack = aBack; vHeadlight = aHeadlight;
-  vUV = aUV; vTexScale = aTexScale;
+  vUV = aUV; vTexScale = aTexScale; vAlphaUV = aAlphaUV;
   gl_Position = uViewProj * vec4(aPos, 1.0);
 })";
 
@@ -43,12 +48,27 @@ const char* kRasterFS = R"(#version 330 core
 uniform vec3 uEye;
 uniform bool uTextured;
 uniform sampler2D uAlbedo;
+uniform int uCutout;         // 0 opaque, 1 mask, 2 blend (RasterCutout)
+uniform bool uAlphaTextured;
+uniform sampler2D uAlpha;
+uniform float uAlphaFactor, uAlphaMean, uAlphaCutoff;
 in vec3 vPos;
 in vec2 vUV;
+in vec2 vAlphaUV;
 flat in vec3 vNormal, vFront, vBack, vTexScale;
 flat in float vHeadlight;
 layout(location = 0) out vec4 fragColor;
+uint mixBits(uint x) {
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16;
+  return x;
+}
 void main() {
+  if (uCutout != 0) {
+    float a = uAlphaTextured ? clamp(uAlphaFactor * texture(uAlpha, vAlphaUV).r, 0.0, 1.0) : uAlphaMean;
+    if (uCutout == 1 && a < uAlphaCutoff) discard;
+    if (uCutout == 2 && float(mixBits(mixBits(uint(gl_FragCoord.x)) + uint(gl_FragCoord.y)) >> 8) / 16777216.0 >= a)
+      discard;
+  }
   vec3 toEye = uEye - vPos;
   float c = dot(vNormal, toEye);
   vec3 L = c > 0.0 ? vFront : vBack;
@@ -169,6 +189,26 @@ GLuint uploadTexture(const Texture& t) {
   return tex;
 }
 
+/// Uploads @p t's alpha (its alpha channel, else its first channel, as Texture::alphaLookup reads it) as a linear
+/// one-channel float texture, sampled as uploadTexture.
+GLuint uploadAlpha(const Texture& t) {
+  const TexelImage& im = *t.image;
+  std::vector<float> a = im.alpha;
+  if (a.empty())
+    for (const Color& c : im.texels) a.push_back(c.x);
+  GLuint tex = 0;
+  glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, glWrap(t.wrapU));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(t.wrapV));
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, im.width, im.height, 0, GL_RED, GL_FLOAT, a.data());
+  return tex;
+}
+
 /// A vertex array with one buffer of points (lines).
 struct LineBuffer {
   GLuint vao = 0, vbo = 0;
@@ -203,6 +243,9 @@ struct GLRaster::Impl {
   // Albedo textures, uploaded once each (kept across setMesh) and the GL texture of each batch's index.
   std::vector<std::pair<std::shared_ptr<const Texture>, GLuint>> uploaded;
   std::vector<GLuint> batchTextures;
+  // Cut-outs (issue 34): their alpha textures (0: none, alpha is the mean), by RasterMesh::cutouts' index.
+  std::vector<RasterCutout> cutouts;
+  std::vector<GLuint> cutoutTextures;
   LineBuffer edges, records;
   Vec3 lo{0.0f}, hi{0.0f};  // mesh bounds, for the depth range
 
@@ -274,6 +317,8 @@ GLRaster::~GLRaster() {
   }
   if (m.filmTex) glDeleteTextures(1, &m.filmTex);
   for (const auto& u : m.uploaded) glDeleteTextures(1, &u.second);
+  for (GLuint t : m.cutoutTextures)
+    if (t) glDeleteTextures(1, &t);
 }
 
 void GLRaster::setMesh(const RasterMesh& mesh) {
@@ -295,6 +340,7 @@ void GLRaster::setMesh(const RasterMesh& mesh) {
     attrib(4, 1, offsetof(RasterVertex, headlight));
     attrib(5, 2, offsetof(RasterVertex, uv));
     attrib(6, 3, offsetof(RasterVertex, texScale));
+    attrib(7, 2, offsetof(RasterVertex, alphaUv));
   }
   glBindVertexArray(m.meshVao);
   glBindBuffer(GL_ARRAY_BUFFER, m.meshVbo);
@@ -308,6 +354,11 @@ void GLRaster::setMesh(const RasterMesh& mesh) {
     if (it == m.uploaded.end()) it = m.uploaded.insert(m.uploaded.end(), {t, uploadTexture(*t)});
     m.batchTextures.push_back(it->second);
   }
+  for (GLuint t : m.cutoutTextures)
+    if (t) glDeleteTextures(1, &t);
+  m.cutouts = mesh.cutouts;
+  m.cutoutTextures.clear();
+  for (const RasterCutout& c : mesh.cutouts) m.cutoutTextures.push_back(c.alpha ? uploadAlpha(*c.alpha) : 0);
   m.edges.upload(mesh.edges);
   m.lo = mesh.lo, m.hi = mesh.hi;
 }
@@ -344,12 +395,26 @@ void GLRaster::renderInstant(const CameraDesc& camera) {
     const Vec3 eye(camera.position);
     glUniform3f(glGetUniformLocation(m.rasterProgram, "uEye"), eye.x, eye.y, eye.z);
     glUniform1i(glGetUniformLocation(m.rasterProgram, "uAlbedo"), 0);
+    glUniform1i(glGetUniformLocation(m.rasterProgram, "uAlpha"), 1);
     const GLint textured = glGetUniformLocation(m.rasterProgram, "uTextured");
-    glActiveTexture(GL_TEXTURE0);
+    const GLint cutout = glGetUniformLocation(m.rasterProgram, "uCutout");
     glBindVertexArray(m.meshVao);
     for (const RasterBatch& b : m.batches) {
       glUniform1i(textured, b.texture >= 0 ? 1 : 0);
+      glActiveTexture(GL_TEXTURE0);
       if (b.texture >= 0) glBindTexture(GL_TEXTURE_2D, m.batchTextures[size_t(b.texture)]);
+      const RasterCutout* c = b.cutout >= 0 ? &m.cutouts[size_t(b.cutout)] : nullptr;
+      glUniform1i(cutout, !c ? 0 : c->mode == AlphaMode::Blend ? 2 : 1);
+      if (c) {
+        const GLuint alphaTex = m.cutoutTextures[size_t(b.cutout)];
+        glUniform1i(glGetUniformLocation(m.rasterProgram, "uAlphaTextured"), alphaTex ? 1 : 0);
+        glUniform1f(glGetUniformLocation(m.rasterProgram, "uAlphaFactor"), c->factor);
+        glUniform1f(glGetUniformLocation(m.rasterProgram, "uAlphaMean"), c->mean);
+        glUniform1f(glGetUniformLocation(m.rasterProgram, "uAlphaCutoff"), c->cutoff);
+        glActiveTexture(GL_TEXTURE1);
+        glBindTexture(GL_TEXTURE_2D, alphaTex);
+        glActiveTexture(GL_TEXTURE0);
+      }
       glDrawArrays(GL_TRIANGLES, GLint(b.first), GLsizei(b.count));
     }
   }

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/patch_cutouts.h"
+
 namespace fs {
 
 std::vector<Color> sideIrradiance(const RenderScene& scene) {
@@ -22,10 +24,36 @@ void addPolygon(RasterMesh& m, const Vec3* v, uint32_t count, const Vec3& normal
       m.triangles.push_back({v[idx], normal, front, back, headlight, uv ? uv[idx] : Vec2(0.0f), texScale});
 }
 
-/// Starts a new batch at the end of @p m's triangles unless the last one already uses @p texture.
-void useTexture(RasterMesh& m, int texture) {
-  if (m.batches.empty() || m.batches.back().texture != texture)
-    m.batches.push_back({uint32_t(m.triangles.size()), 0, texture});
+/// Starts a new batch at the end of @p m's triangles unless the last one already uses @p texture and @p cutout.
+void useTexture(RasterMesh& m, int texture, int cutout = -1) {
+  if (m.batches.empty() || m.batches.back().texture != texture || m.batches.back().cutout != cutout)
+    m.batches.push_back({uint32_t(m.triangles.size()), 0, texture, cutout});
+}
+
+/// The index in @p m.cutouts of patch @p j's cut-out (appended on first use), -1 for an opaque patch.
+int cutoutIndex(RasterMesh& m, const RenderScene& scene, uint32_t j) {
+  const PatchCutouts* cut = scene.cutouts();
+  if (!cut || !cut->cutout(j)) return -1;
+  const MaterialDesc& mat = cut->material(j);
+  Vec2 uv;
+  const bool textured = cut->uvAt(j, Vec3d(scene.mesh().patches[j].centroid), uv);
+  const std::shared_ptr<const Texture> alpha = textured ? mat.alphaTexture : nullptr;
+  for (size_t i = 0; i < m.cutouts.size(); ++i)
+    if (m.cutouts[i].alpha == alpha && m.cutouts[i].mode == mat.alphaMode && m.cutouts[i].cutoff == mat.alphaCutoff &&
+        m.cutouts[i].factor == mat.alpha && m.cutouts[i].mean == cut->meanAlpha(cut->materialOf(j)))
+      return int(i);
+  m.cutouts.push_back({alpha, mat.alphaMode, mat.alphaCutoff, mat.alpha, cut->meanAlpha(cut->materialOf(j))});
+  return int(m.cutouts.size() - 1);
+}
+
+/// Sets the alpha texture coordinates of @p m's vertices from @p first on, all on cut-out patch @p j.
+void setAlphaUv(RasterMesh& m, const RenderScene& scene, uint32_t j, size_t first) {
+  const PatchCutouts* cut = scene.cutouts();
+  const MaterialDesc& mat = cut->material(j);
+  for (size_t v = first; v < m.triangles.size(); ++v) {
+    Vec2 uv;
+    if (cut->uvAt(j, Vec3d(m.triangles[v].position), uv)) m.triangles[v].alphaUv = mat.alphaTexture->transform.apply(uv);
+  }
 }
 
 /// The index of @p t in @p m.textures, appended on first use.
@@ -74,7 +102,9 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
     Vec2 uv[4];
     Color texScale(1.0f);
     const bool textured = diffusePart && mat.albedoTexture && textures.textured(j) && desc.shapes[p.shape].hasUv();
-    useTexture(m, textured ? textureIndex(m, mat.albedoTexture) : -1);
+    const int cutout = cutoutIndex(m, scene, j);
+    useTexture(m, textured ? textureIndex(m, mat.albedoTexture) : -1, cutout);
+    const size_t firstVertex = m.triangles.size();
     if (textured) {
       for (uint32_t k = 0; k < p.count; ++k) uv[k] = mat.albedoTexture->transform.apply(textures.uvAt(j, p.v[k]));
       const Color mean = textures.patchAlbedo(j);
@@ -88,6 +118,7 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
       const Color base = (pbrBase ? *pbrBase : patchBsdf.albedo()) * (m.firstShot ? level : 1.0f);
       addPolygon(m, p.v, p.count, p.normal, base, base, 1.0f, uvs, texScale);
     }
+    if (cutout >= 0) setAlphaUv(m, scene, j, firstVertex);
     for (uint32_t k = 0; k < p.count; ++k) {
       m.edges.push_back(p.v[k]);
       m.edges.push_back(p.v[(k + 1) % p.count]);

@@ -14,6 +14,8 @@
 /// transformed corners is exact) and the factor ρ_factor / ρ̄_patch, so that the GPU shows
 ///     L(x) = flat colour · ρ_factor · texel(x) / ρ̄_patch = flat colour · ρ(x) / ρ̄_patch,
 /// the texture's detail on the patch's mean (a diffuse side's radiance is ∝ its albedo).
+/// A cut-out patch carries its alpha texture coordinates and its batch the alpha rule (RasterCutout): the GPU
+/// discards the fragments where the surface is absent. Shading normals are not drawn: a patch side is flat.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -34,6 +36,16 @@ struct RasterVertex {
   float headlight = 0.0f;         ///< 1: multiply by |cos| to the viewing direction; 0: show as is
   Vec2 uv{0.0f};                  ///< texture coordinates after the texture's transform (textured batches)
   Color texScale{1.0f};           ///< ρ_factor / ρ̄_patch per channel (textured batches; 0 where ρ̄ is 0)
+  Vec2 alphaUv{0.0f};             ///< alpha texture coordinates after its transform (cut-out batches)
+};
+
+/// How a cut-out batch's fragments are kept (issue 34, common/patch_cutouts.h): where alpha = factor × the alpha
+/// texture (bilinear, its wrap modes; the mean where the shape has no texture coordinates) reaches the cut-off
+/// (mask), or with probability alpha by a hash of the pixel (blend: a screen-door dither).
+struct RasterCutout {
+  std::shared_ptr<const Texture> alpha;  ///< null: alpha is @c mean everywhere
+  AlphaMode mode = AlphaMode::Mask;
+  float cutoff = 0.5f, factor = 1.0f, mean = 1.0f;
 };
 
 /// A run of consecutive triangles drawn with one albedo texture, or none.
@@ -41,12 +53,14 @@ struct RasterBatch {
   uint32_t first = 0;   ///< first vertex in RasterMesh::triangles
   uint32_t count = 0;   ///< vertices
   int texture = -1;     ///< index into RasterMesh::textures; -1: untextured (flat colours as they are)
+  int cutout = -1;      ///< index into RasterMesh::cutouts; -1: opaque
 };
 
 struct RasterMesh {
   std::vector<RasterVertex> triangles;  ///< three vertices per triangle
   std::vector<RasterBatch> batches;     ///< the triangles in order, split where the texture changes
   std::vector<std::shared_ptr<const Texture>> textures;  ///< the albedo textures the batches use, each once
+  std::vector<RasterCutout> cutouts;    ///< the cut-outs the batches use, one per (material, with texture or not)
   std::vector<Vec3> edges;              ///< patch outlines, two points per line segment
   Vec3 lo{0.0f}, hi{0.0f};              ///< bounds of all vertices
   bool firstShot = false;               ///< coloured by the first-shot table
@@ -54,7 +68,8 @@ struct RasterMesh {
 
 /// Builds the instant picture of @p scene: first-shot radiance when @p useFirstShot and the scene
 /// has a table, headlight shading otherwise. Emissive shapes show their radiance on the front.
-/// Patches of albedo-textured materials (with texture coordinates) get textured batches.
+/// Patches of albedo-textured materials (with texture coordinates) get textured batches, cut-out patches cut-out
+/// batches.
 RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot);
 
 /// Per patch j, the first-shot irradiance from samples in front of (index 2j) and behind (2j + 1)
