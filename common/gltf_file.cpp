@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstring>
 #include <fstream>
+#include <utility>
 
 #include "common/error.h"
 
@@ -220,6 +221,56 @@ std::string GltfFile::imageBytes(size_t k) const {
   if (offset > buffer.size() || length > buffer.size() - offset)
     throw InputError("", "", where + "'s bufferView lies outside its buffer");
   return buffer.substr(offset, length);
+}
+
+GltfAssimpOrder gltfAssimpOrder(const nlohmann::json& gltf) {
+  GltfAssimpOrder order;
+  std::vector<uint8_t> nodeSeen, meshSeen, materialSeen;
+  const auto first = [](std::vector<uint8_t>& seen, uint64_t k) {  // true the first time k is met
+    if (seen.size() <= k) seen.resize(k + 1, 0);
+    return !std::exchange(seen[k], uint8_t(1));
+  };
+  const auto index = [](const nlohmann::json* j, uint64_t& k) {
+    if (!j || !j->is_number_unsigned()) return false;
+    k = j->get<uint64_t>();
+    return true;
+  };
+  const auto visitMesh = [&](uint64_t m) {
+    const nlohmann::json* mesh = jsonArrayElement(gltf, "meshes", m);
+    if (!mesh || !first(meshSeen, m)) return;
+    order.meshes.push_back(m);
+    const nlohmann::json* prims = jsonMember(*mesh, "primitives");
+    if (!prims || !prims->is_array()) return;
+    for (const nlohmann::json& p : *prims)
+      if (uint64_t k = 0; index(jsonMember(p, "material"), k) && jsonArrayElement(gltf, "materials", k) && first(materialSeen, k))
+        order.materials.push_back(k);
+  };
+  const auto visitNode = [&](auto&& self, uint64_t n, int depth) -> void {
+    const nlohmann::json* node = jsonArrayElement(gltf, "nodes", n);
+    if (!node || depth > 256 || !first(nodeSeen, n)) return;
+    if (const nlohmann::json* children = jsonMember(*node, "children"); children && children->is_array())
+      for (const nlohmann::json& c : *children)
+        if (uint64_t k = 0; index(&c, k)) self(self, k, depth + 1);
+    if (uint64_t m = 0; index(jsonMember(*node, "mesh"), m)) visitMesh(m);
+  };
+  uint64_t scene = 0;
+  index(jsonMember(gltf, "scene"), scene);
+  if (const nlohmann::json* s = jsonArrayElement(gltf, "scenes", scene))
+    if (const nlohmann::json* nodes = jsonMember(*s, "nodes"); nodes && nodes->is_array())
+      for (const nlohmann::json& n : *nodes)
+        if (uint64_t k = 0; index(&n, k)) visitNode(visitNode, k, 0);
+  if (const nlohmann::json* skins = jsonMember(gltf, "skins"); skins && skins->is_array())
+    for (const nlohmann::json& skin : *skins)
+      if (const nlohmann::json* joints = jsonMember(skin, "joints"); joints && joints->is_array())
+        for (const nlohmann::json& j : *joints)
+          if (uint64_t k = 0; index(&j, k)) visitNode(visitNode, k, 0);
+  if (const nlohmann::json* anims = jsonMember(gltf, "animations"); anims && anims->is_array())
+    for (const nlohmann::json& a : *anims)
+      if (const nlohmann::json* channels = jsonMember(a, "channels"); channels && channels->is_array())
+        for (const nlohmann::json& c : *channels)
+          if (const nlohmann::json* target = jsonMember(c, "target"))
+            if (uint64_t k = 0; index(jsonMember(*target, "node"), k)) visitNode(visitNode, k, 0);
+  return order;
 }
 
 }  // namespace fs

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace fs {
 
@@ -20,6 +21,14 @@ const nlohmann::json* jsonMember(const nlohmann::json& j, const char* key);
 
 /// Element @p k of the array @p gltf[array] (e.g. "textures"), or nullptr.
 const nlohmann::json* jsonArrayElement(const nlohmann::json& gltf, const char* array, uint64_t k);
+
+/// assimp 5.2's glTF2 importer numbers an asset's meshes and materials in the order it first meets them, not the
+/// file's: the default scene's nodes depth first (a node's children before its own mesh), a mesh's primitives in
+/// order, then the nodes that skins' joints and animations' targets reach. By assimp's index, the file's.
+struct GltfAssimpOrder {
+  std::vector<uint64_t> meshes, materials;
+};
+GltfAssimpOrder gltfAssimpOrder(const nlohmann::json& gltf);
 
 /// The end of a message about a file that is a Git LFS pointer.
 inline constexpr const char* kGitLfsPointerMessage = "is a Git LFS pointer, not the data: fetch it with git lfs pull";

@@ -330,6 +330,10 @@ class MaterialTable {
   MaterialTable(const aiScene& scene, const GltfFile* gltf, std::vector<MaterialDesc>& materials, std::string file)
       : scene_(scene), gltf_(gltf), materials_(materials), converted_(scene.mNumMaterials), file_(std::move(file)) {
     if (gltf) textures_.emplace(*gltf);
+    // assimp's material k is the file's materials[order_[k]] (gltfAssimpOrder); the last one is its default. Where
+    // the count disagrees, the file's order is kept (what assimp did before it reordered).
+    if (gltf) order_ = gltfAssimpOrder(gltf->json()).materials;
+    if (order_.size() + 1 != scene.mNumMaterials) order_.clear();
   }
 
   /// The index in the scene's materials of the material of @p mesh, placed by @p toWorld, named @p meshName.
@@ -375,12 +379,13 @@ class MaterialTable {
                                           : name.length == 0 || std::strcmp(name.C_Str(), AI_DEFAULT_MATERIAL_NAME) == 0);
     if (isDefault) return {defaultMaterial(), std::nullopt};
     std::optional<GltfMaterial> g;
-    if (gltf_) g = readGltfMaterial(gltf_->json(), k);
+    const uint64_t fileIndex = k < order_.size() ? order_[k] : k;
+    if (gltf_) g = readGltfMaterial(gltf_->json(), fileIndex);
     MaterialDesc m = g ? convertGltfMaterial(*g, *textures_) : convertMaterial(*mat);
     if (!g) m.albedoTexture = diffuseTexture(*mat);
     if (!g) opacityCutout(*mat, m);  // map_d (issue 34)
     if (!g) objNormalMaps(*mat, m);
-    m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(k) + "]";
+    m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(fileIndex) + "]";
     return {std::move(m), std::move(g)};
   }
 
@@ -456,6 +461,7 @@ class MaterialTable {
   std::vector<MaterialDesc>& materials_;
   std::vector<std::optional<std::pair<MaterialDesc, std::optional<GltfMaterial>>>> converted_;
   std::vector<unsigned> sources_;  ///< the asset material of each of materials_
+  std::vector<uint64_t> order_;    ///< glTF: the file's index of each assimp material but the default (gltfAssimpOrder)
   std::optional<GltfTextures> textures_;
   std::string file_;  ///< the asset file
   std::map<std::string, std::shared_ptr<const TexelImage>> objImages_;  ///< map_Kd images by path

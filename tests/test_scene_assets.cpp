@@ -4,11 +4,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "common/error.h"
 #include "common/scene_desc.h"
 #include "common/texture.h"
+#include "tests/shipped_first_shot.h"
 #include "tests/test_util.h"
 
 namespace fs {
@@ -44,6 +47,48 @@ TEST(SceneAssets, MeshWithoutMaterialTakesTheFilesMaterials) {
   EXPECT_NEAR(lo.y, 0.0, 1e-6);
   EXPECT_NEAR(hi.y, 0.5, 1e-6);
   EXPECT_NEAR(0.5 * (lo.x + hi.x), 1.0, 1e-6);
+}
+
+/// scenes/gltf-samples.json: Khronos' TextureTransformTest chart and BoxTextured from Debian's assimp-testmodels
+/// (installed by scripts/install-deps.sh). assimp numbers the chart's meshes and materials in the order it meets
+/// them (node 3's child markers before node 3's own mesh), not the file's: each mesh must still get its own material
+/// — the tiles of the bottom row the arrow texture with their KHR_texture_transform, the markers the marker images
+/// (before the fix the three tiles drew as "Correct", "NotSupported" and "Error" and the markers as arrows).
+TEST(SceneAssets, PublicGltfSamplesKeepTheirMaterials) {
+  const std::string chart = "/usr/share/assimp/models/glTF2/textureTransform/TextureTransformTest.gltf";
+  ASSERT_TRUE(std::filesystem::exists(chart)) << chart << " is missing: install assimp-testmodels (scripts/install-deps.sh)";
+  const SceneDesc s = loadScene(test::source("scenes/gltf-samples.json"));
+  struct Expect {
+    std::string mesh, image;
+    float rotation = 0.0f, scale = 1.0f;
+  };
+  const std::vector<Expect> expected = {
+      // images: 0 UV.png, 1 Arrow.png, 2 Correct.png, 3 NotSupported.png, 4 Error.png
+      {"Offset U", "images[0]"}, {"Rotation", "images[1]", 0.39269908f}, {"Scale", "images[1]", 0.0f, 1.5f},
+      {"All", "images[1]", 0.3f, 1.5f}, {"Correct Marker", "images[2]"}, {"Not Supported Marker", "images[3]"},
+      {"Error Marker", "images[4]"}};
+  size_t found = 0;
+  for (const ShapeDesc& shape : s.shapes)
+    for (const Expect& e : expected) {
+      if (!shape.name.ends_with(e.mesh)) continue;
+      ++found;
+      const MaterialDesc& m = s.materials[size_t(shape.material)];
+      ASSERT_TRUE(m.albedoTexture) << shape.name;
+      EXPECT_THAT(m.albedoTexture->image->name, HasSubstr(e.image)) << shape.name << " has material " << m.name;
+      EXPECT_NEAR(m.albedoTexture->transform.rotation, e.rotation, 1e-6) << shape.name;
+      EXPECT_NEAR(m.albedoTexture->transform.scale.x, e.scale, 1e-6) << shape.name;
+    }
+  EXPECT_GE(found, expected.size()) << "shape names changed?";
+  const auto box = std::find_if(s.shapes.begin(), s.shapes.end(), [](const ShapeDesc& x) { return x.name.find("textured box") != std::string::npos; });
+  ASSERT_NE(box, s.shapes.end());
+  ASSERT_TRUE(s.materials[size_t(box->material)].albedoTexture);
+  EXPECT_THAT(s.materials[size_t(box->material)].albedoTexture->image->name, HasSubstr("BoxTextured.gltf images[0]"));  // CesiumLogoFlat.png
+}
+
+/// First-shot against NEE on scenes/gltf-samples.json at its defaults (tests/shipped_first_shot.h).
+TEST(SceneAssets, PublicGltfSamplesFirstShotAgreesWithNee) {
+  FIRSTSHOT_STATISTICS_ONLY("SceneAssets.PublicGltfSamplesKeepTheirMaterials");
+  test::expectShippedSceneFirstShotAgreesWithNee("gltf-samples");
 }
 
 TEST(SceneAssets, MeshWithoutMaterialChecksItsKeys) {
