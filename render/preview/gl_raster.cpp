@@ -172,9 +172,8 @@ GLint glWrap(TextureWrap w) {
   }
 }
 
-/// Uploads @p t's image as a linear RGB float texture (rows from the top: GL's t = 0 is v = 0), bilinear on
-/// level 0 with the texture's wrap modes, as Texture::lookup samples it.
-GLuint uploadTexture(const Texture& t) {
+/// A new texture sampled as Texture::lookup samples @p t: bilinear on level 0 with its wrap modes (bound).
+GLuint newTextureLike(const Texture& t) {
   GLuint tex = 0;
   glGenTextures(1, &tex);
   glBindTexture(GL_TEXTURE_2D, tex);
@@ -184,27 +183,25 @@ GLuint uploadTexture(const Texture& t) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(t.wrapV));
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  return tex;
+}
+
+/// Uploads @p t's image as a linear RGB float texture (rows from the top: GL's t = 0 is v = 0).
+GLuint uploadTexture(const Texture& t) {
+  const GLuint tex = newTextureLike(t);
   const TexelImage& im = *t.image;
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, im.width, im.height, 0, GL_RGB, GL_FLOAT, im.texels.data());
   return tex;
 }
 
 /// Uploads @p t's alpha (its alpha channel, else its first channel, as Texture::alphaLookup reads it) as a linear
-/// one-channel float texture, sampled as uploadTexture.
+/// one-channel float texture.
 GLuint uploadAlpha(const Texture& t) {
   const TexelImage& im = *t.image;
   std::vector<float> a = im.alpha;
   if (a.empty())
     for (const Color& c : im.texels) a.push_back(c.x);
-  GLuint tex = 0;
-  glGenTextures(1, &tex);
-  glBindTexture(GL_TEXTURE_2D, tex);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, glWrap(t.wrapU));
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(t.wrapV));
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, 0);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  const GLuint tex = newTextureLike(t);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, im.width, im.height, 0, GL_RED, GL_FLOAT, a.data());
   return tex;
 }
