@@ -11,8 +11,8 @@
 /// and images do not depend on the thread count; every estimator that traces rays then sees a surface of
 /// coverage alpha on average.
 ///
-/// Which source face a patch lies in (for its texture coordinates) is found as render/scene/surface_textures.h
-/// does: the face of its shape that holds its centroid. Only cut-out patches are mapped; a scene without cut-outs
+/// Which source face a patch lies in (for its texture coordinates) is found by common/patch_faces.h, as for the
+/// renderer's textures: the face of its shape that holds its centroid. Only cut-out patches are mapped; a scene without cut-outs
 /// builds nothing (PatchCutouts::build returns null) and installs no filter.
 #include <cstdint>
 #include <memory>

@@ -29,7 +29,7 @@
 #include "common/math.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
-#include "render/scene/patch_faces.h"
+#include "common/patch_faces.h"
 
 namespace fs {
 

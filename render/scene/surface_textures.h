@@ -4,7 +4,7 @@
 /// texture coordinates of a point on it, and the surface there or averaged over the patch: the base colour
 /// (albedo texture) and a pbr material's metallic and roughness (metallic-roughness texture).
 ///
-/// Design: the renderer maps patches to source faces when it loads (render/scene/patch_faces.h), and the
+/// Design: the renderer maps patches to source faces when it loads (common/patch_faces.h), and the
 /// first-shot table (.fsd) does not change. Only patches of textured materials are mapped: a scene without textures builds nothing and pays one branch
 /// per hit (RenderScene::bsdfAt).
 #include <cstdint>
@@ -13,7 +13,7 @@
 #include "common/math.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
-#include "render/scene/patch_faces.h"
+#include "common/patch_faces.h"
 
 namespace fs {
 

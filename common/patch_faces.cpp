@@ -1,5 +1,5 @@
-// Patches to their source faces, and points to barycentric coordinates in them (render/scene/patch_faces.h).
-#include "render/scene/patch_faces.h"
+// Patches to their source faces, and points to barycentric coordinates in them (common/patch_faces.h).
+#include "common/patch_faces.h"
 
 #include <algorithm>
 #include <cmath>
