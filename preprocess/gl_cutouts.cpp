@@ -146,10 +146,11 @@ GLCutouts::GLCutouts(const ItemGeometry& geometry, const std::vector<uint32_t>& 
   glNamedBufferStorage(texels_, GLsizeiptr(texels.size() * sizeof(float)), texels.data(), 0);
 }
 
-GLCutouts::~GLCutouts() {  // the item buffer's context is current (its destructor makes it so)
+void GLCutouts::destroy() {
   if (vbo_) glDeleteBuffers(1, &vbo_);
   if (params_) glDeleteBuffers(1, &params_);
   if (texels_) glDeleteBuffers(1, &texels_);
+  vbo_ = params_ = texels_ = 0;
 }
 
 void GLCutouts::attach(unsigned int vao) const {

@@ -28,10 +28,12 @@ class GLCutouts {
   /// Per-vertex data and slots of @p geometry (whose cutouts must be set), its triangles taken in @p order; uploads
   /// the vertex buffer and the two storage buffers. Needs the item buffer's context current.
   GLCutouts(const ItemGeometry& geometry, const std::vector<uint32_t>& order);
-  ~GLCutouts();
+  ~GLCutouts() = default;  ///< leaves the buffers to the context (destroy() frees them while it is current)
   GLCutouts(const GLCutouts&) = delete;
   GLCutouts& operator=(const GLCutouts&) = delete;
 
+  /// Deletes the buffers; the context must be current.
+  void destroy();
   /// Adds attributes 2 (texture coordinates) and 3 (slot) to vertex array @p vao, from buffer binding 1.
   void attach(unsigned int vao) const;
   /// Binds the storage buffers and sets the blend coin's seed for @p view in @p program (current).

@@ -232,7 +232,7 @@ GLItemBuffer::~GLItemBuffer() {
   if (fbo_) glDeleteFramebuffers(1, &fbo_);
   if (colour_) glDeleteRenderbuffers(1, &colour_);
   if (depth_) glDeleteRenderbuffers(1, &depth_);
-  cutouts_.reset();
+  if (cutouts_) cutouts_->destroy();
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (vbo_) glDeleteBuffers(1, &vbo_);
   if (program_) glDeleteProgram(program_);
