@@ -66,11 +66,11 @@ const char* kCoverageShader = R"(#version 450 core
 layout(local_size_x = 256) in;
 layout(r32ui, binding = 0) readonly uniform uimage2D ids;
 layout(std430, binding = 0) readonly buffer Weights { uvec2 weight[]; };
-layout(std430, binding = 5) readonly buffer Patches { double P[]; };  // 16 per patch: v0..v3, Newell n, count
-layout(std430, binding = 6) readonly buffer JobD { double J[]; };     // 18 per job: q[8] (u, v), sign, eye side
-layout(std430, binding = 7) readonly buffer JobI { ivec4 JI[]; };     // 2 per job: (i0, j0, w, h), (n, slot, patch, 0)
-layout(std430, binding = 8) readonly buffer Tiles { uvec2 tile[]; };  // (job, first pixel of the box)
-layout(std430, binding = 9) buffer Sums { uint sums[]; };             // 8 per slot: expected, visible (lo, hi), pixels
+layout(std430, binding = 1) readonly buffer Patches { double P[]; };  // 16 per patch: v0..v3, Newell n, count
+layout(std430, binding = 2) readonly buffer JobD { double J[]; };     // 18 per job: q[8] (u, v), sign, eye side
+layout(std430, binding = 3) readonly buffer JobI { ivec4 JI[]; };     // 2 per job: (i0, j0, w, h), (n, slot, patch, 0)
+layout(std430, binding = 4) readonly buffer Tiles { uvec2 tile[]; };  // (job, first pixel of the box)
+layout(std430, binding = 5) buffer Sums { uint sums[]; };             // 8 per slot: expected, visible (lo, hi), pixels
 uniform dvec3 eye, axisRight, axisUp, axisForward;
 uniform dvec2 planeMin, planeMax;
 uniform ivec2 size;
@@ -207,6 +207,8 @@ void main() {
 
 constexpr uint32_t kTile = 256;          // pixels per work group of the coverage shader
 constexpr uint32_t kMaxGroups = 65535;   // the guaranteed GL_MAX_COMPUTE_WORK_GROUP_COUNT
+// Storage-buffer binding points 0…5 only: GL 4.3 guarantees 8 (GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS); each pass
+// binds its own buffers before its dispatches.
 
 GLuint reduceProgram(const char* source, const char* what) {
   const GLuint s = glCreateShader(GL_COMPUTE_SHADER);
@@ -258,6 +260,7 @@ bool isSoftwareRenderer(const std::string& renderer) {
 
 GLReduce* GLReduce::forRenderer(ItemBufferRenderer* renderer, const PatchMesh& mesh, const std::string& mode,
                                 std::shared_ptr<GLReduce>& cache) {
+  checkGLReduceMode(mode);
   auto* gl = dynamic_cast<GLItemBuffer*>(renderer);
   if (!gl || mode == "cpu") return nullptr;
   if (cache && &cache->gl_ == gl) return cache.get();
@@ -384,7 +387,7 @@ void GLReduce::touch(const std::vector<View>& views, const std::vector<std::vect
 
 void GLReduce::coverage(const std::vector<View>& views, const std::vector<uint32_t>& touched, double near,
                         std::vector<PatchCoverage>& out) {
-  profile::Scope reduceTime(profile::GpuReduce);
+  profile::Scope setupTime(profile::GpuJobs);
   out.assign(touched.size(), PatchCoverage{});
   if (touched.empty()) return;
   // Jobs (touched patch, view) and their tiles, view by view, set up with the CPU's own projection.
@@ -406,6 +409,8 @@ void GLReduce::coverage(const std::vector<View>& views, const std::vector<uint32
     }
   }
   tileStart[views.size()] = tiles.size() / 2;
+  setupTime.stop();
+  profile::Scope reduceTime(profile::GpuCoverage);
   reduceUpload(jobDBuffer_, jobD.size() * sizeof(double), jobD.data());
   reduceUpload(jobIBuffer_, jobI.size() * sizeof(int32_t), jobI.data());
   reduceUpload(tileBuffer_, tiles.size() * sizeof(uint32_t), tiles.data());
@@ -414,11 +419,11 @@ void GLReduce::coverage(const std::vector<View>& views, const std::vector<uint32
   const GLuint p = coverageProgram_;
   glUseProgram(p);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, current_->buffer);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, patchBuffer_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, jobDBuffer_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, jobIBuffer_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, tileBuffer_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 9, sumBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, patchBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, jobDBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, jobIBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, tileBuffer_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, sumBuffer_);
   glProgramUniform1ui(p, reduceLoc(p, "patchCount"), patchCount_);
   glProgramUniform1d(p, reduceLoc(p, "nearDepth"), near);
   for (size_t v = 0; v < views.size(); ++v) {
