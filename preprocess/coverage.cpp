@@ -143,6 +143,7 @@ class PolygonCache {
                                                                     : -glm::dot(view.forward, self.n);
     eyeSide_ = side > 0 ? 1.0 : side < 0 ? -1.0 : 0.0;
   }
+  double eyeSide() const { return eyeSide_; }
   const Candidate& get(uint32_t id) {
     for (int k = 0; k < n_; ++k)
       if (ids_[k] == id) return polys_[k];
@@ -289,5 +290,23 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count) {
   return analytic::polygonProjectedArea(direction, poly, count);
 }
+
+// ---- For the GPU reduction (issue 36) ----
+
+bool coverageSetup(const View& view, const Patch& patch, double near, CoverageSetup& out) {
+  Vec3d poly[4];
+  for (uint32_t k = 0; k < patch.count; ++k) poly[k] = Vec3d(patch.v[k]);
+  Projected pr;
+  if (!project(view, poly, int(patch.count), near, pr)) return false;
+  std::copy(pr.q, pr.q + pr.n, out.q);
+  out.n = pr.n, out.sign = pr.sign, out.i0 = pr.i0, out.i1 = pr.i1, out.j0 = pr.j0, out.j1 = pr.j1;
+  const ExactPolygon self(patch);
+  static const PatchMesh none;
+  const PolygonCache polygons(none, self, view);  // its eye side, as patchCoverage() takes it
+  out.eyeSide = polygons.eyeSide();
+  return true;
+}
+
+Vec3d exactNormal(const Patch& patch) { return ExactPolygon(patch).n; }
 
 }  // namespace fs

@@ -71,4 +71,21 @@ void markProjection(const View& view, const Patch& patch, double near, int margi
 /// Projected area of the polygon perpendicular to @p direction, m².
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count);
 
+// ---- What patchCoverage() sets up per (patch, view), for the GPU reduction (issue 36, preprocess/gl_reduce.h) ----
+
+/// Patch @p patch in @p view as patchCoverage() tests it: its projection clipped to depth ≥ @p near
+/// (q[0..n), image-plane units), the orientation that makes "inside" the same side of every edge, the
+/// pixel box whose centres may fall inside, and the side of the patch's plane the eye is on.
+struct CoverageSetup {
+  Vec2d q[8];
+  int n = 0;
+  double sign = 1;
+  int i0 = 0, i1 = -1, j0 = 0, j1 = -1;
+  double eyeSide = 0;  ///< +1, −1, or 0 with the eye in the plane (orthographic: the view direction's side)
+};
+/// Fills @p out; false if no pixel centre of @p view can fall inside the patch (nothing to test).
+bool coverageSetup(const View& view, const Patch& patch, double near, CoverageSetup& out);
+/// The Newell normal (not unit) of a patch's double vertices, the plane its exact ray tests use.
+Vec3d exactNormal(const Patch& patch);
+
 }  // namespace fs

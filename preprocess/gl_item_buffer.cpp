@@ -233,6 +233,7 @@ GLItemBuffer::~GLItemBuffer() {
   if (colour_) glDeleteRenderbuffers(1, &colour_);
   if (depth_) glDeleteRenderbuffers(1, &depth_);
   if (cutouts_) cutouts_->destroy();
+  for (const Slot& s : slots_) glDeleteTextures(1, &s.texture);
   if (vao_) glDeleteVertexArrays(1, &vao_);
   if (vbo_) glDeleteBuffers(1, &vbo_);
   if (program_) glDeleteProgram(program_);
@@ -275,20 +276,32 @@ void GLItemBuffer::ensureFramebuffer(int width, int height) {
 
 void GLItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
   ids.assign(view.pixelCount(), kNoPatch);
-  if (view.pixelCount() == 0) return;
+  if (!draw(view, 0)) return;
+  profile::Scope readTime(profile::Readback);
+  glReadPixels(0, 0, view.width, view.height, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
+  checkErrors("render");
+}
+
+bool GLItemBuffer::draw(const View& view, unsigned int texture) {
+  if (view.pixelCount() == 0) return false;
   const double far = farDepth(view, bounds_);
-  if (!(far > near_) || vertexCount_ == 0) return;  // nothing in front of the eye
+  const bool empty = !(far > near_) || vertexCount_ == 0;  // nothing in front of the eye
+  if (empty && texture == 0) return false;
 
   profile::Scope drawTime(profile::Render);
   context_.makeCurrent();
   ensureFramebuffer(view.width, view.height);
+  if (texture)  // a texture kept in GPU memory (renderToTexture), else the renderbuffer read back
+    glNamedFramebufferTexture(fbo_, GL_COLOR_ATTACHMENT0, texture, 0);
+  else
+    glNamedFramebufferRenderbuffer(fbo_, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour_);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glViewport(0, 0, view.width, view.height);
   const GLuint clearId[4] = {kNoPatch, 0, 0, 0};
   glClearBufferuiv(GL_COLOR, 0, clearId);
   const GLfloat clearDepth = 0.0f;  // reversed Z: 0 is the far plane
   glClearBufferfv(GL_DEPTH, 0, &clearDepth);
-
+  if (empty) return true;
   glUseProgram(program_);
   const Vec3 eyeHi(view.eye);
   const Vec3 eyeLo(view.eye - Vec3d(eyeHi));
@@ -331,9 +344,37 @@ void GLItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
     glMultiDrawArrays(GL_TRIANGLES, drawFirst_.data(), drawCount_.data(), static_cast<GLsizei>(drawFirst_.size()));
   if (profile::enabled()) glFinish();  // so that the draw is not counted as readback
   drawTime.stop();
+  return true;
+}
+
+// ---- item buffers kept in GPU memory (issue 36: reduced there, preprocess/gl_reduce.h) ----
+
+unsigned int GLItemBuffer::renderToTexture(const View& view, int slot) {
+  context_.makeCurrent();
+  if (slot >= int(slots_.size())) slots_.resize(size_t(slot) + 1);
+  Slot& s = slots_[size_t(slot)];
+  if (s.width != view.width || s.height != view.height) {
+    if (s.texture) glDeleteTextures(1, &s.texture);
+    glCreateTextures(GL_TEXTURE_2D, 1, &s.texture);
+    glTextureStorage2D(s.texture, 1, GL_R32UI, std::max(1, view.width), std::max(1, view.height));
+    s.width = view.width, s.height = view.height;
+  }
+  if (!draw(view, s.texture)) {
+    const GLuint none = kNoPatch;
+    glClearTexImage(s.texture, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, &none);
+  }
+  checkErrors("render to texture");
+  return s.texture;
+}
+
+void GLItemBuffer::readTexture(int slot, std::vector<uint32_t>& ids) {
+  const Slot& s = slots_.at(size_t(slot));
+  ids.resize(size_t(s.width) * size_t(s.height));
+  if (ids.empty()) return;
   profile::Scope readTime(profile::Readback);
-  glReadPixels(0, 0, view.width, view.height, GL_RED_INTEGER, GL_UNSIGNED_INT, ids.data());
-  checkErrors("render");
+  context_.makeCurrent();
+  glGetTextureImage(s.texture, 0, GL_RED_INTEGER, GL_UNSIGNED_INT, GLsizei(ids.size() * sizeof(uint32_t)), ids.data());
+  checkErrors("texture read-back");
 }
 
 }  // namespace fs

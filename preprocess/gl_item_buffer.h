@@ -46,7 +46,17 @@ class GLItemBuffer final : public ItemBufferRenderer {
   double nearPlane() const override { return near_; }
   GLContext& context() { return context_; }
 
+  // ---- Item buffers kept in GPU memory (issue 36, reduced there: preprocess/gl_reduce.h) ----
+  /// Renders @p view into the GL_R32UI texture of slot @p slot (0, 1, …: one per view of a window,
+  /// resized to the view), texel (i, j) = pixel (i, j), and returns the texture; nothing is read back.
+  unsigned int renderToTexture(const View& view, int slot);
+  /// Reads slot @p slot's texture back into @p ids (row-major, as render() writes it).
+  void readTexture(int slot, std::vector<uint32_t>& ids);
+
  private:
+  /// Draws @p view into @p texture (0: the renderbuffer render() reads back); false if nothing was
+  /// drawn and the target not touched (render() then leaves ids at kNoPatch).
+  bool draw(const View& view, unsigned int texture);
   void ensureFramebuffer(int width, int height);
   void checkErrors(const char* where);
 
@@ -68,6 +78,11 @@ class GLItemBuffer final : public ItemBufferRenderer {
   int locEyeHi_ = -1, locEyeLo_ = -1, locRight_ = -1, locUp_ = -1, locForward_ = -1;
   int locPlane_ = -1, locDepth_ = -1, locOrtho_ = -1;
   std::unique_ptr<GLCutouts> cutouts_;  ///< alpha cut-outs (issue 34); null in a scene without them
+  struct Slot {
+    unsigned int texture = 0;
+    int width = 0, height = 0;
+  };
+  std::vector<Slot> slots_;  ///< renderToTexture's targets
 };
 
 }  // namespace fs

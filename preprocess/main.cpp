@@ -61,6 +61,7 @@ int main(int argc, char** argv) {
     double timeLimit = 0;
     int threads = 0;
     bool stats = false, quiet = false;
+    std::string glReduce = "auto";  // issue 36
     app.add_option("scene", scenePath, "scene file (.json, .obj, .gltf, .glb, .ply)");
     app.add_option("-o,--output", out, "the first-shot file to write (.fsd)");
     app.add_option("--resolution", cli.resolution, "R: pixels across a full cube face (default: settings.item_buffer_resolution)")
@@ -70,6 +71,8 @@ int main(int argc, char** argv) {
     app.add_option("--backend", cli.backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree); a scene with alpha cut-outs takes embree unless gl is asked for")
         ->check(CLI::IsMember({"gl", "embree", "auto"}));
     app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
+    app.add_option("--gl-reduce", glReduce, "GL back end: reduce the item buffers on the cpu (read back) | gpu (compute shaders, only per-patch sums read back) | auto (gpu unless the GL renderer is llvmpipe or softpipe; default)")
+        ->check(CLI::IsMember({"cpu", "gpu", "auto"}));
     app.add_option("--patch-size", cli.patchSize, "longest patch edge in metres (default: settings.patch_size, else automatic from the scene's faces)")->check(CLI::PositiveNumber);
     app.add_option("--light-patch-size", cli.lightPatchSize, "area-light tessellation in metres (default: settings.light_patch_size)")
         ->check(CLI::PositiveNumber);
@@ -103,6 +106,7 @@ int main(int argc, char** argv) {
     o.settings = fs::resolveSettings(scene, cli);  // the scene's settings, the command line's on top, resolved
     o.gl = gl, o.threads = threads, o.quiet = quiet || !comm.root(), o.timeLimit = timeLimit;
     o.comm = &comm;
+    o.glReduce = glReduce;
     if (stats) {
       if (comm.root()) printStats(scene, scenePath, o.settings.patchSize, !cli.patchSize && !(scene.settings.patchSize > 0));
       return 0;

@@ -171,6 +171,7 @@ struct Shooter {
       try {
         std::unique_ptr<ItemBufferRenderer> renderers[2];  // gl, embree
         ShotScratch scratch;
+        scratch.glReduce = options.glReduce;  // issue 36
         for (size_t m; (m = next++) < mine.size();) {
           const size_t k = mine[m];
           const Task& task = tasks[k];

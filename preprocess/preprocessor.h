@@ -50,6 +50,9 @@ struct PreprocessOptions {
   /// (preprocess/kept_item_buffers.h), instead of re-tracing the pixels around split patches.
   /// Off: always re-trace (to compare the two).
   bool keepItemBuffers = true;
+  /// GL back end: where the item buffers are reduced (issue 36, preprocess/gl_reduce.h): "cpu" (read back),
+  /// "gpu" (compute shaders), "auto" (gpu unless GL_RENDERER is a software rasteriser: llvmpipe, softpipe).
+  std::string glReduce = "auto";
 };
 
 struct PreprocessStats {

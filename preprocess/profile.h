@@ -20,6 +20,9 @@ enum Phase : int {
   Render,          ///< item buffer: GL draw (to glFinish) or Embree rays
   Readback,        ///< GL glReadPixels
   Accumulate,      ///< Σ weights per patch
+  GpuReduce,       ///< GL back end reducing on the GPU (issue 36): touched sums (dispatch, gather, read-back)
+  GpuJobs,         ///< the same: the coverage jobs set up on the CPU (projections, pixel boxes, tiles)
+  GpuCoverage,     ///< the same: coverage sums (upload of the jobs, dispatches, read-back)
   Kept,            ///< item buffers kept for the refinement passes: runs, splits followed, unpacked
   Coverage,        ///< analytic estimator: patchCoverage (software rasterisation + exact tests)
   CoverageExposed, ///< the same again over the exposed part of partly buried patches
@@ -33,7 +36,9 @@ enum Phase : int {
 
 inline const char* name(Phase p) {
   static const char* names[] = {"windows", "mesh", "renderer setup (GL context / Embree BVH)", "probe BVH",
-                                "render (draw / rays)", "readback", "accumulate", "kept item buffers", "coverage (patchCoverage)",
+                                "render (draw / rays)", "readback", "accumulate",
+                                "GPU reduction: touched sums", "GPU reduction: job set-up (CPU)",
+                                "GPU reduction: coverage sums", "kept item buffers", "coverage (patchCoverage)",
                                 "coverage of exposed parts",
                                 "point tests", "exposure probes", "closed forms + entries", "table assembly",
                                 "file write"};

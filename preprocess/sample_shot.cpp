@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "common/firstshot_groups.h"
 #include "common/spot_integral.h"
 #include "preprocess/coverage.h"
 #include "preprocess/embree_item_buffer.h"
+#include "preprocess/gl_reduce.h"
 #include "preprocess/profile.h"
 
 namespace fs {
@@ -64,8 +66,11 @@ double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s
 /// fewer than kMinPixelsForAnalytic centres fall inside; a partly visible patch takes it over its
 /// exposed part only (preprocess/exposure.h). @p touched: the patch shows in the item buffer.
 /// @p exposure is required (it also lends its ray caster to the point tests). ≤ 0: no light.
+/// @p computed: the coverage without exposure, computed on the GPU (null: here); @p needIds brings
+/// @p ids to the CPU before the exposed part's coverage reads them.
 double visibleFraction(const SampleSetup& s, const std::vector<View>& views, const std::vector<std::vector<uint32_t>>& ids,
-                        double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure) {
+                        double near, const PatchMesh& mesh, uint32_t patch, bool touched, ExposureCache* exposure,
+                        const PatchCoverage* computed, const std::function<void()>& needIds) {
   auto coverage = [&](const ExposureQuery* mask) {
     PatchCoverage total;
     for (size_t v = 0; v < views.size(); ++v) {
@@ -84,7 +89,7 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
   double fraction = -1;
   if (touched) {
     profile::Scope coverageTime(profile::Coverage);
-    PatchCoverage total = coverage(nullptr);
+    PatchCoverage total = computed ? *computed : coverage(nullptr);
     if (total.visible < total.expected && total.visible > 0) {  // partly visible: buried?
       coverageTime.stop();
       {
@@ -92,7 +97,7 @@ double visibleFraction(const SampleSetup& s, const std::vector<View>& views, con
         getMask();
       }
       profile::Scope again(profile::CoverageExposed);
-      if (query.mask->partial) total = coverage(&query);
+      if (query.mask->partial) needIds(), total = coverage(&query);
     }
     if (total.pixels >= kMinPixelsForAnalytic && total.expected > 0)
       fraction = std::min(1.0, total.visible / total.expected);
@@ -156,8 +161,18 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
     if (scratch.inTask.size() != mesh.size()) scratch.inTask.assign(mesh.size(), 0);
     for (uint32_t id : task.patches) scratch.inTask[id] = 1;
   }
+  // ---- GPU reduction (issue 36): item buffers stay in GPU memory, only per-patch sums come back ----
+  GLReduce* gpu = masked ? nullptr : GLReduce::forRenderer(renderer, mesh, scratch.glReduce, scratch.gpu);
+  bool idsHere = !gpu;  // else read back only where the CPU reads them (kept buffers, exposed parts)
+  const std::function<void()> needIds = [&] {
+    if (!idsHere) gpu->readBack(idsPerView), idsHere = true;
+  };
+  if (gpu) {
+    gpu->touch(views, *s.weights, touched, acc);
+    if (kept && keeping.maxBytes > 0) needIds();
+  }
   std::vector<uint8_t> mask;
-  for (size_t v = 0; v < views.size(); ++v) {
+  for (size_t v = 0; !gpu && v < views.size(); ++v) {
     std::vector<uint32_t>& ids = idsPerView[v];
     if (masked && !fromKept) {
       profile::Scope renderTime(profile::Render);
@@ -199,8 +214,11 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   auto emit = [&](uint32_t id, float factor, double fraction) {
     if (factor > 0) out.push_back({id, factor, static_cast<float>(fraction)});
   };
+  if (gpu && (s.analytic || needVisible)) gpu->coverage(views, touched, near, scratch.coverage);
   auto fraction = [&](uint32_t id, bool shown) {
-    return visibleFraction(s, views, idsPerView, near, mesh, id, shown, exposure);
+    const PatchCoverage* computed =
+        gpu && shown ? &scratch.coverage[size_t(std::lower_bound(touched.begin(), touched.end(), id) - touched.begin())] : nullptr;
+    return visibleFraction(s, views, idsPerView, near, mesh, id, shown, exposure, computed, needIds);
   };
   auto inTask = [&](uint32_t id) {
     return task.patches.empty() || std::binary_search(task.patches.begin(), task.patches.end(), id);

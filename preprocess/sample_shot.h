@@ -5,12 +5,15 @@
 /// analytic estimator (closed form × visible fraction) or the pixel sums. preprocess/preprocessor.cpp
 /// runs these over all samples and assembles the table.
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "common/firstshot.h"
 #include "common/emission_profile.h"
 #include "common/math.h"
 #include "common/patches.h"
+#include "preprocess/coverage.h"
 #include "preprocess/exposure.h"
 #include "preprocess/item_buffer.h"
 #include "preprocess/kept_item_buffers.h"
@@ -18,6 +21,8 @@
 #include "preprocess/window.h"
 
 namespace fs {
+
+class GLReduce;
 
 /// How one light sample is rendered: which window, where, and the scale from Σ weights to r_ij·A_j.
 struct SampleSetup {
@@ -59,6 +64,10 @@ struct ShotScratch {
   std::vector<std::vector<uint32_t>> ids;      ///< item buffer per view
   std::vector<uint32_t> candidates;            ///< patches the occlusion cull leaves
   std::vector<uint8_t> inTask;                 ///< per patch: in the task (all zero between calls)
+  // ---- GPU reduction (issue 36, preprocess/gl_reduce.h) ----
+  std::string glReduce = "cpu";                ///< cpu | gpu | auto (PreprocessOptions::glReduce)
+  std::shared_ptr<GLReduce> gpu;               ///< the GL renderer's reducer, made on first use
+  std::vector<PatchCoverage> coverage;         ///< from the GPU: per touched patch (sorted)
 };
 
 /// The first pass's item buffers kept for the refinement passes (preprocess/kept_item_buffers.h).
