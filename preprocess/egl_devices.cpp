@@ -40,7 +40,7 @@ std::string deviceString(EGLDeviceEXT device, EGLint name) {
   return s ? std::string(s) : std::string();
 }
 
-EglDeviceInfo describe(EGLDeviceEXT device, int index) {
+EglDeviceInfo describeDevice(EGLDeviceEXT device, int index) {
   EglDeviceInfo info;
   info.index = index;
   info.extensions = deviceString(device, EGL_EXTENSIONS);
@@ -53,7 +53,7 @@ EglDeviceInfo describe(EGLDeviceEXT device, int index) {
   return info;
 }
 
-[[noreturn]] void outOfRange(int device, size_t count) {
+[[noreturn]] void deviceOutOfRange(int device, size_t count) {
   throw InputError("", "--gl-device",
                    "device " + std::to_string(device) + " does not exist: EGL lists " + std::to_string(count) +
                        (count == 0 ? " devices (no EGL_EXT_device_enumeration, or no driver)"
@@ -62,7 +62,7 @@ EglDeviceInfo describe(EGLDeviceEXT device, int index) {
 }
 
 /// Initialises @p d and checks it can make surfaceless contexts; on success stores it under @p key.
-const EglDisplayHandle* tryOpen(EGLDisplay d, const std::string& platform, int key, std::string& errors) {
+const EglDisplayHandle* tryOpenDisplay(EGLDisplay d, const std::string& platform, int key, std::string& errors) {
   if (d == EGL_NO_DISPLAY) {
     errors += platform + ": no display (" + eglErrorName(eglGetError()) + "); ";
     return nullptr;
@@ -81,7 +81,7 @@ const EglDisplayHandle* tryOpen(EGLDisplay d, const std::string& platform, int k
 }
 
 /// Opens the display for @p key (kEglDeviceAuto or a device index). gEglMutex held.
-const EglDisplayHandle& open(int key) {
+const EglDisplayHandle& openDisplay(int key) {
   if (auto it = gOpened.find(key); it != gOpened.end()) return it->second;
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   auto platformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
@@ -90,25 +90,25 @@ const EglDisplayHandle& open(int key) {
   const bool devicePlatform = hasEglExtension(client, "EGL_EXT_platform_device");
   const std::vector<EGLDeviceEXT> devices = queryEglDevices();
   auto onDevice = [&](size_t i, std::string& errors) {
-    return tryOpen(platformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr), "device " + std::to_string(i), key, errors);
+    return tryOpenDisplay(platformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr), "device " + std::to_string(i), key, errors);
   };
   std::string errors;
   if (key >= 0) {
-    if (size_t(key) >= devices.size()) outOfRange(key, devices.size());
+    if (size_t(key) >= devices.size()) deviceOutOfRange(key, devices.size());
     if (!devicePlatform) errors += "no EGL_EXT_platform_device; ";
     else if (const EglDisplayHandle* h = onDevice(size_t(key), errors)) return *h;
   } else {
     if (devicePlatform)  // a GPU first
       for (size_t i = 0; i < devices.size(); ++i)
-        if (!describe(devices[i], int(i)).software)
+        if (!describeDevice(devices[i], int(i)).software)
           if (const EglDisplayHandle* h = onDevice(i, errors)) return *h;
     if (hasEglExtension(client, "EGL_MESA_platform_surfaceless"))
-      if (const EglDisplayHandle* h = tryOpen(platformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
+      if (const EglDisplayHandle* h = tryOpenDisplay(platformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
                                               "surfaceless", key, errors))
         return *h;
     if (devicePlatform)  // then any device
       for (size_t i = 0; i < devices.size(); ++i)
-        if (describe(devices[i], int(i)).software)
+        if (describeDevice(devices[i], int(i)).software)
           if (const EglDisplayHandle* h = onDevice(i, errors)) return *h;
     if (!devicePlatform) errors += "no EGL_EXT_platform_device; ";
     else if (devices.empty()) errors += "device: no EGL devices; ";
@@ -122,7 +122,7 @@ std::vector<EglDeviceInfo> listEglDevices() {
   std::lock_guard<std::mutex> lock(gEglMutex);
   const std::vector<EGLDeviceEXT> devices = queryEglDevices();
   std::vector<EglDeviceInfo> out;
-  for (size_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], int(i)));
+  for (size_t i = 0; i < devices.size(); ++i) out.push_back(describeDevice(devices[i], int(i)));
   return out;
 }
 
@@ -130,14 +130,14 @@ void setEglDevice(int device) {
   std::lock_guard<std::mutex> lock(gEglMutex);
   if (device >= 0) {
     const size_t count = queryEglDevices().size();
-    if (size_t(device) >= count) outOfRange(device, count);
+    if (size_t(device) >= count) deviceOutOfRange(device, count);
   }
   gProcessDevice = device < 0 ? kEglDeviceAuto : device;
 }
 
 const EglDisplayHandle& eglDisplay(int device) {
   std::lock_guard<std::mutex> lock(gEglMutex);
-  return open(device == kEglDeviceProcess ? gProcessDevice : device < 0 ? kEglDeviceAuto : device);
+  return openDisplay(device == kEglDeviceProcess ? gProcessDevice : device < 0 ? kEglDeviceAuto : device);
 }
 
 bool isSoftwareRenderer(const std::string& glRenderer) {

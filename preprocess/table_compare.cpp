@@ -18,7 +18,7 @@ std::vector<double> sampleFlux(const FirstShotTable& t) {
   return flux;
 }
 
-double relative(double test, double ref) { return ref > 0 ? std::abs(test - ref) / ref : (test == 0 ? 0.0 : INFINITY); }
+double relativeDifference(double test, double ref) { return ref > 0 ? std::abs(test - ref) / ref : (test == 0 ? 0.0 : INFINITY); }
 
 }  // namespace
 
@@ -38,9 +38,9 @@ TableDifference compareTables(const FirstShotTable& ref, const FirstShotTable& t
   double sumA = 0, sumB = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     sumA += a[i], sumB += b[i];
-    if (a[i] > 1e-6 * peak) d.maxSampleFlux = std::max(d.maxSampleFlux, relative(b[i], a[i]));
+    if (a[i] > 1e-6 * peak) d.maxSampleFlux = std::max(d.maxSampleFlux, relativeDifference(b[i], a[i]));
   }
-  d.totalFlux = relative(sumB, sumA);
+  d.totalFlux = relativeDifference(sumB, sumA);
   if (!d.sameMesh) {
     d.weightedL1 = d.maxFactor = NAN;
     return d;
@@ -59,7 +59,7 @@ TableDifference compareTables(const FirstShotTable& ref, const FirstShotTable& t
       if (r != s) {
         ++d.differingFactors;
         diff += area * std::abs(s - r);
-        d.maxFactor = std::max(d.maxFactor, relative(s, r));
+        d.maxFactor = std::max(d.maxFactor, relativeDifference(s, r));
       }
     }
   }
