@@ -7,7 +7,7 @@ FUZZ_SECONDS ?= 120
 FUZZ_SMOKE_SECONDS ?= 12
 SCENE  ?= scenes/cornell.json
 
-.PHONY: deps build build-asan demo test test-release test-asan fuzz fuzz-smoke bench bench-report bench-quick clean
+.PHONY: deps build build-asan demo test test-release test-asan fuzz fuzz-smoke bench bench-report bench-quick gpu-bundle clean
 
 deps:
 	bash scripts/install-deps.sh
@@ -64,6 +64,13 @@ bench-report: build
 ## A two-minute smoke check of the same harness's plumbing (results under out/bench/quick/; the numbers mean nothing).
 bench-quick: build
 	/usr/bin/python3 bench/firstshot_bench.py --build $(BUILD) --quick $(BENCH_ARGS) cornell many-lights
+
+## The preprocessor for the GPU machine (issue 36, docs/gpu.md): firstshot-preprocess and firstshot-fsd-compare built
+## in $(GPU_BUILD) with their shared libraries, into .gpu/bundle.tar.xz (ignored by git, carried to the device),
+## checked here with nothing but the bundle's libraries; bench/gpu_preprocess.sh runs it there.
+GPU_BUILD ?= build/gpu
+gpu-bundle:
+	JOBS=$(JOBS) bash scripts/gpu_bundle.sh $(GPU_BUILD)
 
 clean:
 	rm -rf build out

@@ -11,6 +11,7 @@
 #include "common/patch_size.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
+#include "preprocess/gl_device_option.h"
 #include "preprocess/preprocessor.h"
 #include "preprocess/profile.h"
 
@@ -70,7 +71,9 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"hemicube", "tetra"}));
     app.add_option("--backend", cli.backend, "item buffers: gl (rasterised) | embree (ray cast) | auto (per light: gl while the scene has at most 1/12 as many triangles as the light's window has pixels, else embree); a scene with alpha cut-outs takes embree unless gl is asked for")
         ->check(CLI::IsMember({"gl", "embree", "auto"}));
-    app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl")->check(CLI::IsMember({"osmesa", "egl"}));
+    app.add_option("--gl", gl, "OpenGL platform: osmesa (no display needed) | egl (a GPU through EGL's device platform if there is one, else Mesa's surfaceless platform)")->check(CLI::IsMember({"osmesa", "egl"}));
+    std::string glDevice;  // --gl-device (preprocess/gl_device_option.h)
+    app.add_option("--gl-device", glDevice, "EGL device (implies --gl egl): N (an index that 'list' shows) | auto (default: the first GPU, else Mesa's surfaceless platform) | list (print the devices and exit)");
     app.add_option("--gl-reduce", glReduce, "GL back end: reduce the item buffers on the cpu (read back) | gpu (compute shaders, only per-patch sums read back) | auto (gpu unless the GL renderer is llvmpipe or softpipe; default)")
         ->check(CLI::IsMember({"cpu", "gpu", "auto"}));
     app.add_option("--patch-size", cli.patchSize, "longest patch edge in metres (default: settings.patch_size, else automatic from the scene's faces)")->check(CLI::PositiveNumber);
@@ -96,6 +99,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::ParseError& e) {
       return app.exit(e) == 0 ? 0 : fs::kExitBadInput;
     }
+    if (!glDevice.empty() && fs::applyGLDeviceOption(glDevice, gl, app.count("--gl") > 0)) return 0;  // "list"
     if (!dump.empty()) {
       if (comm.root()) dumpCsv(dump);
       return 0;

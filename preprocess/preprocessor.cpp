@@ -103,10 +103,22 @@ constexpr size_t kKeptItemBufferBytes = size_t(512) << 20;
 /// The back end of sample window @p w for backend "auto" (docs/preprocess-performance.md): the GL
 /// rasteriser's cost grows with the triangles it draws (llvmpipe: about 0.4 µs each), Embree's with
 /// the pixels it traces (about 33 ns each, growing only as the log of the triangles); so GL while
-/// the scene has at most 1/12 as many triangles as the window has pixels.
+/// the scene has at most 1/12 as many triangles as the window has pixels. On a GPU (@p glOnGpu) always GL.
 constexpr size_t kPixelsPerTriangleForGL = 12;
-const char* autoBackend(size_t triangles, const Window& w) {
-  return triangles * kPixelsPerTriangleForGL <= w.pixelCount() ? "gl" : "embree";
+const char* autoBackend(size_t triangles, const Window& w, bool glOnGpu) {
+  return glOnGpu || triangles * kPixelsPerTriangleForGL <= w.pixelCount() ? "gl" : "embree";
+}
+
+/// Whether OpenGL back end @p gl ("osmesa" | "egl") runs on a GPU: its GL_RENDERER (of a probe context on
+/// the device EGL chooses, preprocess/egl_devices.h) is not one of Mesa's CPU rasterisers. OSMesa never does.
+bool glRunsOnGpu(const std::string& gl) {
+  if (parseGLBackend(gl) != GLBackend::EGL) return false;
+  try {
+    const GLContext probe(GLBackend::EGL);
+    return !isSoftwareRenderer(probe.renderer());
+  } catch (const std::runtime_error&) {
+    return false;  // no EGL: the rule for CPUs (the GL workers report the error if GL is chosen)
+  }
 }
 
 /// One shooting pass over a fixed mesh: workers with their own renderer (GL context) take tasks in
@@ -124,6 +136,8 @@ struct Shooter {
   std::chrono::steady_clock::time_point deadline;  ///< past it the run fails (nothing is written)
   double exchangeSeconds = 0;
   uint64_t bytesSent = 0;
+  int glOnGpu = -1;        ///< backend "auto": whether GL runs on a GPU (glRunsOnGpu); -1 not asked yet
+  std::string glRenderer;  ///< GL_RENDERER of the first GL item buffer made (empty: none)
   /// Per light sample, its item buffers from the first pass while refinement passes may need them
   /// (on the rank that shoots the sample: tasks are dealt by sample).
   std::vector<KeptItemBuffers> kept;
@@ -164,6 +178,7 @@ struct Shooter {
     }
     std::atomic<size_t> next{0};
     std::atomic<int> used[2] = {0, 0};  // which back ends "auto" chose
+    if (options.settings.backend == "auto" && glOnGpu < 0) glOnGpu = glRunsOnGpu(options.gl);
     std::mutex errorMutex;
     std::exception_ptr error;
     Progress progress(label, mine.size(), quiet);
@@ -179,11 +194,15 @@ struct Shooter {
           ItemBufferRenderer* renderer = nullptr;
           if (task.patches.empty()) {
             std::string backend = options.settings.backend;
-            if (backend == "auto") backend = autoBackend(geometry.triangleCount(), *setups[task.sample].window);
+            if (backend == "auto") backend = autoBackend(geometry.triangleCount(), *setups[task.sample].window, glOnGpu > 0);
             auto& r = renderers[backend == "gl" ? 0 : 1];
             if (!r) {
               profile::Scope setupTime(profile::RendererSetup);
               r = makeRenderer(backend, options, geometry, bounds, probe.get());
+              if (auto* gl = dynamic_cast<GLItemBuffer*>(r.get())) {
+                std::lock_guard lock(errorMutex);
+                if (glRenderer.empty()) glRenderer = gl->context().renderer();
+              }
             }
             renderer = r.get();
             used[backend == "gl" ? 0 : 1] = 1;
@@ -221,6 +240,8 @@ struct Shooter {
     if (error) std::rethrow_exception(error);
     if (options.settings.backend == "auto" && (used[0] || used[1]) && rendererName.empty())
       rendererName = used[0] && used[1] ? "auto: gl+embree" : used[0] ? "auto: gl" : "auto: embree";
+    if (!glRenderer.empty() && rendererName.find("gl") != std::string::npos && rendererName.find(" (") == std::string::npos)
+      rendererName += " (" + glRenderer + ")";  // the device GL ran on (GL_RENDERER)
     exchange(tasks, mine, results);
   }
 
