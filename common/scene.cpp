@@ -236,6 +236,9 @@ uint64_t hashScene(const SceneDesc& scene) {
                         scene.materials[size_t(s.material)].normalTexture;
     if (mapped && !textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
     if (s.hasNormals()) h.add(uint8_t(4)).bytes(s.normals.data(), s.normals.size() * sizeof(Vec3));
+    if (mapped && s.hasTangents())  // glTF TANGENT: only what a normal map reads (other shapes hash as before)
+      h.add(uint8_t(5)).bytes(s.tangents.data(), s.tangents.size() * sizeof(Vec3))
+          .bytes(s.bitangents.data(), s.bitangents.size() * sizeof(Vec3));
   }
   h.add<uint64_t>(scene.lights.size());
   for (const auto& l : scene.lights) {

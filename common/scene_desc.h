@@ -118,6 +118,13 @@ struct ShapeDesc {
   bool hasNormals() const { return !normals.empty(); }
   /// The shading normal of corner @p k of faces[@p f] (hasNormals() must hold).
   Vec3 cornerNormal(size_t f, int k) const { return normals[4 * f + size_t(k)]; }
+  // --- Tangent frames from the file (issue 34: glTF's TANGENT) ---
+  /// The file's tangent frame per face corner, world space, as normals: tangents[4·f + k] (xyz of glTF's TANGENT,
+  /// along which a normal map's +x points) and bitangents[4·f + k] (its w × NORMAL × TANGENT, the map's +y), both
+  /// transformed as surface vectors (by the shape's matrix, not the inverse transpose). 0 at a corner without one.
+  /// Empty: the shape has none, and normal maps use the frame generated per triangle (render/scene/shading_normals.h).
+  std::vector<Vec3> tangents, bitangents;
+  bool hasTangents() const { return !tangents.empty(); }
   SmallOverride small = SmallOverride::Auto;  ///< for emissive shapes
 
   bool hasUv() const { return !uv.empty(); }

@@ -268,6 +268,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     s.faces = std::move(mesh.faces);
     s.uv = std::move(mesh.uv);
     s.normals = std::move(mesh.normals);  // issue 34: shading normals from the file
+    s.tangents = std::move(mesh.tangents), s.bitangents = std::move(mesh.bitangents);  // and its TANGENT
   } else {
     r.fail(where + ".type", "unknown shape type \"" + type + "\" (quad, box, sphere, mesh)");
   }
