@@ -59,6 +59,12 @@ struct MaterialDesc {
   /// texel's direction in the tangent frame of the interpolated normal (render/scene/shading_normals.h).
   std::shared_ptr<const Texture> normalTexture;
   float normalScale = 1.0f;  ///< glTF's normalTexture.scale: multiplies the texel's x and y (after 2t − 1)
+  // --- Emission per point (issue 34; common/emission_texture.h) ---
+  /// An emission texture (sRGB-decoded): on a shape with texture coordinates the radiance at a point is
+  /// emissionFactor × the texel there, and `emission` is its mean over the surface (what the light's power is
+  /// taken from). Null: `emission` everywhere.
+  std::shared_ptr<const Texture> emissionTexture;
+  Color emissionFactor{0.0f};  ///< W/(m² sr): what the emission texture's texels multiply
   /// Whether any property varies over the surface (a texture to look up per point).
   bool hasTextures() const { return albedoTexture || metallicRoughnessTexture; }
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }

@@ -42,7 +42,7 @@ std::string writeTangentQuad(float w) {
   for (size_t i = 0; i < 4; ++i) uv.push_back((positions[3 * i + 2] + 1) / 2), uv.push_back((1 - positions[3 * i]) / 2);
   const std::vector<uint16_t> indices = {0, 1, 2, 0, 2, 3};
   std::string bin;
-  for (const std::vector<float>* a : {&positions, &normals, &tangents, &uv})
+  for (const std::vector<float>* a : std::array<const std::vector<float>*, 4>{&positions, &normals, &tangents, &uv})
     bin.append(reinterpret_cast<const char*>(a->data()), a->size() * 4);
   bin.append(reinterpret_cast<const char*>(indices.data()), indices.size() * 2);
   const std::string dir = test::tempDir();
