@@ -1,5 +1,6 @@
 // Emission per point (issue 34): scenes/emissive-texture.json, a ceiling panel whose emission texture is white on its
-// left half and black on its right, over a floor. What a ray sees at two texture coordinates; the floor's irradiance
+// left half and black on its right, over a floor. What a ray sees at two texture coordinates (and on a glTF's
+// emissiveTexture); the floor's irradiance
 // under each half against a quadrature of the panel, by NEE (sensors) and by BSDF (cosine) sampling; the
 // preprocessor's light samples weighted by the texture with the right total; light tracing and BDPT against the path
 // tracer; first-shot against NEE for the path tracer, light tracing, BDPT and the cache; 1 and 2 threads alike.
@@ -8,8 +9,10 @@
 #include <fmt/core.h>
 
 #include "common/emission_texture.h"
+#include "common/error.h"
 #include "common/sampling.h"
 #include "preprocess/light_tessellation.h"
+#include "render/output/image_io.h"
 #include "render/sensors/sensors.h"
 #include "tests/bias_util.h"
 #include "tests/block_compare.h"
@@ -71,6 +74,54 @@ TEST(EmissionTexture, RadianceSeenAtTwoTextureCoordinates) {
     ASSERT_FALSE(hit.onPatch());
     EXPECT_NEAR(scene.lights().emitted(hit, Vec3(0, -1, 0)).x, expected, 1e-3 * kLe) << "x = " << x;
     EXPECT_EQ(scene.lights().emitted(hit, Vec3(0, 1, 0)), Color(0.0f)) << "one-sided";
+  }
+}
+
+TEST(EmissionTexture, GltfEmissiveTextureEmitsPerPoint) {
+  // A glTF quad at y = 1 facing down, u = x, v = z, emissiveFactor 3 × a 2 × 1 texture (white, black; repeat): rays up
+  // meet Le = 3 at u = ¼ (texel 0's centre) and 0 at u = ¾; the material's emission is the mean, 1.5.
+  const std::string dir = test::tempDir();
+  const uint8_t rgb[6] = {255, 255, 255, 0, 0, 0};
+  image::writePng(dir + "/e.png", 2, 1, rgb);
+  const std::vector<float> positions = {0, 1, 0, 1, 1, 0, 1, 1, 1, 0, 1, 1}, uv = {0, 0, 1, 0, 1, 1, 0, 1};
+  const std::vector<uint16_t> indices = {0, 1, 2, 0, 2, 3};
+  std::string bin(reinterpret_cast<const char*>(positions.data()), positions.size() * 4);
+  bin.append(reinterpret_cast<const char*>(uv.data()), uv.size() * 4);
+  bin.append(reinterpret_cast<const char*>(indices.data()), indices.size() * 2);
+  test::writeText(dir + "/q.bin", bin);
+  test::writeText(dir + "/q.gltf", fmt::format(R"({{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+  "nodes": [{{"mesh": 0}}], "materials": [{{"emissiveFactor": [3, 3, 3], "emissiveTexture": {{"index": 0}}}}],
+  "textures": [{{"source": 0}}], "images": [{{"uri": "e.png"}}],
+  "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 1}}, "indices": 2, "material": 0}}]}}],
+  "buffers": [{{"uri": "q.bin", "byteLength": {}}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 48}}, {{"buffer": 0, "byteOffset": 48, "byteLength": 32}},
+                  {{"buffer": 0, "byteOffset": 80, "byteLength": 12}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, 1, 0], "max": [1, 1, 1]}},
+                {{"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"}},
+                {{"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}}]}})", bin.size()));
+  const SceneDesc desc = loadScene(dir + "/q.gltf");
+  const MaterialDesc& m = desc.materials.at(size_t(desc.shapes.at(0).material));
+  ASSERT_TRUE(m.emissionTexture);
+  EXPECT_NEAR(m.emission.x, 1.5, 1e-5);
+  const RenderScene scene(desc);
+  for (const auto& [x, expected] : {std::pair{0.25f, 3.0}, std::pair{0.75f, 0.0}}) {
+    Hit hit;
+    ASSERT_TRUE(scene.intersect(Ray(Vec3(x, 0, 0.5f), Vec3(0, 1, 0)), hit));
+    EXPECT_NEAR(scene.lights().emitted(hit, Vec3(0, -1, 0)).x, expected, 1e-4) << "u = " << x;
+  }
+}
+
+TEST(EmissionTexture, MissingImageNamesTheFileMaterialAndKey) {
+  // The shipped scene copied where its texture is not (relative to the scene file).
+  const std::string dir = test::tempDir();
+  test::writeText(dir + "/scene.json", test::readFile(test::source("scenes/emissive-texture.json")));
+  try {
+    loadScene(dir + "/scene.json");
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    for (const char* part : {"scene.json", "materials.panel.emission_texture", "half_white.png", "not found"})
+      EXPECT_NE(what.find(part), std::string::npos) << what;
   }
 }
 
