@@ -6,8 +6,8 @@
 namespace fs {
 namespace {
 
-/// Barycentric coordinates (β, γ) of @p p projected onto the plane of triangle (a, b, c): p ≈ a + β(b − a) + γ(c − a);
-/// (−1, −1) for a degenerate triangle.
+/// Barycentric coordinates (β, γ) of @p p projected onto the plane of triangle (a, b, c):
+/// p ≈ a + β(b − a) + γ(c − a); (−1, −1) for a degenerate triangle.
 Vec2d emitterBarycentric(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& p) {
   const Vec3d e1 = b - a, e2 = c - a, d = p - a;
   const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
@@ -36,7 +36,9 @@ Vec2 faceUvAt(const ShapeDesc& s, size_t f, const Vec3d& p) {
 
 Color meanEmissionOverTriangle(const MaterialDesc& m, const Vec2& uv0, const Vec2& uv1, const Vec2& uv2, int n) {
   Color sum(0.0f);
-  forEachSubTriangleCentroid(n, [&](float b, float c) { sum += emissionAt(m, uv0 + b * (uv1 - uv0) + c * (uv2 - uv0)); });
+  forEachSubTriangleCentroid(n, [&](float b, float c) {
+    sum += emissionAt(m, uv0 + b * (uv1 - uv0) + c * (uv2 - uv0));
+  });
   return sum / float(n * n);
 }
 

@@ -202,7 +202,8 @@ bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, s
     Face out;
     Vec2 corner[4] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
     Vec3 normal[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};
-    Vec3 tangent[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)}, bitangent[4] = {tangent[0], tangent[0], tangent[0], tangent[0]};
+    Vec3 tangent[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};
+    Vec3 bitangent[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};
     for (int k = 0; k < 3; ++k) {
       if (in.mIndices[k] >= mesh.mNumVertices) return false;
       out.v[k] = welder.index(point(toWorld, mesh.mVertices[in.mIndices[k]]));

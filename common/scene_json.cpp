@@ -107,7 +107,8 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   m.name = name;
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
   if (type == "diffuse") {
-    r.keys(j, where, {"type", "albedo", "albedo_texture", "emission", "emission_texture", "normal_texture", "normal_scale"});
+    r.keys(j, where, {"type", "albedo", "albedo_texture", "emission", "emission_texture", "normal_texture",
+                      "normal_scale"});
     m.type = MaterialType::Diffuse;
   } else if (type == "glossy") {
     r.keys(j, where, {"type", "albedo", "albedo_texture", "specular", "exponent", "emission", "emission_texture",

@@ -90,7 +90,8 @@ void skipFaces(ShapeDesc& s, FileCounts& c) {
         keptNormals.insert(keptNormals.end(), s.normals.begin() + long(4 * i), s.normals.begin() + long(4 * i + 4));
       if (s.hasTangents()) {  // issue 34: glTF TANGENT
         keptTangents.insert(keptTangents.end(), s.tangents.begin() + long(4 * i), s.tangents.begin() + long(4 * i + 4));
-        keptBitangents.insert(keptBitangents.end(), s.bitangents.begin() + long(4 * i), s.bitangents.begin() + long(4 * i + 4));
+        keptBitangents.insert(keptBitangents.end(), s.bitangents.begin() + long(4 * i),
+                              s.bitangents.begin() + long(4 * i + 4));
       }
     }
   c.faces += s.faces.size();

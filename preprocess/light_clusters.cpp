@@ -97,7 +97,8 @@ class Clusterer {
     if (fine_.emission.empty()) return Color(0.0f);
     Vec3d sum(0.0);
     double weight = 0;
-    for (const uint32_t* i = begin; i != end; ++i) sum += fine_.weights[*i] * Vec3d(fine_.emission[*i]), weight += fine_.weights[*i];
+    for (const uint32_t* i = begin; i != end; ++i)
+      sum += fine_.weights[*i] * Vec3d(fine_.emission[*i]), weight += fine_.weights[*i];
     return weight > 0 ? Color(sum / weight) : Color(0.0f);
   }
 

@@ -141,7 +141,8 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
 
 Color LightSampler::emitterRadiance(const Emitter& e, const Vec2& u) const {
   const Vec3 bary = squareToUniformTriangle(u);  // as emitterPoint
-  return scene_->lights().radianceAt(scene_->lights().lights()[e.index], triangles_[e.sub].meshTriangle, Vec2(bary.y, bary.z));
+  const LightSet& lights = scene_->lights();
+  return lights.radianceAt(lights.lights()[e.index], triangles_[e.sub].meshTriangle, Vec2(bary.y, bary.z));
 }
 
 Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {

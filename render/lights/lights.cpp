@@ -167,7 +167,8 @@ Color LightSet::emitted(const Hit& hit, const Vec3& wo) const {
   if (!l.textured) return l.radiance;
   const EmitterMesh& m = meshes_[hit.emitter];
   const uint32_t* v = &m.indices[3 * size_t(hit.triangle)];
-  return radianceAt(l, hit.triangle, emitterHitBarycentric(m.vertices[v[0]], m.vertices[v[1]], m.vertices[v[2]], hit.p));
+  const Vec2 bary = emitterHitBarycentric(m.vertices[v[0]], m.vertices[v[1]], m.vertices[v[2]], hit.p);
+  return radianceAt(l, hit.triangle, bary);
 }
 
 Color LightSet::radianceAt(const RenderLight& l, uint32_t t, const Vec2& bary) const {
