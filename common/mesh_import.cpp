@@ -375,9 +375,11 @@ class MaterialTable {
     if (const std::optional<GltfMaterial>& g = converted_[k]->second; g && g->emissiveTexture.texture >= 0) {
       const auto uv = uvTriangles(mesh, toWorld, g->emissiveTexture.texCoord);
       m.emission = emissionOnMesh(*g, *textures_, uv ? &*uv : nullptr);
-      if (g->emissiveTexture.texCoord == 0 && mesh.mTextureCoords[0] && maxComponent(g->emissive) > 0.0f)
-        if ((m.emissionTexture = textures_->texture(g->emissiveTexture)))  // issue 34: emission per point
-          m.emissionFactor = g->emissive;
+      // Issue 34: emission per point, through the coordinates the shapes keep; an image that could not be read is
+      // already named once (emissionOnMesh asked for it) and leaves the factor alone.
+      if (g->emissiveTexture.texCoord == 0 && mesh.mTextureCoords[0] && maxComponent(g->emissive) > 0.0f &&
+          textures_->image(g->emissiveTexture, true))
+        if ((m.emissionTexture = textures_->texture(g->emissiveTexture))) m.emissionFactor = g->emissive;
     }
     for (size_t i = 0; i < sources_.size(); ++i)
       if (sources_[i] == k && materials_[i].emission == m.emission &&
