@@ -149,6 +149,20 @@ Vec3 importedNormal(const Mat3d& normalMatrix, const aiVector3D& n) {
   return std::isfinite(length) && length > 0.0 ? Vec3(w / length) : Vec3(0.0f);
 }
 
+/// A file's tangent-frame vector @p v (glTF TANGENT's xyz, or assimp's bitangent) in world space: a surface
+/// vector, transformed by @p m itself; unit, 0 where it is not finite or zero (issue 34).
+Vec3 importedTangent(const Mat3d& m, const aiVector3D& v) {
+  const Vec3d w = m * Vec3d(v.x, v.y, v.z);
+  const double length = glm::length(w);
+  return std::isfinite(length) && length > 0.0 ? Vec3(w / length) : Vec3(0.0f);
+}
+
+/// Where appendTriangles puts a mesh's tangent frames (ShapeDesc::tangents, bitangents); null pointers: nowhere.
+struct TangentsOut {
+  std::vector<Vec3>* tangents = nullptr;
+  std::vector<Vec3>* bitangents = nullptr;
+};
+
 /// Joins vertices at bit-identical positions, so that triangles sharing an edge share its vertices.
 class Welder {
  public:
@@ -171,12 +185,15 @@ class Welder {
 /// Appends every triangle of @p mesh, transformed by @p toWorld, keeping degenerate ones, and its first set of
 /// texture coordinates to @p uv (4 per face, ShapeDesc::uv) unless @p uv is null: (u, 1 − v) of assimp's, which
 /// holds OBJ's vt as it is (v up) and glTF's as 1 − v; (0, 0) when the mesh has none; and its normals to
-/// @p normals (4 per face, ShapeDesc::normals) unless null: world space, 0 when the mesh has none. A mirroring transform
+/// @p normals (4 per face, ShapeDesc::normals) unless null: world space, 0 when the mesh has none; likewise its
+/// tangent frames (glTF TANGENT, which assimp keeps only beside NORMAL, as tangent and w × N × T) to @p frames.
+/// A mirroring transform
 /// (negative determinant) reverses the winding so that the front side stays the front.
 /// @return false when a face indexes past the mesh's vertices.
 bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, std::vector<Face>& faces,
-                     std::vector<Vec2>* uv, std::vector<Vec3>* normals) {
+                     std::vector<Vec2>* uv, std::vector<Vec3>* normals, TangentsOut frames = {}) {
   const bool flip = glm::determinant(Mat3d(toWorld)) < 0.0;
+  const bool framed = mesh.mNormals && mesh.mTangents && mesh.mBitangents;  // issue 34
   const aiVector3D* coords = mesh.mTextureCoords[0];
   const Mat3d normalMatrix = glm::transpose(glm::inverse(Mat3d(toWorld)));  // issue 34
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
@@ -185,16 +202,25 @@ bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, s
     Face out;
     Vec2 corner[4] = {Vec2(0.0f), Vec2(0.0f), Vec2(0.0f), Vec2(0.0f)};
     Vec3 normal[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};
+    Vec3 tangent[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};
+    Vec3 bitangent[4] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};
     for (int k = 0; k < 3; ++k) {
       if (in.mIndices[k] >= mesh.mNumVertices) return false;
       out.v[k] = welder.index(point(toWorld, mesh.mVertices[in.mIndices[k]]));
       if (coords) corner[k] = Vec2(coords[in.mIndices[k]].x, 1.0f - coords[in.mIndices[k]].y);
       if (mesh.mNormals) normal[k] = importedNormal(normalMatrix, mesh.mNormals[in.mIndices[k]]);
+      if (framed) {
+        tangent[k] = importedTangent(Mat3d(toWorld), mesh.mTangents[in.mIndices[k]]);
+        bitangent[k] = importedTangent(Mat3d(toWorld), mesh.mBitangents[in.mIndices[k]]);
+      }
     }
     if (flip) std::swap(out.v[1], out.v[2]), std::swap(corner[1], corner[2]), std::swap(normal[1], normal[2]);
+    if (flip) std::swap(tangent[1], tangent[2]), std::swap(bitangent[1], bitangent[2]);
     faces.push_back(out);
     if (uv) uv->insert(uv->end(), corner, corner + 4);
     if (normals) normals->insert(normals->end(), normal, normal + 4);
+    if (frames.tangents) frames.tangents->insert(frames.tangents->end(), tangent, tangent + 4);
+    if (frames.bitangents) frames.bitangents->insert(frames.bitangents->end(), bitangent, bitangent + 4);
   }
   return true;
 }
@@ -203,6 +229,14 @@ bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, s
 bool hasNormals(const aiScene& scene) {
   for (unsigned m = 0; m < scene.mNumMeshes; ++m)
     if (scene.mMeshes[m] && scene.mMeshes[m]->mNormals) return true;
+  return false;
+}
+
+/// Whether any mesh of @p scene has tangent frames (glTF TANGENT beside NORMAL; issue 34).
+bool hasTangents(const aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m)
+    if (scene.mMeshes[m] && scene.mMeshes[m]->mNormals && scene.mMeshes[m]->mTangents && scene.mMeshes[m]->mBitangents)
+      return true;
   return false;
 }
 
@@ -345,9 +379,16 @@ class MaterialTable {
     if (const std::optional<GltfMaterial>& g = converted_[k]->second; g && g->emissiveTexture.texture >= 0) {
       const auto uv = uvTriangles(mesh, toWorld, g->emissiveTexture.texCoord);
       m.emission = emissionOnMesh(*g, *textures_, uv ? &*uv : nullptr);
+      // Issue 34: emission per point, through the coordinates the shapes keep; an image that could not be read is
+      // already named once (emissionOnMesh asked for it) and leaves the factor alone.
+      if (g->emissiveTexture.texCoord == 0 && mesh.mTextureCoords[0] && maxComponent(g->emissive) > 0.0f &&
+          textures_->image(g->emissiveTexture, true))
+        if ((m.emissionTexture = textures_->texture(g->emissiveTexture))) m.emissionFactor = g->emissive;
     }
     for (size_t i = 0; i < sources_.size(); ++i)
-      if (sources_[i] == k && materials_[i].emission == m.emission) return int(i);
+      if (sources_[i] == k && materials_[i].emission == m.emission &&
+          !materials_[i].emissionTexture == !m.emissionTexture)  // one glTF material: one texture, ref and sampler
+        return int(i);
     return add(std::move(m), k, meshName);
   }
 
@@ -477,10 +518,11 @@ MeshData loadMeshFile(const std::string& path, const std::string& sceneFile, con
   const aiScene* scene = readAsset(importer, path, sceneFile, element, gltf);
   MeshData data;
   Welder welder(data.vertices);
-  const bool uv = hasTextureCoordinates(*scene), normals = hasNormals(*scene);
+  const bool uv = hasTextureCoordinates(*scene), normals = hasNormals(*scene), framed = hasTangents(*scene);
+  const TangentsOut frames = framed ? TangentsOut{&data.tangents, &data.bitangents} : TangentsOut{};
   forEachMeshInstance(scene->mRootNode, Mat4d(1.0), [&](unsigned mesh, const Mat4d& m) {
     if (!appendTriangles(*scene->mMeshes[mesh], m, welder, data.faces, uv ? &data.uv : nullptr,
-                         normals ? &data.normals : nullptr))
+                         normals ? &data.normals : nullptr, frames))
       throw InputError(sceneFile, element, "mesh file " + path + ": vertex index out of range");
   });
   if (data.faces.empty()) throw InputError(sceneFile, element, "mesh file " + path + " holds no triangles");
@@ -501,8 +543,10 @@ SceneDesc importAssetScene(const std::string& path) {
     shape.name = mesh.mName.length > 0 ? mesh.mName.C_Str() : "mesh[" + std::to_string(k) + "]";
     shape.sourceFile = path;
     Welder welder(shape.vertices);
+    const bool framed = mesh.mNormals && mesh.mTangents && mesh.mBitangents;
     if (!appendTriangles(mesh, m, welder, shape.faces, mesh.mTextureCoords[0] ? &shape.uv : nullptr,
-                         mesh.mNormals ? &shape.normals : nullptr))
+                         mesh.mNormals ? &shape.normals : nullptr,
+                         framed ? TangentsOut{&shape.tangents, &shape.bitangents} : TangentsOut{}))
       throw InputError(path, shape.name, "vertex index out of range");
     if (shape.faces.empty()) return;  // points or lines only
     shape.material = materials.index(mesh, m, shape.name);

@@ -219,6 +219,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     if (m.metallicRoughnessTexture) h.add(uint8_t(2)).add(m.metallicRoughnessTexture->hash());
     hashAlpha(h, m);
     if (m.normalTexture) h.add(uint8_t(3)).add(m.normalTexture->hash()).add(m.normalScale);  // issue 34
+    if (m.emissionTexture) h.add(uint8_t(6)).add(m.emissionTexture->hash()).add(m.emissionFactor);  // issue 34
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {
@@ -235,7 +236,13 @@ uint64_t hashScene(const SceneDesc& scene) {
     const bool mapped = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
                         scene.materials[size_t(s.material)].normalTexture;
     if (mapped && !textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
+    const bool glowing = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
+                         scene.materials[size_t(s.material)].emissionTexture;  // issue 34: emission per point
+    if (glowing && s.hasUv()) h.add(uint8_t(7)).bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
     if (s.hasNormals()) h.add(uint8_t(4)).bytes(s.normals.data(), s.normals.size() * sizeof(Vec3));
+    if (mapped && s.hasTangents())  // glTF TANGENT: only what a normal map reads (other shapes hash as before)
+      h.add(uint8_t(5)).bytes(s.tangents.data(), s.tangents.size() * sizeof(Vec3))
+          .bytes(s.bitangents.data(), s.bitangents.size() * sizeof(Vec3));
   }
   h.add<uint64_t>(scene.lights.size());
   for (const auto& l : scene.lights) {

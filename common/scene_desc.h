@@ -59,6 +59,12 @@ struct MaterialDesc {
   /// texel's direction in the tangent frame of the interpolated normal (render/scene/shading_normals.h).
   std::shared_ptr<const Texture> normalTexture;
   float normalScale = 1.0f;  ///< glTF's normalTexture.scale: multiplies the texel's x and y (after 2t − 1)
+  // --- Emission per point (issue 34; common/emission_texture.h) ---
+  /// An emission texture (sRGB-decoded): on a shape with texture coordinates the radiance at a point is
+  /// emissionFactor × the texel there, and `emission` is its mean over the surface (what the light's power is
+  /// taken from). Null: `emission` everywhere.
+  std::shared_ptr<const Texture> emissionTexture;
+  Color emissionFactor{0.0f};  ///< W/(m² sr): what the emission texture's texels multiply
   /// Whether any property varies over the surface (a texture to look up per point).
   bool hasTextures() const { return albedoTexture || metallicRoughnessTexture; }
   bool isEmissive() const { return maxComponent(emission) > 0.0f; }
@@ -118,6 +124,13 @@ struct ShapeDesc {
   bool hasNormals() const { return !normals.empty(); }
   /// The shading normal of corner @p k of faces[@p f] (hasNormals() must hold).
   Vec3 cornerNormal(size_t f, int k) const { return normals[4 * f + size_t(k)]; }
+  // --- Tangent frames from the file (issue 34: glTF's TANGENT) ---
+  /// The file's tangent frame per face corner, world space, as normals: tangents[4·f + k] (xyz of glTF's TANGENT,
+  /// along which a normal map's +x points) and bitangents[4·f + k] (its w × NORMAL × TANGENT, the map's +y), both
+  /// transformed as surface vectors (by the shape's matrix, not the inverse transpose). 0 at a corner without one.
+  /// Empty: the shape has none, and normal maps use the frame generated per triangle (render/scene/shading_normals.h).
+  std::vector<Vec3> tangents, bitangents;
+  bool hasTangents() const { return !tangents.empty(); }
   SmallOverride small = SmallOverride::Auto;  ///< for emissive shapes
 
   bool hasUv() const { return !uv.empty(); }

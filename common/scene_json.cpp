@@ -107,11 +107,12 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   m.name = name;
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
   if (type == "diffuse") {
-    r.keys(j, where, {"type", "albedo", "albedo_texture", "emission", "normal_texture", "normal_scale"});
+    r.keys(j, where, {"type", "albedo", "albedo_texture", "emission", "emission_texture", "normal_texture",
+                      "normal_scale"});
     m.type = MaterialType::Diffuse;
   } else if (type == "glossy") {
-    r.keys(j, where, {"type", "albedo", "albedo_texture", "specular", "exponent", "emission", "normal_texture",
-                      "normal_scale"});
+    r.keys(j, where, {"type", "albedo", "albedo_texture", "specular", "exponent", "emission", "emission_texture",
+                      "normal_texture", "normal_scale"});
     m.type = MaterialType::Glossy;
     m.specular = r.color(r.need(j, where, "specular"), where + ".specular");
     m.exponent = static_cast<float>(r.nonNegative(r.need(j, where, "exponent"), where + ".exponent"));
@@ -130,7 +131,7 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.ior = j.contains("ior") ? static_cast<float>(r.positive(j["ior"], where + ".ior")) : kThinGlassIor;
   } else if (type == "pbr") {
     r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture",
-                      "ior", "emission", "normal_texture", "normal_scale"});
+                      "ior", "emission", "emission_texture", "normal_texture", "normal_scale"});
     m.type = MaterialType::Pbr;
     m.albedo = j.contains("base_color") ? r.color(j["base_color"], where + ".base_color") : Color(1.0f);
     if (maxComponent(m.albedo) > 1.0f) r.fail(where + ".base_color", "must be in [0, 1]");
@@ -159,6 +160,11 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   if (j.contains("specular")) m.specular = r.color(j["specular"], where + ".specular");
   if (j.contains("transmittance")) m.transmittance = r.color(j["transmittance"], where + ".transmittance");
   if (j.contains("emission")) m.emission = r.color(j["emission"], where + ".emission");
+  if (j.contains("emission_texture")) {  // issue 34: emission × the texel at each point; `emission` the mean
+    m.emissionTexture = parseTexture(r, j["emission_texture"], name, where + ".emission_texture", images);
+    m.emissionFactor = j.contains("emission") ? m.emission : Color(1.0f);
+    m.emission = m.emissionFactor * m.emissionTexture->image->mean;
+  }
   // Issue 34: a tangent-space normal map (linear texels, glTF's convention) and its scale.
   if (j.contains("normal_texture"))
     m.normalTexture = parseTexture(r, j["normal_texture"], name, where + ".normal_texture", images, false);
@@ -268,6 +274,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     s.faces = std::move(mesh.faces);
     s.uv = std::move(mesh.uv);
     s.normals = std::move(mesh.normals);  // issue 34: shading normals from the file
+    s.tangents = std::move(mesh.tangents), s.bitangents = std::move(mesh.bitangents);  // and its TANGENT
   } else {
     r.fail(where + ".type", "unknown shape type \"" + type + "\" (quad, box, sphere, mesh)");
   }

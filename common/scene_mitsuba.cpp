@@ -189,6 +189,7 @@ class SceneReader {
       s.faces = std::move(mesh.faces);
       s.uv = std::move(mesh.uv);
       s.normals = std::move(mesh.normals);  // issue 34
+      s.tangents = std::move(mesh.tangents), s.bitangents = std::move(mesh.bitangents);
     } else if (t == "rectangle") {
       s.type = ShapeType::Quad;
       shapes::makeQuad(s, {Vec3d(-1, -1, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0), Vec3d(-1, 1, 0)});

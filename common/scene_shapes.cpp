@@ -112,6 +112,9 @@ void transform(ShapeDesc& s, const Mat4d& m) {
     for (auto& n : s.normals)
       if (n != Vec3(0.0f)) n = Vec3(glm::normalize(normalMatrix * Vec3d(n))) * (mirror ? -1.0f : 1.0f);
   }
+  for (std::vector<Vec3>* frame : {&s.tangents, &s.bitangents})  // issue 34: surface vectors, by the matrix itself
+    for (auto& t : *frame)
+      if (t != Vec3(0.0f)) t = Vec3(glm::normalize(glm::dmat3(m) * Vec3d(t)));
   if (mirror) flip(s);
 }
 
@@ -121,6 +124,8 @@ void flip(ShapeDesc& s) {
     std::reverse(f.v, f.v + f.count);
     if (s.hasUv()) std::reverse(s.uv.begin() + long(4 * i), s.uv.begin() + long(4 * i + f.count));
     if (s.hasNormals()) std::reverse(s.normals.begin() + long(4 * i), s.normals.begin() + long(4 * i + f.count));
+    for (std::vector<Vec3>* frame : {&s.tangents, &s.bitangents})  // the file's tangent frame stays as it is
+      if (!frame->empty()) std::reverse(frame->begin() + long(4 * i), frame->begin() + long(4 * i + f.count));
   }
   for (auto& n : s.normals) n = -n;  // issue 34: the shading normals follow the front side
 }

@@ -80,7 +80,7 @@ void skipFaces(ShapeDesc& s, FileCounts& c) {
     }
   std::vector<Face> kept;
   std::vector<Vec2> keptUv;
-  std::vector<Vec3> keptNormals;
+  std::vector<Vec3> keptNormals, keptTangents, keptBitangents;
   kept.reserve(s.faces.size());
   for (size_t i = 0; i < s.faces.size(); ++i)
     if (!skip[i]) {
@@ -88,11 +88,17 @@ void skipFaces(ShapeDesc& s, FileCounts& c) {
       if (s.hasUv()) keptUv.insert(keptUv.end(), s.uv.begin() + long(4 * i), s.uv.begin() + long(4 * i + 4));
       if (s.hasNormals())
         keptNormals.insert(keptNormals.end(), s.normals.begin() + long(4 * i), s.normals.begin() + long(4 * i + 4));
+      if (s.hasTangents()) {  // issue 34: glTF TANGENT
+        keptTangents.insert(keptTangents.end(), s.tangents.begin() + long(4 * i), s.tangents.begin() + long(4 * i + 4));
+        keptBitangents.insert(keptBitangents.end(), s.bitangents.begin() + long(4 * i),
+                              s.bitangents.begin() + long(4 * i + 4));
+      }
     }
   c.faces += s.faces.size();
   s.faces = std::move(kept);
   if (s.hasUv()) s.uv = std::move(keptUv);
   if (s.hasNormals()) s.normals = std::move(keptNormals);
+  if (s.hasTangents()) s.tangents = std::move(keptTangents), s.bitangents = std::move(keptBitangents);
 }
 
 /// "scene.json: skipped 155 of 262661 triangles of Mesh353.obj (150 zero-area, 5 duplicates)[; dropped …]".

@@ -48,7 +48,8 @@ class Clusterer {
 
   /// Clusters the samples fine_[*begin..*end) and appends one sample per cluster kept whole to @p out.
   void split(uint32_t* begin, uint32_t* end, LightTessellation& out) const {
-    if (end - begin == 1) return emit(fine_.positions[*begin], fine_.weights[*begin], fine_.normals[*begin], out);
+    if (end - begin == 1)
+      return emit(fine_.positions[*begin], fine_.weights[*begin], fine_.normals[*begin], emissionOf(begin, end), out);
     double weight = 0;
     Vec3d centre(0.0), moment(0.0);
     for (const uint32_t* i = begin; i != end; ++i) {
@@ -66,7 +67,8 @@ class Clusterer {
         rear = std::min(rear, glm::dot(n, fine_.positions[*i]));
         radius = std::max(radius, glm::length(fine_.positions[*i] - centre));
       }
-      if (2 * radius <= floor_ || 2 * radius * scale_ <= distance(centre, radius, n, rear)) return emit(centre, weight, n, out);
+      if (2 * radius <= floor_ || 2 * radius * scale_ <= distance(centre, radius, n, rear))
+        return emit(centre, weight, n, emissionOf(begin, end), out);
     }
     // Split at the median of the widest spread: of the normals while they disagree, else of the positions.
     const std::vector<Vec3d>& key = coherent ? fine_.positions : fine_.normals;
@@ -83,10 +85,21 @@ class Clusterer {
   }
 
  private:
-  static void emit(const Vec3d& p, double w, const Vec3d& n, LightTessellation& out) {
+  void emit(const Vec3d& p, double w, const Vec3d& n, const Color& emission, LightTessellation& out) const {
     out.positions.push_back(p);
     out.weights.push_back(w);
     out.normals.push_back(n);
+    if (!fine_.emission.empty()) out.emission.push_back(emission);  // issue 34: textured emitters
+  }
+
+  /// The weight-averaged emission of fine_[*begin..*end) (issue 34: a textured emitter); 0 when fine_ has none.
+  Color emissionOf(const uint32_t* begin, const uint32_t* end) const {
+    if (fine_.emission.empty()) return Color(0.0f);
+    Vec3d sum(0.0);
+    double weight = 0;
+    for (const uint32_t* i = begin; i != end; ++i)
+      sum += fine_.weights[*i] * Vec3d(fine_.emission[*i]), weight += fine_.weights[*i];
+    return weight > 0 ? Color(sum / weight) : Color(0.0f);
   }
 
   /// Distance (m) from the ball (@p c, @p r) to the nearest receiver part in front of the plane

@@ -8,6 +8,7 @@
 #include <fmt/core.h>
 
 #include "common/analytic.h"
+#include "common/emission_texture.h"
 #include "common/error.h"
 #include "common/firstshot.h"
 #include "common/memory_limit.h"
@@ -81,6 +82,12 @@ double radiusAbout(const Vec3d& c, const Vec3d* v, int n) {
 /// Accumulates triangles into vertex samples, merging vertices with identical coordinates.
 class SampleBuilder {
  public:
+  /// Issue 34: the cells added next lie in face @p f of shape @p s of material @p m; when it emits per point
+  /// (common/emission_texture.h), each vertex accumulates ∫ Le φ_i dA over its triangles.
+  void setFace(const MaterialDesc& m, const ShapeDesc& s, size_t f) {
+    textured_ = emitsPerPoint(m, s) ? &m : nullptr;
+    shape_ = &s, face_ = f;
+  }
   /// Adds a triangle or quad (fanned from its first vertex, as two triangles).
   void addCell(const Vec3d* v, int count) {
     for (int k = 1; k + 1 < count; ++k) addTriangle(v[0], v[k], v[k + 1]);
@@ -89,6 +96,7 @@ class SampleBuilder {
     for (size_t i = 0; i < out_.positions.size(); ++i) {
       out_.weights[i] = out_.weights[i] / 3.0;
       out_.normals[i] = glm::normalize(out_.normals[i]);
+      if (!emissionSum_.empty()) out_.emission.push_back(Color(emissionSum_[i] / out_.weights[i]));
     }
     return std::move(out_);
   }
@@ -103,6 +111,22 @@ class SampleBuilder {
       out_.normals[i] += n;     // |n| = 2·area: area-weighted
     }
     out_.triangles.push_back({a, b, c});
+    if (textured_) addEmission(a, b, c, area);
+  }
+  /// Adds ∫ Le φ dA over triangle (@p a, @p b, @p c) of @p area m² to its vertices' sums (a midpoint rule on
+  /// 16² sub-triangles, φ the vertex's barycentric coordinate).
+  void addEmission(const Vec3d& a, const Vec3d& b, const Vec3d& c, double area) {
+    if (emissionSum_.size() < out_.positions.size()) emissionSum_.resize(out_.positions.size(), Vec3d(0.0));
+    constexpr int kSubdivisions = 16;
+    const double w = area / double(kSubdivisions * kSubdivisions);
+    const size_t ia = vertex(a), ib = vertex(b), ic = vertex(c);
+    forEachSubTriangleCentroid(kSubdivisions, [&](float beta, float gamma) {
+      const Vec3d p = a + double(beta) * (b - a) + double(gamma) * (c - a);
+      const Vec3d le = w * Vec3d(emissionAt(*textured_, faceUvAt(*shape_, face_, p)));
+      emissionSum_[ia] += (1.0 - double(beta) - double(gamma)) * le;
+      emissionSum_[ib] += double(beta) * le;
+      emissionSum_[ic] += double(gamma) * le;
+    });
   }
   size_t vertex(const Vec3d& p) {
     auto [it, inserted] = index_.emplace(std::array<double, 3>{p.x, p.y, p.z}, out_.positions.size());
@@ -115,6 +139,10 @@ class SampleBuilder {
   }
   std::map<std::array<double, 3>, size_t> index_;
   LightTessellation out_;
+  const MaterialDesc* textured_ = nullptr;  ///< the material of the current face when it emits per point
+  const ShapeDesc* shape_ = nullptr;
+  size_t face_ = 0;
+  std::vector<Vec3d> emissionSum_;  ///< by vertex: ∫ Le φ_i dA (textured emitters only)
 };
 
 /// Recursive 4-way refinement of one cell against the bound C·(h/d)² ≤ tolerance.
@@ -163,7 +191,9 @@ LightTessellation automaticTessellation(const SceneDesc& scene, const ShapeDesc&
   const bool mesh = shape.faces.size() > kLightMeshFaces;
   const double span = shapeDiameter(shape);
   SampleBuilder out;
-  for (const Face& f : shape.faces) {
+  for (size_t k = 0; k < shape.faces.size(); ++k) {
+    const Face& f = shape.faces[k];
+    out.setFace(scene.materials[size_t(shape.material)], shape, k);
     Vec3d v[4];
     for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
     if (mesh && diameter(v, f.count) <= span / kLightGridMaxCells)
@@ -267,7 +297,9 @@ LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, do
                 "the light samples of " + shape.name, "raise it");
   SampleBuilder out;
   std::vector<std::vector<Vec3d>> polys;
-  for (const Face& f : shape.faces) {
+  for (size_t k = 0; k < shape.faces.size(); ++k) {
+    const Face& f = shape.faces[k];
+    out.setFace(scene.materials[size_t(shape.material)], shape, k);
     Vec3d v[4];
     for (int i = 0; i < f.count; ++i) v[i] = shape.vertices[f.v[i]];
     polys.clear();

@@ -42,4 +42,32 @@ inline void expectShippedSceneFirstShotAgreesWithNee(const std::string& name, co
   EXPECT_LT(se, 0.002 * mean);  // sharp enough to mean something
 }
 
+/// Scene @p desc (named @p name) with its table by light tracing, BDPT and the irradiance cache against the path
+/// tracer's NEE image without one (independent renders, 48 × 36): each image mean within 0.3% + 3σ of it, σ below
+/// 0.3% of it (issue 34's emissive texture; tests/test_cutout.cpp does the same for its screen).
+inline void expectTableIntegratorsAgreeWithNee(const std::string& name, SceneDesc desc) {
+  desc.camera.width = 48, desc.camera.height = 36;
+  const RenderScene plain(desc);
+  PreprocessOptions po = defaultOptions(desc);
+  po.settings.backend = "embree";
+  po.settings.resolution = 128;
+  po.quiet = true;
+  const RenderScene tabled(desc, preprocessScene(desc, po));
+  IntegratorOptions io;
+  io.lightSampler = LightStrategy::All;
+  double ref = 0, seRef = 0;
+  imageMean(renderWith(*preprocessedIntegrator("path", io, plain), plain, 1024).film, 1, ref, seRef);
+  for (const char* integrator : {"light", "bdpt", "irradiance-cache"}) {
+    IntegratorOptions o = io;
+    o.lightPathsPerPixel = std::string(integrator) == "light" ? 16 : 0;
+    double mean = 0, se = 0;
+    imageMean(renderWith(*preprocessedIntegrator(integrator, o, tabled), tabled, 256).film, 1, mean, se);
+    const double s = std::hypot(se, seRef);
+    fmt::print("{}, {} with the table: {:.5f} ± {:.5f} against NEE {:.5f} ± {:.5f}: {:+.3f}% ± {:.3f}%\n", name,
+               integrator, mean, se, ref, seRef, 100 * (mean - ref) / ref, 100 * s / ref);
+    EXPECT_LE(std::abs(mean - ref), 3 * s + 0.003 * ref) << integrator;
+    EXPECT_LT(s, 0.003 * ref) << integrator << ": too noisy to test";
+  }
+}
+
 }  // namespace fs::test

@@ -312,7 +312,7 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
         const bool front = woLocal.z > 0.0f;
         expected = hit.onPatch() ? scene.bsdf(scene.material(hit)).eval(BSDFQuery(Vec3(0, 0, front ? 1 : -1), woLocal)) *
                                        side[2 * size_t(hit.patch) + (front ? 0 : 1)]
-                                 : scene.lights().emitted(hit.emitter, hit.ng, wo);
+                                 : scene.lights().emitted(hit, wo);
       }
       bool ok = true;
       for (int c = 0; c < 3; ++c) ok = ok && equal(expected[c], at(instant, x, y, c));

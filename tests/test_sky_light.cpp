@@ -165,7 +165,7 @@ void checkNeeBsdfAndMis(const RenderScene& scene, const LightSampler& lights) {
     if (!scene.intersect(Ray(hit.spawnOrigin(wi), wi), y))
       return f * env.radiance(wi) * (weighted ? powerHeuristic(q.pdf, nextEventEnvironmentPdf(lights, mis, wi)) : 1.0f);
     if (y.onPatch()) return Color(0.0f);
-    const Color Le = scene.lights().emitted(y.emitter, y.ng, -wi);
+    const Color Le = scene.lights().emitted(y, -wi);
     return f * Le * (weighted ? powerHeuristic(q.pdf, nextEventPdf(lights, hit.p, n, mis, y)) : 1.0f);
   };
   constexpr int kN = 400000;

@@ -148,10 +148,12 @@ bool EmissionSampler::originOf(size_t l, const Vec2& uPos, EmissionSample& out) 
       out.deltaDirection = true;
       break;
     }
-    case LightType::Area:
-      if (!lights_->samplePoint(light, uPos, out.p, out.n)) return false;
-      out.radiance = light.radiance / (out.pdfLight * out.pdfPos);
+    case LightType::Area: {
+      Color le;  // at the point (issue 34: a textured emitter's texel)
+      if (!lights_->samplePoint(light, uPos, out.p, out.n, &le)) return false;
+      out.radiance = le / (out.pdfLight * out.pdfPos);
       break;
+    }
   }
   return true;
 }

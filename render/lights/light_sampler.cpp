@@ -66,9 +66,10 @@ void LightSampler::addLight(Group& g, GroupId id, uint32_t l, std::vector<LightB
         const float len = glm::length(c);
         const float area = 0.5f * len;
         const Vec3 normal = len > 0.0f ? c / len : Vec3(0, 0, 1);
-        triangles_.push_back({v[0], v[1] - v[0], v[2] - v[0], normal});
+        triangles_.push_back({v[0], v[1] - v[0], v[2] - v[0], normal, t});
         g.emitters.push_back({Emitter::Kind::Triangle, l, uint32_t(triangles_.size() - 1), area});
-        bounds.push_back(surfaceBounds(v, 3, normal, len > 0.0f ? meanOf(light.radiance) * kPiF * area : 0.0f));
+        const Color le = light.textured ? light.triangleRadiance[t] : light.radiance;  // issue 34: its texels' mean
+        bounds.push_back(surfaceBounds(v, 3, normal, len > 0.0f ? meanOf(le) * kPiF * area : 0.0f));
       }
       return;
     }
@@ -136,6 +137,12 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
   }
   grid_ = VisibilityGrid();
   if (visibility) buildVisibility();
+}
+
+Color LightSampler::emitterRadiance(const Emitter& e, const Vec2& u) const {
+  const Vec3 bary = squareToUniformTriangle(u);  // as emitterPoint
+  const LightSet& lights = scene_->lights();
+  return lights.radianceAt(lights.lights()[e.index], triangles_[e.sub].meshTriangle, Vec2(bary.y, bary.z));
 }
 
 Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {

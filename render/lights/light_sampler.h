@@ -56,6 +56,7 @@ struct SampledEmitter {
 /// An area light's triangle as NEE samples it: vertex a, edges b − a and c − a, unit normal.
 struct TriangleEmitter {
   Vec3 a, e1, e2, n;
+  uint32_t meshTriangle = 0;  ///< its index in the light's emitter mesh (RenderLight::triangleUv)
 };
 
 class LightSampler {
@@ -99,6 +100,8 @@ class LightSampler {
 
   /// A point of emitter @p e for @p u ∈ [0,1)² (uniform by area; the position of a point light).
   Vec3 emitterPoint(const Emitter& e, const Vec2& u) const;
+  /// The radiance leaving the point emitterPoint(@p e, @p u) of Triangle emitter @p e (LightSet::radianceAt).
+  Color emitterRadiance(const Emitter& e, const Vec2& u) const;
   /// The triangle of a Triangle emitter.
   const TriangleEmitter& triangle(const Emitter& e) const { return triangles_[e.sub]; }
 

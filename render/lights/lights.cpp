@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "common/emission_texture.h"
 #include "common/sampling.h"
 #include "common/sky_desc.h"
 #include "render/lights/sky_light.h"
@@ -23,6 +24,29 @@ EmitterMesh triangulate(const ShapeDesc& s) {
     if (f.count == 4) m.indices.insert(m.indices.end(), {f.v[0], f.v[2], f.v[3]});
   }
   return m;
+}
+
+/// Issue 34: what @p l needs to emit per point when its shape @p s of material @p mat has an emission texture
+/// (common/emission_texture.h): the corners' texture coordinates per triangle, as triangulate() cuts the faces,
+/// and each triangle's mean radiance.
+void addEmissionTexture(RenderLight& l, const MaterialDesc& mat, const ShapeDesc& s) {
+  if (!emitsPerPoint(mat, s)) return;
+  l.textured = std::make_shared<const MaterialDesc>(mat);
+  for (size_t f = 0; f < s.faces.size(); ++f)
+    for (int k = 1; k + 1 < s.faces[f].count; ++k) {
+      const Vec2 uv[3] = {s.cornerUv(f, 0), s.cornerUv(f, k), s.cornerUv(f, k + 1)};
+      l.triangleUv.insert(l.triangleUv.end(), uv, uv + 3);
+      l.triangleRadiance.push_back(meanEmissionOverTriangle(mat, uv[0], uv[1], uv[2]));
+    }
+}
+
+/// Barycentric coordinates (β, γ) of @p p in triangle (@p a, @p b, @p c), projected onto its plane; 0 if degenerate.
+Vec2 emitterHitBarycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+  const Vec3 e1 = b - a, e2 = c - a, d = p - a;
+  const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+  const float p1 = glm::dot(d, e1), p2 = glm::dot(d, e2), det = d11 * d22 - d12 * d12;
+  if (!(det > 0.0f)) return Vec2(0.0f);
+  return glm::clamp(Vec2(d22 * p1 - d12 * p2, d11 * p2 - d12 * p1) / det, Vec2(0.0f), Vec2(1.0f));
 }
 
 }  // namespace
@@ -48,6 +72,7 @@ LightSet::LightSet(const SceneDesc& scene, const std::vector<uint32_t>& replaced
         const ShapeDesc& shape = scene.shapes[size_t(d.shape)];
         l.emitter = static_cast<uint32_t>(meshes_.size());
         l.radiance = scene.materials[size_t(shape.material)].emission;
+        addEmissionTexture(l, scene.materials[size_t(shape.material)], shape);
         meshes_.push_back(triangulate(shape));
         emitterLight_.push_back(static_cast<uint32_t>(lights_.size()));
         const EmitterMesh& m = meshes_.back();
@@ -103,7 +128,8 @@ bool LightSet::sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightR
       return maxComponent(out.value) > 0.0f;
     case LightType::Area: {
       Vec3 y, n;
-      if (!samplePoint(l, u, y, n)) return false;
+      Color le;
+      if (!samplePoint(l, u, y, n, &le)) return false;
       const Vec3 d = y - x;
       const float dist2 = glm::dot(d, d);
       if (!(dist2 > 0.0f)) return false;
@@ -112,14 +138,14 @@ bool LightSet::sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightR
       const float cosL = -glm::dot(n, out.wi);
       if (!(cosL > 0.0f)) return false;  // one-sided: x is behind this triangle
       out.pdf = static_cast<float>(dist2 / (cosL * l.area));
-      out.value = l.radiance / out.pdf;
+      out.value = le / out.pdf;
       return std::isfinite(out.pdf) && maxComponent(out.value) > 0.0f;
     }
   }
   return false;
 }
 
-bool LightSet::samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n) const {
+bool LightSet::samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n, Color* le) const {
   if (l.type != LightType::Area || l.cdf.empty() || !(l.area > 0)) return false;
   // Choose a triangle by area, then reuse the remainder of u.x inside it.
   const auto it = std::upper_bound(l.cdf.begin(), l.cdf.end(), u.x);
@@ -131,11 +157,24 @@ bool LightSet::samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n
   const Vec3 bary = squareToUniformTriangle(Vec2(ux, u.y));
   y = bary.x * a + bary.y * b + bary.z * c;
   n = glm::normalize(glm::cross(b - a, c - a));
+  if (le) *le = radianceAt(l, uint32_t(t), Vec2(bary.y, bary.z));
   return true;
 }
 
-Color LightSet::emitted(uint32_t emitter, const Vec3& ng, const Vec3& wo) const {
-  return glm::dot(ng, wo) > 0.0f ? emitterLight(emitter).radiance : Color(0.0f);
+Color LightSet::emitted(const Hit& hit, const Vec3& wo) const {
+  if (!(glm::dot(hit.ng, wo) > 0.0f)) return Color(0.0f);
+  const RenderLight& l = emitterLight(hit.emitter);
+  if (!l.textured) return l.radiance;
+  const EmitterMesh& m = meshes_[hit.emitter];
+  const uint32_t* v = &m.indices[3 * size_t(hit.triangle)];
+  const Vec2 bary = emitterHitBarycentric(m.vertices[v[0]], m.vertices[v[1]], m.vertices[v[2]], hit.p);
+  return radianceAt(l, hit.triangle, bary);
+}
+
+Color LightSet::radianceAt(const RenderLight& l, uint32_t t, const Vec2& bary) const {
+  if (!l.textured) return l.radiance;
+  const Vec2* uv = &l.triangleUv[3 * size_t(t)];
+  return emissionAt(*l.textured, uv[0] + bary.x * (uv[1] - uv[0]) + bary.y * (uv[2] - uv[0]));
 }
 
 float LightSet::pdf(const RenderLight& l, const Vec3& x, const Vec3& y, const Vec3& ng) const {

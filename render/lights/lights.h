@@ -32,6 +32,11 @@ struct RenderLight {
   std::vector<float> cdf;   ///< area CDF over the emitter's triangles (last entry 1)
   std::vector<float> triangleArea;
   double area = 0;          ///< total area, m²
+  // Emission per point (issue 34, common/emission_texture.h): an emitter whose material has an emission texture.
+  /// Its material when it emits per point (LightSet::radianceAt looks the texel up); null: `radiance` everywhere.
+  std::shared_ptr<const MaterialDesc> textured;
+  std::vector<Vec2> triangleUv;         ///< textured: the texture coordinates of each triangle's 3 corners
+  std::vector<Color> triangleRadiance;  ///< textured: each triangle's mean radiance (the light tree's power)
 
   bool isDelta() const { return type != LightType::Area; }
 };
@@ -72,12 +77,17 @@ class LightSet {
   bool sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightRecord& out) const;
 
   /// A point of area light @p l, uniform by area, from @p u ∈ [0,1)²: position @p y (m) and the
-  /// front side's unit normal @p n. @return false for a light without area.
-  bool samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n) const;
+  /// front side's unit normal @p n, and unless null the radiance @p le leaving it (radianceAt).
+  /// @return false for a light without area.
+  bool samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n, Color* le = nullptr) const;
 
-  /// Radiance leaving emitter @p emitter at a point with geometric normal @p ng towards @p wo
-  /// (unit, pointing away from the emitter): Le on the front side, 0 behind.
-  Color emitted(uint32_t emitter, const Vec3& ng, const Vec3& wo) const;
+  /// Radiance leaving the emitter of @p hit (a hit on an area light) towards @p wo (unit, pointing away from the
+  /// emitter): Le at the hit's point (radianceAt) on the front side, 0 behind.
+  Color emitted(const Hit& hit, const Vec3& wo) const;
+
+  /// Radiance Le (front side) of area light @p l at the point of barycentric coordinates @p bary (of the second
+  /// and third vertex) of its triangle @p t: l.radiance, or for a textured emitter emissionFactor × the texel there.
+  Color radianceAt(const RenderLight& l, uint32_t t, const Vec2& bary) const;
 
   /// Solid-angle density with which sample() picks the point @p y (normal @p ng) of area light
   /// @p l, seen from @p x. Zero behind the light.

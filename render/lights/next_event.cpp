@@ -103,7 +103,8 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
       if (!(cosL > 0.0f)) return Color(0.0f);
       // pdf and 1/pdf from the same inputs: two independent divisions instead of one after the other.
       rec.pdf = pSelect * dist2 / (cosL * e.area);
-      rec.value = light.radiance * (cosL * e.area / (pSelect * dist2));
+      const Color le = light.textured ? lights.emitterRadiance(e, u) : light.radiance;  // issue 34: per point
+      rec.value = le * (cosL * e.area / (pSelect * dist2));
       break;
     }
     case Emitter::Kind::Patch: {

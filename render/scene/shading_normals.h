@@ -4,7 +4,9 @@
 /// source face's corner normals (a mesh file's NORMAL / vn, a "smooth" sphere) interpolated by the point's
 /// barycentric coordinates, then perturbed by the material's tangent-space normal map.
 ///
-/// The tangent frame is generated per triangle from its texture coordinates (the file's TANGENT is not read): the
+/// The tangent frame is the file's where it gives one (glTF's TANGENT, ShapeDesc::tangents: the corners' tangents
+/// and bitangents w·N×T interpolated, T made orthogonal to the interpolated normal n and B = ±n × T on the side of
+/// the file's bitangent). Otherwise it is generated per triangle from its texture coordinates: the
 /// tangent T = ∂p/∂u and the image's up direction −∂p/∂v (glTF's v points down) solved from the triangle's edges
 /// and uv differences, T made orthogonal to the interpolated normal n (Gram–Schmidt) and the bitangent
 /// B = ±n × T, its sign the handedness of the mapping (mirrored uv islands). MikkTSpace, with which normal maps

@@ -70,7 +70,7 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
     }
     const ThinGlassBSDF* pane = scene.bsdf(scene.material(first)).thinGlass();
     if (!pane) {
-      if (!first.onPatch()) Le = through * scene.lights().emitted(first.emitter, first.ng, -wi);
+      if (!first.onPatch()) Le = through * scene.lights().emitted(first, -wi);
       break;
     }
     glass = true;

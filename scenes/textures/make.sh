@@ -30,3 +30,15 @@ png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 4, 
 png += chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b"")
 open("perforated.png", "wb").write(png)
 PY
+# Emissive panel (scenes/emissive-texture.json, issue 34): 16 × 16 RGB, the left half (u < ½) white, the right half
+# black; written with Python's zlib.
+python3 - <<'PY'
+import struct, zlib
+n = 16
+rows = b"".join(b"\0" + b"".join(bytes([255, 255, 255] if x < n // 2 else [0, 0, 0]) for x in range(n)) for y in range(n))
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 2, 0, 0, 0))
+png += chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b"")
+open("half_white.png", "wb").write(png)
+PY

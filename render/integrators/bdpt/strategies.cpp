@@ -18,7 +18,7 @@ Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, b
     return e == kNoId ? Color(0.0f) : pt.beta * emission.patchRadiance(e, pt.hit.p, pt.wi);
   }
   if (!(emission.power(densities.lightOf(pt)) > 0.0)) return Color(0.0f);  // a replaced light in table mode
-  return pt.beta * densities.scene().lights().emitted(pt.hit.emitter, pt.hit.ng, pt.wi);
+  return pt.beta * densities.scene().lights().emitted(pt.hit, pt.wi);
 }
 
 Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt, Sampler& sampler,

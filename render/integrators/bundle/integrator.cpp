@@ -74,7 +74,7 @@ Color BundleIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* i
     ++rays;
     if (!scene.intersect(ray, hit)) break;
     const Vec3 wo = -glm::normalize(ray.d);
-    if (!hit.onPatch()) L += beta * scene.lights().emitted(hit.emitter, hit.ng, wo);  // seen directly or via delta bounces
+    if (!hit.onPatch()) L += beta * scene.lights().emitted(hit, wo);  // seen directly or via delta bounces
     const BSDF bsdf = scene.bsdfAt(hit);
     if (info && depth == 0) {
       info->albedo = bsdf.albedo();

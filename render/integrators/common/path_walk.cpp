@@ -57,7 +57,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
 
     // Emission of area lights met by the path.
     if (!hit.onPatch()) {
-      const Color Le = scene.lights().emitted(hit.emitter, hit.ng, wo);
+      const Color Le = scene.lights().emitted(hit, wo);
       if (maxComponent(Le) > 0.0f) L += beta * Le * emissionWeight(prev, hit);
     }
 

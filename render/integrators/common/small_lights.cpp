@@ -27,7 +27,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
   for (size_t i = 1; i < camera.size(); ++i) {
     const SubpathVertex& v = camera[i];
     if (v.hit.onPatch() || !lights.emitterLight(v.hit.emitter).replaced) continue;
-    const Color Le = lights.emitted(v.hit.emitter, v.hit.ng, v.wi);
+    const Color Le = lights.emitted(v.hit, v.wi);
     if (!(maxComponent(Le) > 0.0f)) continue;
     float weight = 1.0f;
     if (i > m && gathers(camera, i - 1, m, polishedUpTo)) {  // a BSDF sample against its vertex's NEE

@@ -125,7 +125,7 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
     const Vec3 wo = -glm::normalize(ray.d);
 
     if (!hit.onPatch()) {  // an area light
-      const Color Le = lights.emitted(hit.emitter, hit.ng, wo);
+      const Color Le = lights.emitted(hit, wo);
       if (maxComponent(Le) > 0.0f) {
         const bool gathered = gatheredEmitter_[hit.emitter];
         if (kind == RayKind::Camera || kind == RayKind::Delta || (gathered && kind == RayKind::Gather))
