@@ -45,6 +45,8 @@ class GLItemBuffer final : public ItemBufferRenderer {
   const char* name() const override;
   double nearPlane() const override { return near_; }
   GLContext& context() { return context_; }
+  /// Whether the geometry has alpha cut-outs (their fragments are discarded where the surface is absent).
+  bool hasCutouts() const { return cutouts_ != nullptr; }
 
   // ---- Item buffers kept in GPU memory (issue 36, reduced there: preprocess/gl_reduce.h) ----
   /// Renders @p view into the GL_R32UI texture of slot @p slot (0, 1, …: one per view of a window,

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "preprocess/egl_devices.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/profile.h"
 
@@ -254,15 +255,11 @@ void checkGLReduceMode(const std::string& mode) {
     throw std::invalid_argument("unknown GL reduction \"" + mode + "\" (cpu, gpu, auto)");
 }
 
-bool isSoftwareRenderer(const std::string& renderer) {
-  return renderer.find("llvmpipe") != std::string::npos || renderer.find("softpipe") != std::string::npos;
-}
-
 GLReduce* GLReduce::forRenderer(ItemBufferRenderer* renderer, const PatchMesh& mesh, const std::string& mode,
                                 std::shared_ptr<GLReduce>& cache) {
   checkGLReduceMode(mode);
   auto* gl = dynamic_cast<GLItemBuffer*>(renderer);
-  if (!gl || mode == "cpu") return nullptr;
+  if (!gl || mode == "cpu" || gl->hasCutouts()) return nullptr;  // cut-outs: their coverage needs the CPU's alpha
   if (cache && &cache->gl_ == gl) return cache.get();
   if (mode == "auto" && isSoftwareRenderer(gl->context().description())) return nullptr;
   profile::Scope setupTime(profile::RendererSetup);

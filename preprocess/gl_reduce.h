@@ -21,8 +21,8 @@
 /// What stays on the CPU, exactly as without it: the buried-part re-test of partly visible patches
 /// (exposure masks; the item buffers are then read back for that sample), the kept item buffers of the
 /// refinement passes (read back when kept), the point tests of patches with too few pixel centres
-/// (Embree rays), the refinement passes' masked item buffers (Embree), and cut-out scenes (the GL back end
-/// refuses them).
+/// (Embree rays), the refinement passes' masked item buffers (Embree), and cut-out scenes (their GL item buffers
+/// discard the holes, but the coverage of a cut-out patch needs its alpha per pixel centre: reduced on the CPU).
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -40,9 +40,6 @@ class ItemBufferRenderer;
 
 /// "cpu" | "gpu" | "auto"; @throws std::invalid_argument otherwise.
 void checkGLReduceMode(const std::string& mode);
-
-/// True if @p renderer string (GL_RENDERER …) names a software rasteriser (llvmpipe, softpipe).
-bool isSoftwareRenderer(const std::string& renderer);
 
 class GLReduce {
  public:

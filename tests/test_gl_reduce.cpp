@@ -99,4 +99,16 @@ TEST(GLReduce, ShadowEdgeSameTableAsCpu) {
   expectSameTable(s, 256, "analytic");
 }
 
+// A scene with alpha cut-outs (the GL item buffers discard their holes) is reduced on the CPU even when "gpu" is
+// asked for: a cut-out patch's coverage needs its alpha at each pixel centre, which the shader does not have.
+TEST(GLReduce, CutoutSceneStaysOnTheCpu) {
+  SKIP_WITHOUT_GL();
+  const SceneDesc s = loadScene(test::source("scenes/cutout-screen.json"));
+  const int64_t gpuBefore = profile::total(profile::GpuReduce);
+  const FirstShotTable cpu = preprocess(s, 32, "cpu", "analytic");
+  const FirstShotTable gpu = preprocess(s, 32, "gpu", "analytic");
+  EXPECT_EQ(profile::total(profile::GpuReduce), gpuBefore) << "a cut-out scene was reduced on the GPU";
+  EXPECT_EQ(cpu.factor, gpu.factor);
+}
+
 }  // namespace
