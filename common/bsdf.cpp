@@ -219,9 +219,13 @@ BSDF makeBSDF(const MaterialDesc& m, const Color& albedo) {
     case MaterialType::Glossy:
       return StretchedPhongBRDF(albedo, m.specular * StretchedPhongBRDF::glossyEnergyBound(m.exponent), m.exponent);
     case MaterialType::Mirror: return MirrorBRDF{m.specular};
-    case MaterialType::Dielectric: return DielectricBSDF{m.ior, m.transmittance};
+    case MaterialType::Dielectric:
+      if (m.glassRoughness > 0.0f) return RoughDielectricBSDF{m.ior, m.transmittance, m.glassRoughness};
+      return DielectricBSDF{m.ior, m.transmittance};
     case MaterialType::Pbr: return MetallicRoughnessBRDF{albedo, m.metallic, m.roughness, m.ior};
-    case MaterialType::ThinGlass: return ThinGlassBSDF(m.transmittance, m.ior);
+    case MaterialType::ThinGlass:
+      if (m.glassRoughness > 0.0f) return RoughThinGlassBSDF{ThinGlassBSDF(m.transmittance, m.ior), m.glassRoughness};
+      return ThinGlassBSDF(m.transmittance, m.ior);
   }
   return LambertBRDF{albedo};
 }

@@ -23,6 +23,7 @@
 #include <variant>
 
 #include "common/math.h"
+#include "common/rough_dielectric.h"
 #include "common/thin_glass.h"
 
 namespace fs {
@@ -54,7 +55,10 @@ struct BSDFQuery {
 //       sample weight f(wi,wo)·|cos θ_i| / pdf (for a delta lobe: the lobe's reflectance or
 //       transmittance divided by its selection probability). Returns 0 (and q.pdf = 0) on failure,
 //       e.g. a lobe sample below the horizon; then q.wi is unspecified.
-//   Color eval(const BSDFQuery& q) const  -> f(wi, wo) in 1/sr; 0 for delta lobes.
+//   Color eval(const BSDFQuery& q) const  -> f(wi, wo) in 1/sr; 0 for delta lobes. Radiance mode: light from wi
+//                                            leaving along wo; Importance mode the adjoint f(wo → wi) (wo the side a
+//                                            particle came from, as in sample()). They differ only across a
+//                                            refraction (rough glass, common/rough_dielectric.h), by η².
 //   float pdf(const BSDFQuery& q) const   -> solid-angle density with which sample() draws q.wi
 //                                            given q.wo; 0 for delta lobes.
 //   Color albedo() const                  -> a reflectance-like colour for AOVs (see each model).
@@ -167,7 +171,7 @@ struct MetallicRoughnessBRDF {
 class BSDF {
  public:
   using Model = std::variant<LambertBRDF, StretchedPhongBRDF, MirrorBRDF, DielectricBSDF, MetallicRoughnessBRDF,
-                             ThinGlassBSDF>;
+                             ThinGlassBSDF, RoughDielectricBSDF, RoughThinGlassBSDF>;
   BSDF() = default;  ///< a Lambertian with ρ = 0.5 (LambertBRDF's default)
   template <typename M>
   BSDF(const M& model) : model_(model) {}  // NOLINT: implicit by design
@@ -200,18 +204,21 @@ class BSDF {
   /// The thin glass pane (common/thin_glass.h) this BSDF is, or nullptr: walks pass straight through it
   /// (render/scene/thin_glass_walk.h) and shadow rays cross it with its transmittance.
   const ThinGlassBSDF* thinGlass() const { return std::get_if<ThinGlassBSDF>(&model_); }
-  /// True for a lobe sharper than a first-shot table resolves: a pbr surface of roughness below
-  /// kTableRoughness. The table's patch-level sum Σ e r f cannot follow such a lobe (it would lose the
+  /// True for a lobe sharper than a first-shot table resolves: a pbr surface or rough glass (issue 34) of roughness
+  /// below kTableRoughness. The table's patch-level sum Σ e r f cannot follow such a lobe (it would lose the
   /// reflections of the replaced lights in polished metal), so the path walk lights these points by NEE to
   /// every light and lets BSDF rays count the replaced lights they meet (docs/measurements.md, pbr).
   bool tooSharpForTable() const {
-    const auto* p = std::get_if<MetallicRoughnessBRDF>(&model_);
-    return p && p->roughness < kTableRoughness;
+    if (const auto* p = std::get_if<MetallicRoughnessBRDF>(&model_)) return p->roughness < kTableRoughness;
+    if (const auto* g = std::get_if<RoughDielectricBSDF>(&model_)) return g->roughness < kTableRoughness;
+    if (const auto* g = std::get_if<RoughThinGlassBSDF>(&model_)) return g->roughness < kTableRoughness;
+    return false;
   }
   static constexpr float kTableRoughness = 0.3f;  ///< perceptual roughness (α = 0.09)
   /// True if light can pass through (the frame must not be flipped; see the file comment).
   bool hasTransmission() const {
-    return std::holds_alternative<DielectricBSDF>(model_) || std::holds_alternative<ThinGlassBSDF>(model_);
+    return std::holds_alternative<DielectricBSDF>(model_) || std::holds_alternative<ThinGlassBSDF>(model_) ||
+           std::holds_alternative<RoughDielectricBSDF>(model_) || std::holds_alternative<RoughThinGlassBSDF>(model_);
   }
   /// Diffuse reflectance ρd of a Lambertian part that f − ρd/π leaves non-negative for every pair of
   /// directions; 0 for mirror, dielectric and metallic-roughness (whose diffuse part is weighted by
@@ -242,6 +249,7 @@ class BSDF {
 /// BSDF of a material: Diffuse → Lambert(albedo); Glossy → stretched Phong(albedo, ks = specular,
 /// n = exponent); Mirror → mirror(specular); Dielectric → dielectric(ior, transmittance); Pbr →
 /// metallic-roughness(base colour = albedo, metallic, roughness, ior); ThinGlass → thin glass(transmittance, ior).
+/// Issue 34: a dielectric or thin glass of glassRoughness > 0 is the rough model (common/rough_dielectric.h).
 /// Emission is not part of the BSDF.
 BSDF makeBSDF(const MaterialDesc& material);
 /// The BSDF of @p material with @p albedo in place of material.albedo: a textured material at one point

@@ -212,17 +212,6 @@ std::vector<std::string> unsupportedGltfExtensions(const Json& gltf) {
 }
 
 std::string reportUnsupportedGltfExtensions(const Json& gltf, const std::string& file) {
-  // KHR_materials_transmission is read as smooth glass (convertGltfMaterial): name the rough ones.
-  size_t rough = 0;
-  std::string first;
-  const Json* materials = jsonMember(gltf, "materials");
-  for (size_t k = 0; materials && materials->is_array() && k < materials->size(); ++k) {
-    const GltfMaterial g = readGltfMaterial(gltf, k);
-    if (g.transmission > 0.0f && g.metallic < 1.0f && g.roughness > 0.0f && rough++ == 0) first = std::to_string(k);
-  }
-  if (rough > 0)
-    std::fprintf(stderr, "%s: %zu rough KHR_materials_transmission material%s rendered as smooth glass (first: materials[%s])\n",
-                 file.c_str(), rough, rough == 1 ? "" : "s", first.c_str());
   const std::vector<std::string> names = unsupportedGltfExtensions(gltf);
   if (names.empty()) return "";
   std::string line = file + ": glTF extension" + (names.size() == 1 ? "" : "s") + " not supported, ignored:";
@@ -268,6 +257,7 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
     const Color tint = glm::clamp(base * t, Color(0.0f), Color(1.0f));
     glass.type = g.volume ? MaterialType::Dielectric : MaterialType::ThinGlass;
     glass.transmittance = g.volume ? tint : tint * ThinGlassBSDF::maxTransmittance(glass.ior);
+    glass.glassRoughness = std::clamp(roughness, 0.0f, 1.0f);  // issue 34: rough glass (the texture's mean folded in)
     return glass;
   }
   return m;

@@ -85,8 +85,8 @@ std::string reportUnsupportedGltfExtensions(const nlohmann::json& gltf, const st
 /// The material of @p g. With KHR_materials_transmission (t = transmission × the mean R of its texture × (1 −
 /// metallic) > 0), glass: a thin pane (ThinGlass; glTF's thin-walled default) of transmittance base colour × t × a
 /// lossless pane's at its ior, or with KHR_materials_volume a solid dielectric tinted by base colour × t; the rest of
-/// the base (1 − t of the diffuse layer) is dropped and a rough surface is rendered smooth
-/// (reportUnsupportedGltfExtensions names such materials). Else the pbr material: its metallic-roughness texture folded in (metallic × the mean of the texture's B channel,
+/// the base (1 − t of the diffuse layer) is dropped; the roughness (× its texture's mean G) is the glass's
+/// (glassRoughness: rough glass, common/rough_dielectric.h, issue 34). Else the pbr material: its metallic-roughness texture folded in (metallic × the mean of the texture's B channel,
 /// roughness × the mean of its G channel); its base-colour texture, when read through TEXCOORD_0, as the albedo
 /// texture (albedo = the base colour factor, multiplied per point by the texel), else folded in as its mean. Emission
 /// is g.emissive, without its texture (it depends on the mesh: emissionOnMesh).

@@ -35,6 +35,7 @@ struct MaterialDesc {
   float metallic = 1.0f;  ///< pbr: metalness ∈ [0, 1] (glTF's default 1)
   float roughness = 1.0f; ///< pbr: perceptual roughness ∈ [0, 1] (GGX α = roughness², common/microfacet.h)
   Color transmittance{1.0f};  ///< dielectric: tint of refracted light; thin glass: the pane's transmittance at normal incidence
+  float glassRoughness = 0.0f;  ///< dielectric, thin glass: perceptual roughness ∈ [0, 1] (0 smooth; issue 34, frosted glass)
   Color emission{0.0f};  ///< emitted radiance, W/(m² sr)
   /// Diffuse and glossy: a base-colour texture; at a point with texture coordinates uv the diffuse reflectance
   /// is albedo × texture.lookup(uv) (albedo is then the factor, 1 by default; render/scene/surface_texture.h).

@@ -101,6 +101,14 @@ std::shared_ptr<const Texture> parseTexture(const Reader& r, const Json& j, cons
   return texture;
 }
 
+/// Issue 34: a dielectric's or thin glass's optional "roughness" ∈ [0, 1] (0, the default, is smooth glass).
+float parseGlassRoughness(const Reader& r, const Json& j, const std::string& where) {
+  if (!j.contains("roughness")) return 0.0f;
+  const double v = r.number(j["roughness"], where + ".roughness");
+  if (v < 0 || v > 1) r.fail(where + ".roughness", "must be in [0, 1] (got " + std::to_string(v) + ")");
+  return static_cast<float>(v);
+}
+
 MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& name, const std::string& where,
                            TextureImages& images) {
   MaterialDesc m;
@@ -121,14 +129,16 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.type = MaterialType::Mirror;
     m.specular = Color(1.0f);
   } else if (type == "dielectric") {
-    r.keys(j, where, {"type", "ior", "transmittance"});
+    r.keys(j, where, {"type", "ior", "transmittance", "roughness"});
     m.type = MaterialType::Dielectric;
     m.ior = static_cast<float>(r.positive(r.need(j, where, "ior"), where + ".ior"));
+    m.glassRoughness = parseGlassRoughness(r, j, where);
   } else if (type == "thin_glass") {  // a window pane (common/thin_glass.h); transmittance read below
-    r.keys(j, where, {"type", "transmittance", "ior"});
+    r.keys(j, where, {"type", "transmittance", "ior", "roughness"});
     m.type = MaterialType::ThinGlass;
     m.transmittance = Color(kThinGlassTransmittance);
     m.ior = j.contains("ior") ? static_cast<float>(r.positive(j["ior"], where + ".ior")) : kThinGlassIor;
+    m.glassRoughness = parseGlassRoughness(r, j, where);
   } else if (type == "pbr") {
     r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture",
                       "ior", "emission", "emission_texture", "normal_texture", "normal_scale"});

@@ -30,7 +30,9 @@ float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrr
   const BSDF& bsdf = scene.patchBsdf(j);
   // The material's own roughness bounds the textured one from above: below the table's it is polished everywhere.
   if (bsdf.hasDelta() || scene.bsdf(p.material).tooSharpForTable()) return 0.0f;
-  const Color phi = bsdf.albedo() * sideIrradiance[2 * size_t(j) + side] * float(p.area);
+  Color E = sideIrradiance[2 * size_t(j) + side];
+  if (bsdf.hasTransmission()) E += sideIrradiance[2 * size_t(j) + 1 - side];  // rough glass (issue 34): shines through
+  const Color phi = bsdf.albedo() * E * float(p.area);
   return (phi.x + phi.y + phi.z) * (1.0f / 3.0f);
 }
 

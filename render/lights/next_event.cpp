@@ -172,7 +172,7 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
 
 Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
                 const NeeRequest& request, Sampler& sampler, uint64_t& rays) {
-  const Vec3 n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;  // the side that reflects towards the viewer
+  const Vec3 n = receiverNormal(bsdf, woLocal.z >= 0.0f ? hit.ng : -hit.ng);  // the side that reflects towards the viewer
   Color sum(0.0f);
   auto fromGroup = [&](LightGroup g) {
     if (lights.empty(g)) {  // skip its two dimensions without drawing them (images stay the same)

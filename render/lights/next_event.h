@@ -36,6 +36,13 @@ namespace fs {
 class FirstShotLighting;  // render/firstshot/lighting.h
 class LightSampler;       // render/lights/light_sampler.h
 
+/// The receiver normal with which a shading point weighs the emitters (the light tree's hemisphere): @p sideNormal,
+/// the geometric normal on the viewer's side, or 0 (every direction) for a non-delta BSDF that transmits (issue 34,
+/// rough glass: a light behind the surface shines through it). NEE and nextEventPdf must be given the same one.
+inline Vec3 receiverNormal(const BSDF& bsdf, const Vec3& sideNormal) {
+  return bsdf.hasTransmission() && !bsdf.hasDelta() ? Vec3(0.0f) : sideNormal;
+}
+
 /// Power heuristic (β = 2) weight of a technique with density @p a against one with density @p b.
 inline float powerHeuristic(float a, float b) {
   const float a2 = a * a, b2 = b * b;

@@ -111,7 +111,11 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
       for (int c = 0; c < 3; ++c) texScale[c] = mean[c] > 0.0f ? mat.albedo[c] / mean[c] : 0.0f;
     }
     const Vec2* uvs = textured ? uv : nullptr;
-    if (m.firstShot && diffusePart) {
+    if (m.firstShot && patchBsdf.hasTransmission() && !patchBsdf.hasDelta()) {
+      // Rough glass (issue 34): a frosted surface glows on both sides with what either side receives, as a diffuser.
+      const Color glow = patchBsdf.albedo() * (0.5f * kInvPiF) * (e[2 * size_t(j)] + e[2 * size_t(j) + 1]);
+      addPolygon(m, p.v, p.count, p.normal, glow, glow, 0.0f, uvs, texScale);
+    } else if (m.firstShot && diffusePart) {
       const Color f = (pbrBase ? *pbrBase : patchBsdf.diffuseAlbedo()) * kInvPiF;
       addPolygon(m, p.v, p.count, p.normal, f * e[2 * size_t(j)], f * e[2 * size_t(j) + 1], 0.0f, uvs, texScale);
     } else {

@@ -95,7 +95,8 @@ Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, c
   const Frame fp = scene.shadingFrame(pt.hit), fq = scene.shadingFrame(qs.hit);  // issue 34
   const Color fCamera = scene.bsdfAt(pt.hit).eval(BSDFQuery(fp.toLocal(w), fp.toLocal(pt.wi)));
   const BSDF bsdfLight = scene.bsdfAt(qs.hit);
-  const Color fLight = bsdfLight.eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Importance));
+  // f(light side → camera side) with wi towards the light: the radiance BSDF (issue 34, rough glass's η²).
+  const Color fLight = bsdfLight.eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Radiance));
   // The camera side's cosine about its shading normal; the light side's f·|cos| with the adjoint factor
   // (render/scene/shading_normals.h) is f·|w·n_g|·|ω_prev·n_s|/|ω_prev·n_g|.
   float G = std::abs(glm::dot(fp.n, w)) * std::abs(glm::dot(qs.hit.ng, w)) / dist2;

@@ -95,7 +95,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     prev.usedTable = useTable;
     prev.pdf = q.pdf;
     prev.p = hit.p;
-    prev.n = woLocal.z >= 0.0f ? hit.ng : -hit.ng;
+    prev.n = receiverNormal(bsdf, woLocal.z >= 0.0f ? hit.ng : -hit.ng);  // as nextEvent's
     prev.nee = nee;
     prev.counted = nullptr;
     prev.countedInfinite = false;

@@ -34,8 +34,9 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
       const SubpathVertex& x = camera[i - 1];
       const Frame frame = scene_->shadingFrame(x.hit);  // issue 34
       const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
-      const float pdfBsdf = scene_->bsdfAt(x.hit).pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
-      const Vec3 n = glm::dot(x.wi, x.hit.ng) >= 0.0f ? x.hit.ng : -x.hit.ng;
+      const BSDF bsdfX = scene_->bsdfAt(x.hit);
+      const float pdfBsdf = bsdfX.pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));
+      const Vec3 n = receiverNormal(bsdfX, glm::dot(x.wi, x.hit.ng) >= 0.0f ? x.hit.ng : -x.hit.ng);
       const float pdfLight = nextEventPdf(lights_, x.hit.p, n, request_, v.hit);
       weight = pdfLight > 0.0f ? powerHeuristic(pdfBsdf, pdfLight) : 1.0f;
     } else if (i > m + 1 && !camera[i - 1].delta) {
