@@ -10,13 +10,6 @@
 namespace fs {
 
 namespace {
-/// Marks a failed sample and returns a zero weight.
-Color fail(BSDFQuery& q) {
-  q.pdf = 0.0f;
-  q.specular = false;
-  q.eta = 1.0f;
-  return Color(0.0f);
-}
 
 float mean(const Color& c) { return (c.x + c.y + c.z) * (1.0f / 3.0f); }
 
@@ -34,9 +27,9 @@ Vec3 cosineOnSideOf(const Vec3& wo, const Vec2& u) {
 // ---- Lambert ----
 
 Color LambertBRDF::sample(BSDFQuery& q, const Vec2& u) const {
-  if (q.wo.z == 0.0f) return fail(q);
+  if (q.wo.z == 0.0f) return failedSample(q);
   q.wi = cosineOnSideOf(q.wo, u);
-  if (q.wi.z == 0.0f) return fail(q);  // rim of the disk: zero density, zero BSDF
+  if (q.wi.z == 0.0f) return failedSample(q);  // rim of the disk: zero density, zero BSDF
   q.pdf = std::abs(q.wi.z) * kInvPiF;
   q.specular = false;
   q.eta = 1.0f;
@@ -72,7 +65,7 @@ float StretchedPhongBRDF::pdf(const BSDFQuery& q) const {
 }
 
 Color StretchedPhongBRDF::sample(BSDFQuery& q, const Vec2& u) const {
-  if (q.wo.z == 0.0f) return fail(q);
+  if (q.wo.z == 0.0f) return failedSample(q);
   if (u.x < pDiffuse) {
     const Vec2 v(std::min(u.x / pDiffuse, 0x1.fffffep-1f), u.y);
     q.wi = cosineOnSideOf(q.wo, v);
@@ -80,9 +73,9 @@ Color StretchedPhongBRDF::sample(BSDFQuery& q, const Vec2& u) const {
     const Vec2 v(std::min((u.x - pDiffuse) / (1.0f - pDiffuse), 0x1.fffffep-1f), u.y);
     q.wi = glm::normalize(samplePhongLobe(reflectLocal(q.wo), n, v));
   }
-  if (!sameSide(q)) return fail(q);  // lobe sample below the horizon (or on it)
+  if (!sameSide(q)) return failedSample(q);  // lobe sample below the horizon (or on it)
   q.pdf = pdf(q);
-  if (!(q.pdf > 0.0f)) return fail(q);
+  if (!(q.pdf > 0.0f)) return failedSample(q);
   q.specular = false;
   q.eta = 1.0f;
   return eval(q) * (std::abs(q.wi.z) / q.pdf);
@@ -91,7 +84,7 @@ Color StretchedPhongBRDF::sample(BSDFQuery& q, const Vec2& u) const {
 // ---- Mirror ----
 
 Color MirrorBRDF::sample(BSDFQuery& q, const Vec2&) const {
-  if (q.wo.z == 0.0f) return fail(q);
+  if (q.wo.z == 0.0f) return failedSample(q);
   q.wi = reflectLocal(q.wo);
   q.pdf = 1.0f;
   q.specular = true;
@@ -102,7 +95,7 @@ Color MirrorBRDF::sample(BSDFQuery& q, const Vec2&) const {
 // ---- Dielectric ----
 
 Color DielectricBSDF::sample(BSDFQuery& q, const Vec2& u) const {
-  if (q.wo.z == 0.0f) return fail(q);
+  if (q.wo.z == 0.0f) return failedSample(q);
   const bool outside = q.wo.z > 0.0f;
   const float eta = outside ? ior : 1.0f / ior;  // η(other side) / η(wo side)
   float cosT = 0.0f;
@@ -167,7 +160,7 @@ float MetallicRoughnessBRDF::pdf(const BSDFQuery& q) const {
 }
 
 Color MetallicRoughnessBRDF::sample(BSDFQuery& q, const Vec2& u) const {
-  if (q.wo.z == 0.0f) return fail(q);
+  if (q.wo.z == 0.0f) return failedSample(q);
   const bool flip = q.wo.z < 0.0f;
   const Vec3 wo = upper(q.wo, flip);
   const float ps = pSpecular(wo.z);
@@ -179,10 +172,10 @@ Color MetallicRoughnessBRDF::sample(BSDFQuery& q, const Vec2& u) const {
   } else {
     wi = squareToCosineHemisphere(Vec2(std::min((u.x - ps) / (1.0f - ps), 0x1.fffffep-1f), u.y));
   }
-  if (!(wi.z > 0.0f)) return fail(q);  // a microfacet reflection below the horizon (or the disk's rim)
+  if (!(wi.z > 0.0f)) return failedSample(q);  // a microfacet reflection below the horizon (or the disk's rim)
   q.wi = upper(glm::normalize(wi), flip);
   q.pdf = pdf(q);
-  if (!(q.pdf > 0.0f)) return fail(q);
+  if (!(q.pdf > 0.0f)) return failedSample(q);
   q.specular = false;
   q.eta = 1.0f;
   return eval(q) * (std::abs(q.wi.z) / q.pdf);

@@ -49,6 +49,14 @@ struct BSDFQuery {
       : wo(wo_), wi(wi_), mode(mode_) {}
 };
 
+/// Marks @p q as a failed sample (no direction drawn) and returns its zero weight.
+inline Color failedSample(BSDFQuery& q) {
+  q.pdf = 0.0f;
+  q.specular = false;
+  q.eta = 1.0f;
+  return Color(0.0f);
+}
+
 // Each model below has the same four members:
 //   Color sample(BSDFQuery& q, const Vec2& u) const
 //       Draws wi for q.wo from u ∈ [0,1)², sets q.wi, q.pdf, q.specular, q.eta and returns the

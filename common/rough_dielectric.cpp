@@ -12,14 +12,6 @@ namespace fs {
 
 namespace {
 
-/// Marks a failed sample of a rough glass model and returns a zero weight.
-Color roughGlassFail(BSDFQuery& q) {
-  q.pdf = 0.0f;
-  q.specular = false;
-  q.eta = 1.0f;
-  return Color(0.0f);
-}
-
 /// @p w with z negated when @p flip (the frame mirrored so that wo.z > 0).
 Vec3 roughGlassMirror(const Vec3& w, bool flip) { return flip ? Vec3(w.x, w.y, -w.z) : w; }
 
@@ -87,7 +79,7 @@ float RoughDielectricBSDF::pdf(const BSDFQuery& q) const {
 }
 
 Color RoughDielectricBSDF::sample(BSDFQuery& q, const Vec2& u) const {
-  if (q.wo.z == 0.0f) return roughGlassFail(q);
+  if (q.wo.z == 0.0f) return failedSample(q);
   const bool flip = q.wo.z < 0.0f;
   const float eta = flip ? 1.0f / ior : ior;
   const Vec3 wo = roughGlassMirror(q.wo, flip);
@@ -100,16 +92,16 @@ Color RoughDielectricBSDF::sample(BSDFQuery& q, const Vec2& u) const {
   Vec3 wi;
   if (reflect) {
     wi = 2.0f * c * h - wo;
-    if (!(wi.z > 0.0f)) return roughGlassFail(q);
+    if (!(wi.z > 0.0f)) return failedSample(q);
   } else {
     const float cos2T = 1.0f - (1.0f - c * c) / (eta * eta);
-    if (!(cos2T > 0.0f)) return roughGlassFail(q);  // total internal reflection at this microfacet
+    if (!(cos2T > 0.0f)) return failedSample(q);  // total internal reflection at this microfacet
     wi = -wo / eta + (c / eta - std::sqrt(cos2T)) * h;
-    if (!(wi.z < 0.0f)) return roughGlassFail(q);
+    if (!(wi.z < 0.0f)) return failedSample(q);
   }
   q.wi = roughGlassMirror(glm::normalize(wi), flip);
   q.pdf = pdf(q);
-  if (!(q.pdf > 0.0f)) return roughGlassFail(q);
+  if (!(q.pdf > 0.0f)) return failedSample(q);
   q.specular = false;
   q.eta = reflect ? 1.0f : eta;
   return eval(q) * (std::abs(q.wi.z) / q.pdf);
@@ -142,7 +134,7 @@ float RoughThinGlassBSDF::pdf(const BSDFQuery& q) const {
 }
 
 Color RoughThinGlassBSDF::sample(BSDFQuery& q, const Vec2& u) const {
-  if (q.wo.z == 0.0f) return roughGlassFail(q);
+  if (q.wo.z == 0.0f) return failedSample(q);
   const bool flip = q.wo.z < 0.0f;
   const Vec3 wo = roughGlassMirror(q.wo, flip);
   const float pT = transmitProbability(wo.z);
@@ -150,12 +142,12 @@ Color RoughThinGlassBSDF::sample(BSDFQuery& q, const Vec2& u) const {
   const Vec2 v(std::min(transmit ? u.x / pT : (u.x - pT) / (1.0f - pT), 0x1.fffffep-1f), u.y);
   const Vec3 h = sampleGgxVisibleNormal(wo, ggxAlpha(roughness), v);
   Vec3 wi = 2.0f * glm::dot(wo, h) * h - wo;
-  if (!(wi.z > 0.0f)) return roughGlassFail(q);
+  if (!(wi.z > 0.0f)) return failedSample(q);
   wi = glm::normalize(wi);
   if (transmit) wi.z = -wi.z;
   q.wi = roughGlassMirror(wi, flip);
   q.pdf = pdf(q);
-  if (!(q.pdf > 0.0f)) return roughGlassFail(q);
+  if (!(q.pdf > 0.0f)) return failedSample(q);
   q.specular = false;
   q.eta = 1.0f;
   return eval(q) * (std::abs(q.wi.z) / q.pdf);

@@ -283,27 +283,7 @@ TEST(Cutout, ShippedScreenFirstShotAgreesWithNeeGL) {
 // image (independent renders): each image mean within 0.3% + 3σ of it.
 TEST(Cutout, ShippedScreenShootingIntegratorsAgreeWithNee) {
   FIRSTSHOT_STATISTICS_ONLY("Cutout.ImagesOfTheFloorUnderTheScreen");
-  SceneDesc desc = loadScene(test::source("scenes/cutout-screen.json"));
-  desc.camera.width = 48, desc.camera.height = 36;
-  const RenderScene plain(desc);
-  PreprocessOptions po = defaultOptions(desc);
-  po.settings.resolution = 128;
-  po.quiet = true;
-  const RenderScene tabled(desc, preprocessScene(desc, po));
-  IntegratorOptions io;
-  io.lightSampler = LightStrategy::All;
-  double ref = 0, seRef = 0;
-  test::imageMean(test::renderWith(*test::preprocessedIntegrator("path", io, plain), plain, 1024).film, 1, ref, seRef);
-  for (const char* name : {"light", "bdpt", "irradiance-cache"}) {
-    IntegratorOptions o = io;
-    o.lightPathsPerPixel = std::string(name) == "light" ? 16 : 0;
-    double mean = 0, se = 0;
-    test::imageMean(test::renderWith(*test::preprocessedIntegrator(name, o, tabled), tabled, 256).film, 1, mean, se);
-    const double s = std::hypot(se, seRef);
-    fmt::print("cutout-screen, {} with the table: {:.5f} ± {:.5f} against NEE {:.5f} ± {:.5f}: {:+.3f}% ± {:.3f}%\n", name,
-               mean, se, ref, seRef, 100 * (mean - ref) / ref, 100 * s / ref);
-    EXPECT_LE(std::abs(mean - ref), 3 * s + 0.003 * ref) << name;
-  }
+  test::expectTableIntegratorsAgreeWithNee("cutout-screen", loadScene(test::source("scenes/cutout-screen.json")));
 }
 
 // Imported assets: glTF's alphaMode, alphaCutoff and baseColorFactor's alpha; OBJ/MTL's map_d (a mask of alpha
