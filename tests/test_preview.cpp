@@ -528,3 +528,44 @@ TEST(PreviewCli, InstantPictureShowsCutouts) {
   EXPECT_GT(holes, 500u);
   EXPECT_GT(solid, 500u);
 }
+
+/// Issue 34: an emitter with an emission texture shows factor × texel per point in the instant picture (a quad at
+/// z = −0.5 facing the camera, uv = (x, 1 − y), the checker of writeCheckerScene as its emission texture, factor 2).
+TEST(PreviewCli, InstantPictureShowsEmissionTextures) {
+  if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
+  const std::string dir = test::tempDir();
+  writeCheckerScene(dir, true);  // for checker.exr
+  test::writeText(dir + "/scene.json", R"({
+    "camera": {"position": [0.5, 0.5, 1], "look_at": [0.5, 0.5, -0.5], "fov_y": 60, "resolution": [96, 96]},
+    "settings": {"patch_size": 2, "min_patch_size": 2},
+    "materials": {"sign": {"type": "diffuse", "albedo": 0, "emission": 2,
+                           "emission_texture": {"file": "checker.exr", "wrap": "clamp"}},
+                  "wall": {"type": "diffuse", "albedo": 0.6}},
+    "shapes": [
+      {"type": "quad", "material": "sign", "vertices": [[0, 0, -0.5], [1, 0, -0.5], [1, 1, -0.5], [0, 1, -0.5]]},
+      {"type": "quad", "material": "wall", "vertices": [[-1, -1, -1], [2, -1, -1], [2, 2, -1], [-1, 2, -1]]}]})");
+  const Image picture = instantPicture(dir, "", "e");
+  ASSERT_EQ(picture.width, 96);
+  const SceneDesc desc = loadScene(dir + "/scene.json");
+  const Camera camera(desc.camera);
+  size_t checked[2] = {}, wrong = 0;
+  for (int y = 0; y < picture.height; ++y)
+    for (int x = 0; x < picture.width; ++x) {
+      const Ray ray = camera.generateRay(float(x) + 0.5f, float(y) + 0.5f);
+      const Vec3 p = ray.o + ((-0.5f - ray.o.z) / ray.d.z) * ray.d;
+      const std::optional<Color> texel = checkerAt(Vec2(p.x, 1.0f - p.y));
+      if (!texel) continue;
+      const Color expected = 2.0f * *texel;
+      const size_t i = (size_t(y) * size_t(picture.width) + size_t(x)) * 3;
+      bool ok = true;
+      for (int k = 0; k < 3; ++k) ok = ok && std::abs(picture.v[i + size_t(k)] - expected[k]) <= 1e-3f * expected[k];
+      if (!ok && ++wrong <= 3)
+        ADD_FAILURE() << "pixel (" << x << ", " << y << "): got " << picture.v[i] << " " << picture.v[i + 1] << " "
+                      << picture.v[i + 2] << ", expected " << expected.x << " " << expected.y << " " << expected.z;
+      ++checked[*texel == kCheckerA];
+    }
+  fmt::print("emission texture in the instant picture: {} + {} pixels checked, {} wrong\n", checked[0], checked[1], wrong);
+  EXPECT_EQ(wrong, 0u);
+  EXPECT_GT(checked[0], 300u);
+  EXPECT_GT(checked[1], 300u);
+}

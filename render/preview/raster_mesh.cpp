@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/emission_texture.h"
 #include "common/patch_cutouts.h"
 
 namespace fs {
@@ -130,17 +131,27 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
   }
 
   // Emitters are not patches: take their polygons from the scene description.
-  useTexture(m, -1);
+  // An emitter with an emission texture shows factor × texel per point (the texel clamped to [0, 1], as albedo).
   for (const ShapeDesc& s : desc.shapes) {
     const MaterialDesc& mat = desc.materials[size_t(s.material)];
     if (!mat.isEmissive()) continue;
-    for (const Face& f : s.faces) {
+    const bool textured = emitsPerPoint(mat, s);
+    useTexture(m, textured ? textureIndex(m, mat.emissionTexture) : -1);
+    for (size_t fi = 0; fi < s.faces.size(); ++fi) {
+      const Face& f = s.faces[fi];
       Vec3 v[4];
-      for (uint32_t k = 0; k < f.count; ++k) v[k] = Vec3(s.vertices[f.v[k]]);
+      Vec2 uv[4];
+      for (uint32_t k = 0; k < f.count; ++k) {
+        v[k] = Vec3(s.vertices[f.v[k]]);
+        if (textured) uv[k] = mat.emissionTexture->transform.apply(s.cornerUv(fi, int(k)));
+      }
       const Vec3 n = glm::cross(v[1] - v[0], v[2] - v[0]);
       const float len = glm::length(n);
       if (!(len > 0.0f)) continue;
-      addPolygon(m, v, f.count, n / len, mat.emission, Color(0.0f), 0.0f);
+      if (textured)
+        addPolygon(m, v, f.count, n / len, Color(1.0f), Color(0.0f), 0.0f, uv, mat.emissionFactor);
+      else
+        addPolygon(m, v, f.count, n / len, mat.emission, Color(0.0f), 0.0f);
     }
   }
 

@@ -16,6 +16,8 @@
 /// the texture's detail on the patch's mean (a diffuse side's radiance is ∝ its albedo).
 /// A cut-out patch carries its alpha texture coordinates and its batch the alpha rule (RasterCutout): the GPU
 /// discards the fragments where the surface is absent. Shading normals are not drawn: a patch side is flat.
+/// An emitter with an emission texture is a textured batch too: texScale = the emission factor, so it shows
+/// factor × texel per point.
 #include <cstdint>
 #include <memory>
 #include <vector>
