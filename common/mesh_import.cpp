@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "common/asset_checks.h"
+#include "common/bump_map.h"
 #include "common/error.h"
 #include "common/gltf_file.h"
 #include "common/gltf_materials.h"
@@ -399,8 +400,8 @@ class MaterialTable {
       std::fprintf(stderr, "%s: %zu texture%s not read, their factors used alone (first: %s)\n", file.c_str(),
                    objFailures_.size(), objFailures_.size() == 1 ? "" : "s", objFailures_.front().c_str());
     if (!bumpMaps_.empty())
-      std::fprintf(stderr, "%s: %zu bump (height) map%s not supported, ignored (first: %s); give a normal map (norm)\n",
-                   file.c_str(), bumpMaps_.size(), bumpMaps_.size() == 1 ? "" : "s", bumpMaps_.front().c_str());
+      std::fprintf(stderr, "%s: %zu bump (height) map%s turned into normal maps (first: %s)\n", file.c_str(),
+                   bumpMaps_.size(), bumpMaps_.size() == 1 ? "" : "s", bumpMaps_.front().c_str());
   }
 
  private:
@@ -489,12 +490,23 @@ class MaterialTable {
     return texture;
   }
 
-  /// Issue 34: MTL's `norm` (assimp's NORMALS) as the normal map, read linear as glTF's; a bump (height) map
-  /// (`bump`, `map_bump`: assimp's HEIGHT) is not supported: reportTextures() names the first one.
+  /// Issue 34: MTL's `norm` (assimp's NORMALS) as the normal map, read linear as glTF's; without one, a bump map
+  /// (`bump`, `map_bump`: assimp's HEIGHT) becomes it (common/bump_map.h: a normal map as it is, a height map
+  /// converted with its `-bm` multiplier); reportTextures() says how many were converted.
   void objNormalMaps(const aiMaterial& mat, MaterialDesc& m) {
     m.normalTexture = diffuseTexture(mat, aiTextureType_NORMALS);
-    aiString file;
-    if (mat.GetTexture(aiTextureType_HEIGHT, 0, &file) == aiReturn_SUCCESS && file.length > 0) bumpMaps_.push_back(file.C_Str());
+    if (m.normalTexture) return;
+    std::shared_ptr<const Texture> bump = diffuseTexture(mat, aiTextureType_HEIGHT);
+    if (!bump || bumpImageIsNormalMap(*bump->image)) {
+      m.normalTexture = bump;
+      return;
+    }
+    float scale = 1.0f;
+    if (mat.Get(AI_MATKEY_BUMPSCALING, scale) != aiReturn_SUCCESS) scale = 1.0f;
+    auto converted = std::make_shared<Texture>(*bump);
+    converted->image = std::make_shared<const TexelImage>(normalMapFromHeights(*bump->image, scale));
+    m.normalTexture = converted;
+    bumpMaps_.push_back(bump->image->name);
   }
 
   const aiScene& scene_;
@@ -507,7 +519,7 @@ class MaterialTable {
   std::string file_;  ///< the asset file
   std::map<std::string, std::shared_ptr<const TexelImage>> objImages_;  ///< map_Kd images by path
   std::vector<std::string> objFailures_;
-  std::vector<std::string> bumpMaps_;  ///< MTL bump maps met (not supported)
+  std::vector<std::string> bumpMaps_;  ///< MTL height maps turned into normal maps
 };
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <vector>
 
 #include <fmt/core.h>
 
@@ -166,21 +167,52 @@ TEST(ObjNormalMaps, NormIsTheMaterialsNormalMap) {
   }
 }
 
-TEST(ObjNormalMaps, BumpMapsAreNamedOnceAndLeftOut) {
-  // Two materials with height maps (`bump`, `map_bump`): one stderr line names the first, and neither becomes a
-  // normal map (a material with a bump map alone stays unperturbed).
-  const std::string extra = "bump h.png\nnewmtl other\nKd 0.2 0.2 0.2\nmap_bump -bm 2 other.png\n";
-  const std::string obj = writeNormObj({128, 128, 255}, extra);
-  test::writeText(obj, test::readFile(obj) + "v 3 0 0\nv 4 0 0\nv 3 1 0\nusemtl other\nf 5 6 7\n");
+/// Writes the quad of writeNormObj with an MTL of @p mtl (material "m") and an 8 × 8 grey PNG h.png whose value is
+/// 16·x (a ramp along u) or 16·y (along v), read linear: h = 16·k/255 per texel. @return the .obj's path.
+std::string writeBumpObj(const std::string& mtl, bool alongV) {
+  const std::string dir = test::tempDir();
+  std::vector<uint8_t> grey;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) grey.insert(grey.end(), 3, uint8_t(16 * (alongV ? y : x)));
+  image::writePng(dir + "/h.png", 8, 8, grey.data());
+  test::writeText(dir + "/quad.mtl", "newmtl m\nKd 0.5 0.5 0.5\n" + mtl);
+  test::writeText(dir + "/quad.obj",
+                  "mtllib quad.mtl\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
+                  "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n");
+  return dir + "/quad.obj";
+}
+
+/// The shading normal at the quad's centre (uv (½, ½)) of the OBJ at @p obj.
+Vec3 centreShadingNormal(const std::string& obj, std::string* err = nullptr) {
   testing::internal::CaptureStderr();
   const SceneDesc desc = loadScene(obj);
-  const std::string err = testing::internal::GetCapturedStderr();
-  const std::string line = "quad.obj: 2 bump (height) maps not supported, ignored (first: h.png); give a normal map (norm)";
-  EXPECT_NE(err.find(line), std::string::npos) << err;
-  EXPECT_EQ(err.find("bump"), err.rfind("bump (height)")) << "one line: " << err;
-  const int other = desc.findMaterial("other");
-  ASSERT_GE(other, 0);
-  EXPECT_FALSE(desc.materials[size_t(other)].normalTexture);
+  if (err) *err = testing::internal::GetCapturedStderr();
+  else testing::internal::GetCapturedStderr();
+  const RenderScene scene(desc);
+  Hit h;
+  h.p = Vec3(0.0f), h.ng = Vec3(0, 1, 0), h.patch = 0;
+  return scene.shadingNormal(h);
+}
+
+TEST(ObjNormalMaps, BumpHeightMapsBecomeNormalMaps) {
+  // A height ramp of 16/255 per texel tilts the normal by atan(16/255) away from where the surface rises
+  // (common/bump_map.h), in the generated frame T = +z (u), B = +x (v), N = +y; one stderr line counts them.
+  const float step = 16.0f / 255.0f;
+  std::string err;
+  const Vec3 alongU = centreShadingNormal(writeBumpObj("bump h.png\n", false), &err);
+  expectNear(alongU, glm::normalize(Vec3(0.0f, 1.0f, -step)), 1e-4f, "ramp along u");
+  EXPECT_NE(err.find("quad.obj: 1 bump (height) map turned into normal maps"), std::string::npos) << err;
+  const Vec3 alongV = centreShadingNormal(writeBumpObj("map_bump h.png\n", true));
+  expectNear(alongV, glm::normalize(Vec3(-step, 1.0f, 0.0f)), 1e-4f, "ramp along v");
+}
+
+TEST(ObjNormalMaps, BumpSlotHoldingANormalMapIsUsedAsIt) {
+  // Blender's OBJ exporter writes normal maps as map_Bump: a bluish image is taken as the normal map it is.
+  const std::array<uint8_t, 3> rgb = {150, 128, 240};
+  const std::string obj = writeNormObj(rgb, "");
+  test::writeText(obj.substr(0, obj.size() - 3) + "mtl", "newmtl m\nKd 0.5 0.5 0.5\nmap_Bump -bm 1.0 n.png\n");
+  const Vec3 t = 2.0f * Vec3(rgb[0], rgb[1], rgb[2]) / 255.0f - Vec3(1.0f);
+  expectNear(centreShadingNormal(obj), glm::normalize(Vec3(t.y, t.z, t.x)), 1e-4f, "map_Bump normal map");
 }
 
 }  // namespace
