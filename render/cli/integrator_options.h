@@ -15,12 +15,14 @@
 
 #include "common/error.h"
 #include "render/integrators/integrator.h"
+#include "render/loop/integrator_pilot.h"
 #include "render/integrators/integrator_cli.h"
 
 namespace fs {
 
 struct IntegratorOptionsCli {
-  std::string name = "path", primary = "exact", lightSampler = "tree", patchNee = "off", lightVisibility = "on",
+  static constexpr const char* kAuto = "auto";  ///< --integrator auto
+  std::string name = "auto", primary = "exact", lightSampler = "tree", patchNee = "off", lightVisibility = "on",
               shootFirstShot = "patches", tableVisibility = "on";
   /// One command line per line of integratorTable(), in its order.
   std::vector<std::unique_ptr<IntegratorCli>> clis;
@@ -36,7 +38,10 @@ struct IntegratorOptionsCli {
     for (const IntegratorEntry& e : integratorTable())
       list += fmt::format("{}{}{}", list.empty() ? "" : " | ", e.name,
                           *e.description ? fmt::format(" ({})", e.description) : std::string());
-    app.add_option("--integrator", name, "integrator: " + list)->capture_default_str();
+    app.add_option("--integrator", name, "integrator: auto (a pilot of a few percent of the samples measures "
+                                         "path, irradiance-cache, light and bdpt on the scene, each with and without "
+                                         "the table's options, and renders with the most efficient; "
+                                         "docs/integrators.md) | " + list)->capture_default_str();
     app.add_option(kPrimary, primary, "with --firstshot, camera-visible surfaces: exact (shadow rays to small lights) "
                                       "or patch (first-shot there too)")
         ->check(CLI::IsMember({"exact", "patch"}))->capture_default_str();
@@ -71,6 +76,79 @@ struct IntegratorOptionsCli {
   }
   /// The chosen integrator's command line. @throws InputError for an unknown --integrator.
   IntegratorCli& chosen() const { return cli(name); }
+  /// --integrator auto: the integrator is not chosen yet (resolveAuto).
+  bool isAuto() const { return name == kAuto; }
+
+  /// --integrator auto: the settings the pilot may choose from (render/loop/integrator_pilot.h). The integrators
+  /// that read every integrator option given on @p app (an option only some read narrows the choice to them),
+  /// and, with a table (@p table), each with --patch-nee off and every (path, irradiance-cache) or
+  /// --shoot-firstshot patches and off (light, bdpt) unless that option was given. The bundle only when the
+  /// options given leave nothing else; with a sky or environment map (@p infinite) only path and
+  /// irradiance-cache. @throws InputError when no integrator reads every option given.
+  std::vector<PilotCandidate> autoCandidates(const CLI::App& app, bool table, bool infinite,
+                                             const std::string& sceneFile) const {
+    using namespace integrator_option;
+    std::vector<std::string> given, readers, pilotReaders;
+    for (const auto& cli : clis)
+      for (const std::string& option : cli->options())
+        if (app.count(option) && std::find(given.begin(), given.end(), option) == given.end()) given.push_back(option);
+    for (size_t i = 0; i < clis.size(); ++i) {
+      const std::vector<std::string> theirs = clis[i]->options();
+      bool all = true;
+      for (const std::string& option : given) all = all && std::find(theirs.begin(), theirs.end(), option) != theirs.end();
+      const std::string n = integratorTable()[i].name;
+      if (!all) continue;
+      readers.push_back(n);
+      if (n != "bundle" && (!infinite || n == "path" || n == "irradiance-cache")) pilotReaders.push_back(n);
+    }
+    if (readers.empty()) {
+      std::string list;
+      for (const std::string& option : given) list += (list.empty() ? "" : " ") + option;
+      throw InputError("", "--integrator", "auto: no integrator reads all of " + list + " (choose one with --integrator)");
+    }
+    if (pilotReaders.empty()) {
+      if (infinite && readers.front() != "bundle")
+        throw InputError(sceneFile, "sky", "the options given are read only by integrators that do not support a "
+                                           "sky/environment yet (use --integrator path or irradiance-cache)");
+      pilotReaders.push_back(readers.front());
+    }
+    const IntegratorOptions given_ = options(0);
+    std::vector<PilotCandidate> out;
+    for (const std::string& n : pilotReaders) {
+      PilotCandidate c;
+      c.integrator = n;
+      c.patchNee = given_.patchNee;
+      c.shootFromPatches = given_.shootFromPatches;
+      const std::vector<std::string> theirs = cli(n).options();
+      auto reads = [&](const char* o) { return std::find(theirs.begin(), theirs.end(), o) != theirs.end(); };
+      // A shooting integrator's --patch-nee serves only its path-traced pixels: it varies --shoot-firstshot.
+      const bool nee = table && app.count(kPatchNee) == 0 && reads(kPatchNee) && !reads(kShootFirstShot);
+      const bool shoot = table && app.count(kShootFirstShot) == 0 && reads(kShootFirstShot);
+      if (nee) {
+        c.variesPatchNee = true;
+        for (const PatchNee p : {PatchNee::Off, PatchNee::Every}) {
+          c.patchNee = p;
+          out.push_back(c);
+        }
+      } else if (shoot) {
+        c.variesShoot = true;
+        for (const bool s : {true, false}) {
+          c.shootFromPatches = s;
+          out.push_back(c);
+        }
+      } else {
+        out.push_back(c);
+      }
+    }
+    return out;
+  }
+
+  /// Makes @p c the choice: --integrator, --patch-nee and --shoot-firstshot as the candidate has them.
+  void choose(const PilotCandidate& c) {
+    name = c.integrator;
+    patchNee = c.patchNee == PatchNee::Off ? "off" : c.patchNee == PatchNee::First ? "first" : "every";
+    shootFirstShot = c.shootFromPatches ? "patches" : "off";
+  }
 
   /// @throws InputError for an option given on @p app that the chosen integrator does not read, e.g.
   /// "--shoot-firstshot: not used by --integrator path (used by: light, bdpt)".

@@ -33,8 +33,9 @@ int RenderCommand::run(int argc, char** argv) {
   if (!preview_) installInterruptHandlers();
   checkOptions();
   loadScene();
+  resolveIntegrator();
   makeIntegrator();
-  buildRenderScene();
+  if (!renderScene_) buildRenderScene();  // the pilot may have built it
   if (sensors_.active()) return renderSensors();
   if (preview_) return runPreview();
   return renderImage();
@@ -87,7 +88,7 @@ void RenderCommand::declareOptions() {
 }
 
 void RenderCommand::checkOptions() {
-  integrators_.requireUsed(app_);
+  if (!integrators_.isAuto()) integrators_.requireUsed(app_);  // auto: the options given narrow its choice
   sensors_.checkOptions(app_, outputs_);
   sensorSets_ = sensors_.sets();  // --grid-quad sets join once the scene is loaded
   photometric_.checkOptions(app_, sensors_.active(), sensorSets_, outputs_);
@@ -136,13 +137,16 @@ SamplerMode RenderCommand::samplerMode() const {
   return samplerName_ == "sobol" ? SamplerMode::Sobol : SamplerMode::Independent;
 }
 
-void RenderCommand::makeIntegrator() {
-  int maxDepth = maxDepth_ >= 0 ? maxDepth_ : scene_.settings.maxDepth;
+int RenderCommand::maxDepth() const {
+  const int depth = maxDepth_ >= 0 ? maxDepth_ : scene_.settings.maxDepth;
   // A sensor is a camera-visible point (vertex 0): its cosine rays' first hits are bounce 1.
-  if (sensors_.active()) maxDepth = std::max(0, maxDepth - 1);
-  integratorOptions_ = integrators_.options(maxDepth);
+  return sensors_.active() ? std::max(0, depth - 1) : depth;
+}
+
+void RenderCommand::makeIntegrator() {
+  integratorOptions_ = integrators_.options(maxDepth());
   integratorOptions_.comm = &comm_;
-  IntegratorSetup setup{&app_, &scene_, seed(), threads_, spp_, samplerMode()};
+  IntegratorSetup setup{&app_, &scene_, seed(), threads_, spp_, samplerMode(), quiet_};
   IntegratorCli& cli = integrators_.chosen();
   cli.configure(setup);
   spp_ = setup.spp;
@@ -161,7 +165,9 @@ void RenderCommand::buildRenderScene() {
   if (!fsdPath_.empty())
     renderScene_.emplace(scene_, readFirstShot(fsdPath_, hashScene(scene_)), fsdPath_);
   else
-    renderScene_.emplace(scene_, patchSize_ > 0 || !integrators_.chosen().needsPatches() ? patchSize_ : resolvePatchSize(scene_));
+    renderScene_.emplace(scene_, patchSize_ > 0 || integrators_.isAuto() || !integrators_.chosen().needsPatches()
+                                     ? patchSize_
+                                     : resolvePatchSize(scene_));
 }
 
 void RenderCommand::checkImageOutputs() const {
@@ -203,7 +209,7 @@ int RenderCommand::runPreview() {
   // options are not given: their defaults).
   for (const auto& cli : integrators_.clis)
     if (cli.get() != &integrators_.chosen()) {
-      IntegratorSetup setup{&app_, &scene_, po.seed, threads_, spp_, samplerMode()};
+      IntegratorSetup setup{&app_, &scene_, po.seed, threads_, spp_, samplerMode(), quiet_};
       cli->configure(setup);
     }
   po.factory = [this](const std::string& name) { return integrators_.cli(name).make(integratorOptions_); };
@@ -220,7 +226,8 @@ int RenderCommand::runPreview() {
 int RenderCommand::renderImage() {
   RenderOptions ro;
   ro.spp = spp_ > 0 ? spp_ : scene_.settings.spp;
-  ro.timeLimit = timeLimit_;
+  // --time is the whole budget: the pilot's time comes off it (at least one pass is rendered).
+  ro.timeLimit = timeLimit_ > 0 ? std::max(1e-3, timeLimit_ - pilotSeconds_) : 0.0;
   ro.seed = seed();
   ro.sampler = samplerMode();
   ro.threads = threads_;

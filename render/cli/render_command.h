@@ -39,6 +39,11 @@ class RenderCommand {
   void loadScene();
   /// --daylight-factor: makes scene_ the CIE overcast sky alone (render/sensors/daylight_factor.h), says so on stderr.
   void switchToDaylightFactorScene();
+  /// --integrator auto: chooses the integrator and its table options, by a pilot where the render is an image
+  /// (render/loop/integrator_pilot.h), and says so on stderr (render/cli/render_command_auto.cpp).
+  void resolveIntegrator();
+  /// The longest path in bounces: --max-depth or the scene's, one less for sensors.
+  int maxDepth() const;
   /// Checks the chosen integrator's options against the scene and makes it.
   void makeIntegrator();
   /// The scene the integrator traces: the table's patches, or the scene's faces (cut into patches
@@ -60,6 +65,7 @@ class RenderCommand {
   std::vector<std::string> outputs_;
   int spp_ = 0, threads_ = 0, maxDepth_ = -1, width_ = 0, height_ = 0, frames_ = -1;
   double timeLimit_ = 0, patchSize_ = 0;
+  double pilotSeconds_ = 0;  // --integrator auto's pilot, wall time (taken from --time's budget)
   float exposure_ = 0;
   uint64_t seed_ = 0;
   bool quiet_ = false, aov_ = false, preview_ = false;

@@ -116,6 +116,13 @@ class Integrator {
   virtual void preprocessRays(const RenderScene& scene, size_t /*tasks*/, const RayTask& /*task*/, float /*rayAngle*/) {
     preprocess(scene);
   }
+  /// As preprocess(), for rendering through @p camera instead of the scene's own (a smaller picture of the same
+  /// view: --integrator auto's pilot, render/loop/integrator_pilot.h). Only an integrator whose preprocessing
+  /// depends on the camera (the irradiance cache's fill) overrides it. Default: preprocess().
+  virtual void preprocessFor(const RenderScene& scene, const CameraDesc& /*camera*/) { preprocess(scene); }
+  /// Rays traced by preprocess() or preprocessFor() (the irradiance cache's fill), not counted in the render's
+  /// RenderStats::rays; 0 by default.
+  virtual uint64_t preprocessRayCount() const { return 0; }
   /// The light sampler with which the integrator's paths choose lights for next-event estimation,
   /// over every light (kept and replaced); its lighting() is the first-shot lighting the integrator
   /// built. Both are built once by preprocess() (or preprocessRays()) and shared: the sensors' NEE

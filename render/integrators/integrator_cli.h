@@ -43,6 +43,7 @@ struct IntegratorSetup {
   int threads = 0;                   ///< --threads (0: one per core)
   int spp = 0;                       ///< --spp (0: the scene's); an integrator may set it (--iterations)
   SamplerMode sampler = SamplerMode::Independent;  ///< --sampler (common/rng.h)
+  bool quiet = false;                ///< --quiet (or a pilot render, render/loop/integrator_pilot.h): no progress
 };
 
 /// One integrator's command line. Before configure() (and without a command line: makeIntegrator)

@@ -95,7 +95,7 @@ class IrradianceCacheCli : public IntegratorCli {
     settings.seed = setup.seed;
     settings.threads = setup.threads;
     settings.sampler = setup.sampler;  // the two-pass fill traces the render's camera samples
-    settings.quiet = setup.app->count("--quiet") > 0;  // the fill's progress (rank 0's alone: the integrator knows its ranks)
+    settings.quiet = setup.quiet;  // the fill's progress (rank 0's alone: the integrator knows its ranks)
     configured = true;
   }
 

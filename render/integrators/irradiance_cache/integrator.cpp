@@ -81,6 +81,7 @@ IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
   s.privateRecords = privateRecords_.load();
   s.missPaths = missPaths_.load();
   s.fillSeconds = fillSeconds_;
+  s.fillRays = fillRays_;
   s.fillRounds = fillRounds_;
   s.exchangeBytes = exchangeBytes_;
   s.exchangeSeconds = exchangeSeconds_;

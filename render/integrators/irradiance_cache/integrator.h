@@ -93,6 +93,7 @@ struct IrradianceCacheStats {
   uint64_t privateRecords = 0;  ///< two-pass render: records made for one camera sample only
   uint64_t missPaths = 0;       ///< after preprocessRays: lookups that found no record and took one path
   double fillSeconds = 0;       ///< two-pass fill
+  uint64_t fillRays = 0;        ///< rays the two-pass fill traced (closest-hit and shadow)
   int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
   /// With several MPI ranks (IntegratorOptions::comm): bytes this rank sent in the fill's record
   /// exchanges, and the seconds it spent in them (waiting for the other ranks included).
@@ -123,6 +124,9 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// fill, so does a task's lookup once the task has traced 2^20 rays (a deterministic bound on
   /// the records one task makes, e.g. inside a closed object).
   void preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task, float rayAngle) override;
+  /// preprocess() with the fill over @p camera's pixels and its pixel angle for the footprint clamp.
+  void preprocessFor(const RenderScene& scene, const CameraDesc& camera) override;
+  uint64_t preprocessRayCount() const override { return fillRays_; }
   std::string name() const override { return "irradiance-cache"; }
   bool supportsSensors() const override { return true; }
   /// The path continuation's light sampler, over every light (after preprocess() or preprocessRays()).
@@ -217,6 +221,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   uint64_t taskRayBudget_ = 0;            ///< preprocessRays' fill: rays per task before misses take paths (0: none)
   size_t loaded_ = 0;
   double fillSeconds_ = 0;
+  uint64_t fillRays_ = 0;
   int fillRounds_ = 0;
   uint64_t exchangeBytes_ = 0;
   double exchangeSeconds_ = 0;

@@ -4,7 +4,9 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <atomic>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
@@ -42,12 +44,20 @@ std::vector<uint32_t> fillOrder(int width, int height) {
   return order;
 }
 
+/// The angle one pixel of @p cam spans vertically at the image centre, rad.
+float pixelAngleOf(const CameraDesc& cam) {
+  return float(2.0 * std::tan(glm::radians(cam.fovYDeg) * 0.5) / std::max(1, cam.height));
+}
+
 }  // namespace
 
-void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) {
+void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) { preprocessFor(scene, scene.desc().camera); }
+
+void IrradianceCacheIntegrator::preprocessFor(const RenderScene& scene, const CameraDesc& cameraDesc) {
   setup(scene);
+  pixelAngle_ = pixelAngleOf(cameraDesc);
   if (!settings_.twoPass) return;
-  const Camera camera(scene.desc().camera);
+  const Camera camera(cameraDesc);
   const uint32_t width = uint32_t(camera.width());
   const std::vector<uint32_t> order = fillOrder(camera.width(), camera.height());
   // The render's own camera samples 0 .. fillSamples−1 of the pixel (renderer.cpp), so that the
@@ -86,6 +96,7 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   loaded_ = 0;
   fillSeconds_ = 0;
   fillRounds_ = 0;
+  fillRays_ = 0;
   privateRecords_ = 0;
   missPaths_ = 0;
   exchangeBytes_ = 0;
@@ -120,8 +131,7 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   scene.desc().bounds(lo, hi);
   boundsLo_ = Vec3(lo);
   boundsHi_ = Vec3(hi);
-  const CameraDesc& cam = scene.desc().camera;
-  pixelAngle_ = float(2.0 * std::tan(glm::radians(cam.fovYDeg) * 0.5) / std::max(1, cam.height));
+  pixelAngle_ = pixelAngleOf(scene.desc().camera);
   cache_ = makeCache();
 
   const std::string& file = settings_.cacheFile;
@@ -140,6 +150,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
   Comm& comm = options_.comm ? *options_.comm : serialComm();
 
   // One sweep over the pixels; returns the number of records added.
+  std::atomic<uint64_t> rays{0};
   auto sweep = [&](bool shrinkNeighbours) {
     Progress progress(shrinkNeighbours ? "irradiance cache fill" : "irradiance cache fill, gaps", tasks,
                       settings_.quiet || !comm.root());
@@ -163,6 +174,11 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
             if (interrupted()) break;  // thrown below, before the merge
             const size_t i = mine[k];
             Context ctx(Context::Mode::Private);
+            struct CountRays {  // the task's rays join the fill's count however it ends
+              Context& ctx;
+              std::atomic<uint64_t>& total;
+              ~CountRays() { total += ctx.rays; }
+            } countRays{ctx, rays};
             try {
               task(pos + i, [&](const Ray& ray, Sampler& sampler) {
                 return radiance(ray, 0, RayKind::Camera, 0.0f, sampler, ctx, nullptr, nullptr);
@@ -206,6 +222,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
     for (const IrradianceRecord& r : cache_->records(l)) rebuilt->insert(l, r, false);
   cache_ = std::move(rebuilt);
   fillSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  fillRays_ = rays.load();
 }
 
 int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine,

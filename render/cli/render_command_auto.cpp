@@ -1,0 +1,107 @@
+// firstshot-render's --integrator auto: the choice of the integrator (render/loop/integrator_pilot.h).
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "common/progress.h"
+#include "render/cli/render_command.h"
+
+namespace fs {
+
+namespace {
+
+/// The path tracer among @p candidates as the user would get it without a table's options (else the first).
+const PilotCandidate& pathOrFirst(const std::vector<PilotCandidate>& candidates) {
+  for (const PilotCandidate& c : candidates)
+    if (c.integrator == "path" && c.patchNee == PatchNee::Off) return c;
+  for (const PilotCandidate& c : candidates)
+    if (c.integrator == "path") return c;
+  return candidates.front();
+}
+
+}  // namespace
+
+void RenderCommand::resolveIntegrator() {
+  if (!integrators_.isAuto()) return;
+  const std::vector<PilotCandidate> candidates =
+      integrators_.autoCandidates(app_, !fsdPath_.empty(), scene_.sky || scene_.environment, scene_.file);
+  auto say = [&](const std::string& text) {
+    if (!quiet_) fmt::print(stderr, "firstshot-render: --integrator auto: {}\n", text);
+  };
+  if (candidates.size() == 1) {
+    integrators_.choose(candidates.front());
+    say(candidates.front().label() + " (the only integrator that reads the options given)");
+    return;
+  }
+  if (sensors_.active() || preview_) {  // the pilot compares pictures of the camera's view
+    integrators_.choose(pathOrFirst(candidates));
+    say(pathOrFirst(candidates).label() + (preview_ ? " (the preview starts with it; keys switch integrators)"
+                                                    : " (for sensors; the pilot compares pictures)"));
+    return;
+  }
+  // With --time the samples are not known before the render: the scene's, or the time at a fixed rate of
+  // kTimeRate camera samples per second, whichever is more (the pilot must not depend on the machine).
+  constexpr double kTimeRate = 250000.0;
+  const double pixels = double(scene_.camera.width) * double(scene_.camera.height);
+  const int spp = spp_ > 0 ? spp_
+                  : timeLimit_ > 0 ? int(std::min(1e6, std::max<double>(scene_.settings.spp, timeLimit_ * kTimeRate / pixels)))
+                                   : scene_.settings.spp;
+  const PilotPlan plan = planPilot(scene_.camera, spp, candidates.size());
+  if (!plan.run) {
+    integrators_.choose(pathOrFirst(candidates));
+    say(fmt::format("{} ({} x {} at {} spp leaves no room for a pilot)", pathOrFirst(candidates).label(),
+                    scene_.camera.width, scene_.camera.height, spp));
+    return;
+  }
+
+  const auto start = std::chrono::steady_clock::now();
+  buildRenderScene();
+  IntegratorOptions base = integrators_.options(maxDepth());
+  base.comm = nullptr;  // every rank runs the same pilot and makes the same choice
+  const PilotFactory make = [&](const PilotCandidate& c, uint64_t seed) {
+    IntegratorOptions io = base;
+    io.patchNee = c.patchNee;
+    io.shootFromPatches = c.shootFromPatches;
+    IntegratorSetup setup{&app_, &scene_, seed, threads_, spp_, samplerMode(), true};
+    IntegratorCli& cli = integrators_.cli(c.integrator);
+    cli.configure(setup);
+    return cli.make(io);
+  };
+  std::vector<PilotFigure> figures;
+  {
+    Progress progress("integrator pilot", candidates.size(), quiet_);
+    figures = runPilot(*renderScene_, candidates, plan, make, seed(), samplerMode(), threads_,
+                       [&](size_t) { progress.advance(); });
+  }
+  pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const size_t best = bestPilotFigure(figures);
+  integrators_.choose(candidates[best]);
+  if (quiet_) return;
+
+  // The pilot's rays against the render's, priced at the chosen method's rays per camera sample.
+  double pilotRays = 0.0;
+  for (const PilotFigure& f : figures) pilotRays += f.spp > 0 ? 2.0 * f.rays : f.rays;
+  const PilotFigure& chosen = figures[best];
+  const double renderRays = pixels * double(spp) * chosen.rays /
+                            (double(plan.width) * double(plan.height) * double(std::max(1, chosen.spp)));
+  fmt::print(stderr,
+             "firstshot-render: --integrator auto: pilot at {} x {}, each setting's two images at equal rays, {:.2f} s "
+             "({:.1f}% of the rays of {} x {} at {} spp):\n  {:<42} {:>5} {:>9} {:>9} {:>12} {:>11}\n",
+             plan.width, plan.height, pilotSeconds_, renderRays > 0 ? 100.0 * pilotRays / renderRays : 0.0,
+             scene_.camera.width, scene_.camera.height, spp, "setting", "spp", "rel.noise", "rel.error", "Mrays/image",
+             "efficiency");
+  const double top = chosen.efficiency;
+  for (size_t i = 0; i < candidates.size(); ++i)
+    if (figures[i].spp == 0)
+      fmt::print(stderr, "  {:<42} {:>5} {:>9} {:>9} {:>12.3f} (its preprocessing alone outgrows the pilot)\n",
+                 candidates[i].label(), "-", "-", "-", figures[i].rays * 1e-6);
+    else
+      fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
+                 figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,
+                 i == best ? " *" : "");
+  fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it)\n",
+             candidates[best].label());
+}
+
+}  // namespace fs

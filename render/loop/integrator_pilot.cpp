@@ -1,0 +1,200 @@
+// --integrator auto's pilot: small pictures of the camera's view, each candidate's efficiency from its noise and
+// its counted rays.
+#include "render/loop/integrator_pilot.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "render/loop/renderer.h"
+#include "render/output/film.h"
+#include "render/scene/camera.h"
+
+namespace fs {
+
+namespace {
+
+constexpr double kPilotShare = 0.05;  ///< of the render's camera samples, for the whole pilot
+constexpr double kPilotClamp = 5.0;   ///< pixel values above this many image means count as that much (pilotNoise)
+constexpr int kMaxSide = 48;          ///< the pilot picture's longer side at most, pixels
+constexpr int kMinSide = 16;          ///< its shorter side at least, pixels
+constexpr int kMinSpp = 4;            ///< samples per pixel of a pilot image at least
+constexpr int kMinPasses = 2;         ///< passes of a candidate's pilot image at least
+constexpr int kMaxPasses = 1024;      ///< and at most
+
+const char* patchNeeName(PatchNee p) { return p == PatchNee::Off ? "off" : p == PatchNee::First ? "first" : "every"; }
+
+/// The picture of @p width × @p height scaled by @p f, each side at least 1.
+void scaled(int width, int height, double f, int& w, int& h) {
+  w = std::max(1, int(std::floor(width * f)));
+  h = std::max(1, int(std::floor(height * f)));
+}
+
+}  // namespace
+
+std::string PilotCandidate::label() const {
+  std::string s = integrator;
+  if (variesPatchNee) s += std::string(" --patch-nee ") + patchNeeName(patchNee);
+  if (variesShoot) s += shootFromPatches ? " --shoot-firstshot patches" : " --shoot-firstshot off";
+  return s;
+}
+
+PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates) {
+  PilotPlan plan;
+  if (candidates < 2 || spp < 1 || camera.width < 1 || camera.height < 1) return plan;
+  const double pixels = double(camera.width) * double(camera.height);
+  const double perImage = kPilotShare * pixels * double(spp) / (2.0 * double(candidates));  // camera samples
+  // The largest picture up to kMaxSide that still gets kMinSpp samples per pixel.
+  double f = std::min(1.0, double(kMaxSide) / double(std::max(camera.width, camera.height)));
+  f = std::min(f, std::sqrt(perImage / (kMinSpp * pixels)));
+  int w = 0, h = 0;
+  scaled(camera.width, camera.height, f, w, h);
+  if (std::min(w, h) < std::min(kMinSide, std::min(camera.width, camera.height))) return plan;
+  plan.width = w;
+  plan.height = h;
+  plan.spp = int(std::floor(perImage / (double(w) * double(h))));
+  plan.run = plan.spp >= kMinSpp;
+  return plan;
+}
+
+CameraDesc pilotCamera(const CameraDesc& camera, const PilotPlan& plan) {
+  CameraDesc c = camera;
+  c.width = plan.width;
+  c.height = plan.height;
+  return c;
+}
+
+double pilotNoise(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.empty()) return 0.0;
+  double sum = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) sum += a[i] + b[i];
+  const double n = double(a.size()), mean = sum / (2.0 * n), top = kPilotClamp * mean;
+  if (!(mean > 0.0)) return 0.0;
+  double diff2 = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double d = std::min(a[i], top) - std::min(b[i], top);
+    diff2 += d * d;
+  }
+  return std::sqrt(diff2 / (2.0 * n)) / mean;
+}
+
+namespace {
+
+/// One pilot image in the making: passes of 1 spp at sample indices 0, 1, ... of one integrator.
+struct PilotImage {
+  std::unique_ptr<Integrator> integrator;
+  Film film;
+  double rays = 0;       ///< traced so far, its preprocessing's included
+  double firstPass = 0;  ///< rays of its first pass
+  int passes = 0;
+
+  PilotImage(std::unique_ptr<Integrator> i, const RenderScene& scene, const CameraDesc& desc)
+      : integrator(std::move(i)), film(desc.width, desc.height) {
+    integrator->preprocessFor(scene, desc);
+    rays = double(integrator->preprocessRayCount());
+  }
+  /// Renders passes until @p total are done.
+  void renderTo(int total, const Camera& camera, uint64_t seed, SamplerMode sampler, int threads) {
+    for (; passes < total; ++passes) {
+      RenderOptions ro;
+      ro.spp = 1;
+      ro.firstSample = passes;
+      ro.seed = seed;
+      ro.sampler = sampler;
+      ro.threads = threads;
+      ro.quiet = true;
+      const double r = double(render(*integrator, camera, film, ro).rays);
+      if (passes == 0) firstPass = r;
+      rays += r;
+    }
+  }
+  /// The film's means, interleaved RGB (a non-finite value as 0).
+  std::vector<double> image() const {
+    std::vector<double> out;
+    out.reserve(size_t(film.width()) * size_t(film.height()) * 3);
+    for (int y = 0; y < film.height(); ++y)
+      for (int x = 0; x < film.width(); ++x) {
+        const Vec3d m = film.mean(x, y);
+        for (int ch = 0; ch < 3; ++ch) out.push_back(std::isfinite(m[ch]) ? m[ch] : 0.0);
+      }
+    return out;
+  }
+};
+
+}  // namespace
+
+std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<PilotCandidate>& candidates,
+                                  const PilotPlan& plan, const PilotFactory& make, uint64_t seed, SamplerMode sampler,
+                                  int threads, const std::function<void(size_t)>& progress) {
+  const CameraDesc desc = pilotCamera(scene.desc().camera, plan);
+  const Camera camera(desc);
+  // Each candidate's first image starts with one pass, which prices its samples; then every candidate gets the
+  // same rays per image: what the cheapest spends on plan.spp passes (so a method of cheap samples takes many).
+  std::vector<std::unique_ptr<PilotImage>> first;
+  std::vector<double> seconds(candidates.size(), 0.0);
+  double cheapest = 0.0;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const auto start = std::chrono::steady_clock::now();
+    first.push_back(std::make_unique<PilotImage>(make(candidates[c], seed), scene, desc));
+    first.back()->renderTo(1, camera, seed, sampler, threads);
+    // A sample's price: one pass, and the preprocessing (the cache's fill) shared among plan.spp passes.
+    const double price = std::max(1.0, first.back()->firstPass + (first.back()->rays - first.back()->firstPass) /
+                                                                      double(plan.spp));
+    cheapest = c == 0 ? price : std::min(cheapest, price);
+    seconds[c] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  const double budget = double(plan.spp) * cheapest;
+  std::vector<PilotFigure> figures;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const auto start = std::chrono::steady_clock::now();
+    const double preprocessing = first[c]->rays - first[c]->firstPass;
+    PilotFigure f;
+    if (preprocessing > 2.0 * budget) {  // its preprocessing alone outgrows the pilot: not measured further
+      f.rays = first[c]->rays;
+      f.seconds = seconds[c];
+      first[c].reset();
+      figures.push_back(f);
+      if (progress) progress(c);
+      continue;
+    }
+    const int passes = int(std::clamp<double>(std::round((budget - preprocessing) / std::max(1.0, first[c]->firstPass)),
+                                              double(kMinPasses), double(kMaxPasses)));
+    first[c]->renderTo(passes, camera, seed, sampler, threads);
+    PilotImage second(make(candidates[c], seed + 1), scene, desc);
+    second.renderTo(passes, camera, seed + 1, sampler, threads);
+    f.spp = passes;
+    f.rays = (first[c]->rays + second.rays) / 2.0;
+    const std::vector<double> a = first[c]->image(), b = second.image();
+    f.noise = pilotNoise(a, b);
+    for (size_t i = 0; i < a.size(); ++i) f.mean += (a[i] + b[i]) / (2.0 * double(a.size()));
+    first[c].reset();
+    f.seconds = seconds[c] + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    figures.push_back(f);
+    if (progress) progress(c);
+  }
+  // A method that has not found the light yet (paths that must hit a bulb behind glass by chance) makes two
+  // equally dark pictures: little noise. Its picture's mean falls short of the others', which agree (they all
+  // estimate the same image): the shortfall from their median counts as error too.
+  std::vector<double> means;
+  for (const PilotFigure& f : figures)
+    if (f.spp > 0) means.push_back(f.mean);
+  if (means.empty()) return figures;
+  std::nth_element(means.begin(), means.begin() + ptrdiff_t(means.size() / 2), means.end());
+  const double median = means[means.size() / 2];
+  for (PilotFigure& f : figures) {
+    if (f.spp == 0 || !(median > 0.0)) continue;
+    const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
+    f.error = std::sqrt(noise * noise + off * off);
+    f.efficiency = f.error > 0.0 && f.rays > 0.0 ? 1.0 / (f.error * f.error * f.rays) : 0.0;
+  }
+  return figures;
+}
+
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures) {
+  size_t best = 0;
+  for (size_t i = 1; i < figures.size(); ++i)
+    if (figures[i].efficiency > figures[best].efficiency) best = i;
+  return best;
+}
+
+}  // namespace fs

@@ -1,0 +1,96 @@
+#pragma once
+/// @file integrator_pilot.h
+/// `--integrator auto` (firstshot-render's default): a short pilot renders a small picture of the camera's view
+/// with each candidate integrator, measures its efficiency and hands the render to the best (docs/integrators.md,
+/// "The method chosen for the user").
+///
+/// Each candidate renders the pilot picture twice, with seeds s and s + 1, and every image gets the same rays: what
+/// the cheapest candidate spends on the plan's samples per pixel (at least 2 passes), so that each is measured at
+/// equal work, as the render will compare them, and a method of cheap samples at many samples, where stratified
+/// samples have paid off (a pilot of equal samples took light tracing for the path tracer's better on the Cornell
+/// box: at 4 spp its error is its edges' and stratification's). Its noise is the RMS over pixels and
+/// channels of the two images' difference / √2, relative to the picture's mean: one image's error, bias aside
+/// (pixels brighter than 5 means clamped there: pilotNoise).
+/// Its work is the rays it traced for one image (its preprocessing's too, the irradiance cache's fill), counted,
+/// not timed; efficiency = 1 / (error² · rays), the inverse of the work to reach a given error, where the error
+/// adds to the noise how far the picture's mean falls from the candidates' median (PilotFigure). Images and ray
+/// counts do not depend on the threads (render/loop/renderer.h), so the choice is the same on every machine for
+/// a seed. The pilot picture has at most 48 × 48 pixels, the camera's aspect and field; each candidate's two
+/// images take 5% of the render's camera samples divided among the candidates, priced at the cheapest
+/// candidate's rays per sample (with --time T: of the scene's samples per pixel or T × 250,000 camera samples,
+/// whichever is more: a fixed rate, so that the pilot does not depend on the machine). Below 4 samples per pixel of a
+/// 16 × 16 picture there is no pilot: the path tracer renders.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "common/rng.h"
+#include "common/scene_desc.h"
+#include "render/integrators/integrator.h"
+#include "render/scene/render_scene.h"
+
+namespace fs {
+
+/// One setting the pilot tries: an integrator of integratorTable() and the shared options it is tried with.
+struct PilotCandidate {
+  std::string integrator;             ///< --integrator NAME
+  PatchNee patchNee = PatchNee::Off;  ///< --patch-nee (for the integrators that read it)
+  bool shootFromPatches = true;       ///< --shoot-firstshot patches (light, bdpt with a table)
+  bool variesPatchNee = false;        ///< the label names --patch-nee (there were variants of it)
+  bool variesShoot = false;           ///< the label names --shoot-firstshot
+  /// The candidate as options: "path", "path --patch-nee every", "light --shoot-firstshot off".
+  std::string label() const;
+};
+
+/// What the pilot measured of one candidate.
+struct PilotFigure {
+  /// Passes (samples per pixel) of each of its two images; 0: not measured, its preprocessing alone (the
+  /// irradiance cache's fill) took more than two images' rays (rays: that one image's).
+  int spp = 0;
+  double noise = 0;       ///< relative RMS error of one pilot image (above)
+  double mean = 0;        ///< the mean of its two pictures, W/(m² sr)
+  /// √(noise'² + bias²), relative to the median m of the candidates' means: noise' = noise · mean / m, bias =
+  /// (mean − m) / m (a method that has not found the light yet is dark, not noisy).
+  double error = 0;
+  double rays = 0;        ///< rays per pilot image, preprocessing included
+  double efficiency = 0;  ///< 1 / (error² · rays); 0 for a black picture
+  double seconds = 0;     ///< wall time of its two images with their preprocessing (shown, never used to choose)
+};
+
+/// The pilot's picture and samples.
+struct PilotPlan {
+  bool run = false;           ///< false: too small a budget for a pilot
+  int width = 0, height = 0;  ///< pixels of the pilot picture
+  int spp = 0;                ///< samples per pixel of the cheapest candidate's images (the others: at equal rays)
+  /// Camera samples of one candidate's two images at the cheapest candidate's price.
+  uint64_t samples() const { return uint64_t(width) * uint64_t(height) * uint64_t(spp) * 2; }
+};
+
+/// The pilot for a render of @p spp samples per pixel through @p camera, among @p candidates candidates.
+PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates);
+
+/// @p camera with the pilot picture's size (same view, aspect and field).
+CameraDesc pilotCamera(const CameraDesc& camera, const PilotPlan& plan);
+
+/// Makes a candidate's integrator, configured for seed @p seed, before preprocessing.
+using PilotFactory = std::function<std::unique_ptr<Integrator>(const PilotCandidate& candidate, uint64_t seed)>;
+
+/// Renders every candidate's two pilot images and measures them (in candidates' order). @p threads: 0 = one per
+/// core. @p progress, if set, is called after each candidate with its index.
+std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<PilotCandidate>& candidates,
+                                  const PilotPlan& plan, const PilotFactory& make, uint64_t seed, SamplerMode sampler,
+                                  int threads, const std::function<void(size_t)>& progress = {});
+
+/// The relative noise of one image from two images @p a and @p b of independent seeds (interleaved RGB, the same
+/// size): RMS of (a − b)/√2 over pixels and channels / the mean m of (a + b)/2; 0 if m is not positive. Values
+/// are first clamped at 5 m, where a display that shows the mean as mid-grey (18%) turns white: a lamp seen
+/// directly, whose edge pixels alias at a pilot's few samples (alike for every gathering method at the render's
+/// many), and a firefly count as the white they are shown as.
+double pilotNoise(const std::vector<double>& a, const std::vector<double>& b);
+
+/// Index of the most efficient figure (the first of equals; 0 if none has light).
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures);
+
+}  // namespace fs

@@ -1,0 +1,132 @@
+// --integrator auto (render/loop/integrator_pilot.h, render/cli/render_command_auto.cpp): the pilot's size stays
+// within its share of the budget, its noise measure is right, its choice does not depend on the threads, the
+// options given narrow it, and on a bulb behind glass it hands the render to light tracing.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "render/loop/integrator_pilot.h"
+#include "tests/test_util.h"
+
+using ::testing::HasSubstr;
+
+namespace {
+
+const std::string kRender = FIRSTSHOT_RENDER_EXE;
+
+/// The lines of @p output from the pilot's table header to the choice (the figures and the choice).
+std::string pilotTable(const std::string& output) {
+  const auto from = output.find("  setting");
+  const auto to = output.find("chose ");
+  if (from == std::string::npos || to == std::string::npos) return "";
+  return output.substr(from, output.find('\n', to) - from);
+}
+
+/// The setting --integrator auto chose, as printed ("light --shoot-firstshot off").
+std::string choice(const std::string& output) {
+  const std::string key = "--integrator auto chose ";
+  const auto at = output.find(key);
+  if (at == std::string::npos) return "";
+  const auto end = output.find(" (efficiency", at);
+  return output.substr(at + key.size(), end - at - key.size());
+}
+
+}  // namespace
+
+TEST(IntegratorPilot, StaysWithinFivePercentOfTheCameraSamples) {
+  fs::CameraDesc cam;
+  for (const auto& [w, h, spp, k] : std::vector<std::tuple<int, int, int, size_t>>{
+           {512, 512, 64, 8}, {160, 120, 256, 4}, {128, 128, 1024, 8}, {1920, 1080, 16, 8}, {100, 300, 512, 4}}) {
+    cam.width = w;
+    cam.height = h;
+    const fs::PilotPlan plan = fs::planPilot(cam, spp, k);
+    SCOPED_TRACE(testing::Message() << w << "x" << h << " " << spp << " spp, " << k << " candidates");
+    ASSERT_TRUE(plan.run);
+    EXPECT_LE(double(plan.samples() * k), 0.05 * w * h * spp);
+    EXPECT_LE(std::max(plan.width, plan.height), 48);
+    EXPECT_GE(plan.spp, 4);
+    EXPECT_NEAR(double(plan.width) / plan.height, double(w) / h, 0.05 * double(w) / h);  // the camera's aspect
+  }
+}
+
+TEST(IntegratorPilot, NoPilotWhereTheBudgetIsTooSmall) {
+  fs::CameraDesc cam;
+  cam.width = 32;
+  cam.height = 32;
+  EXPECT_FALSE(fs::planPilot(cam, 16, 8).run);   // 16 k camera samples: 5% is 51 per image
+  EXPECT_FALSE(fs::planPilot(cam, 4096, 1).run); // one candidate: nothing to choose
+  cam.width = cam.height = 256;
+  EXPECT_TRUE(fs::planPilot(cam, 64, 4).run);
+}
+
+TEST(IntegratorPilot, NoiseIsTheRelativeRmsOfOneImage) {
+  // Two images 1 + e and 1 − e per channel, mean 1: RMS((a − b)/√2) = 2e/√2 = e√2.
+  const double e = 0.03;
+  const std::vector<double> a(300, 1.0 + e), b(300, 1.0 - e);
+  EXPECT_NEAR(fs::pilotNoise(a, b), e * std::sqrt(2.0), 1e-12);
+  // Scale-free: ten times the light, the same relative noise.
+  std::vector<double> a10(a), b10(b);
+  for (double& v : a10) v *= 10.0;
+  for (double& v : b10) v *= 10.0;
+  EXPECT_NEAR(fs::pilotNoise(a10, b10), fs::pilotNoise(a, b), 1e-12);
+  EXPECT_EQ(fs::pilotNoise(std::vector<double>(3, 0.0), std::vector<double>(3, 0.0)), 0.0);  // black: no figure
+  // A lamp pixel 1000 and 2000 among 99 pixels of 1: both count as 5 m, m = (3000 + 198)/200 = 15.99.
+  std::vector<double> lampA(100, 1.0), lampB(100, 1.0);
+  lampA[0] = 1000.0;
+  lampB[0] = 2000.0;
+  EXPECT_EQ(fs::pilotNoise(lampA, lampB), 0.0);
+  lampB[1] = 1.5;  // and one ordinary pixel's difference of 0.5 is what remains
+  EXPECT_NEAR(fs::pilotNoise(lampA, lampB), std::sqrt(0.25 / 200.0) / ((3000.0 + 196.0 + 2.5) / 200.0), 1e-12);
+}
+
+TEST(IntegratorPilot, TheMostEfficientWins) {
+  std::vector<fs::PilotFigure> f(3);
+  f[0].efficiency = 1.0;
+  f[1].efficiency = 3.0;
+  f[2].efficiency = 3.0;
+  EXPECT_EQ(fs::bestPilotFigure(f), 1u);  // the first of equals
+}
+
+TEST(IntegratorAuto, TheChoiceIsTheSameForOneAndTwoThreads) {
+  const std::string dir = fs::test::tempDir(), scene = fs::test::source("scenes/cornell.json");
+  // --time: the pilot takes its size from the scene's 64 spp, the render itself one pass.
+  const std::string base = kRender + " " + scene + " --width 64 --height 64 --time 0.001 --seed 7 -o " + dir + "/a.exr";
+  const auto one = fs::test::run(base + " --threads 1");
+  const auto two = fs::test::run(base + " --threads 2");
+  ASSERT_EQ(one.exitCode, 0) << one.output;
+  ASSERT_EQ(two.exitCode, 0) << two.output;
+  ASSERT_FALSE(pilotTable(one.output).empty()) << one.output;
+  EXPECT_EQ(pilotTable(one.output), pilotTable(two.output));  // every figure, digit for digit, and the choice
+  for (const char* name : {"path", "irradiance-cache", "light", "bdpt"}) EXPECT_THAT(one.output, HasSubstr(name));
+  // Another seed measures other noise.
+  const auto other = fs::test::run(kRender + " " + scene + " --width 64 --height 64 --time 0.001 --seed 8 -o " + dir +
+                                   "/b.exr");
+  ASSERT_EQ(other.exitCode, 0) << other.output;
+  EXPECT_NE(pilotTable(one.output), pilotTable(other.output));
+}
+
+TEST(IntegratorAuto, OptionsGivenNarrowTheChoice) {
+  const std::string dir = fs::test::tempDir(), scene = fs::test::source("scenes/cornell.json");
+  const auto r = fs::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 --light-paths 2 -o " + dir + "/a.exr");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--integrator auto: light (the only integrator that reads the options given)"));
+  const auto small = fs::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 -o " + dir + "/b.exr");
+  ASSERT_EQ(small.exitCode, 0) << small.output;
+  EXPECT_THAT(small.output, HasSubstr("--integrator auto: path (16 x 16 at 2 spp leaves no room for a pilot)"));
+  const auto none = fs::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 --light-paths 2 "
+                                  "--accuracy 0.3 -o " + dir + "/c.exr");
+  EXPECT_EQ(none.exitCode, 2) << none.output;
+  EXPECT_THAT(none.output, HasSubstr("auto: no integrator reads all of"));
+}
+
+TEST(IntegratorAuto, ABulbBehindGlassGoesToLightTracing) {
+  // No shadow ray passes the envelope: the path tracer and the cache find the filament only through BSDF samples
+  // that refract into it, light tracing shoots from it. At this budget the gap is over 10x in the pilot.
+  const std::string dir = fs::test::tempDir(), scene = fs::test::source("scenes/glass-bulb-room.json");
+  const auto r = fs::test::run(kRender + " " + scene + " --width 80 --height 60 --spp 512 -o " + dir + "/a.exr");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(choice(r.output), "light") << r.output;
+}
