@@ -32,7 +32,11 @@ int main(int argc, char** argv) {
   app.add_option("--patch-nee", patchNee, "with --firstshot: sample the lit patches as emitters")
       ->check(CLI::IsMember({"off", "first", "every"}));
   app.add_option("--light-sampler", lightSampler, "NEE's choice of lights")->check(CLI::IsMember({"tree", "all"}));
-  app.add_option("--sampler", samplerName, "samples' numbers")->check(CLI::IsMember({"independent", "sobol"}));
+  // Independent samples by default (firstshot-render's default is sobol): a pixel's samples are then independent, so
+  // their sample variance over spp is the variance of its estimate, and shares of it add up as the report says.
+  app.add_option("--sampler", samplerName, "samples' numbers (default independent, unlike firstshot-render: the "
+                                           "variances are then those of the pixel estimates)")
+      ->check(CLI::IsMember({"independent", "sobol"}));
   app.add_option("--spp", spp, "samples per pixel (at least 2)")->check(CLI::Range(2, 1 << 20));
   app.add_option("--width", width, "image width (default: the scene's camera)")->check(CLI::Range(1, 1 << 14));
   app.add_option("--height", height, "image height (default: the scene's camera)")->check(CLI::Range(1, 1 << 14));

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include "render/scene/embree_scene.h"
 
@@ -162,6 +163,7 @@ VarianceReport varianceReport(const Integrator& path, const RenderScene& scene, 
   const Layout layout{o.maxBounces + 1};
   std::vector<RowSums> rows(size_t(camera.height()));
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpuStart = std::clock();
   tbb::task_arena arena(o.threads > 0 ? o.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, camera.height(), 1), [&](const tbb::blocked_range<int>& r) {
@@ -172,6 +174,7 @@ VarianceReport varianceReport(const Integrator& path, const RenderScene& scene, 
   VarianceReport report;
   report.width = camera.width(), report.height = camera.height(), report.spp = o.spp, report.maxBounces = o.maxBounces;
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report.cpuSeconds = double(std::clock() - cpuStart) / CLOCKS_PER_SEC;
   std::vector<VarianceCategory> total(size_t(layout.size()));
   for (int i = 0; i < layout.size(); ++i) total[size_t(i)] = layout.category(i);
   for (const RowSums& row : rows) {  // in row order: the same sums for any number of threads
@@ -203,9 +206,9 @@ std::string formatVarianceReport(const VarianceReport& r, int top) {
   std::string out = fmt::format(
       "{}x{} at {} spp: image mean {:.6g} W/(m² sr), relative RMS error {:.4f} (per-sample variance {:.4g} per "
       "pixel); the categories' variances add up to {:.1f}% of the image's (the rest: covariances); partition error "
-      "{:.1e}; {} non-finite samples; {:.1f} M rays in {:.1f} s\n",
+      "{:.1e}; {} non-finite samples; {:.1f} M rays in {:.1f} s ({:.1f} CPU s)\n",
       r.width, r.height, r.spp, mean, r.relativeError(), r.image.varianceSum / pixels,
-      100.0 * r.categoryVarianceSum / var, r.partitionError, r.nonFinite, double(r.rays) * 1e-6, r.seconds);
+      100.0 * r.categoryVarianceSum / var, r.partitionError, r.nonFinite, double(r.rays) * 1e-6, r.seconds, r.cpuSeconds);
   auto table = [&](const char* title, const std::vector<VarianceCategory>& cats, size_t count) {
     out += fmt::format("\n{}\n| category | mean share | variance share | max sample / image mean | non-zero samples |\n"
                        "|---|---|---|---|---|\n", title);

@@ -57,7 +57,8 @@ struct VarianceReport {
   double partitionError = 0;
   uint64_t nonFinite = 0;  ///< samples whose L was not finite: counted as 0 in every category, as the renderer does
   uint64_t rays = 0;
-  double seconds = 0;
+  double seconds = 0;     ///< wall time of the render, s
+  double cpuSeconds = 0;  ///< CPU time of the render, all threads, s (steadier than wall time on a shared machine)
 
   double imageMean() const { return image.meanSum / (double(width) * double(height)); }
   /// RMS over pixels of the pixel estimate's standard error at spp samples, relative to the image mean.
