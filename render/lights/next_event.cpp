@@ -168,7 +168,8 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
       (!include || request.infinite || std::all_of(include->begin(), include->end(), [](uint8_t i) { return i != 0; }))) {
     LightRecord rec;
     if (environmentDirection(*env, 1.0f, sampler.next2D(), rec)) {
-      const Color c = weighLightSample(scene, hit, frame, woLocal, bsdf, rec, false, TableVisibility::Unknown, request, rays);
+      const Color c =
+          weighLightSample(scene, hit, frame, woLocal, bsdf, rec, false, TableVisibility::Unknown, request, rays);
       sum += c;
       if (parts) parts->environment += c;
     }

@@ -55,8 +55,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
   const bool haveTable = scene.firstShot() != nullptr;
   bool sampledPatches = false;  // a vertex of this path sampled the lit patches (PatchNee::First: once)
   Color L(0.0f);
-  // The calling thread's recorder (path_recorder.h), null but for reports; and what the path passed after its first
-  // non-delta vertex, for it: a start after delta bounces only (specularChain) has passed none.
+  // The calling thread's recorder (path_recorder.h), null but for reports, and for it what the path passed after its
+  // first non-delta vertex (PathVia), counted from where this walk starts.
   PathRecorder* const recorder = threadPathRecorder();
   bool pastNonDelta = false;
   PathVia via = PathVia::Direct;
@@ -65,7 +65,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     Hit hit;
     BSDF bsdf;
     if (!nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf)) {  // a pane crossed is no bounce
-      const Color Le = beta * escaped(prev, ray.d);  // the sky or environment map (through the panes crossed: beta has their T)
+      // The sky or environment map (through the panes crossed: beta has their T).
+      const Color Le = beta * escaped(prev, ray.d);
       L += Le;
       if (recorder) recorder->record(depth, PathTerm::Environment, via, Le);
       break;
@@ -99,7 +100,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     NeeRequest nee;
     if (!bsdf.hasDelta()) {
       // What this vertex gathers passed a glossy lobe here if one came before it.
-      const PathVia viaHere = recorder && pastNonDelta && via == PathVia::Direct && isGlossy(bsdf) ? PathVia::Glossy : via;
+      const PathVia viaHere =
+          recorder && pastNonDelta && via == PathVia::Direct && isGlossy(bsdf) ? PathVia::Glossy : via;
       // The first-shot term here is the emission of a lit patch, met from prev.
       if (useTable && hit.onPatch()) {
         const Color c = beta * firstShot(hit, frame, woLocal, bsdf) * emissionWeight(prev, hit);
@@ -117,7 +119,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       if (recorder) {
         recorder->record(depth + 1, PathTerm::LargeLightNee, viaHere, beta * parts.kept);
         recorder->record(depth + 1, PathTerm::SmallLightNee, viaHere, beta * parts.replaced);
-        recorder->record(depth + 2, PathTerm::PatchNee, viaHere, beta * parts.patches);  // the patch's reflection + this
+        recorder->record(depth + 2, PathTerm::PatchNee, viaHere, beta * parts.patches);  // + the patch's reflection
         recorder->record(depth + 1, PathTerm::Environment, viaHere, beta * parts.environment);
       }
     }
