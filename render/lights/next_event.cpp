@@ -134,7 +134,8 @@ Ray shadowRay(const Hit& hit, const Vec3& wi, float distance) {
 
 Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lighting,
                           const std::vector<uint8_t>* include, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                          const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays) {
+                          const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays,
+                          NeeParts* parts) {
   const LightSet& lights = scene.lights();
   Color sum(0.0f);
   // Light l takes dimensions d0 + 2l and d0 + 2l + 1 (later dimensions do not shift); the lights
@@ -156,7 +157,9 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
     const Vec2 u = sampler.next2D();
     LightRecord rec;
     if (!lights.sample(light, hit.p, u, rec)) continue;
-    sum += weighLightSample(scene, hit, frame, woLocal, bsdf, rec, light.isDelta(), seen, request, rays);
+    const Color c = weighLightSample(scene, hit, frame, woLocal, bsdf, rec, light.isDelta(), seen, request, rays);
+    sum += c;
+    if (parts) (light.replaced ? parts->replaced : parts->kept) += c;
   }
   sampler.setDimension(d0 + 2 * uint64_t(lights.lights().size()));
   // The infinite light, after the lights (scenes without one draw exactly as before), with every light included.
@@ -164,14 +167,18 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
   if (env && request.kept &&
       (!include || request.infinite || std::all_of(include->begin(), include->end(), [](uint8_t i) { return i != 0; }))) {
     LightRecord rec;
-    if (environmentDirection(*env, 1.0f, sampler.next2D(), rec))
-      sum += weighLightSample(scene, hit, frame, woLocal, bsdf, rec, false, TableVisibility::Unknown, request, rays);
+    if (environmentDirection(*env, 1.0f, sampler.next2D(), rec)) {
+      const Color c =
+          weighLightSample(scene, hit, frame, woLocal, bsdf, rec, false, TableVisibility::Unknown, request, rays);
+      sum += c;
+      if (parts) parts->environment += c;
+    }
   }
   return sum;
 }
 
 Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                const NeeRequest& request, Sampler& sampler, uint64_t& rays) {
+                const NeeRequest& request, Sampler& sampler, uint64_t& rays, NeeParts* parts) {
   const Vec3 n = receiverNormal(bsdf, woLocal.z >= 0.0f ? hit.ng : -hit.ng);  // the side that reflects towards the viewer
   Color sum(0.0f);
   auto fromGroup = [&](LightGroup g) {
@@ -184,13 +191,19 @@ Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, 
     const Vec2 a = sampler.next2D();
     SampledEmitter c;
     float rest = 0.0f;
-    if (lights.sample(g, hit.p, n, a.x, c, &rest))
-      sum += emitterContribution(lights, c, hit, frame, woLocal, bsdf, Vec2(rest, a.y), request, rays);
+    if (!lights.sample(g, hit.p, n, a.x, c, &rest)) return;
+    const Color term = emitterContribution(lights, c, hit, frame, woLocal, bsdf, Vec2(rest, a.y), request, rays);
+    sum += term;
+    if (parts)
+      (c.emitter.kind == Emitter::Kind::Environment ? parts->environment
+       : g == LightGroup::Patches                  ? parts->patches
+       : g == LightGroup::Replaced                 ? parts->replaced
+                                                   : parts->kept) += term;
   };
   if (lights.strategy() == LightStrategy::All) {
     if (request.kept || request.replaced)
       sum += nextEventEveryLight(lights.scene(), lights.lighting(), &lights.included(), hit, frame, woLocal, bsdf,
-                                 request, sampler, rays);
+                                 request, sampler, rays, parts);
   } else {
     if (request.kept) fromGroup(LightGroup::Kept);
     if (request.replaced) fromGroup(LightGroup::Replaced);

@@ -73,17 +73,28 @@ struct NeeRequest {
   bool infinite = false;
 };
 
+/// nextEvent()'s sum split by what each term sampled, W/(m² sr), for a report of where an image's variance comes from
+/// (render/integrators/common/path_recorder.h). The four parts add up to the sum but for float rounding.
+struct NeeParts {
+  Color kept{0.0f};         ///< the kept lights (the infinite light apart)
+  Color replaced{0.0f};     ///< the table's small lights
+  Color patches{0.0f};      ///< the lit first-shot patches
+  Color environment{0.0f};  ///< the infinite light (sky, environment map)
+};
+
 /// NEE at a non-delta vertex through @p lights: Σ f·|cos θ_i|·L/pdf over the chosen emitters that
 /// are unoccluded, area emitters weighted against BSDF sampling. @p rays counts the shadow rays.
+/// @p parts, if given, also receives the terms by what they sampled (added to what it holds).
 Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
-                const NeeRequest& request, Sampler& sampler, uint64_t& rays);
+                const NeeRequest& request, Sampler& sampler, uint64_t& rays, NeeParts* parts = nullptr);
 
 /// NEE to every light of @p scene that @p request takes (kept, replaced) and @p include allows
 /// (nullptr: all; else (*include)[l] != 0, indexed like LightSet::lights()): one sample per light.
-/// @p lighting answers NeeRequest::tableVisibility (unused otherwise).
+/// @p lighting answers NeeRequest::tableVisibility (unused otherwise). @p parts: as nextEvent()'s.
 Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lighting,
                           const std::vector<uint8_t>* include, const Hit& hit, const Frame& frame, const Vec3& woLocal,
-                          const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays);
+                          const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays,
+                          NeeParts* parts = nullptr);
 
 /// Solid-angle density with which nextEvent() at @p x, receiving side normal @p n, under
 /// @p request, samples the point of @p y: a hit on an area light or on a patch. 0 where that

@@ -5,9 +5,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/integrators/common/path_recorder.h"
 #include "render/scene/thin_glass_walk.h"
 
 namespace fs {
+
+namespace {
+
+/// A glossy lobe: neither Lambertian nor delta (a rough conductor, pbr, Phong, rough glass).
+bool isGlossy(const BSDF& bsdf) {
+  return !bsdf.hasDelta() && !std::holds_alternative<LambertBRDF>(bsdf.model());
+}
+
+}  // namespace
 
 void PathWalk::build(const RenderScene& scene, const FirstShotLighting& lighting, const IntegratorOptions& options) {
   options_ = options;
@@ -45,12 +55,20 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
   const bool haveTable = scene.firstShot() != nullptr;
   bool sampledPatches = false;  // a vertex of this path sampled the lit patches (PatchNee::First: once)
   Color L(0.0f);
+  // The calling thread's recorder (path_recorder.h), null but for reports, and for it what the path passed after its
+  // first non-delta vertex (PathVia), counted from where this walk starts.
+  PathRecorder* const recorder = threadPathRecorder();
+  bool pastNonDelta = false;
+  PathVia via = PathVia::Direct;
 
   for (;; ++depth) {
     Hit hit;
     BSDF bsdf;
     if (!nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf)) {  // a pane crossed is no bounce
-      L += beta * escaped(prev, ray.d);  // the sky or environment map (through the panes crossed: beta has their T)
+      // The sky or environment map (through the panes crossed: beta has their T).
+      const Color Le = beta * escaped(prev, ray.d);
+      L += Le;
+      if (recorder) recorder->record(depth, PathTerm::Environment, via, Le);
       break;
     }
     const Vec3 wo = -glm::normalize(ray.d);
@@ -58,7 +76,14 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     // Emission of area lights met by the path.
     if (!hit.onPatch()) {
       const Color Le = scene.lights().emitted(hit, wo);
-      if (maxComponent(Le) > 0.0f) L += beta * Le * emissionWeight(prev, hit);
+      if (maxComponent(Le) > 0.0f) {
+        const Color c = beta * Le * emissionWeight(prev, hit);
+        L += c;
+        if (recorder)
+          recorder->record(depth, scene.lights().emitterLight(hit.emitter).replaced ? PathTerm::SmallLightHit
+                                                                                  : PathTerm::LargeLightHit,
+                           via, c);
+      }
     }
 
     if (info && depth == 0) {
@@ -74,15 +99,29 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
                           !bsdf.tooSharpForTable();  // a polished lobe: NEE to the replaced lights too
     NeeRequest nee;
     if (!bsdf.hasDelta()) {
+      // What this vertex gathers passed a glossy lobe here if one came before it.
+      const PathVia viaHere =
+          recorder && pastNonDelta && via == PathVia::Direct && isGlossy(bsdf) ? PathVia::Glossy : via;
       // The first-shot term here is the emission of a lit patch, met from prev.
-      if (useTable && hit.onPatch()) L += beta * firstShot(hit, frame, woLocal, bsdf) * emissionWeight(prev, hit);
+      if (useTable && hit.onPatch()) {
+        const Color c = beta * firstShot(hit, frame, woLocal, bsdf) * emissionWeight(prev, hit);
+        L += c;
+        if (recorder) recorder->record(depth + 1, PathTerm::TableHit, viaHere, c);
+      }
       nee.kept = true;
       nee.replaced = !useTable;
       nee.tableVisibility = haveTable && options_.tableVisibility;
       nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
                     (options_.patchNee == PatchNee::Every || !sampledPatches);
       sampledPatches = sampledPatches || nee.patches;
-      L += beta * nextEvent(lights_, hit, frame, woLocal, bsdf, nee, sampler, rays);
+      NeeParts parts;
+      L += beta * nextEvent(lights_, hit, frame, woLocal, bsdf, nee, sampler, rays, recorder ? &parts : nullptr);
+      if (recorder) {
+        recorder->record(depth + 1, PathTerm::LargeLightNee, viaHere, beta * parts.kept);
+        recorder->record(depth + 1, PathTerm::SmallLightNee, viaHere, beta * parts.replaced);
+        recorder->record(depth + 2, PathTerm::PatchNee, viaHere, beta * parts.patches);  // + the patch's reflection
+        recorder->record(depth + 1, PathTerm::Environment, viaHere, beta * parts.environment);
+      }
     }
 
     // Continue the path by sampling the BSDF.
@@ -90,6 +129,11 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     const Color weight = bsdf.sample(q, sampler.next2D());
     if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) break;
     const Vec3 wi = frame.toWorld(q.wi);
+    if (recorder) {  // a delta bounce past a non-delta vertex makes a caustic; a glossy one past one, a glossy path
+      if (pastNonDelta && q.specular) via = PathVia::Delta;
+      else if (pastNonDelta && via == PathVia::Direct && isGlossy(bsdf)) via = PathVia::Glossy;
+      pastNonDelta = pastNonDelta || !bsdf.hasDelta();
+    }
     beta *= weight;
     prev.delta = q.specular;
     prev.usedTable = useTable;

@@ -19,6 +19,11 @@
 /// samples it, a path that leaves the scene meets it (escaped()), a camera ray that does sees it as the background.
 /// A small area light met by a path is counted only where the first-shot term could not have counted it: seen by the camera, after a delta bounce (mirror,
 /// glass), or from a vertex that sampled it by NEE (PrimaryMode::Exact).
+///
+/// A report of where an image's variance comes from (bench/variance_report.h) sets the calling thread's
+/// PathRecorder (path_recorder.h) around trace(): each amount added to L is then also told to it, by path length
+/// and by what brought it (emission met, NEE per light group, the first-shot term, patch NEE). Without one the
+/// walk computes exactly what it did before.
 #include <cstdint>
 #include <vector>
 
