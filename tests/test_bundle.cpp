@@ -206,7 +206,8 @@ TEST(BundleCli, RendersAndRejectsBadValues) {
     EXPECT_EQ(r.exitCode, 2) << bad.args << ": " << r.output;
     EXPECT_THAT(r.output, HasSubstr(bad.message)) << bad.args;
   }
-  const auto other = test::run(render + " " + scene + " --bundle-resolution 8 --width 8 --height 8 -q -o " + dir + "/y.exr");
+  const auto other = test::run(render + " " + scene + " --integrator path --bundle-resolution 8 --width 8 --height 8 -q -o " +
+                               dir + "/y.exr");
   EXPECT_EQ(other.exitCode, 2);
   EXPECT_THAT(other.output, HasSubstr("--bundle-resolution: not used by --integrator path (used by: bundle)"));
 }

@@ -195,9 +195,9 @@ TEST(IrradianceCacheFile, ToolExitsWithCode2AndNamesTheFile) {
   EXPECT_NE(r.output.find("corrupt"), std::string::npos);
   r = test::run(base + " --accuracy 0.3 --cache-file " + file + " -o " + dir + "/b.png");
   EXPECT_EQ(r.exitCode, 2) << "still corrupt";
-  // Cache options belong to the irradiance cache integrator.
-  r = test::run(exe + " " + test::source("scenes/cornell.json") + " --width 8 --height 8 --spp 1 --accuracy 0.2 -o " + dir +
-                "/c.png");
+  // Cache options belong to the irradiance cache integrator (--integrator auto would take it for them).
+  r = test::run(exe + " " + test::source("scenes/cornell.json") + " --integrator path --width 8 --height 8 --spp 1 "
+                "--accuracy 0.2 -o " + dir + "/c.png");
   fmt::print("{}", r.output);
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.output.find("--accuracy"), std::string::npos);

@@ -37,6 +37,10 @@ struct CheckpointCli {
                                      "uninterrupted render's, bit for bit");
   }
   bool active() const { return every > 0 || resume; }
+  /// The checkpoint file: --checkpoint-file, else the first of @p outputs + ".checkpoint".
+  std::string path(const std::vector<std::string>& outputs) const {
+    return !file.empty() ? file : outputs.empty() ? std::string() : outputs.front() + ".checkpoint";
+  }
 
   /// Checks the options against the rest of the command line and picks the file.
   /// @throws InputError for a combination that cannot resume exactly.
@@ -46,7 +50,7 @@ struct CheckpointCli {
     if (app.count("--preview")) throw InputError("", "--checkpoint", "not available with --preview");
     if (const std::string why = integrator.notResumable(); !why.empty())
       throw InputError("", every > 0 ? "--checkpoint" : "--resume", why);
-    if (file.empty()) file = outputs.empty() ? std::string() : outputs.front() + ".checkpoint";
+    file = path(outputs);
     const auto dir = std::filesystem::path(file).parent_path();
     if (!dir.empty() && !std::filesystem::is_directory(dir)) throw InputError(file, "--checkpoint-file", "the folder does not exist");
   }

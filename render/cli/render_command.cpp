@@ -237,6 +237,10 @@ int RenderCommand::renderImage() {
   if (checkpoint_.active())
     checkpoint_.makeKey(app_, scenePath_, scene_, fsdPath_, integrators_.name, ro.seed, integratorOptions_.maxDepth,
                         cli.inputFile());
+  for (auto& [name, value] : checkpoint_.key) {  // as used: --integrator auto may have chosen them
+    if (name == integrator_option::kPatchNee) value = integrators_.patchNee;
+    if (name == integrator_option::kShootFirstShot) value = integrators_.shootFirstShot;
+  }
   integrator_->preprocess(*renderScene_);
 
   const Camera camera(scene_.camera);

@@ -5,6 +5,7 @@
 #include <chrono>
 
 #include "common/progress.h"
+#include "render/loop/checkpoint.h"
 #include "render/cli/render_command.h"
 
 namespace fs {
@@ -32,6 +33,19 @@ void RenderCommand::resolveIntegrator() {
   if (candidates.size() == 1) {
     integrators_.choose(candidates.front());
     say(candidates.front().label() + " (the only integrator that reads the options given)");
+    return;
+  }
+  if (checkpoint_.resume && !preview_ && !sensors_.active()) {  // the choice of the render being resumed
+    PilotCandidate c = candidates.front();
+    for (const auto& [name, value] : readCheckpointKey(checkpoint_.path(outputs_))) {
+      if (name == "integrator") c.integrator = value;
+      if (name == integrator_option::kPatchNee)
+        c.patchNee = value == "off" ? PatchNee::Off : value == "first" ? PatchNee::First : PatchNee::Every;
+      if (name == integrator_option::kShootFirstShot) c.shootFromPatches = value == "patches";
+    }
+    c.variesPatchNee = c.variesShoot = false;
+    integrators_.choose(c);
+    say(c.integrator + " (the choice of the render in the checkpoint)");
     return;
   }
   if (sensors_.active() || preview_) {  // the pilot compares pictures of the camera's view

@@ -100,51 +100,71 @@ void writeCheckpoint(const std::string& path, const CheckpointKey& key, const Fi
       OnInterrupt::Keep);
 }
 
-int readCheckpoint(const std::string& path, const CheckpointKey& key, Film& film) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw InputError(path, "", "cannot open the checkpoint file (render with --checkpoint first)");
-  const std::vector<char> data((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+namespace {
+
+/// A checkpoint file's bytes, checked (magic, end marker, checksum, version), read up to its key.
+struct CheckpointReader {
+  std::string path;
+  std::vector<char> data;
   size_t pos = 0;
-  auto get = [&](void* out, size_t n, const char* what) {
+  uint32_t width = 0, height = 0;
+  std::string keyText;
+
+  explicit CheckpointReader(const std::string& p) : path(p) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw InputError(path, "", "cannot open the checkpoint file (render with --checkpoint first)");
+    data.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+    if (data.size() < 8 || std::memcmp(data.data(), kMagic, 8) != 0)
+      throw InputError(path, "header", "not a firstshot-render checkpoint (wrong magic)");
+    if (data.size() < 8 + 5 * 4 + 16 || std::memcmp(data.data() + data.size() - 8, kEnd, 8) != 0)
+      throw InputError(path, "trailer", "truncated checkpoint file (end marker missing)");
+    uint64_t stored;
+    std::memcpy(&stored, data.data() + data.size() - 16, 8);
+    if (Hasher().bytes(data.data(), data.size() - 16).value() != stored)
+      throw InputError(path, "trailer", "checksum mismatch: the checkpoint is corrupt");
+    pos = 8;
+    const uint32_t version = get32("header");
+    if (version != kVersion)
+      throw InputError(path, "header", fmt::format("checkpoint version {}, this build reads version {}", version, kVersion));
+    width = get32("header");
+    height = get32("header");
+    keyText.resize(get32("key"));
+    get(keyText.data(), keyText.size(), "key");
+  }
+  void get(void* out, size_t n, const char* what) {
     if (n > data.size() - 16 - pos) throw InputError(path, what, "truncated checkpoint file");
     std::memcpy(out, data.data() + pos, n);
     pos += n;
-  };
-  auto get32 = [&](const char* what) {
+  }
+  uint32_t get32(const char* what) {
     uint32_t v;
     get(&v, sizeof v, what);
     return v;
-  };
-  if (data.size() < 8 || std::memcmp(data.data(), kMagic, 8) != 0)
-    throw InputError(path, "header", "not a firstshot-render checkpoint (wrong magic)");
-  if (data.size() < 8 + 5 * 4 + 16 || std::memcmp(data.data() + data.size() - 8, kEnd, 8) != 0)
-    throw InputError(path, "trailer", "truncated checkpoint file (end marker missing)");
-  uint64_t stored;
-  std::memcpy(&stored, data.data() + data.size() - 16, 8);
-  if (Hasher().bytes(data.data(), data.size() - 16).value() != stored)
-    throw InputError(path, "trailer", "checksum mismatch: the checkpoint is corrupt");
-  pos = 8;
-  const uint32_t version = get32("header");
-  if (version != kVersion)
-    throw InputError(path, "header", fmt::format("checkpoint version {}, this build reads version {}", version, kVersion));
-  const uint32_t width = get32("header"), height = get32("header");
-  std::string text(get32("key"), '\0');
-  get(text.data(), text.size(), "key");
-  if (const std::string diff = keyDifference(parseKey(text), key); !diff.empty())
+  }
+};
+
+}  // namespace
+
+CheckpointKey readCheckpointKey(const std::string& path) { return parseKey(CheckpointReader(path).keyText); }
+
+int readCheckpoint(const std::string& path, const CheckpointKey& key, Film& film) {
+  CheckpointReader in(path);
+  const uint32_t width = in.width, height = in.height;
+  if (const std::string diff = keyDifference(parseKey(in.keyText), key); !diff.empty())
     throw InputError(path, "key", "made for a different render: " + diff);
   if (int(width) != film.width() || int(height) != film.height())
     throw InputError(path, "header", fmt::format("made for a {}x{} image, this render is {}x{}", width, height,
                                                  film.width(), film.height()));
-  const uint32_t passes = get32("header");
+  const uint32_t passes = in.get32("header");
   const size_t n = size_t(width) * size_t(height);
-  if (data.size() - 16 - pos != n * kBytesPerPixel) throw InputError(path, "sums", "truncated or corrupt: wrong size");
+  if (in.data.size() - 16 - in.pos != n * kBytesPerPixel) throw InputError(path, "sums", "truncated or corrupt: wrong size");
   Film::Sums s;
   for (std::vector<Vec3d>* v : {&s.sum, &s.sumSq, &s.albedo, &s.normal}) {
     v->resize(n);
-    get(v->data(), n * sizeof(Vec3d), "sums");
+    in.get(v->data(), n * sizeof(Vec3d), "sums");
   }
   s.count.resize(n);
-  get(s.count.data(), n * sizeof(uint32_t), "sums");
+  in.get(s.count.data(), n * sizeof(uint32_t), "sums");
   for (const uint32_t c : s.count)
     if (c < passes) throw InputError(path, "sums", "inconsistent sample counts (corrupt file)");
   film.setSums(std::move(s));

@@ -31,6 +31,10 @@ void writeCheckpoint(const std::string& path, const CheckpointKey& key, const Fi
 /// count). @throws InputError naming @p path and what is wrong or what does not match (exit code 2).
 int readCheckpoint(const std::string& path, const CheckpointKey& key, Film& film);
 
+/// The key of the checkpoint at @p path (checked as readCheckpoint() checks the file up to it), e.g. to learn
+/// which integrator --integrator auto chose for the render it holds. @throws InputError as readCheckpoint().
+CheckpointKey readCheckpointKey(const std::string& path);
+
 /// A file's content hash as 16 hex digits, for keys; "none" if @p path is empty or does not exist.
 std::string fileContentHash(const std::string& path);
 

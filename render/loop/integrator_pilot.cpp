@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "common/interrupt.h"
 #include "render/loop/renderer.h"
 #include "render/output/film.h"
 #include "render/scene/camera.h"
@@ -20,7 +21,7 @@ constexpr int kMaxSide = 48;          ///< the pilot picture's longer side at mo
 constexpr int kMinSide = 16;          ///< its shorter side at least, pixels
 constexpr int kMinSpp = 4;            ///< samples per pixel of a pilot image at least
 constexpr int kMinPasses = 2;         ///< passes of a candidate's pilot image at least
-constexpr int kMaxPasses = 1024;      ///< and at most
+constexpr int kMaxPasses = 256;       ///< and at most
 
 const char* patchNeeName(PatchNee p) { return p == PatchNee::Off ? "off" : p == PatchNee::First ? "first" : "every"; }
 
@@ -103,7 +104,9 @@ struct PilotImage {
       ro.sampler = sampler;
       ro.threads = threads;
       ro.quiet = true;
+      ro.cancel = &interruptFlag();  // SIGINT/SIGTERM stop the pilot too (thrown by runPilot)
       const double r = double(render(*integrator, camera, film, ro).rays);
+      throwIfInterrupted("no output written (interrupted in the integrator pilot)");
       if (passes == 0) firstPass = r;
       rays += r;
     }

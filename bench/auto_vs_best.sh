@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# Equal total time: what the defaults give (--integrator auto, with a first-shot table and without) against every
+# method a user could pick without a table (path with the light tree, path with NEE to every light, the irradiance
+# cache, light tracing, BDPT). Noise = RMS over pixels of the two seeds' difference / sqrt(2), relative to the image
+# mean (firstshot-compare's nrmse / sqrt(2)); efficiency ratio = noise^2 ratio. The table's preprocessing is counted
+# in the first-shot side's time: its render gets SECONDS minus the preprocessing time.
+#
+# usage: bench/auto_vs_best.sh BUILD OUT [SECONDS] [WIDTH] [HEIGHT] [SCENES...]
+#   BUILD: build/release; OUT: a folder for the images and tables; SECONDS (default 10) per render;
+#   WIDTH x HEIGHT (default 128 x 128); SCENES: scene files (default: the public scenes of ../shared/scenes and the
+#   shipped bowl-lamp and glass-bulb rooms). Each render runs on one core (taskset -c ${CORE:-0}, --threads 1).
+# Prints a Markdown table on stdout (also OUT/table.md).
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:?usage: bench/auto_vs_best.sh BUILD OUT [SECONDS] [WIDTH] [HEIGHT] [SCENES...]}
+out=${2:?usage: bench/auto_vs_best.sh BUILD OUT [SECONDS] [WIDTH] [HEIGHT] [SCENES...]}
+seconds=${3:-10}
+width=${4:-128}
+height=${5:-128}
+shift $(( $# < 5 ? $# : 5 ))
+scenes=("$@")
+shared="$here/../shared/scenes"
+if [ ${#scenes[@]} -eq 0 ]; then
+  scenes=("$here/scenes/bowl-lamp-room.json" "$here/scenes/glass-bulb-room.json")
+  if [ -d "$shared" ]; then
+    scenes+=("$shared/veach-bidir/scene.xml" "$shared/veach-mis/scene.xml" "$shared/bitterli-cornell-box/scene.xml"
+             "$shared/mcguire-cornell-box/CornellBox-Original.obj" "$shared/classroom/scene.xml")
+  else
+    echo "auto_vs_best: ../shared/scenes is absent: the public scenes are left out" >&2
+  fi
+fi
+render="$build/render/firstshot-render"
+preprocess="$build/preprocess/firstshot-preprocess"
+compare="$build/bench/firstshot-compare"
+pin=(taskset -c "${CORE:-0}")
+mkdir -p "$out"
+
+# noise A B: the relative noise of one image from two seeds' images.
+noise() {
+  "$compare" "$1" "$2" | python3 -c 'import json,sys,math; print("%.4f" % (json.load(sys.stdin)["nrmse"] / math.sqrt(2)))'
+}
+
+# run NAME TIME ARGS...: two seeds; prints the noise, or "-" when the render is refused.
+run() {
+  local name=$1 time=$2
+  shift 2
+  for s in 1 2; do
+    if ! "${pin[@]}" "$render" "$scene" --threads 1 --width "$width" --height "$height" --time "$time" --seed "$s" \
+         -o "$dir/$name-$s.exr" "$@" > "$dir/$name-$s.log" 2>&1; then
+      echo "-"
+      return
+    fi
+  done
+  noise "$dir/$name-1.exr" "$dir/$name-2.exr"
+}
+
+table="$out/table.md"
+{
+  echo "| scene | preprocess (s) | path | path, NEE to every light | irradiance cache | light | bdpt | best without table | auto, no table (choice) | auto + table (choice) | auto + table against the best |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|"
+} > "$table"
+for scene in "${scenes[@]}"; do
+  tag=$(basename "$(dirname "$scene")")-$(basename "$scene" | sed 's/\.[a-z]*$//')
+  dir="$out/$tag"
+  mkdir -p "$dir"
+  echo "auto_vs_best: $tag" >&2
+  start=$(date +%s.%N)
+  if ! "${pin[@]}" "$preprocess" "$scene" -o "$dir/table.fsd" --threads 1 -q > "$dir/preprocess.log" 2>&1; then
+    echo "| $tag | refused: $(grep -m1 -o 'error.*' "$dir/preprocess.log" | cut -c1-80) |||||||||" >> "$table"
+    continue
+  fi
+  prep=$(python3 -c "import time; print('%.1f' % (time.time() - $start))")
+  declare -A n=()
+  n[path]=$(run path "$seconds" --integrator path)
+  n[all]=$(run all "$seconds" --integrator path --light-sampler all)
+  n[cache]=$(run cache "$seconds" --integrator irradiance-cache)
+  n[light]=$(run light "$seconds" --integrator light)
+  n[bdpt]=$(run bdpt "$seconds" --integrator bdpt)
+  n[auto]=$(run auto "$seconds")
+  rest=$(python3 -c "print(max(0.5, $seconds - $prep))")
+  n[autoT]=$(run autoT "$rest" --firstshot "$dir/table.fsd")
+  best=$(printf '%s\n' "${n[path]}" "${n[all]}" "${n[cache]}" "${n[light]}" "${n[bdpt]}" | grep -v '^-$' | sort -g | head -1)
+  choice() { grep -o 'auto chose [^(]*\|--integrator auto: [^(]*' "$dir/$1-1.log" | head -1 | sed 's/.*auto chose //; s/.*auto: //; s/ *$//'; }
+  ratio=$(python3 -c "b=float('$best'); a='${n[autoT]}'; print('-' if a == '-' else '%.2fx' % ((b / float(a))**2))")
+  echo "| $tag | $prep | ${n[path]} | ${n[all]} | ${n[cache]} | ${n[light]} | ${n[bdpt]} | $best | ${n[auto]} ($(choice auto)) | ${n[autoT]} ($(choice autoT)) | $ratio |" >> "$table"
+  unset n
+done
+cat "$table"
