@@ -11,9 +11,9 @@ echo "== $scene: scene and patch statistics"
 echo "== first-shot factors of the small lights"
 "$build/preprocess/firstshot-preprocess" "$scene" -o "out/$name.fsd"
 if [ -x "$build/render/firstshot-render" ]; then
-  echo "== render with first-shot (EXR with albedo/normal layers, PNG)"
+  echo "== render with first-shot (--integrator auto: a pilot picks the method; EXR with albedo/normal layers, PNG)"
   "$build/render/firstshot-render" "$scene" --firstshot "out/$name.fsd" --aov -o "out/$name.exr" -o "out/$name.png"
-  echo "== reference: the same view with next-event estimation only"
-  "$build/render/firstshot-render" "$scene" -o "out/$name-nee.exr" -o "out/$name-nee.png"
+  echo "== reference: the same view by path tracing with next-event estimation, no table"
+  "$build/render/firstshot-render" "$scene" --integrator path -o "out/$name-nee.exr" -o "out/$name-nee.png"
   ls -l out/"$name".* out/"$name"-nee.*
 fi
