@@ -22,7 +22,7 @@ using namespace fs;
 
 namespace {
 
-/// A 2 m × 1.5 m × 2 m room with a table; @p lamp adds the light's shapes and materials (JSON members).
+/// A 2 m × 1.5 m × 2 m room with a table (32×24, max depth 6); @p materials and @p shapes add the lamp's (JSON members).
 SceneDesc room(const std::string& materials, const std::string& shapes) {
   return test::sceneFromJson(R"({"materials": {"wall": {"type": "diffuse", "albedo": 0.7},
       "floor": {"type": "diffuse", "albedo": [0.5, 0.4, 0.3]}, "table": {"type": "diffuse", "albedo": [0.6, 0.6, 0.55]}, )" +
@@ -101,7 +101,9 @@ IntegratorOptions tableMode(const SceneDesc& d) {
 }  // namespace
 
 // The bowl's inside and the ceiling's hot spot come from the lit patches (the bowl's glossy first-shot
-// radiance as an emitter); the bulb's direct light at the first camera vertex is exact.
+// radiance as an emitter); the bulb's direct light at the first camera vertex is exact. The path tracer's
+// blocks have a heavy tail here (the hot spot found by BSDF samples): 3000 passes (at 300 one block fell at
+// 4.1σ, its σ 10%).
 TEST(BdptHiddenLights, BowlLampAgreesWithPathTracingOnTheSameTable) {
   const SceneDesc d = bowlLamp();
   const RenderScene scene = withTable(d);

@@ -109,8 +109,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
 }
 
 Color BdptIntegrator::deltaFirstStrategies(const BdptDensities& deltaDensities, size_t m, Sampler& deltaSampler,
-                                           Workspace& ws, std::vector<Splat>& out,
-                                           uint64_t& rays) const {
+                                           Workspace& ws, std::vector<Splat>& out, uint64_t& rays) const {
   const int maxDepth = options_.maxDepth;
   const std::span<const SubpathVertex> cameraPath(ws.camera);
   const int nt = int(ws.camera.size());
@@ -136,11 +135,11 @@ Color BdptIntegrator::deltaFirstStrategies(const BdptDensities& deltaDensities, 
   toBdptLightPath(deltaDensities, ws.deltaRaw, ws.deltaLight);
   const std::span<const SubpathVertex> lightPath(ws.deltaLight);
   const int ns = int(ws.deltaLight.size());
-  // s ≥ 2, t ≥ 2: light vertex s − 1 (beyond the delta chain: connectVertices refuses delta ends) joined
-  // to camera vertex t − 1.
+  // s ≥ 3 (vertex 1 is delta), t ≥ 2: light vertex s − 1 beyond the delta chain (connectVertices refuses
+  // delta ends) joined to camera vertex t − 1.
   for (int t = 2; t <= nt; ++t)
     for (int s = 3; s <= ns && s + t - 2 <= maxDepth; ++s) {
-      Color c = connectVertices(deltaDensities, ws.deltaLight[size_t(s - 1)], ws.camera[size_t(t - 1)], rays);
+      const Color c = connectVertices(deltaDensities, ws.deltaLight[size_t(s - 1)], ws.camera[size_t(t - 1)], rays);
       if (maxComponent(c) > 0.0f) L += c * misWeight(deltaDensities, lightPath, cameraPath, s, t);
     }
   // t = 1: its non-delta vertices joined to the pinhole, over the N light subpaths of the pass.
