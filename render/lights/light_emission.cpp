@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "common/firstshot.h"
 #include "common/lights.h"
 #include "common/sampling.h"
 #include "render/firstshot/patch_emitters.h"
@@ -14,6 +16,38 @@ namespace fs {
 namespace {
 
 float mean(const Color& c) { return (c.x + c.y + c.z) / 3.0f; }
+
+/// The light centre of side @p side of patch @p j: the mean of its light samples' positions on that side
+/// of its plane, weighted by e_i·r_ij (directional samples have none); NaN if no sample lights it.
+Vec3 lightCentre(const FirstShotTable& table, uint32_t j, uint32_t side) {
+  const Patch& p = table.mesh.patches[j];
+  const Vec3 n = patchSideNormal(p, side);
+  Vec3d sum(0.0);
+  double weight = 0;
+  for (uint64_t k = table.rowStart[j]; k < table.rowStart[j + 1]; ++k) {
+    const LightSample& s = table.samples[table.sampleIndex[k]];
+    if (s.kind == LightSampleKind::Directional || !(glm::dot(s.position - p.centroid, n) > 0.0f)) continue;
+    const double w = double(mean(s.emission)) * table.factor[k];
+    sum += w * Vec3d(s.position), weight += w;
+  }
+  return weight > 0 ? Vec3(sum / weight) : Vec3(std::numeric_limits<float>::quiet_NaN());
+}
+
+/// The hit of a point @p y on patch @p j, as patchRadiance() evaluates it (render/firstshot/patch_emitters.h).
+Hit patchHit(const PatchMesh& mesh, uint32_t j, const Vec3& y) {
+  Hit hit;
+  hit.p = y;
+  hit.ng = mesh.patches[j].normal;
+  hit.patch = j;
+  return hit;
+}
+
+/// Unit direction from @p y to the light centre @p c; the side's normal @p n where they coincide.
+Vec3 towardsCentre(const Vec3& y, const Vec3& c, const Vec3& n) {
+  const Vec3 v = c - y;
+  const float len2 = glm::dot(v, v);
+  return len2 > 0.0f ? v / std::sqrt(len2) : n;
+}
 
 }  // namespace
 
@@ -38,6 +72,8 @@ EmissionSampler::EmissionSampler(const RenderScene& scene, const FirstShotLighti
         sideEmitter_[2 * size_t(j) + sd] = uint32_t(power_.size());
         patchSides_.push_back(2 * j + sd);
         power_.push_back(phi);
+        glossyCentre_.push_back(scene.patchBsdf(j).isDiffuse() ? Vec3(std::numeric_limits<float>::quiet_NaN())
+                                                                : lightCentre(*table, j, sd));
       }
   }
   finish();
@@ -168,8 +204,35 @@ float EmissionSampler::pdfPosition(uint32_t e) const {
   }
 }
 
-float EmissionSampler::pdfDirection(uint32_t e, const Vec3& n, const Vec3& d) const {
-  if (isPatch(e)) return std::max(0.0f, glm::dot(patchNormal(e), d)) * kInvPiF;
+bool EmissionSampler::sampleGlossyPatch(uint32_t e, const Vec3& y, Vec2 u, Vec3& d, float& pdf) const {
+  const Vec3 n = patchNormal(e);
+  if (u.x < 0.5f) {  // the cosine half
+    d = Frame(n).toWorld(squareToCosineHemisphere(Vec2(std::min(2.0f * u.x, 0x1.fffffep-1f), u.y)));
+  } else {  // the BSDF's sample with ω_o towards the light centre (reciprocal: f(ω', ω) = f(ω, ω'))
+    const Hit hit = patchHit(scene_->mesh(), patchOf(e), y);
+    const Frame frame = scene_->shadingFrame(hit);
+    BSDFQuery q(frame.toLocal(towardsCentre(y, glossyCentre_[e - lightCount_], n)));
+    scene_->bsdfAt(hit).sample(q, Vec2(std::min(2.0f * u.x - 1.0f, 0x1.fffffep-1f), u.y));
+    if (!(q.pdf > 0.0f)) return false;
+    d = frame.toWorld(q.wi);
+  }
+  pdf = pdfGlossyPatch(e, y, d);
+  return pdf > 0.0f && glm::dot(n, d) > 0.0f;
+}
+
+float EmissionSampler::pdfGlossyPatch(uint32_t e, const Vec3& y, const Vec3& d) const {
+  const Hit hit = patchHit(scene_->mesh(), patchOf(e), y);
+  const Frame frame = scene_->shadingFrame(hit);
+  const Vec3 wo = towardsCentre(y, glossyCentre_[e - lightCount_], patchNormal(e));
+  const float bsdfPdf = scene_->bsdfAt(hit).pdf(BSDFQuery(frame.toLocal(d), frame.toLocal(wo)));
+  return 0.5f * std::max(0.0f, glm::dot(patchNormal(e), d)) * kInvPiF + 0.5f * bsdfPdf;
+}
+
+float EmissionSampler::pdfDirection(uint32_t e, const Vec3& y, const Vec3& n, const Vec3& d) const {
+  if (isPatch(e)) {
+    if (!std::isnan(glossyCentre_[e - lightCount_].x)) return pdfGlossyPatch(e, y, d);
+    return std::max(0.0f, glm::dot(patchNormal(e), d)) * kInvPiF;
+  }
   const RenderLight& light = lights_->lights()[e];
   switch (light.type) {
     case LightType::Point: return squareToUniformSpherePdf();
@@ -185,12 +248,19 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t str
   const Vec2 uDir = sampler.next2D();
   if (!sampleOrigin(u, uPos, out)) return false;
   if (isPatch(out.light)) {
-    const Vec3 local = squareToCosineHemisphere(uDir);
-    out.d = Frame(out.n).toWorld(local);
-    out.pdfDir = squareToCosineHemispherePdf(local);
+    float cosOut = 0;
+    if (!std::isnan(glossyCentre_[out.light - lightCount_].x)) {
+      if (!sampleGlossyPatch(out.light, out.p, uDir, out.d, out.pdfDir)) return false;
+      cosOut = glm::dot(out.n, out.d);
+    } else {
+      const Vec3 local = squareToCosineHemisphere(uDir);
+      out.d = Frame(out.n).toWorld(local);
+      out.pdfDir = squareToCosineHemispherePdf(local);
+      cosOut = local.z;
+    }
     if (!(out.pdfDir > 0.0f)) return false;
     out.power = patchRadiance(out.light, out.p, out.d) * cutoutCoverage(*scene_, patchOf(out.light), out.p) *
-                (local.z / (out.pdfLight * out.pdfPos * out.pdfDir));
+                (cosOut / (out.pdfLight * out.pdfPos * out.pdfDir));
     return maxComponent(out.power) > 0.0f;
   }
   const RenderLight& light = lights_->lights()[out.light];

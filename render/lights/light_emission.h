@@ -13,8 +13,11 @@
 /// Table mode (the second constructor): the lights a first-shot table replaces leave, and every
 /// lit patch side joins as an emitter (render/firstshot/patch_emitters.h): a point uniform on the patch, a
 /// cosine-distributed direction into the side's half-space, the first-shot radiance it sends there
-/// (Φ ≈ albedo·E·A for the choice). Emitters are numbered lights first (LightSet indices), then
-/// the patch sides.
+/// (Φ ≈ albedo·E·A for the choice). A glossy side (a BSDF that is not Lambertian) sends a lobe about
+/// the mirror direction of its lights, which the cosine rarely meets: its direction is drawn from
+/// an even mixture of the cosine and the BSDF's own sampling towards the side's light centre (the
+/// sample positions' mean weighted by e_i·r_ij). Emitters are numbered lights first (LightSet
+/// indices), then the patch sides.
 #include <cstdint>
 #include <vector>
 
@@ -86,10 +89,10 @@ class EmissionSampler {
   /// Area density of sampleOrigin()'s point on emitter @p e, 1/m² (1 for point and spot: a delta
   /// position; directional: over the disk across the beam; area light, patch: 1/area).
   float pdfPosition(uint32_t e) const;
-  /// Solid-angle density with which sample() emits direction @p d from a point of emitter @p e with
-  /// front normal @p n (area lights; a patch side knows its own), 1/sr; 0 outside a spot's cone,
-  /// behind an area light or patch side, and for directional lights (a delta direction).
-  float pdfDirection(uint32_t e, const Vec3& n, const Vec3& d) const;
+  /// Solid-angle density with which sample() emits direction @p d from the point @p y of emitter @p e
+  /// with front normal @p n (area lights; a patch side knows its own), 1/sr; 0 outside a spot's cone,
+  /// behind an area light or a diffuse patch side, and for directional lights (a delta direction).
+  float pdfDirection(uint32_t e, const Vec3& y, const Vec3& n, const Vec3& d) const;
 
   /// Number of LightSet lights; emitters from this index on are patch sides.
   uint32_t lightCount() const { return lightCount_; }
@@ -119,6 +122,10 @@ class EmissionSampler {
   void finish();  ///< total and CDF from power_
   size_t pick(double u) const;  ///< the emitter whose CDF interval holds u
   bool originOf(size_t l, const Vec2& uPos, EmissionSample& out) const;  ///< sampleOrigin()'s point part
+  /// A glossy patch side @p e's direction from its point @p y (the mixture above), with its density.
+  bool sampleGlossyPatch(uint32_t e, const Vec3& y, Vec2 u, Vec3& d, float& pdf) const;
+  /// The mixture's density of @p d at the point @p y of glossy patch side @p e, 1/sr.
+  float pdfGlossyPatch(uint32_t e, const Vec3& y, const Vec3& d) const;
 
   const LightSet* lights_ = nullptr;
   const RenderScene* scene_ = nullptr;            ///< table mode
@@ -126,6 +133,8 @@ class EmissionSampler {
   uint32_t lightCount_ = 0;
   std::vector<uint32_t> patchSides_;    ///< by patch emitter: 2j + side
   std::vector<uint32_t> sideEmitter_;   ///< table mode, by 2j + side: its emitter index or kNoId
+  /// By patch emitter: the light centre of a glossy side (m), NaN for a diffuse one or one without a centre.
+  std::vector<Vec3> glossyCentre_;
   std::vector<double> power_;  ///< by emitter
   std::vector<double> cdf_;    ///< by emitter, last entry 1
   /// guide_[b] = the first emitter whose CDF entry exceeds b/n (n = guide_.size() − 1): the

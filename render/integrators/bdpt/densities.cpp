@@ -33,7 +33,7 @@ float BdptDensities::pdf(const SubpathVertex* prev, const SubpathVertex& cur, co
     case Kind::Light: {
       if (cur.deltaDirection)
         return emission_.pdfPosition(cur.light) * (next.onSurface() ? std::abs(glm::dot(next.hit.ng, cur.hit.ng)) : 1.0f);
-      const float pdfDir = emission_.pdfDirection(cur.light, cur.hit.ng, w);
+      const float pdfDir = emission_.pdfDirection(cur.light, cur.hit.p, cur.hit.ng, w);
       return toDirectional ? pdfDir : pdfDir * cosNext / dist2;
     }
     case Kind::Surface: {

@@ -10,6 +10,16 @@
 
 namespace fs {
 
+void BdptIntegrator::preprocess(const RenderScene& scene) {
+  ShootingIntegrator::preprocess(scene);
+  deltaParticles_ = false;
+  if (!shooting_.tableMode()) return;
+  bool mirrors = false;
+  for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors = mirrors || scene.bsdf(uint32_t(m)).hasDelta();
+  deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
+  deltaParticles_ = mirrors && deltaFirst_.totalPower() > 0;
+}
+
 Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
   if (!info) return Color(0.0f);
   info->rays = 1;
@@ -23,16 +33,18 @@ Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
 
 void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass,
                                     uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const {
-  const BdptDensities densities(*scene_, emission(), camera);
+  const BdptDensities densities(*scene_, emission(), camera), deltaDensities(*scene_, deltaFirst_, camera);
   Workspace ws;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler = Sampler::make(mode, seed, i, pass, kStream);
-    sample(densities, uint32_t(i), sampler, ws, out, rays);
+    Sampler deltaSampler = Sampler::make(mode, seed, i, pass, kDeltaFirstStream);
+    sample(densities, deltaDensities, uint32_t(i), sampler, deltaSampler, ws, out, rays);
   }
 }
 
-void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Sampler& sampler, Workspace& ws,
-                            std::vector<Splat>& out, uint64_t& rays) const {
+void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities& deltaDensities, uint32_t pixel,
+                            Sampler& sampler, Sampler& deltaSampler, Workspace& ws, std::vector<Splat>& out,
+                            uint64_t& rays) const {
   const Camera& camera = densities.camera();
   const int maxDepth = options_.maxDepth;
   const Vec2 jitter = sampler.next2D();
@@ -82,7 +94,8 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
   // a polished vertex after x_m (the table's patch sum does not hold it).
   if (shooting_.tableMode())
     L += shooting_.smallLights().estimate(cameraPath, int(m) <= maxDepth ? m : cameraPath.size(), sampler, rays,
-                                          size_t(std::max(maxDepth, 0)));
+                                          size_t(std::max(maxDepth, 0)), deltaParticles_);
+  if (deltaParticles_) L += deltaFirstStrategies(deltaDensities, m, deltaSampler, ws, out, rays);
   out.push_back(Splat{pixel, L});
 
   // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.
@@ -93,6 +106,53 @@ void BdptIntegrator::sample(const BdptDensities& densities, uint32_t pixel, Samp
     splat.L *= misWeight(densities, lightPath, cameraPath.first(1), s, 1) * invN;
     out.push_back(splat);
   }
+}
+
+Color BdptIntegrator::deltaFirstStrategies(const BdptDensities& deltaDensities, size_t m, Sampler& deltaSampler,
+                                           Workspace& ws, std::vector<Splat>& out, uint64_t& rays) const {
+  const int maxDepth = options_.maxDepth;
+  const std::span<const SubpathVertex> cameraPath(ws.camera);
+  const int nt = int(ws.camera.size());
+  const LightSet& lights = scene_->lights();
+  Color L(0.0f);
+  // s = 0: the camera subpath meets a small area light right after a mirror or glass beyond x_m (before
+  // x_m, and right after x_m, SmallLightsExact weights it: no light subpath makes those paths).
+  for (int t = 3; t <= nt; ++t) {
+    const SubpathVertex& pt = ws.camera[size_t(t - 1)];
+    if (!SmallLightsExact::afterDeltaChain(cameraPath, size_t(t - 1), m) || pt.hit.onPatch() ||
+        !lights.emitterLight(pt.hit.emitter).replaced)
+      continue;
+    const Color Le = lights.emitted(pt.hit, pt.wi);
+    if (maxComponent(Le) > 0.0f) L += pt.beta * Le * misWeight(deltaDensities, {}, cameraPath, 0, t);
+  }
+  // The delta-first light subpath: a small area light's, kept only where its first hit is a mirror or
+  // glass (the table holds its other first bounces; traceLightPath stops those at the first hit).
+  LightPathOptions walk{maxDepth, options_.rrDepth, /*sqrtSurvival=*/false};
+  walk.deltaFirstHitOnly = true;
+  if (!traceLightPath(*scene_, deltaFirst_, walk, deltaSampler, ws.deltaRaw, rays) || ws.deltaRaw.size() < 3 ||
+      !ws.deltaRaw[1].delta)
+    return L;
+  toBdptLightPath(deltaDensities, ws.deltaRaw, ws.deltaLight);
+  const std::span<const SubpathVertex> lightPath(ws.deltaLight);
+  const int ns = int(ws.deltaLight.size());
+  // s ≥ 3 (vertex 1 is delta), t ≥ 2: light vertex s − 1 beyond the delta chain (connectVertices refuses
+  // delta ends) joined to camera vertex t − 1.
+  for (int t = 2; t <= nt; ++t)
+    for (int s = 3; s <= ns && s + t - 2 <= maxDepth; ++s) {
+      const Color c = connectVertices(deltaDensities, ws.deltaLight[size_t(s - 1)], ws.camera[size_t(t - 1)], rays);
+      if (maxComponent(c) > 0.0f) L += c * misWeight(deltaDensities, lightPath, cameraPath, s, t);
+    }
+  // t = 1: its non-delta vertices joined to the pinhole, over the N light subpaths of the pass.
+  const Camera& camera = deltaDensities.camera();
+  const float invN = 1.0f / float(particlesPerPass(camera));
+  for (int s = 3; s <= ns && s - 1 <= maxDepth; ++s) {
+    if (ws.deltaRaw[size_t(s - 1)].delta) continue;
+    Splat splat;
+    if (!connectToCamera(*scene_, ws.deltaRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays, true)) continue;
+    splat.L *= misWeight(deltaDensities, lightPath, cameraPath.first(1), s, 1) * invN;
+    out.push_back(splat);
+  }
+  return L;
 }
 
 }  // namespace fs

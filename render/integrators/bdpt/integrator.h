@@ -22,7 +22,12 @@
 /// emitters are the kept lights and the lit patch sides (common/shooting_emitters.h): light
 /// subpaths leave them, s = 1 samples them, and a camera vertex after x_m (the first non-delta one)
 /// on a lit patch meets its first-shot radiance (s = 0). The small lights themselves add their
-/// direct light at x_m and what no table can hold (SmallLightsExact, common/small_lights.h).
+/// direct light at x_m and what no table can hold (SmallLightsExact, common/small_lights.h). A small
+/// area light's light whose first bounce is a mirror or glass (no table holds it: the bulb inside a
+/// glass envelope, a caustic) has its own light subpaths as well, as in light tracing: a second light
+/// subpath per sample leaves the small area lights and is kept only if its first hit is delta; its
+/// strategies and the camera subpath meeting a small light right after a delta vertex are weighted
+/// against each other (docs/bdpt.md, "Delta-first light subpaths").
 /// Without the option the table is ignored: the small lights are shot and sampled like all others
 /// (unbiased, as light tracing).
 #include <vector>
@@ -37,6 +42,8 @@ namespace fs {
 class BdptIntegrator : public ShootingIntegrator {
  public:
   using ShootingIntegrator::ShootingIntegrator;
+  /// The shooting integrators' preprocess(), then (table mode) the delta-first emitters.
+  void preprocess(const RenderScene& scene) override;
   /// The AOVs of the camera ray's first hit; radiance 0 (the splats carry it).
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "bdpt"; }
@@ -51,16 +58,30 @@ class BdptIntegrator : public ShootingIntegrator {
   /// The stream index of the samples' samplers: Sampler::make(mode, seed, pixel, pass, kStream) (in
   /// Sobol' mode a pixel's passes are its sequence's indices, as the tile renderer's samples).
   static constexpr uint64_t kStream = 0x4250;  // "BP"
+  /// The stream of table mode's delta-first light subpaths (their own sampler, so that the other
+  /// strategies draw the same numbers with and without them).
+  static constexpr uint64_t kDeltaFirstStream = 0x4244;  // "BD"
 
  private:
   /// Subpaths of one sample, reused across the particles of a chunk.
   struct Workspace {
-    std::vector<SubpathVertex> camera, light;
-    std::vector<LightVertex> lightRaw;
+    std::vector<SubpathVertex> camera, light, deltaLight;
+    std::vector<LightVertex> lightRaw, deltaRaw;
   };
-  /// One sample of pixel @p pixel: appends its splats to @p out.
-  void sample(const BdptDensities& densities, uint32_t pixel, Sampler& sampler, Workspace& ws, std::vector<Splat>& out,
-              uint64_t& rays) const;
+  /// One sample of pixel @p pixel: appends its splats to @p out. @p deltaDensities: those of the
+  /// delta-first light subpaths (deltaFirst_), drawn from @p deltaSampler.
+  void sample(const BdptDensities& densities, const BdptDensities& deltaDensities, uint32_t pixel, Sampler& sampler,
+              Sampler& deltaSampler, Workspace& ws, std::vector<Splat>& out, uint64_t& rays) const;
+  /// Table mode: the delta-first light subpath's strategies with the camera subpath in @p ws (whose first
+  /// non-delta vertex is @p m), and the camera subpath meeting a small area light right after a delta
+  /// vertex: returns the t ≥ 2 part, appends the t = 1 splats to @p out.
+  Color deltaFirstStrategies(const BdptDensities& deltaDensities, size_t m, Sampler& deltaSampler, Workspace& ws,
+                             std::vector<Splat>& out, uint64_t& rays) const;
+
+  /// Table mode, a scene with mirrors or glass and small area lights: shoot delta-first light subpaths.
+  bool deltaParticles_ = false;
+  /// Their emitters: the replaced area lights (LightSet indices, the others without power).
+  EmissionSampler deltaFirst_;
 };
 
 }  // namespace fs

@@ -21,7 +21,7 @@ bool SmallLightsExact::gathers(std::span<const SubpathVertex> camera, size_t i, 
 }
 
 Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler, uint64_t& rays,
-                                 size_t polishedUpTo) const {
+                                 size_t polishedUpTo, bool skipDeltaChains) const {
   const LightSet& lights = scene_->lights();
   Color L(0.0f);
   for (size_t i = 1; i < camera.size(); ++i) {
@@ -41,6 +41,8 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
       weight = pdfLight > 0.0f ? powerHeuristic(pdfBsdf, pdfLight) : 1.0f;
     } else if (i > m + 1 && !camera[i - 1].delta) {
       continue;  // the table holds it
+    } else if (skipDeltaChains && afterDeltaChain(camera, i, m)) {
+      continue;  // the caller weights it against its light subpaths through the same mirrors and glass
     }
     L += v.beta * Le * weight;
   }

@@ -12,7 +12,9 @@
 ///   - the direct light at x_m: next-event estimation to the small lights (nextEvent), and a
 ///     small area light met by the subpath's BSDF sample from x_m, weighted against it by the
 ///     power heuristic;
-///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1;
+///   - a small area light met later right after a delta bounce (no table or NEE holds it): weight 1,
+///     unless the caller weights these itself (BDPT, which also shoots the small area lights' light
+///     subpaths whose first hit is a mirror or glass: @p skipDeltaChains);
 ///   - with @p polishedUpTo (BDPT): at every polished vertex after x_m (BSDF::tooSharpForTable, whose
 ///     lit patch emits nothing: render/firstshot/patch_emitters.h) up to that vertex number, the
 ///     direct light by NEE, and a small area light met by its BSDF sample, by the power heuristic —
@@ -38,8 +40,15 @@ class SmallLightsExact {
   /// first non-delta vertex is @p m (camera.size() if none), W/(m² sr); polished vertices after
   /// it up to vertex @p polishedUpTo (0: none) take the small lights' direct light as x_m does.
   /// Draws the NEE samples' dimensions from @p sampler (x_m's first); @p rays counts the shadow rays.
+  /// @p skipDeltaChains: leave out a small area light met after x_m right after a delta vertex
+  /// (afterDeltaChain()), which the caller then weights against its own strategies for that path.
   Color estimate(std::span<const SubpathVertex> camera, size_t m, Sampler& sampler, uint64_t& rays,
-                 size_t polishedUpTo = 0) const;
+                 size_t polishedUpTo = 0, bool skipDeltaChains = false) const;
+  /// Whether camera vertex @p i (after x_m = @p m) follows a delta vertex: a small area light met there
+  /// lit the camera's path through a mirror or glass that no table holds.
+  static bool afterDeltaChain(std::span<const SubpathVertex> camera, size_t i, size_t m) {
+    return i > m + 1 && i < camera.size() && camera[i - 1].delta;
+  }
 
  private:
   /// Whether camera vertex @p i takes the small lights' direct light by NEE: x_m, or a polished one up to
