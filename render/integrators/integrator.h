@@ -123,6 +123,10 @@ class Integrator {
   /// Rays traced by preprocess() or preprocessFor() (the irradiance cache's fill), not counted in the render's
   /// RenderStats::rays; 0 by default.
   virtual uint64_t preprocessRayCount() const { return 0; }
+  /// True if preprocess() draws random numbers of the seed the integrator was made for (the irradiance cache's
+  /// fill), so that renders of another seed need another integrator; false by default: one preprocessed
+  /// integrator renders any seed (RenderOptions::seed).
+  virtual bool seededPreprocess() const { return false; }
   /// The light sampler with which the integrator's paths choose lights for next-event estimation,
   /// over every light (kept and replaced); its lighting() is the first-shot lighting the integrator
   /// built. Both are built once by preprocess() (or preprocessRays()) and shared: the sensors' NEE

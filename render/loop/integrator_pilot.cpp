@@ -94,6 +94,11 @@ struct PilotImage {
     integrator->preprocessFor(scene, desc);
     rays = double(integrator->preprocessRayCount());
   }
+  /// Another image (of another seed) with @p other's integrator, its preprocessing counted again.
+  explicit PilotImage(PilotImage& other)
+      : integrator(std::move(other.integrator)), film(other.film.width(), other.film.height()) {
+    rays = double(integrator->preprocessRayCount());
+  }
   /// Renders passes until @p total are done.
   void renderTo(int total, const Camera& camera, uint64_t seed, SamplerMode sampler, int threads) {
     for (; passes < total; ++passes) {
@@ -131,47 +136,36 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
                                   int threads, const std::function<void(size_t)>& progress) {
   const CameraDesc desc = pilotCamera(scene.desc().camera, plan);
   const Camera camera(desc);
-  // Each candidate's first image starts with one pass, which prices its samples; then every candidate gets the
-  // same rays per image: what the cheapest spends on plan.spp passes (so a method of cheap samples takes many).
-  std::vector<std::unique_ptr<PilotImage>> first;
-  std::vector<double> seconds(candidates.size(), 0.0);
-  double cheapest = 0.0;
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    const auto start = std::chrono::steady_clock::now();
-    first.push_back(std::make_unique<PilotImage>(make(candidates[c], seed), scene, desc));
-    first.back()->renderTo(1, camera, seed, sampler, threads);
-    // A sample's price: one pass, and the preprocessing (the cache's fill) shared among plan.spp passes.
-    const double price = std::max(1.0, first.back()->firstPass + (first.back()->rays - first.back()->firstPass) /
-                                                                      double(plan.spp));
-    cheapest = c == 0 ? price : std::min(cheapest, price);
-    seconds[c] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  }
-  const double budget = double(plan.spp) * cheapest;
+  // Every image gets the same rays: what the first candidate (the path tracer, unless the options given left it
+  // out) spends on plan.spp passes, its preprocessing shared among them; a candidate of costlier samples takes
+  // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
+  double budget = 0.0;
   std::vector<PilotFigure> figures;
   for (size_t c = 0; c < candidates.size(); ++c) {
     const auto start = std::chrono::steady_clock::now();
-    const double preprocessing = first[c]->rays - first[c]->firstPass;
+    PilotImage first(make(candidates[c], seed), scene, desc);
+    first.renderTo(1, camera, seed, sampler, threads);
+    const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
+    if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
     PilotFigure f;
     if (preprocessing > 2.0 * budget) {  // its preprocessing alone outgrows the pilot: not measured further
-      f.rays = first[c]->rays;
-      f.seconds = seconds[c];
-      first[c].reset();
-      figures.push_back(f);
-      if (progress) progress(c);
-      continue;
+      f.rays = first.rays;
+    } else {
+      f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
+                                     double(kMaxPasses)));
+      first.renderTo(f.spp, camera, seed, sampler, threads);
+      // The second seed's image: a fresh integrator only where its preprocessing drew on the seed (the cache's
+      // fill); the others render it with the first's (the same preprocessing, counted for both images).
+      std::unique_ptr<PilotImage> second = first.integrator->seededPreprocess()
+                                               ? std::make_unique<PilotImage>(make(candidates[c], seed + 1), scene, desc)
+                                               : std::make_unique<PilotImage>(first);
+      second->renderTo(f.spp, camera, seed + 1, sampler, threads);
+      f.rays = (first.rays + second->rays) / 2.0;
+      const std::vector<double> a = first.image(), b = second->image();
+      f.noise = pilotNoise(a, b);
+      for (size_t i = 0; i < a.size(); ++i) f.mean += (a[i] + b[i]) / (2.0 * double(a.size()));
     }
-    const int passes = int(std::clamp<double>(std::round((budget - preprocessing) / std::max(1.0, first[c]->firstPass)),
-                                              double(kMinPasses), double(kMaxPasses)));
-    first[c]->renderTo(passes, camera, seed, sampler, threads);
-    PilotImage second(make(candidates[c], seed + 1), scene, desc);
-    second.renderTo(passes, camera, seed + 1, sampler, threads);
-    f.spp = passes;
-    f.rays = (first[c]->rays + second.rays) / 2.0;
-    const std::vector<double> a = first[c]->image(), b = second.image();
-    f.noise = pilotNoise(a, b);
-    for (size_t i = 0; i < a.size(); ++i) f.mean += (a[i] + b[i]) / (2.0 * double(a.size()));
-    first[c].reset();
-    f.seconds = seconds[c] + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     figures.push_back(f);
     if (progress) progress(c);
   }

@@ -5,7 +5,8 @@
 /// "The method chosen for the user").
 ///
 /// Each candidate renders the pilot picture twice, with seeds s and s + 1, and every image gets the same rays: what
-/// the cheapest candidate spends on the plan's samples per pixel (at least 2 passes), so that each is measured at
+/// the first candidate (the path tracer) spends on the plan's samples per pixel (at least 2 passes and at most 256
+/// each), so that each is measured at
 /// equal work, as the render will compare them, and a method of cheap samples at many samples, where stratified
 /// samples have paid off (a pilot of equal samples took light tracing for the path tracer's better on the Cornell
 /// box: at 4 spp its error is its edges' and stratification's). Its noise is the RMS over pixels and
@@ -16,7 +17,7 @@
 /// adds to the noise how far the picture's mean falls from the candidates' median (PilotFigure). Images and ray
 /// counts do not depend on the threads (render/loop/renderer.h), so the choice is the same on every machine for
 /// a seed. The pilot picture has at most 48 × 48 pixels, the camera's aspect and field; each candidate's two
-/// images take 5% of the render's camera samples divided among the candidates, priced at the cheapest
+/// images take 5% of the render's camera samples divided among the candidates, priced at the first
 /// candidate's rays per sample (with --time T: of the scene's samples per pixel or T × 250,000 camera samples,
 /// whichever is more: a fixed rate, so that the pilot does not depend on the machine). Below 4 samples per pixel of a
 /// 16 × 16 picture there is no pilot: the path tracer renders.
@@ -63,8 +64,8 @@ struct PilotFigure {
 struct PilotPlan {
   bool run = false;           ///< false: too small a budget for a pilot
   int width = 0, height = 0;  ///< pixels of the pilot picture
-  int spp = 0;                ///< samples per pixel of the cheapest candidate's images (the others: at equal rays)
-  /// Camera samples of one candidate's two images at the cheapest candidate's price.
+  int spp = 0;                ///< samples per pixel of the first candidate's images (the others: at equal rays)
+  /// Camera samples of one candidate's two images at the first candidate's price.
   uint64_t samples() const { return uint64_t(width) * uint64_t(height) * uint64_t(spp) * 2; }
 };
 

@@ -127,6 +127,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// preprocess() with the fill over @p camera's pixels and its pixel angle for the footprint clamp.
   void preprocessFor(const RenderScene& scene, const CameraDesc& camera) override;
   uint64_t preprocessRayCount() const override { return fillRays_; }
+  bool seededPreprocess() const override { return settings_.twoPass; }
   std::string name() const override { return "irradiance-cache"; }
   bool supportsSensors() const override { return true; }
   /// The path continuation's light sampler, over every light (after preprocess() or preprocessRays()).
