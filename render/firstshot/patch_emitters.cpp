@@ -39,7 +39,9 @@ float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrr
 
 bool patchPointExposed(const RenderScene& scene, uint32_t j, const Vec3& y, const Vec3& w) {
   const float scale = std::max({1.0f, std::abs(y.x), std::abs(y.y), std::abs(y.z)});
-  const float h = 1e-4f * scale;  // m: 10× the renderer's ray offset (EmbreeScene's eps), above its rounding
+  // m: twice the renderer's ray offset (EmbreeScene's eps), far above y's rounding (about 10⁻⁷·scale), and
+  // small enough that the paths it loses (y within h of a surface that its ray meets first) do not show.
+  const float h = 2e-5f * scale;
   Hit hit;
   // Nothing met (rounding at the patch's very edge, a grazing w): the point counts as exposed.
   if (!scene.intersect(Ray(y + h * w, -w, 0.0f, 2.0f * h), hit)) return true;

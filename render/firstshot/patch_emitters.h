@@ -43,8 +43,8 @@ inline float cutoutCoverage(const RenderScene& scene, uint32_t j, const Vec3& y)
 inline Vec3 patchSideNormal(const Patch& p, uint32_t side) { return side == 0 ? p.normal : -p.normal; }
 
 /// Whether a ray arriving at the point @p y of patch @p j along −@p w (@p w: the unit direction in which y
-/// emits) meets patch @p j there: a probe ray from y + h·w back to y, h = 10⁻⁴ of the coordinates' magnitude
-/// (at least 0.1 mm). False where another surface lies on y: a face coplanar with the patch (a stand's top
+/// emits) meets patch @p j there: a probe ray from y + h·w back to y, h = 2·10⁻⁵ of the coordinates' magnitude
+/// (at least 0.02 mm). False where another surface lies on y: a face coplanar with the patch (a stand's top
 /// under a bowl's bottom), where the ray tracer returns one of the two by the ray's direction, or one less
 /// than h from y along w. The estimators that meet patches by rays (the path walk reading the table at its
 /// hits, BDPT's s = 0) never reach such a point from that direction, while a point sampled on the patch by
