@@ -2,6 +2,7 @@
 #include "render/firstshot/patch_emitters.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "common/sampling.h"
 
@@ -34,6 +35,17 @@ float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrr
   if (bsdf.hasTransmission()) E += sideIrradiance[2 * size_t(j) + 1 - side];  // rough glass (issue 34): shines through
   const Color phi = bsdf.albedo() * E * float(p.area);
   return (phi.x + phi.y + phi.z) * (1.0f / 3.0f);
+}
+
+bool patchPointExposed(const RenderScene& scene, uint32_t j, const Vec3& y, const Vec3& w) {
+  const float scale = std::max({1.0f, std::abs(y.x), std::abs(y.y), std::abs(y.z)});
+  // m: twice the renderer's ray offset (EmbreeScene's eps), far above y's rounding (about 10⁻⁷·scale), and
+  // small enough that the paths it loses (y within h of a surface that its ray meets first) do not show.
+  const float h = 2e-5f * scale;
+  Hit hit;
+  // Nothing met (rounding at the patch's very edge, a grazing w): the point counts as exposed.
+  if (!scene.intersect(Ray(y + h * w, -w, 0.0f, 2.0f * h), hit)) return true;
+  return hit.patch == j;
 }
 
 bool mayBePolished(const RenderScene& scene) {

@@ -42,6 +42,25 @@ inline float cutoutCoverage(const RenderScene& scene, uint32_t j, const Vec3& y)
 /// Unit normal of side @p side of patch @p p (the direction it emits into).
 inline Vec3 patchSideNormal(const Patch& p, uint32_t side) { return side == 0 ? p.normal : -p.normal; }
 
+/// Whether a ray arriving at the point @p y of patch @p j along −@p w (@p w: the unit direction in which y
+/// emits) meets patch @p j there: a probe ray from y + h·w back to y, h = 2·10⁻⁵ of the coordinates' magnitude
+/// (at least 0.02 mm). False where another surface lies on y: a face coplanar with the patch (a stand's top
+/// under a bowl's bottom), where the ray tracer returns one of the two by the ray's direction, or one less
+/// than h from y along w. The estimators that meet patches by rays (the path walk reading the table at its
+/// hits, BDPT's s = 0) never reach such a point from that direction, while a point sampled on the patch by
+/// area (particles leaving lit patches, BDPT's s = 1, patch NEE) would emit from it through the covering
+/// face; a sampled point emits only where this holds, so that every estimator has the same path space.
+/// Costs one short ray.
+bool patchPointExposed(const RenderScene& scene, uint32_t j, const Vec3& y, const Vec3& w);
+
+/// What the radiance that a point @p y sampled by area on patch @p j (rather than met by a ray) sends in the
+/// unit direction @p w is multiplied by: its cut-out coverage where patchPointExposed() holds, else 0
+/// (dimensionless). Call it only for radiance that is not 0: it traces a ray.
+inline float sampledPatchPointWeight(const RenderScene& scene, uint32_t j, const Vec3& y, const Vec3& w) {
+  const float c = cutoutCoverage(scene, j, y);
+  return c > 0.0f && patchPointExposed(scene, j, y, w) ? c : 0.0f;
+}
+
 /// First-shot radiance leaving the point @p y of patch @p j in the unit direction @p w, W/(m² sr)
 /// (0 where that side sends nothing, and at a polished point). @p lighting must be built for @p scene.
 Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting, uint32_t j, const Vec3& y,

@@ -129,7 +129,9 @@ Vec3 EmissionSampler::patchNormal(uint32_t e) const {
   return patchSideNormal(scene_->mesh().patches[ps / 2], ps % 2);
 }
 
-float EmissionSampler::coverage(uint32_t e, const Vec3& y) const { return cutoutCoverage(*scene_, patchOf(e), y); }
+float EmissionSampler::coverage(uint32_t e, const Vec3& y, const Vec3& w) const {
+  return sampledPatchPointWeight(*scene_, patchOf(e), y, w);
+}
 
 Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) const {
   if (!(glm::dot(patchNormal(e), w) > 0.0f)) return Color(0.0f);
@@ -259,8 +261,9 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t str
       cosOut = local.z;
     }
     if (!(out.pdfDir > 0.0f)) return false;
-    out.power = patchRadiance(out.light, out.p, out.d) * cutoutCoverage(*scene_, patchOf(out.light), out.p) *
-                (cosOut / (out.pdfLight * out.pdfPos * out.pdfDir));
+    out.power = patchRadiance(out.light, out.p, out.d) * (cosOut / (out.pdfLight * out.pdfPos * out.pdfDir));
+    // The coverage (and its probe ray) only for a particle that carries power.
+    if (maxComponent(out.power) > 0.0f) out.power *= coverage(out.light, out.p, out.d);
     return maxComponent(out.power) > 0.0f;
   }
   const RenderLight& light = lights_->lights()[out.light];

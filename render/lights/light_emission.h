@@ -105,8 +105,10 @@ class EmissionSampler {
   /// Patch emitter @p e: the first-shot radiance its point @p y sends in the unit direction @p w,
   /// W/(m² sr); 0 into the other side's half-space.
   Color patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) const;
-  /// The cut-out coverage of the point @p y sampled on patch emitter @p e (cutoutCoverage; issue 34).
-  float coverage(uint32_t e, const Vec3& y) const;
+  /// What the radiance that the point @p y sampled on patch emitter @p e sends in the unit direction
+  /// @p w is multiplied by: its cut-out coverage, 0 where another surface lies on y as seen from w
+  /// (sampledPatchPointWeight; traces one ray).
+  float coverage(uint32_t e, const Vec3& y, const Vec3& w) const;
   /// The patch of patch emitter @p e and its emitting side's unit normal.
   uint32_t patchOf(uint32_t e) const { return patchSides_[e - lightCount_] / 2; }
   Vec3 patchNormal(uint32_t e) const;

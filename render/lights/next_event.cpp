@@ -50,7 +50,9 @@ bool patchPoint(const LightSampler& lights, const Emitter& e, float pSelect, con
   rec.wi = d / rec.distance;
   const float cosY = -glm::dot(patchSideNormal(p, e.sub), rec.wi);
   if (!(cosY > 0.0f)) return false;  // x is on the other side: that side is another emitter
-  Le = patchRadiance(scene, lights.lighting(), e.index, y, -rec.wi) * cutoutCoverage(scene, e.index, y);
+  Le = patchRadiance(scene, lights.lighting(), e.index, y, -rec.wi);
+  if (!(maxComponent(Le) > 0.0f)) return false;
+  Le *= sampledPatchPointWeight(scene, e.index, y, -rec.wi);  // 0 where a surface lies on y (a probe ray)
   if (!(maxComponent(Le) > 0.0f)) return false;
   rec.pdf = pSelect * dist2 / (cosY * e.area);
   rec.value = Le / rec.pdf;

@@ -48,8 +48,8 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
     wi = d / distance;
     const float cosLight = -glm::dot(es.n, wi);
     if (!(cosLight > 0.0f)) return Color(0.0f);
-    incident = emission.patchRadiance(es.light, es.p, -wi) * emission.coverage(es.light, es.p) *
-               (cosLight / (dist2 * es.pdfLight * es.pdfPos));
+    incident = emission.patchRadiance(es.light, es.p, -wi) * (cosLight / (dist2 * es.pdfLight * es.pdfPos));
+    if (maxComponent(incident) > 0.0f) incident *= emission.coverage(es.light, es.p, -wi);  // its probe ray only then
   } else if (es.deltaDirection) {
     const RenderLight& light = densities.scene().lights().lights()[es.light];
     wi = -light.direction;
