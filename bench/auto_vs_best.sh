@@ -80,7 +80,10 @@ for scene in "${scenes[@]}"; do
   rest=$(python3 -c "print(max(0.5, $seconds - $prep))")
   n[autoT]=$(run autoT "$rest" --firstshot "$dir/table.fsd")
   best=$(printf '%s\n' "${n[path]}" "${n[all]}" "${n[cache]}" "${n[light]}" "${n[bdpt]}" | grep -v '^-$' | sort -g | head -1)
-  choice() { grep -o 'auto chose [^(]*\|--integrator auto: [^(]*' "$dir/$1-1.log" | head -1 | sed 's/.*auto chose //; s/.*auto: //; s/ *$//'; }
+  choice() {
+    grep -o 'auto chose [^(]*' "$dir/$1-1.log" | head -1 | sed 's/.*auto chose //; s/ *$//' | grep . ||
+      grep -o -- '--integrator auto: [a-z -]* (' "$dir/$1-1.log" | head -1 | sed 's/.*auto: //; s/ *($//'
+  }
   ratio=$(python3 -c "b=float('$best'); a='${n[autoT]}'; print('-' if a == '-' else '%.2fx' % ((b / float(a))**2))")
   echo "| $tag | $prep | ${n[path]} | ${n[all]} | ${n[cache]} | ${n[light]} | ${n[bdpt]} | $best | ${n[auto]} ($(choice auto)) | ${n[autoT]} ($(choice autoT)) | $ratio |" >> "$table"
   unset n

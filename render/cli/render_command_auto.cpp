@@ -108,8 +108,9 @@ void RenderCommand::resolveIntegrator() {
   const double top = chosen.efficiency;
   for (size_t i = 0; i < candidates.size(); ++i)
     if (figures[i].spp == 0)
-      fmt::print(stderr, "  {:<42} {:>5} {:>9} {:>9} {:>12.3f} (its preprocessing alone outgrows the pilot)\n",
-                 candidates[i].label(), "-", "-", "-", figures[i].rays * 1e-6);
+      fmt::print(stderr, "  {:<42} {:>5} {:>9} {:>9} {:>12.3f} ({})\n", candidates[i].label(), "-", "-", "-",
+                 figures[i].rays * 1e-6,
+                 figures[i].rays > 0 ? "its preprocessing alone outgrows the pilot" : "not tried: as above");
     else
       fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
                  figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,

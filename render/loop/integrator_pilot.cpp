@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string>
 
 #include "common/interrupt.h"
 #include "render/loop/renderer.h"
@@ -141,8 +142,14 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
   // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
   double budget = 0.0;
   std::vector<PilotFigure> figures;
+  std::vector<std::string> outgrown;  // integrators whose preprocessing outgrew the pilot: their variants are skipped
   for (size_t c = 0; c < candidates.size(); ++c) {
     const auto start = std::chrono::steady_clock::now();
+    if (std::find(outgrown.begin(), outgrown.end(), candidates[c].integrator) != outgrown.end()) {
+      figures.emplace_back();
+      if (progress) progress(c);
+      continue;
+    }
     PilotImage first(make(candidates[c], seed), scene, desc);
     first.renderTo(1, camera, seed, sampler, threads);
     const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
@@ -150,6 +157,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
     PilotFigure f;
     if (preprocessing > 2.0 * budget) {  // its preprocessing alone outgrows the pilot: not measured further
       f.rays = first.rays;
+      outgrown.push_back(candidates[c].integrator);
     } else {
       f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
                                      double(kMaxPasses)));

@@ -48,7 +48,8 @@ struct PilotCandidate {
 /// What the pilot measured of one candidate.
 struct PilotFigure {
   /// Passes (samples per pixel) of each of its two images; 0: not measured, its preprocessing alone (the
-  /// irradiance cache's fill) took more than two images' rays (rays: that one image's).
+  /// irradiance cache's fill) took more than two images' rays (rays: that one image's; 0 for the same
+  /// integrator's other variants, which are then not tried).
   int spp = 0;
   double noise = 0;       ///< relative RMS error of one pilot image (above)
   double mean = 0;        ///< the mean of its two pictures, W/(m² sr)
