@@ -112,13 +112,13 @@ struct IntegratorOptionsCli {
                                            "sky/environment yet (use --integrator path or irradiance-cache)");
       pilotReaders.push_back(readers.front());
     }
-    const IntegratorOptions given_ = options(0);
+    const IntegratorOptions fixed = options(0);  // --patch-nee, --shoot-firstshot as given or by default
     std::vector<PilotCandidate> out;
     for (const std::string& n : pilotReaders) {
       PilotCandidate c;
       c.integrator = n;
-      c.patchNee = given_.patchNee;
-      c.shootFromPatches = given_.shootFromPatches;
+      c.patchNee = fixed.patchNee;
+      c.shootFromPatches = fixed.shootFromPatches;
       const std::vector<std::string> theirs = cli(n).options();
       auto reads = [&](const char* o) { return std::find(theirs.begin(), theirs.end(), o) != theirs.end(); };
       // A shooting integrator's --patch-nee serves only its path-traced pixels: it varies --shoot-firstshot.

@@ -3,7 +3,6 @@
 #include "render/loop/integrator_pilot.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -82,24 +81,16 @@ double pilotNoise(const std::vector<double>& a, const std::vector<double>& b) {
 
 namespace {
 
-/// One pilot image in the making: passes of 1 spp at sample indices 0, 1, ... of one integrator.
+/// One pilot image in the making: passes of 1 spp at sample indices 0, 1, ... of a preprocessed integrator.
 struct PilotImage {
-  std::unique_ptr<Integrator> integrator;
+  const Integrator& integrator;
   Film film;
-  double rays = 0;       ///< traced so far, its preprocessing's included
+  double rays = 0;       ///< traced so far, the integrator's preprocessing included
   double firstPass = 0;  ///< rays of its first pass
   int passes = 0;
 
-  PilotImage(std::unique_ptr<Integrator> i, const RenderScene& scene, const CameraDesc& desc)
-      : integrator(std::move(i)), film(desc.width, desc.height) {
-    integrator->preprocessFor(scene, desc);
-    rays = double(integrator->preprocessRayCount());
-  }
-  /// Another image (of another seed) with @p other's integrator, its preprocessing counted again.
-  explicit PilotImage(PilotImage& other)
-      : integrator(std::move(other.integrator)), film(other.film.width(), other.film.height()) {
-    rays = double(integrator->preprocessRayCount());
-  }
+  PilotImage(const Integrator& i, const CameraDesc& desc)
+      : integrator(i), film(desc.width, desc.height), rays(double(i.preprocessRayCount())) {}
   /// Renders passes until @p total are done.
   void renderTo(int total, const Camera& camera, uint64_t seed, SamplerMode sampler, int threads) {
     for (; passes < total; ++passes) {
@@ -111,7 +102,7 @@ struct PilotImage {
       ro.threads = threads;
       ro.quiet = true;
       ro.cancel = &interruptFlag();  // SIGINT/SIGTERM stop the pilot too (thrown by runPilot)
-      const double r = double(render(*integrator, camera, film, ro).rays);
+      const double r = double(render(integrator, camera, film, ro).rays);
       throwIfInterrupted("no output written (interrupted in the integrator pilot)");
       if (passes == 0) firstPass = r;
       rays += r;
@@ -144,13 +135,14 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
   std::vector<PilotFigure> figures;
   std::vector<std::string> outgrown;  // integrators whose preprocessing outgrew the pilot: their variants are skipped
   for (size_t c = 0; c < candidates.size(); ++c) {
-    const auto start = std::chrono::steady_clock::now();
     if (std::find(outgrown.begin(), outgrown.end(), candidates[c].integrator) != outgrown.end()) {
       figures.emplace_back();
       if (progress) progress(c);
       continue;
     }
-    PilotImage first(make(candidates[c], seed), scene, desc);
+    const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
+    integrator->preprocessFor(scene, desc);
+    PilotImage first(*integrator, desc);
     first.renderTo(1, camera, seed, sampler, threads);
     const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
     if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
@@ -164,16 +156,18 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       first.renderTo(f.spp, camera, seed, sampler, threads);
       // The second seed's image: a fresh integrator only where its preprocessing drew on the seed (the cache's
       // fill); the others render it with the first's (the same preprocessing, counted for both images).
-      std::unique_ptr<PilotImage> second = first.integrator->seededPreprocess()
-                                               ? std::make_unique<PilotImage>(make(candidates[c], seed + 1), scene, desc)
-                                               : std::make_unique<PilotImage>(first);
-      second->renderTo(f.spp, camera, seed + 1, sampler, threads);
-      f.rays = (first.rays + second->rays) / 2.0;
-      const std::vector<double> a = first.image(), b = second->image();
+      std::unique_ptr<Integrator> seeded;
+      if (integrator->seededPreprocess()) {
+        seeded = make(candidates[c], seed + 1);
+        seeded->preprocessFor(scene, desc);
+      }
+      PilotImage second(seeded ? *seeded : *integrator, desc);
+      second.renderTo(f.spp, camera, seed + 1, sampler, threads);
+      f.rays = (first.rays + second.rays) / 2.0;
+      const std::vector<double> a = first.image(), b = second.image();
       f.noise = pilotNoise(a, b);
       for (size_t i = 0; i < a.size(); ++i) f.mean += (a[i] + b[i]) / (2.0 * double(a.size()));
     }
-    f.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     figures.push_back(f);
     if (progress) progress(c);
   }

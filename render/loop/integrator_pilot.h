@@ -58,7 +58,6 @@ struct PilotFigure {
   double error = 0;
   double rays = 0;        ///< rays per pilot image, preprocessing included
   double efficiency = 0;  ///< 1 / (error² · rays); 0 for a black picture
-  double seconds = 0;     ///< wall time of its two images with their preprocessing (shown, never used to choose)
 };
 
 /// The pilot's picture and samples.
