@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "common/luminaire.h"
 #include "common/math.h"
 #include "common/patches.h"
 #include "common/scene_desc.h"
@@ -57,6 +58,9 @@ struct FirstShotTable {
   /// readFirstShot while it expands the grouped factors. Empty: the renderer recovers it itself, to
   /// the same values.
   std::vector<float> visible;
+  /// The luminaires (common/luminaire.h): their boxes, lights and exit distributions. Their lights are not in
+  /// replacedLights: the renderer samples their exit patches instead.
+  std::vector<Luminaire> luminaires;
 
   size_t nonZeros() const { return factor.size(); }
   /// True if SceneDesc::lights[l] is replaced by this table.
