@@ -109,6 +109,35 @@ inline void expectRepetitionsAgree(const std::string& name, const std::vector<Mo
              "sobol {:.3f}%\n", name, lit, worst, 100 * rInd / std::max(lit, 1), 100 * rSob / std::max(lit, 1));
 }
 
+/// Per-pixel noise of @p integrator: passes 2k and 2k + 1 (one sample per pixel each) give
+/// d_k = mean over pixels of (x_2k − x_2k+1)²/2, an unbiased estimate of the mean pixel variance of one
+/// pass; the d_k of different k are independent, so their mean has a σ from the samples.
+inline Moments pixelVariance(const Integrator& integrator, const RenderScene& scene, int pairs) {
+  const Camera camera(scene.desc().camera);
+  const int w = camera.width(), h = camera.height();
+  auto pass = [&](int k) {
+    Film film(w, h);
+    RenderOptions ro;
+    ro.spp = 1, ro.firstSample = k, ro.seed = 7;
+    render(integrator, camera, film, ro);
+    std::vector<double> v(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const Vec3d m = film.mean(x, y);
+        v[size_t(y) * w + x] = (m.x + m.y + m.z) / 3.0;
+      }
+    return v;
+  };
+  Moments d;
+  for (int k = 0; k < pairs; ++k) {
+    const std::vector<double> a = pass(2 * k), b = pass(2 * k + 1);
+    double sum = 0;
+    for (size_t p = 0; p < a.size(); ++p) sum += (a[p] - b[p]) * (a[p] - b[p]) / 2.0;
+    d.add(sum / double(a.size()));
+  }
+  return d;
+}
+
 /// Two integrators' per-pass block means: every block within 3σ of the difference.
 inline void expectBlocksAgree(const std::string& name, const std::vector<Moments>& a, const std::vector<Moments>& b) {
   double worst = 0, worstRel = 0;

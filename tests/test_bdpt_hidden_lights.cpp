@@ -18,81 +18,22 @@
 #include "render/lights/light_emission.h"
 #include "render/loop/renderer.h"
 #include "tests/block_compare.h"
+#include "tests/hidden_lights_scenes.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
 using namespace fs;
+using fs::test::bowlLamp;
+using fs::test::glassBulb;
 
 namespace {
-
-/// A 2 m × 1.5 m × 2 m room with a table (32×24, max depth 6); @p materials and @p shapes add the lamp's (JSON members).
-SceneDesc room(const std::string& materials, const std::string& shapes) {
-  return test::sceneFromJson(R"({"materials": {"wall": {"type": "diffuse", "albedo": 0.7},
-      "floor": {"type": "diffuse", "albedo": [0.5, 0.4, 0.3]}, "table": {"type": "diffuse", "albedo": [0.6, 0.6, 0.55]}, )" +
-                             materials + R"(},
-    "shapes": [{"type": "box", "material": "wall", "min": [0,0,0], "max": [2,1.5,2], "flip_normals": true},
-               {"type": "quad", "material": "floor", "vertices": [[0,0.001,0],[0,0.001,2],[2,0.001,2],[2,0.001,0]]},
-               {"type": "box", "material": "table", "min": [0.2,0,1.1], "max": [0.9,0.5,1.7]}, )" +
-                             shapes + R"(],
-    "camera": {"position": [1.9, 0.9, 1.9], "look_at": [0.6, 0.6, 0.5], "fov_y": 70, "resolution": [32, 24]},
-    "settings": {"patch_size": 0.4, "max_depth": 6}})");
-}
-
-/// A bulb (r = 3 cm) in an open metal bowl (pbr, roughness 0.5, 24 cm × 24 cm × 10 cm) at 0.9 m.
-SceneDesc bowlLamp() {
-  return room(R"("bowl": {"type": "pbr", "base_color": [0.8, 0.75, 0.7], "metallic": 1, "roughness": 0.5},
-                 "bulb": {"type": "diffuse", "emission": 60})",
-              R"({"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,0.88],[1.52,0.9,0.88],[1.52,0.9,1.12],[1.28,0.9,1.12]]},
-                 {"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,0.88],[1.28,0.9,1.12],[1.28,1.0,1.12],[1.28,1.0,0.88]]},
-                 {"type": "quad", "material": "bowl", "vertices": [[1.52,0.9,0.88],[1.52,1.0,0.88],[1.52,1.0,1.12],[1.52,0.9,1.12]]},
-                 {"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,0.88],[1.28,1.0,0.88],[1.52,1.0,0.88],[1.52,0.9,0.88]]},
-                 {"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,1.12],[1.52,0.9,1.12],[1.52,1.0,1.12],[1.28,1.0,1.12]]},
-                 {"type": "sphere", "material": "bulb", "center": [1.4, 0.94, 1.0], "radius": 0.03, "subdivisions": 2})");
-}
-
-/// A filament (r = 8 cm, so that the path tracer's BSDF samples find it) inside a clear glass envelope (r = 20 cm,
-/// ior 1.5) hanging at 1.1 m.
-SceneDesc glassBulb() {
-  return room(R"("glass": {"type": "dielectric", "ior": 1.5}, "filament": {"type": "diffuse", "emission": 12})",
-              R"({"type": "sphere", "material": "glass", "center": [1.2, 1.1, 1.0], "radius": 0.2, "subdivisions": 3, "smooth": true},
-                 {"type": "sphere", "material": "filament", "center": [1.2, 1.1, 1.0], "radius": 0.08, "subdivisions": 2})");
-}
 
 /// The scene with its first-shot table (Embree item buffers, R = 64, default selection of the small lights).
 RenderScene withTable(const SceneDesc& d) {
   PreprocessOptions po = defaultOptions(d);
   po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
   return RenderScene(d, preprocessScene(d, po));
-}
-
-/// Per-pixel noise of @p integrator: passes 2k and 2k + 1 (one sample per pixel each) give
-/// d_k = mean over pixels of (x_2k − x_2k+1)²/2, an unbiased estimate of the mean pixel variance of one
-/// pass; the d_k of different k are independent, so their mean has a σ from the samples.
-test::Moments pixelVariance(const Integrator& integrator, const RenderScene& scene, int pairs) {
-  const Camera camera(scene.desc().camera);
-  const int w = camera.width(), h = camera.height();
-  auto pass = [&](int k) {
-    Film film(w, h);
-    RenderOptions ro;
-    ro.spp = 1, ro.firstSample = k, ro.seed = 7;
-    render(integrator, camera, film, ro);
-    std::vector<double> v(size_t(w) * h);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const Vec3d m = film.mean(x, y);
-        v[size_t(y) * w + x] = (m.x + m.y + m.z) / 3.0;
-      }
-    return v;
-  };
-  test::Moments d;
-  for (int k = 0; k < pairs; ++k) {
-    const std::vector<double> a = pass(2 * k), b = pass(2 * k + 1);
-    double sum = 0;
-    for (size_t p = 0; p < a.size(); ++p) sum += (a[p] - b[p]) * (a[p] - b[p]) / 2.0;
-    d.add(sum / double(a.size()));
-  }
-  return d;
 }
 
 IntegratorOptions tableMode(const SceneDesc& d) {
@@ -133,7 +74,7 @@ TEST(BdptHiddenLights, GlassBulbNoNoisierWithTheTable) {
   auto a = makeIntegrator("bdpt", tableMode(d)), b = makeIntegrator("bdpt", tableMode(d));
   a->preprocess(table);
   b->preprocess(plain);
-  const test::Moments vt = pixelVariance(*a, table, 100), vp = pixelVariance(*b, plain, 100);
+  const test::Moments vt = test::pixelVariance(*a, table, 100), vp = test::pixelVariance(*b, plain, 100);
   fmt::print("glass bulb, mean pixel variance per pass: table {:.4g} ± {:.2g}, without {:.4g} ± {:.2g}\n", vt.mean(),
              vt.se(), vp.mean(), vp.se());
   EXPECT_LT(vt.mean(), vp.mean() + 3.0 * std::hypot(vt.se(), vp.se()));

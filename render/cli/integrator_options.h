@@ -23,7 +23,7 @@ namespace fs {
 struct IntegratorOptionsCli {
   static constexpr const char* kAuto = "auto";  ///< --integrator auto
   std::string name = "auto", primary = "exact", lightSampler = "tree", patchNee = "off", lightVisibility = "on",
-              shootFirstShot = "patches", tableVisibility = "on";
+              shootFirstShot = "patches", tableVisibility = "on", luminaires = "on";
   /// One command line per line of integratorTable(), in its order.
   std::vector<std::unique_ptr<IntegratorCli>> clis;
 
@@ -63,6 +63,10 @@ struct IntegratorOptionsCli {
                                                     "start from the patches the table lights (patches) or the "
                                                     "table is ignored (off; docs/light-tracing.md, docs/bdpt.md)")
         ->check(CLI::IsMember({"patches", "off"}))->capture_default_str();
+    app.add_option(kLuminaires, luminaires, "path with --firstshot: sample the table's luminaires by their exit "
+                                            "patches and see through their boxes (on), or take their lights as "
+                                            "ordinary lights (off; docs/luminaires.md)")
+        ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
   }
 
   /// Declares every integrator's own options.
@@ -180,6 +184,7 @@ struct IntegratorOptionsCli {
     io.lightVisibility = lightVisibility == "on";
     io.tableVisibility = tableVisibility == "on";
     io.shootFromPatches = shootFirstShot == "patches";
+    io.luminaires = luminaires == "on";
     return io;
   }
 };

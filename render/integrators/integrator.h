@@ -51,6 +51,9 @@ struct IntegratorOptions {
   PatchNee patchNee = PatchNee::Off;
   /// Weight the light trees by the visibility of their emitters, estimated per grid cell.
   bool lightVisibility = true;
+  /// With a table that has luminaires (common/luminaire.h): sample their exit patches and see through their boxes
+  /// (render/lights/luminaires.h). The path tracer's walk takes them; false: their lights are ordinary lights.
+  bool luminaires = true;
   /// With a first-shot table, where the small lights are sampled with shadow rays (PrimaryMode::Exact):
   /// no shadow ray to a point or spot light the table finds visible from the whole patch or from
   /// none of it (FirstShotLighting::visibility).

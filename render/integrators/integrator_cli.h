@@ -33,6 +33,7 @@ inline constexpr const char* kPatchNee = "--patch-nee";               ///< Integ
 inline constexpr const char* kLightVisibility = "--light-visibility"; ///< IntegratorOptions::lightVisibility
 inline constexpr const char* kTableVisibility = "--table-visibility"; ///< IntegratorOptions::tableVisibility
 inline constexpr const char* kShootFirstShot = "--shoot-firstshot";   ///< IntegratorOptions::shootFromPatches
+inline constexpr const char* kLuminaires = "--luminaires";           ///< IntegratorOptions::luminaires
 }  // namespace integrator_option
 
 /// What the tool has resolved when the chosen integrator's options are checked (IntegratorCli::configure).

@@ -95,8 +95,26 @@ void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bo
   }
 }
 
+void LightSampler::addExits(Group& g, std::vector<LightBounds>& bounds) {
+  const LuminaireBoxes& boxes = scene_->luminaires();
+  exitEmitter_.assign(boxes.exitCount(), kNoId);
+  for (uint32_t i = 0; i < boxes.items().size(); ++i) {
+    const Luminaire& lum = boxes.items()[i];
+    for (uint32_t k = 0; k < lum.patchCount(); ++k) {
+      const float phi = meanOf(lum.patchPower(k));
+      if (!(phi > 0.0f)) continue;
+      const ExitPatch p = lum.patch(k);
+      const Vec3 v[4] = {p.corner, p.corner + p.eu, p.corner + p.eu + p.ev, p.corner + p.ev};
+      exitEmitter_[boxes.exitFirst(i) + k] = uint32_t(g.emitters.size());
+      g.emitters.push_back({Emitter::Kind::Exit, boxes.exitFirst(i) + k, i, p.area});
+      bounds.push_back(surfaceBounds(v, 4, p.normal, phi));
+    }
+  }
+}
+
 void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
-                         bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite) {
+                         bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite,
+                         bool luminaires) {
   scene_ = &scene;
   firstShot_ = &firstShot;
   strategy_ = strategy;
@@ -108,13 +126,17 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
   lightGroup_.assign(n, kNone);
   lightFirst_.assign(n, 0);
   included_.assign(n, 1);
+  luminaires_ = luminaires && strategy == LightStrategy::Tree && !scene.luminaires().empty();
+  exitEmitter_.clear();
   if (include)
     for (size_t l = 0; l < n; ++l) included_[l] = l < include->size() && (*include)[l] != 0;
-  std::vector<LightBounds> bounds[3];
+  std::vector<LightBounds> bounds[kGroups];
   if (strategy == LightStrategy::Tree)
     for (uint32_t l = 0; l < n; ++l) {
       if (!included_[l]) continue;
-      const GroupId id = scene.lights().lights()[l].replaced ? kReplaced : kKept;
+      const GroupId id = luminaires_ && scene.luminaires().ofLight(l) >= 0 ? kInner
+                         : scene.lights().lights()[l].replaced           ? kReplaced
+                                                                         : kKept;
       addLight(groups_[id], id, l, bounds[id]);
     }
   // The infinite light: never replaced, so a kept light; left out of a sampler over a subset of the lights unless
@@ -124,7 +146,8 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
   if (patchEmitters && scene.firstShot()) {
     addPatches(groups_[kPatches], kPatches, bounds[kPatches]);
   }
-  for (int g = 0; g < 3; ++g) {
+  if (luminaires_) addExits(groups_[kKept], bounds[kKept]);
+  for (int g = 0; g < kGroups; ++g) {
     // Patches are small and many, and the triangles of one area light lie together: up to
     // kPatchLeaf of either share a leaf, chosen there by power, which spares the descent.
     std::vector<uint32_t> groupable(groups_[g].emitters.size(), 0);
@@ -132,6 +155,7 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
       const Emitter& em = groups_[g].emitters[e];
       if (em.kind == Emitter::Kind::Patch) groupable[e] = 1;  // a group of its own: no lights in it
       if (em.kind == Emitter::Kind::Triangle) groupable[e] = em.index + 1;
+      if (em.kind == Emitter::Kind::Exit) groupable[e] = uint32_t(n) + 1 + em.sub;  // one luminaire's patches together
     }
     groups_[g].tree = LightTree(bounds[g], &groupable, kPatchLeaf);
   }
@@ -157,6 +181,10 @@ Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
     }
     case Emitter::Kind::Patch:
       return samplePatchPoint(scene_->mesh().patches[e.index], u);
+    case Emitter::Kind::Exit: {
+      const LuminaireBoxes& boxes = scene_->luminaires();
+      return boxes.items()[e.sub].patch(e.index - boxes.exitFirst(e.sub)).point(u);
+    }
     case Emitter::Kind::Environment:
       break;  // a direction, no point
   }
@@ -171,6 +199,14 @@ float LightSampler::environmentPmf() const {
   }
   const Group& g = groups_[kKept];
   return g.environment ? g.pDirectional() / float(g.besideCount()) : 0.0f;
+}
+
+float LightSampler::exitPmf(const Vec3& x, const Vec3& n, uint32_t exit, float& area) const {
+  if (!luminaires_ || exit >= exitEmitter_.size() || exitEmitter_[exit] == kNoId) return 0.0f;
+  const Group& g = groups_[kKept];
+  const uint32_t e = exitEmitter_[exit];
+  area = g.emitters[e].area;
+  return selectProbability(g, x, n, e);
 }
 
 uint32_t LightSampler::patchEmitter(const Hit& y, const Vec3& x) const {

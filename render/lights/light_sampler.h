@@ -35,15 +35,18 @@ namespace fs {
 
 enum class LightStrategy : uint8_t { All, Tree };
 
-/// The groups a LightSampler chooses one emitter in (NeeRequest::kept, replaced, patches).
-enum class LightGroup : uint8_t { Kept = 0, Replaced = 1, Patches = 2 };
+/// The groups a LightSampler chooses one emitter in (NeeRequest::kept, replaced, patches, inner). With luminaires
+/// (build()'s @c luminaires, render/lights/luminaires.h) their exit patches are kept emitters and their lights the
+/// Inner group, for vertices inside a luminaire that see it as it is.
+enum class LightGroup : uint8_t { Kept = 0, Replaced = 1, Patches = 2, Inner = 3 };
 
 /// Something a LightSampler chooses.
 struct Emitter {
   /// Environment: the scene's infinite light (LightSet::environment), a direction, no point.
-  enum class Kind : uint8_t { Light, Triangle, Patch, Environment } kind = Kind::Light;
-  uint32_t index = 0;  ///< LightSet index (Light, Triangle) or patch ID
-  uint32_t sub = 0;    ///< Triangle: LightSampler::triangle() index; Patch: the side (0 front, 1 back)
+  /// Exit: a luminaire's exit patch (LuminaireBoxes' numbering across luminaires).
+  enum class Kind : uint8_t { Light, Triangle, Patch, Environment, Exit } kind = Kind::Light;
+  uint32_t index = 0;  ///< LightSet index (Light, Triangle), patch ID or exit patch number
+  uint32_t sub = 0;    ///< Triangle: LightSampler::triangle() index; Patch: the side (0 front, 1 back); Exit: its luminaire
   float area = 0.0f;   ///< m² (Triangle, Patch)
 };
 
@@ -69,8 +72,11 @@ class LightSampler {
   /// @p include: if set, only the lights l with (*include)[l] != 0 (LightSet indices) are
   /// sampled; the mask is copied. The infinite light (sky, environment map) is sampled without @p include, or with
   /// it when @p infinite.
+  /// @p luminaires: the table's luminaires replace their lights for vertices outside them (their exit patches join
+  /// the kept group, their lights form the Inner group); only under LightStrategy::Tree.
   void build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy, bool patchEmitters,
-             bool visibility = true, const std::vector<uint8_t>* include = nullptr, bool infinite = false);
+             bool visibility = true, const std::vector<uint8_t>* include = nullptr, bool infinite = false,
+             bool luminaires = false);
 
   LightStrategy strategy() const { return strategy_; }
   const RenderScene& scene() const { return *scene_; }
@@ -78,6 +84,8 @@ class LightSampler {
   const FirstShotLighting& lighting() const { return *firstShot_; }
   /// Per LightSet light: 1 if this sampler may choose it (build()'s @c include).
   const std::vector<uint8_t>& included() const { return included_; }
+  /// True if the scene's luminaires are sampled by their exit patches (build()'s @c luminaires, and some exist).
+  bool hasLuminaires() const { return luminaires_; }
   /// True if patch emitters exist (a table with lit patches and patch emitters asked for).
   bool hasPatchEmitters() const { return patchCount_ > 0; }
   /// True if the patches group was built (patch emitters asked for, with a table), lit patches or not.
@@ -97,6 +105,9 @@ class LightSampler {
   /// The probability with which sample() chooses the infinite light (the same at every point): 1 under
   /// LightStrategy::All, 0 without one or when build()'s @c include leaves lights out.
   float environmentPmf() const;
+  /// The probability with which sample() at @p x, @p n chooses exit patch number @p exit (LuminaireBoxes), its area
+  /// in @p area (m²); 0 without luminaires or for a patch that emits nothing.
+  float exitPmf(const Vec3& x, const Vec3& n, uint32_t exit, float& area) const;
 
   /// A point of emitter @p e for @p u ∈ [0,1)² (uniform by area; the position of a point light).
   Vec3 emitterPoint(const Emitter& e, const Vec2& u) const;
@@ -118,10 +129,12 @@ class LightSampler {
     /// Nothing to sample (no directional or infinite light, no tree).
     bool empty() const { return besideCount() == 0 && tree.empty(); }
   };
-  enum GroupId : uint8_t { kKept = 0, kReplaced = 1, kPatches = 2, kNone = 255 };
+  enum GroupId : uint8_t { kKept = 0, kReplaced = 1, kPatches = 2, kInner = 3, kNone = 255 };
+  static constexpr int kGroups = 4;
 
   void addLight(Group& g, GroupId id, uint32_t l, std::vector<LightBounds>& bounds);
   void addPatches(Group& g, GroupId id, std::vector<LightBounds>& bounds);
+  void addExits(Group& g, std::vector<LightBounds>& bounds);
   float selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const;
   /// The emitter index of a hit on a patch seen from @p x in its group's tree, or kNoId.
   uint32_t patchEmitter(const Hit& y, const Vec3& x) const;
@@ -131,7 +144,7 @@ class LightSampler {
   const RenderScene* scene_ = nullptr;
   const FirstShotLighting* firstShot_ = nullptr;
   LightStrategy strategy_ = LightStrategy::Tree;
-  Group groups_[3];
+  Group groups_[kGroups];
   std::vector<TriangleEmitter> triangles_;  ///< the Triangle emitters of all groups
   size_t patchCount_ = 0;
   // Where each emitter lives: per LightSet light its group and first emitter (its triangles
@@ -142,6 +155,8 @@ class LightSampler {
   uint8_t patchGroup_ = kNone;
   VisibilityGrid grid_;
   std::vector<uint32_t> patchSide_;
+  bool luminaires_ = false;
+  std::vector<uint32_t> exitEmitter_;  ///< per exit patch: its emitter in the kept group, or kNoId
 };
 
 }  // namespace fs

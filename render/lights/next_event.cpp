@@ -81,6 +81,10 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
   LightRecord rec;
   bool delta = false;
   TableVisibility seen = TableVisibility::Unknown;
+  if (lights.hasLuminaires() && (e.kind == Emitter::Kind::Light || e.kind == Emitter::Kind::Triangle)) {
+    const int lum = scene.luminaires().ofLight(e.index);  // the Inner group: only the luminaire the vertex is in
+    if (lum >= 0 && lum != request.luminaire) return Color(0.0f);
+  }
   switch (e.kind) {
     case Emitter::Kind::Light: {
       const RenderLight& light = scene.lights().lights()[e.index];
@@ -117,6 +121,24 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
     case Emitter::Kind::Environment:
       if (!environmentDirection(*scene.lights().environment(), pSelect, u, rec)) return Color(0.0f);
       break;
+    case Emitter::Kind::Exit: {
+      const LuminaireBoxes& boxes = scene.luminaires();
+      const uint32_t k = e.index - boxes.exitFirst(e.sub);
+      const Luminaire& lum = boxes.items()[e.sub];
+      const ExitPatch p = lum.patch(k);
+      const Vec3 d = p.point(u) - hit.p;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0f)) return Color(0.0f);
+      rec.distance = std::sqrt(dist2);
+      rec.wi = d * (1.0f / rec.distance);
+      const float cosY = -glm::dot(p.normal, rec.wi);
+      if (!(cosY > 0.0f)) return Color(0.0f);  // x is inside the box or beside this face
+      const Color le = lum.radianceAt(k, -rec.wi);
+      if (!(maxComponent(le) > 0.0f)) return Color(0.0f);
+      rec.pdf = pSelect * dist2 / (cosY * e.area);
+      rec.value = le / rec.pdf;
+      break;
+    }
   }
   return weighLightSample(scene, hit, frame, woLocal, bsdf, rec, delta, seen, request, rays);
 }
@@ -209,6 +231,7 @@ Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, 
   } else {
     if (request.kept) fromGroup(LightGroup::Kept);
     if (request.replaced) fromGroup(LightGroup::Replaced);
+    if (request.inner && lights.hasLuminaires()) fromGroup(LightGroup::Inner);
   }
   if (request.patches && lights.hasPatchGroup()) fromGroup(LightGroup::Patches);
   return sum;
@@ -225,7 +248,14 @@ float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, con
     if (!request.patches) return 0.0f;
   } else {
     light = &lights.scene().lights().emitterLight(y.emitter);
-    if (!(light->replaced ? request.replaced : request.kept)) return 0.0f;
+    const int lum = lights.hasLuminaires()
+                        ? lights.scene().luminaires().ofLight(uint32_t(light - lights.scene().lights().lights().data()))
+                        : -1;
+    if (lum >= 0) {
+      if (!request.inner || lum != request.luminaire) return 0.0f;
+    } else if (!(light->replaced ? request.replaced : request.kept)) {
+      return 0.0f;
+    }
     if (glm::dot(y.ng, d) >= 0.0f) return 0.0f;  // one-sided: x is behind the emitter
   }
   float area = 0.0f;
@@ -234,6 +264,21 @@ float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, con
   // Every light (p = 1): the light's own density of the point.
   if (light && lights.strategy() == LightStrategy::All) return lights.scene().lights().pdf(*light, x, y.p, y.ng);
   return p * dist2 / (cosY * area);
+}
+
+float nextEventExitPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request,
+                       uint32_t exit, const Vec3& y) {
+  if (!request.kept || !lights.hasLuminaires()) return 0.0f;
+  const LuminaireBoxes& boxes = lights.scene().luminaires();
+  const uint32_t i = boxes.exitLuminaire(exit);
+  const Vec3 d = y - x;
+  const float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return 0.0f;
+  const float cosY = std::abs(glm::dot(boxes.items()[i].patch(exit - boxes.exitFirst(i)).normal, d)) / std::sqrt(dist2);
+  if (!(cosY > 0.0f)) return 0.0f;
+  float area = 0.0f;
+  const float p = lights.exitPmf(x, n, exit, area);
+  return p > 0.0f ? p * dist2 / (cosY * area) : 0.0f;
 }
 
 float nextEventEnvironmentPdf(const LightSampler& lights, const NeeRequest& request, const Vec3& dir) {

@@ -59,6 +59,10 @@ struct NeeRequest {
   bool kept = false;      ///< the lights the table does not replace (every light without a table)
   bool replaced = false;  ///< the table's small lights (a vertex that does not use the table)
   bool patches = false;   ///< the first-shot patches (a LightSampler built with patch emitters)
+  /// The lights of luminaire @c luminaire, for a vertex inside its box that sees it as it is (a LightSampler built
+  /// with luminaires, render/lights/luminaires.h); their exit patches are kept emitters.
+  bool inner = false;
+  int luminaire = -1;
   /// Weight area emitters against BSDF sampling (power heuristic); false: weight 1, for callers
   /// whose BSDF-sampled rays never count these emitters.
   bool mis = true;
@@ -100,6 +104,12 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
 /// @p request, samples the point of @p y: a hit on an area light or on a patch. 0 where that
 /// emitter is not requested (or not an emitter).
 float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y);
+
+/// Solid-angle density with which nextEvent() at @p x, receiving side normal @p n, under @p request, samples the point
+/// @p y of exit patch number @p exit (render/lights/luminaires.h), met by a segment that crosses its face; 0 where
+/// the sampler has no luminaires or @p request does not take the kept emitters.
+float nextEventExitPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request,
+                       uint32_t exit, const Vec3& y);
 
 /// Solid-angle density with which nextEvent() under @p request samples direction @p dir (unit) of the scene's
 /// infinite light (LightSet::environment), for the MIS weight of a path that escapes along it: 0 without one or

@@ -32,6 +32,10 @@ RenderScene::RenderScene(SceneDesc scene, FirstShotTable table, const std::strin
   for (const Patch& p : t.mesh.patches)
     if (p.material >= desc_.materials.size() || p.shape >= desc_.shapes.size())
       fail("patches", "a patch refers to a material or shape the scene does not have");
+  for (const Luminaire& lum : t.luminaires)
+    for (uint32_t l : lum.lights)
+      if (l >= desc_.lights.size() || desc_.lights[l].type == LightType::Directional)
+        fail("luminaires", "luminaire \"" + lum.name + "\" holds a light this scene does not have there");
   build(t.replacedLights);
 }
 
@@ -39,6 +43,7 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
   bsdfs_.reserve(desc_.materials.size());
   for (const MaterialDesc& m : desc_.materials) bsdfs_.push_back(makeBSDF(m));
   lights_ = LightSet(desc_, replaced);
+  if (table_) luminaires_ = LuminaireBoxes(&table_->luminaires, lights_);
   patchMaterial_.reserve(mesh().size());
   for (const Patch& p : mesh().patches) patchMaterial_.push_back(p.material);
   textures_ = SurfaceTextures(desc_, mesh());

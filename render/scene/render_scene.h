@@ -14,6 +14,7 @@
 #include "common/scene_desc.h"
 #include "render/scene/embree_scene.h"
 #include "render/lights/lights.h"
+#include "render/lights/luminaires.h"
 #include "render/scene/ray.h"
 #include "render/scene/shading_normals.h"
 #include "render/scene/surface_textures.h"
@@ -38,6 +39,8 @@ class RenderScene {
   const SceneDesc& desc() const { return desc_; }
   const PatchMesh& mesh() const { return table_ ? table_->mesh : mesh_; }
   const LightSet& lights() const { return lights_; }
+  /// The table's luminaires (render/lights/luminaires.h); empty without a table or without luminaires in it.
+  const LuminaireBoxes& luminaires() const { return luminaires_; }
   /// The first-shot table, or nullptr.
   const FirstShotTable* firstShot() const { return table_ ? &*table_ : nullptr; }
   /// The BSDF of material @p m (without its texture: see bsdfAt).
@@ -105,6 +108,7 @@ class RenderScene {
   ShadingNormals shading_;  ///< issue 34
   std::vector<BSDF> patchBsdfs_;  ///< by patch, when the scene has textures
   LightSet lights_;
+  LuminaireBoxes luminaires_;
   std::shared_ptr<const PatchCutouts> cutouts_;  ///< alpha cut-outs on the traced mesh (null: none; issue 34)
   std::unique_ptr<EmbreeScene> embree_;
 };

@@ -2,6 +2,8 @@
 /// @file thin_glass_walk.h
 /// What a random walk does at a thin glass pane (issue 35; common/thin_glass.h): every walk of render/ (the
 /// path tracer's, the irradiance cache's, light and camera subpaths) calls crossThinGlass at each hit on one.
+#include <limits>
+
 #include "common/bsdf.h"
 #include "common/rng.h"
 #include "render/scene/ray.h"
@@ -36,20 +38,33 @@ inline bool crossThinGlass(const ThinGlassBSDF& glass, const Hit& hit, float u, 
 /// number of @p sampler a pane; @p beta and @p ray updated): the first candidate is @p *known when given
 /// (then set to null: a hit the caller traced already), else traced (counted in @p rays). Fills @p hit and
 /// @p bsdf (RenderScene::bsdfAt, or a pane's reflection). @return false if nothing is hit.
+/// @p onPiece(ray, tEnd, beta), if given, is told each piece of the walk's segment before the pane at its end is
+/// crossed: the ray from its tmin to @p tEnd (infinity past the last hit), and the throughput along it (what a
+/// luminaire's exit light entered there is weighted with, render/lights/luminaires.h).
+template <typename OnPiece>
 inline bool nextHitPastPanes(const RenderScene& scene, Ray& ray, const Hit*& known, Sampler& sampler, Color& beta,
-                             uint64_t& rays, Hit& hit, BSDF& bsdf) {
+                             uint64_t& rays, Hit& hit, BSDF& bsdf, OnPiece&& onPiece) {
   for (;;) {
     if (known) {
       hit = *known;
       known = nullptr;
     } else {
       ++rays;
-      if (!scene.intersect(ray, hit)) return false;
+      if (!scene.intersect(ray, hit)) {
+        onPiece(ray, std::numeric_limits<float>::infinity(), beta);
+        return false;
+      }
     }
+    onPiece(ray, hit.t, beta);
     bsdf = scene.bsdfAt(hit);
     const ThinGlassBSDF* glass = bsdf.thinGlass();
     if (!glass || !crossThinGlass(*glass, hit, sampler.next1D(), ray, beta, bsdf)) return true;
   }
+}
+
+inline bool nextHitPastPanes(const RenderScene& scene, Ray& ray, const Hit*& known, Sampler& sampler, Color& beta,
+                             uint64_t& rays, Hit& hit, BSDF& bsdf) {
+  return nextHitPastPanes(scene, ray, known, sampler, beta, rays, hit, bsdf, [](const Ray&, float, const Color&) {});
 }
 
 }  // namespace fs

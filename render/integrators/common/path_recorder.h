@@ -18,6 +18,7 @@ enum class PathTerm : int {
   TableHit,       ///< the first-shot term of the lit patch a vertex lies on (the patch met as an emitter)
   PatchNee,       ///< patch NEE: a point of a lit patch sampled as an emitter of its first-shot radiance
   Environment,    ///< the infinite light (a sky or an environment map): met by an escaping ray or by NEE
+  ExitHit,        ///< a luminaire's exit light, met where a BSDF-sampled segment enters its box
   Count
 };
 
@@ -31,6 +32,7 @@ inline const char* pathTermName(PathTerm t) {
     case PathTerm::TableHit: return "table-hit";
     case PathTerm::PatchNee: return "patch-nee";
     case PathTerm::Environment: return "environment";
+    case PathTerm::ExitHit: return "exit-hit";
     case PathTerm::Count: break;
   }
   return "?";

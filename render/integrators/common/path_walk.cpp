@@ -23,7 +23,32 @@ void PathWalk::build(const RenderScene& scene, const FirstShotLighting& lighting
   options_ = options;
   scene_ = &scene;
   lighting_ = &lighting;
-  lights_.build(scene, lighting, options_.lightSampler, options_.patchNee != PatchNee::Off, options_.lightVisibility);
+  lights_.build(scene, lighting, options_.lightSampler, options_.patchNee != PatchNee::Off, options_.lightVisibility,
+                nullptr, false, options_.luminaires);
+}
+
+void PathWalk::enterLuminaires(const Ray& piece, float tEnd, const Color& beta, const PathVertex& prev,
+                               const LuminaireState& state, Color& L) const {
+  const LuminaireBoxes& boxes = scene_->luminaires();
+  LuminaireBoxes::Entry entries[LuminaireBoxes::kMaxEntries];
+  // A little past the hit: a hit on a box's face is inside it (Luminaire::contains), so its entry must be seen.
+  const float tmax = std::isinf(tEnd) ? tEnd : tEnd * (1.0f + 1e-5f) + 1e-6f;
+  const int n = boxes.entries(piece.o, piece.d, tmax, entries);
+  for (int i = 0; i < n; ++i) {
+    const LuminaireBoxes::Entry& e = entries[i];
+    if (e.t < piece.tmin) continue;  // an earlier piece's
+    if (prev.delta) continue;  // seen as it is: its lights count where the path meets them
+    const Luminaire& lum = boxes.items()[e.luminaire];
+    const Vec3 y = piece.o + e.t * piece.d;
+    const Vec3 w = -glm::normalize(piece.d);
+    const uint32_t k = lum.patchAt(e.face, y);
+    const Color Le = lum.radianceAt(k, w);
+    if (!(maxComponent(Le) > 0.0f)) continue;
+    const float pdf = nextEventExitPdf(lights_, prev.p, prev.n, prev.nee, boxes.exitFirst(e.luminaire) + k, y);
+    const Color c = beta * Le * (pdf > 0.0f ? powerHeuristic(prev.pdf, pdf) : 1.0f);
+    L += c;
+    if (PathRecorder* recorder = threadPathRecorder()) recorder->record(state.depth, PathTerm::ExitHit, PathVia::Direct, c);
+  }
 }
 
 float PathWalk::emissionWeight(const PathVertex& prev, const Hit& hit) const {
@@ -60,11 +85,30 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
   PathRecorder* const recorder = threadPathRecorder();
   bool pastNonDelta = false;
   PathVia via = PathVia::Direct;
+  // Luminaires (render/lights/luminaires.h): the box the path is in, and whether its light was counted on entry.
+  const bool useLuminaires = lights_.hasLuminaires();
+  const LuminaireBoxes& boxes = scene.luminaires();
+  LuminaireState lum;
+  if (useLuminaires) lum.inside = boxes.containing(ray.o);
 
   for (;; ++depth) {
     Hit hit;
     BSDF bsdf;
-    if (!nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf)) {  // a pane crossed is no bounce
+    bool found;
+    if (useLuminaires) {
+      lum.depth = depth;
+      found = nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf,
+                               [&](const Ray& piece, float tEnd, const Color& b) {
+                                 enterLuminaires(piece, tEnd, b, prev, lum, L);
+                               });
+      const int now = found ? boxes.containing(hit.p) : -1;
+      if (now < 0) lum.suppressed = false;
+      else if (now != lum.inside) lum.suppressed = !prev.delta;  // entered: counted there, unless seen as it is
+      lum.inside = now;
+    } else {
+      found = nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf);
+    }
+    if (!found) {  // a pane crossed is no bounce
       // The sky or environment map (through the panes crossed: beta has their T).
       const Color Le = beta * escaped(prev, ray.d);
       L += Le;
@@ -76,7 +120,11 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     // Emission of area lights met by the path.
     if (!hit.onPatch()) {
       const Color Le = scene.lights().emitted(hit, wo);
-      if (maxComponent(Le) > 0.0f) {
+      const bool counted =  // a luminaire's light, entered from a vertex that took its exit light
+          lum.suppressed &&
+          boxes.ofLight(uint32_t(&scene.lights().emitterLight(hit.emitter) - scene.lights().lights().data())) ==
+              lum.inside;
+      if (maxComponent(Le) > 0.0f && !counted) {
         const Color c = beta * Le * emissionWeight(prev, hit);
         L += c;
         if (recorder)
@@ -110,6 +158,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       }
       nee.kept = true;
       nee.replaced = !useTable;
+      nee.inner = useLuminaires && lum.inside >= 0 && !lum.suppressed;
+      nee.luminaire = lum.inside;
       nee.tableVisibility = haveTable && options_.tableVisibility;
       nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
                     (options_.patchNee == PatchNee::Every || !sampledPatches);

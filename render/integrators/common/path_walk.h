@@ -73,6 +73,17 @@ class PathWalk {
   /// Weight of emission met at @p hit (an area light or, for the first-shot term, a patch) by a
   /// segment from @p prev.
   float emissionWeight(const PathVertex& prev, const Hit& hit) const;
+  /// Where a path is with respect to the luminaires (render/lights/luminaires.h).
+  struct LuminaireState {
+    int inside = -1;          ///< the luminaire whose box holds the current vertex, or −1
+    bool suppressed = false;  ///< its light was counted where the path entered it: its lights emit nothing
+    int depth = 0;            ///< the vertex the segment ends at (for a report)
+  };
+  /// The exit light of each luminaire box that the segment piece @p piece (from its tmin to @p tEnd) enters, seen
+  /// from @p prev, the segment's first vertex: added to @p L times @p beta when @p prev is not delta, weighted
+  /// against NEE's choice of that exit point.
+  void enterLuminaires(const Ray& piece, float tEnd, const Color& beta, const PathVertex& prev, const LuminaireState& state,
+                       Color& L) const;
   /// Radiance of the scene's infinite light (LightSet::environment; 0 without one) met by a segment from @p prev
   /// that leaves the scene along @p dir, weighted against NEE's choice of that direction (power heuristic).
   Color escaped(const PathVertex& prev, const Vec3& dir) const;

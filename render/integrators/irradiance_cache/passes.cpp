@@ -106,7 +106,9 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
                      "the one-pass irradiance cache depends on the thread schedule and cannot be split over MPI ranks; "
                      "use the two-pass fill (the default)");
   firstShot_.build(scene);
-  continuation_.build(scene, firstShot_, options_);
+  IntegratorOptions walk = options_;
+  walk.luminaires = false;  // its direct lights are every light (luminaires' too), taken at the cached points
+  continuation_.build(scene, firstShot_, walk);
   if (!(settings_.patchNee >= 0.0f)) throw std::invalid_argument("irradiance cache: invalid settings");
 
   // Large area lights are gathered by the cache (§5); every other light is direct light.

@@ -11,7 +11,9 @@ namespace fs {
 
 void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   ShootingIntegrator::preprocess(scene);
-  fallback_.build(scene, lighting_, options_);
+  IntegratorOptions walk = options_;
+  walk.luminaires = false;  // the particles leave the luminaires' lights themselves
+  fallback_.build(scene, lighting_, walk);
   mirrors_ = false;
   for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
   polished_ = mayBePolished(scene);

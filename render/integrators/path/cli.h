@@ -10,7 +10,8 @@ namespace fs {
 struct PathCli : SharedOptionsCli<PathIntegrator> {
   PathCli()
       : SharedOptionsCli({integrator_option::kPrimary, integrator_option::kLightSampler, integrator_option::kPatchNee,
-                          integrator_option::kLightVisibility, integrator_option::kTableVisibility}) {}
+                          integrator_option::kLightVisibility, integrator_option::kTableVisibility,
+                          integrator_option::kLuminaires}) {}
 };
 
 }  // namespace fs

@@ -1,0 +1,45 @@
+#pragma once
+/// @file hidden_lights_scenes.h
+/// Scenes whose light hides (BDPT with a table, luminaires): a bulb in an open metal bowl, a filament in a clear
+/// glass envelope, in a small furnished room.
+#include <string>
+
+#include "common/scene_desc.h"
+#include "tests/test_util.h"
+
+namespace fs::test {
+
+/// A 2 m × 1.5 m × 2 m room with a table (32×24, max depth 6); @p materials and @p shapes add the lamp's (JSON members).
+inline SceneDesc hiddenLightsRoom(const std::string& materials, const std::string& shapes) {
+  return test::sceneFromJson(R"({"materials": {"wall": {"type": "diffuse", "albedo": 0.7},
+      "floor": {"type": "diffuse", "albedo": [0.5, 0.4, 0.3]}, "table": {"type": "diffuse", "albedo": [0.6, 0.6, 0.55]}, )" +
+                             materials + R"(},
+    "shapes": [{"type": "box", "material": "wall", "min": [0,0,0], "max": [2,1.5,2], "flip_normals": true},
+               {"type": "quad", "material": "floor", "vertices": [[0,0.001,0],[0,0.001,2],[2,0.001,2],[2,0.001,0]]},
+               {"type": "box", "material": "table", "min": [0.2,0,1.1], "max": [0.9,0.5,1.7]}, )" +
+                             shapes + R"(],
+    "camera": {"position": [1.9, 0.9, 1.9], "look_at": [0.6, 0.6, 0.5], "fov_y": 70, "resolution": [32, 24]},
+    "settings": {"patch_size": 0.4, "max_depth": 6}})");
+}
+
+/// A bulb (r = 3 cm) in an open metal bowl (pbr, roughness 0.5, 24 cm × 24 cm × 10 cm) at 0.9 m.
+inline SceneDesc bowlLamp() {
+  return hiddenLightsRoom(R"("bowl": {"type": "pbr", "base_color": [0.8, 0.75, 0.7], "metallic": 1, "roughness": 0.5},
+                 "bulb": {"type": "diffuse", "emission": 60})",
+              R"({"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,0.88],[1.52,0.9,0.88],[1.52,0.9,1.12],[1.28,0.9,1.12]]},
+                 {"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,0.88],[1.28,0.9,1.12],[1.28,1.0,1.12],[1.28,1.0,0.88]]},
+                 {"type": "quad", "material": "bowl", "vertices": [[1.52,0.9,0.88],[1.52,1.0,0.88],[1.52,1.0,1.12],[1.52,0.9,1.12]]},
+                 {"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,0.88],[1.28,1.0,0.88],[1.52,1.0,0.88],[1.52,0.9,0.88]]},
+                 {"type": "quad", "material": "bowl", "vertices": [[1.28,0.9,1.12],[1.52,0.9,1.12],[1.52,1.0,1.12],[1.28,1.0,1.12]]},
+                 {"type": "sphere", "material": "bulb", "center": [1.4, 0.94, 1.0], "radius": 0.03, "subdivisions": 2})");
+}
+
+/// A filament (r = 8 cm, so that the path tracer's BSDF samples find it) inside a clear glass envelope (r = 20 cm,
+/// ior 1.5) hanging at 1.1 m.
+inline SceneDesc glassBulb() {
+  return hiddenLightsRoom(R"("glass": {"type": "dielectric", "ior": 1.5}, "filament": {"type": "diffuse", "emission": 12})",
+              R"({"type": "sphere", "material": "glass", "center": [1.2, 1.1, 1.0], "radius": 0.2, "subdivisions": 3, "smooth": true},
+                 {"type": "sphere", "material": "filament", "center": [1.2, 1.1, 1.0], "radius": 0.08, "subdivisions": 2})");
+}
+
+}  // namespace fs::test
