@@ -64,13 +64,13 @@ ParticleScene::ParticleScene(const SceneDesc& scene) : impl_(std::make_unique<Im
 
 ParticleScene::~ParticleScene() = default;
 
-bool ParticleScene::intersect(const Vec3& o, const Vec3& d, float tfar, Hit& hit) const {
+bool ParticleScene::intersect(const Vec3& o, const Vec3& d, float tfar, Hit& hit, float tnear) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
   rh.ray.org_x = o.x, rh.ray.org_y = o.y, rh.ray.org_z = o.z;
   rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
-  rh.ray.tnear = 0.0f;
+  rh.ray.tnear = tnear;
   rh.ray.tfar = tfar;
   rh.ray.time = 0.0f, rh.ray.mask = 0xffffffffu, rh.ray.id = 0, rh.ray.flags = 0;
   rh.hit.geomID = rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
@@ -241,7 +241,9 @@ bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const s
     int face = 0;
     const float tExit = slabExit(box.lo, box.hi, p.origin, p.direction, face);
     ParticleScene::Hit hit;
-    if (!geometry.intersect(p.origin, p.direction, tExit, hit)) {
+    // A light that touches a surface (a point light on a wall) does not hit it where it starts.
+    const float tnear = bounce == 0 ? geometry.offset(p.origin) : 0.0f;
+    if (!geometry.intersect(p.origin, p.direction, tExit, hit, tnear)) {
       const int b = Luminaire::bin(face, p.direction);
       if (b < 0) return false;  // grazing the face it leaves by (a direction within it): no projected solid angle
       out.cell = uint32_t(Luminaire::kBins) * box.patchAt(face, p.origin + tExit * p.direction) + uint32_t(b);

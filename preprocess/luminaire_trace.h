@@ -40,9 +40,9 @@ class ParticleScene {
     Vec3 ng{0.0f};     ///< unit geometric normal of the face, on its front side (counter-clockwise winding)
     Vec3 lo{0.0f}, hi{0.0f};  ///< the bounds of the hit triangle, m
   };
-  /// The first face along the ray from @p o in the unit direction @p d with distance in (0, @p tfar) (m; infinity:
-  /// unbounded); false if there is none.
-  bool intersect(const Vec3& o, const Vec3& d, float tfar, Hit& hit) const;
+  /// The first face along the ray from @p o in the unit direction @p d with distance in (@p tnear, @p tfar) (m;
+  /// infinity: unbounded); false if there is none.
+  bool intersect(const Vec3& o, const Vec3& d, float tfar, Hit& hit, float tnear = 0.0f) const;
   /// How far a new ray starts off a surface at @p p, along its normal, so that it does not meet that surface again, m.
   float offset(const Vec3& p) const;
   /// The scene's bounds (SceneDesc::bounds), m.

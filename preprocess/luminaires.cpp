@@ -129,7 +129,10 @@ std::optional<BoxBuilder> probeLight(const SceneDesc& scene, const ParticleScene
     const double w = (double(p.weight.x) + p.weight.y + p.weight.z) / 3.0;
     total += w;
     ParticleScene::Hit hit;
-    if (!(w > 0) || !geometry.intersect(p.origin, p.direction, std::numeric_limits<float>::infinity(), hit)) continue;
+    // Not a surface the light touches (a point light on a wall): those hits are where the particle starts.
+    if (!(w > 0) || !geometry.intersect(p.origin, p.direction, std::numeric_limits<float>::infinity(), hit,
+                                        geometry.offset(p.origin)))
+      continue;
     if (scene.materials[size_t(hit.material)].type == MaterialType::Dielectric) {
       glass += w;
       glassBox.extend(Vec3d(hit.lo)), glassBox.extend(Vec3d(hit.hi));

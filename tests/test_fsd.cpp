@@ -294,8 +294,9 @@ TEST(FsdFile, TableWithoutGroupsHasNoGroupArrays) {
   const CsrrLayout l = csrrLayout(b, t.mesh.size());
   EXPECT_EQ(l.groups, 0u);
   EXPECT_EQ(l.singles, t.nonZeros());
-  // rowCount, then straight to the singles: 4 bytes per row and 8 per factor, then checksum and end marker.
-  EXPECT_EQ(b.size(), l.rowCount + 4 * t.mesh.size() + 8 * t.nonZeros() + 16);
+  // rowCount, then straight to the singles: 4 bytes per row and 8 per factor, then the empty LUMN section (tag,
+  // length, count 0), checksum and end marker.
+  EXPECT_EQ(b.size(), l.rowCount + 4 * t.mesh.size() + 8 * t.nonZeros() + 20 + 16);
 }
 
 namespace {
