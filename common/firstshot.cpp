@@ -21,7 +21,11 @@ constexpr char kEnd[8] = {'F', 'S', 'H', 'O', 'T', 'E', 'N', 'D'};
 /// tests, over the exposed part of a patch); version-1 tables carried the biases fixed then.
 /// 3: settings for adaptive patches and light tessellation; grouped factors (common/firstshot_groups.h).
 /// 4: packed patches (common/firstshot_patches.h).
-constexpr uint32_t kVersion = 4;
+/// 5: the luminaires' exit distributions (common/luminaire.h), section LUMN.
+constexpr uint32_t kVersion = 5;
+
+/// The most exit patches along one edge of a box face the reader accepts (the preprocessor makes at most 8).
+constexpr uint32_t kMaxExitCells = 64;
 
 /// Appends plain values to a byte buffer (little-endian host assumed, checked at compile time).
 class Out {
@@ -91,6 +95,8 @@ class In {
     need(len, tag);
     return p_ + len;
   }
+  /// Bytes left before the end of the data.
+  uint64_t remaining() const { return uint64_t(end_ - p_); }
   void leave(const char* sectionEnd, const char* tag) {
     if (p_ != sectionEnd) fail(tag, "section length does not match its contents (corrupt file)");
   }
@@ -104,6 +110,49 @@ class In {
   const char* p_;
   const char* end_;
 };
+
+/// The LUMN section: every luminaire, checked (counts, sizes, finite non-negative values, lights ascending and
+/// not replaced by factors).
+void readLuminaires(In& in, FirstShotTable& t) {
+  const char* e = in.section("LUMN");
+  const uint64_t count = in.get<uint64_t>("LUMN");
+  // The smallest luminaire takes 4 + 24 + 8 + 48 + 8 + 28 + 8 bytes and its radiance (6 patches at least).
+  if (count > in.remaining() / 128) in.fail("LUMN", "truncated or corrupt: fewer luminaires than counted");
+  t.luminaires.resize(count);
+  auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  auto finiteNonNegative = [&](const Color& c) { return finite(c) && c.x >= 0.0f && c.y >= 0.0f && c.z >= 0.0f; };
+  for (size_t i = 0; i < count; ++i) {
+    Luminaire& l = t.luminaires[i];
+    const std::string which = "luminaire " + std::to_string(i);
+    l.name = in.str("LUMN");
+    l.lo = in.get<Vec3>("LUMN"), l.hi = in.get<Vec3>("LUMN");
+    if (!finite(l.lo) || !finite(l.hi) || !(l.lo.x <= l.hi.x && l.lo.y <= l.hi.y && l.lo.z <= l.hi.z))
+      in.fail("LUMN", which + ": invalid box (corrupt file)");
+    in.array(l.lights, in.get<uint64_t>("LUMN"), "LUMN");
+    if (l.lights.empty()) in.fail("LUMN", which + ": no lights (corrupt file)");
+    for (size_t k = 0; k < l.lights.size(); ++k) {
+      if (k > 0 && !(l.lights[k] > l.lights[k - 1])) in.fail("LUMN", which + ": lights not ascending (corrupt file)");
+      if (t.replaces(l.lights[k])) in.fail("LUMN", which + ": a light that the factors also replace (corrupt file)");
+    }
+    l.nu = in.get<std::array<uint32_t, 6>>("LUMN"), l.nv = in.get<std::array<uint32_t, 6>>("LUMN");
+    for (int f = 0; f < 6; ++f)
+      if (l.nu[size_t(f)] < 1 || l.nu[size_t(f)] > kMaxExitCells || l.nv[size_t(f)] < 1 || l.nv[size_t(f)] > kMaxExitCells)
+        in.fail("LUMN", which + ": exit patches per face edge outside 1.." + std::to_string(kMaxExitCells) + " (corrupt file)");
+    l.particles = in.get<uint64_t>("LUMN");
+    l.power = in.get<Color>("LUMN"), l.exitPower = in.get<Color>("LUMN"), l.relError = in.get<float>("LUMN");
+    if (!finiteNonNegative(l.power) || !finiteNonNegative(l.exitPower) || !std::isfinite(l.relError) ||
+        !(l.relError >= 0.0f))
+      in.fail("LUMN", which + ": invalid power or error (corrupt file)");
+    const uint64_t n = in.get<uint64_t>("LUMN");
+    if (n != 3 * uint64_t(Luminaire::kBins) * l.patchCount())
+      in.fail("LUMN", which + ": radiance of " + std::to_string(n) + " values, its exit patches need " +
+                          std::to_string(3 * uint64_t(Luminaire::kBins) * l.patchCount()) + " (corrupt file)");
+    in.array(l.radiance, n, "LUMN");
+    for (float v : l.radiance)
+      if (!(v >= 0.0f) || !std::isfinite(v)) in.fail("LUMN", which + ": a radiance negative or not finite (corrupt file)");
+  }
+  in.leave(e, "LUMN");
+}
 
 }  // namespace
 
@@ -200,6 +249,22 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
   o.array(g.singleFactor);
   o.array(g.groupLight);
   o.array(g.groupVisible);
+  o.end(s);
+  s = o.begin("LUMN");
+  o.put<uint64_t>(t.luminaires.size());
+  for (const Luminaire& l : t.luminaires) {
+    if (l.radiance.size() != 3 * size_t(Luminaire::kBins) * l.patchCount())
+      throw std::runtime_error(path + ": luminaire \"" + l.name + "\": radiance of the wrong size (internal error)");
+    o.str(l.name);
+    o.put(l.lo), o.put(l.hi);
+    o.put<uint64_t>(l.lights.size());
+    o.array(l.lights);
+    o.put(l.nu), o.put(l.nv);
+    o.put(l.particles);
+    o.put(l.power), o.put(l.exitPower), o.put(l.relError);
+    o.put<uint64_t>(l.radiance.size());
+    o.array(l.radiance);
+  }
   o.end(s);
   o.put(Hasher().bytes(o.buf.data(), o.buf.size()).value());
   o.buf.insert(o.buf.end(), kEnd, kEnd + 8);
@@ -311,6 +376,7 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
   in.array(g.groupVisible, groups, "CSRR");
   in.leave(e, "CSRR");
   expandFactors(g, nnz, t, [&](const std::string& msg) { in.fail("CSRR", msg); });
+  readLuminaires(in, t);
   return t;
 }
 

@@ -179,6 +179,7 @@ void validateScene(SceneDesc& scene) {
       l.type = LightType::Area;
       l.shape = static_cast<int>(i);
       l.small = s.small;
+      l.luminaire = s.luminaire;  // an emitter of a luminaire is one of its lights
       scene.lights.push_back(l);
     }
   }
@@ -240,6 +241,7 @@ uint64_t hashScene(const SceneDesc& scene) {
                          scene.materials[size_t(s.material)].emissionTexture;  // issue 34: emission per point
     if (glowing && s.hasUv()) h.add(uint8_t(7)).bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
     if (s.hasNormals()) h.add(uint8_t(4)).bytes(s.normals.data(), s.normals.size() * sizeof(Vec3));
+    if (!s.luminaire.empty()) h.add(uint8_t(8)).add(std::string_view(s.luminaire));  // unnamed shapes as before
     if (mapped && s.hasTangents())  // glTF TANGENT: only what a normal map reads (other shapes hash as before)
       h.add(uint8_t(5)).bytes(s.tangents.data(), s.tangents.size() * sizeof(Vec3))
           .bytes(s.bitangents.data(), s.bitangents.size() * sizeof(Vec3));
@@ -248,6 +250,7 @@ uint64_t hashScene(const SceneDesc& scene) {
   for (const auto& l : scene.lights) {
     h.add(l.type).add(l.position).add(l.direction).add(l.power).add(l.irradiance);
     h.add(l.innerAngleDeg).add(l.outerAngleDeg).add(l.shape).add(l.small);
+    if (!l.luminaire.empty()) h.add(uint8_t(9)).add(std::string_view(l.luminaire));  // unnamed lights as before
     if (l.ies) {  // the table itself (not its file name)
       h.add(int(l.ies->type)).add(l.iesReference).add<uint64_t>(l.ies->candela.size());
       h.bytes(l.ies->vertical.data(), l.ies->vertical.size() * sizeof(double));

@@ -94,6 +94,10 @@ struct LightDesc {
   Vec3d iesReference{0.0};   ///< IES: C0 half-plane (type C) or up (types A, B); zero: the default
   int shape = -1;            ///< area: index into SceneDesc::shapes
   SmallOverride small = SmallOverride::Auto;
+  /// The luminaire it belongs to (the scene's "luminaire" key; common/luminaire.h): lights and shapes of one name form
+  /// one luminaire, whose box bounds them. Empty: none named (the preprocessor may still detect one). An area light
+  /// takes its shape's. Never set on a directional light.
+  std::string luminaire;
 };
 
 enum class ShapeType : uint8_t { Quad, Box, Sphere, Mesh };
@@ -133,6 +137,9 @@ struct ShapeDesc {
   std::vector<Vec3> tangents, bitangents;
   bool hasTangents() const { return !tangents.empty(); }
   SmallOverride small = SmallOverride::Auto;  ///< for emissive shapes
+  /// The luminaire the shape belongs to (the scene's "luminaire" key): its bounds are part of that luminaire's box
+  /// (a bowl, a shade, a glass envelope, or the emitter itself). Empty: none.
+  std::string luminaire;
 
   bool hasUv() const { return !uv.empty(); }
   /// The texture coordinates of corner @p k of faces[@p f] (hasUv() must hold).

@@ -228,11 +228,19 @@ void parseAlpha(const Reader& r, const Json& j, const std::string& where, Textur
 
 // -------------------------------------------------------------------------------------------------------------
 
+/// A "luminaire" key's value: the name of the luminaire a shape or light belongs to (a non-empty string).
+std::string luminaireName(const Reader& r, const Json& j, const std::string& where) {
+  std::string name = r.string(j, where);
+  if (name.empty()) r.fail(where, "the luminaire's name is empty");
+  return name;
+}
+
 ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, const SceneDesc& scene) {
   ShapeDesc s;
   s.name = where;
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
-  std::initializer_list<const char*> common = {"type", "name", "material", "transform", "small", "flip_normals"};
+  std::initializer_list<const char*> common = {"type", "name", "material", "transform", "small", "flip_normals",
+                                               "luminaire"};
   std::vector<const char*> allowed(common);
   auto allow = [&](std::initializer_list<const char*> extra) {
     allowed.insert(allowed.end(), extra);
@@ -248,6 +256,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
   s.material = scene.findMaterial(mat);
   if (s.material < 0) r.fail(where + ".material", "unknown material \"" + mat + "\"");
   if (j.contains("small")) s.small = r.small(j["small"], where + ".small");
+  if (j.contains("luminaire")) s.luminaire = luminaireName(r, j["luminaire"], where + ".luminaire");
 
   if (type == "quad") {
     allow({"vertices"});
@@ -299,7 +308,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
 /// lights and cameras are not used (the JSON scene places its own).
 void appendAssetShapes(const Reader& r, const Json& j, const std::string& where, SceneDesc& scene) {
   for (auto it = j.begin(); it != j.end(); ++it) {
-    static const std::set<std::string> allowed = {"type", "name", "file", "transform", "small", "flip_normals"};
+    static const std::set<std::string> allowed = {"type", "name", "file", "transform", "small", "flip_normals", "luminaire"};
     if (!allowed.count(it.key())) r.fail(where, "unknown key \"" + it.key() + "\" for a mesh shape");
   }
   std::string name = where;
@@ -316,10 +325,12 @@ void appendAssetShapes(const Reader& r, const Json& j, const std::string& where,
       j.contains("transform") ? std::optional(parseTransform(r, j["transform"], where + ".transform")) : std::nullopt;
   const bool flip = j.contains("flip_normals") && r.boolean(j["flip_normals"], where + ".flip_normals");
   const SmallOverride small = j.contains("small") ? r.small(j["small"], where + ".small") : SmallOverride::Auto;
+  const std::string luminaire = j.contains("luminaire") ? luminaireName(r, j["luminaire"], where + ".luminaire") : "";
   for (ShapeDesc& s : asset.shapes) {
     s.name = name + ": " + s.name;
     s.material += offset;
     s.small = small;
+    s.luminaire = luminaire;
     if (m) shapes::transform(s, *m);
     if (flip) shapes::flip(s);
     scene.shapes.push_back(std::move(s));
@@ -359,17 +370,17 @@ LightDesc parseLight(const Reader& r, const Json& j, const std::string& where) {
   l.name = where;
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
   if (type == "point") {
-    r.keys(j, where, {"type", "name", "small", "position", "power", "lumens", "candela", "color"});
+    r.keys(j, where, {"type", "name", "small", "luminaire", "position", "power", "lumens", "candela", "color"});
     l.type = LightType::Point;
   } else if (type == "spot") {
-    r.keys(j, where, {"type", "name", "small", "position", "power", "lumens", "candela", "color", "direction",
+    r.keys(j, where, {"type", "name", "small", "luminaire", "position", "power", "lumens", "candela", "color", "direction",
                       "inner_angle", "outer_angle"});
     l.type = LightType::Spot;
     l.direction = r.vec3(r.need(j, where, "direction"), where + ".direction");
     if (j.contains("inner_angle")) l.innerAngleDeg = r.positive(j["inner_angle"], where + ".inner_angle");
     if (j.contains("outer_angle")) l.outerAngleDeg = r.positive(j["outer_angle"], where + ".outer_angle");
   } else if (type == "ies") {
-    r.keys(j, where, {"type", "name", "small", "position", "power", "lumens", "color", "direction", "file", "ies_reference"});
+    r.keys(j, where, {"type", "name", "small", "luminaire", "position", "power", "lumens", "color", "direction", "file", "ies_reference"});
     l.type = LightType::Spot;  // a spot whose profile is the table (LightDesc::ies)
     if (j.contains("direction")) l.direction = r.vec3(j["direction"], where + ".direction");
     if (j.contains("ies_reference")) {
@@ -381,7 +392,7 @@ LightDesc parseLight(const Reader& r, const Json& j, const std::string& where) {
     if (!std::filesystem::is_regular_file(p)) r.fail(where + ".file", "cannot open the IES file \"" + p.string() + "\"");
     l.ies = loadIes(p.string());
   } else if (type == "directional") {
-    r.keys(j, where, {"type", "name", "small", "direction", "irradiance"});
+    r.keys(j, where, {"type", "name", "small", "direction", "irradiance", "luminaire"});
     l.type = LightType::Directional;
     l.direction = r.vec3(r.need(j, where, "direction"), where + ".direction");
     l.irradiance = r.color(r.need(j, where, "irradiance"), where + ".irradiance");
@@ -394,6 +405,11 @@ LightDesc parseLight(const Reader& r, const Json& j, const std::string& where) {
     parseLightUnits(r, j, where, l);
   }
   if (j.contains("small")) l.small = r.small(j["small"], where + ".small");
+  if (j.contains("luminaire")) {
+    if (l.type == LightType::Directional)
+      r.fail(where + ".luminaire", "a directional light cannot be part of a luminaire (it has no position)");
+    l.luminaire = luminaireName(r, j["luminaire"], where + ".luminaire");
+  }
   return l;
 }
 

@@ -91,6 +91,12 @@ int main(int argc, char** argv) {
     app.add_option("--time", timeLimit, "give up (writing nothing) after this many seconds")->check(CLI::NonNegativeNumber);
     app.add_option("--estimator", cli.estimator, "analytic: closed form times the visible fraction (default) | pixels: plain pixel sums")
         ->check(CLI::IsMember({"analytic", "pixels"}));
+    std::string luminaires = "auto";
+    uint64_t luminaireParticles = fs::LuminaireOptions().particles;
+    app.add_option("--luminaires", luminaires, "luminaires (lights and what surrounds them, traced once to their box's exit surfaces): auto (the scene's named ones and those detected: lights mostly inside glass or close to what they light; default) | named (only the scene's \"luminaire\" names) | off")
+        ->check(CLI::IsMember({"auto", "named", "off"}));
+    app.add_option("--luminaire-particles", luminaireParticles, "particles traced per luminaire (default 2097152)")
+        ->check(CLI::Range(uint64_t(1), uint64_t(1) << 40));
     app.add_option("--dump-csv", dump, "print one CSV row per non-zero factor of an .fsd file and exit");
     app.add_flag("--stats", stats, "load the scene, build the patches, print their statistics and exit");
     app.add_flag("-q,--quiet", quiet, "no progress bar");
@@ -111,6 +117,7 @@ int main(int argc, char** argv) {
     o.gl = gl, o.threads = threads, o.quiet = quiet || !comm.root(), o.timeLimit = timeLimit;
     o.comm = &comm;
     o.glReduce = glReduce;
+    o.luminaires.mode = luminaires, o.luminaires.particles = luminaireParticles;
     if (stats) {
       if (comm.root()) printStats(scene, scenePath, o.settings.patchSize, !cli.patchSize && !(scene.settings.patchSize > 0));
       return 0;
@@ -127,6 +134,8 @@ int main(int argc, char** argv) {
       fs::writeFirstShot(out, table);
     }
     if (fs::profile::enabled()) fs::profile::report(stderr);
+    for (size_t i = 0; i < table.luminaires.size(); ++i)
+      fmt::print("{}\n", fs::luminaireSummary(table.luminaires[i], i < st.luminaireSeconds.size() ? st.luminaireSeconds[i] : 0.0));
     const std::string ranks = comm.size() == 1 ? std::string()
                                                : fmt::format("; {} ranks, rank 0 sent {:.2f} MB in {:.2f} s of exchanges", comm.size(),
                                                              st.bytesSent / 1e6, st.exchangeSeconds);

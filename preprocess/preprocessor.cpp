@@ -383,6 +383,13 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   t.sceneHash = hashScene(scene);
   t.settings = options.settings;
   t.replacedLights = smallLights(scene, options.settings.smallLightMaxSolidAngle);
+  // Luminaires first: their lights are sampled through their exit patches, so they get no light samples here.
+  LuminaireOptions lumOptions = options.luminaires;
+  lumOptions.quiet = options.quiet;
+  std::vector<double> luminaireSeconds;
+  t.luminaires = makeLuminaires(scene, t.replacedLights, lumOptions, &luminaireSeconds);
+  for (const Luminaire& lum : t.luminaires)
+    std::erase_if(t.replacedLights, [&](uint32_t l) { return std::binary_search(lum.lights.begin(), lum.lights.end(), l); });
   t.samples = makeLightSamples(scene, t.replacedLights, options.settings.lightPatchSize,
                                options.settings.lightTolerance, options.quiet);
   const int R = static_cast<int>(options.settings.resolution);
@@ -527,11 +534,14 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
     stats->patches = n;
     stats->nonZeros = t.factor.size();
     stats->smallLights = t.replacedLights.size();
-    stats->largeLights = scene.lights.size() - t.replacedLights.size();
+    size_t inLuminaires = 0;
+    for (const Luminaire& lum : t.luminaires) inLuminaires += lum.lights.size();
+    stats->largeLights = scene.lights.size() - t.replacedLights.size() - inLuminaires;
     stats->seconds = timer.elapsed();
     stats->renderer = rendererName.empty() ? options.settings.backend : rendererName;
     stats->exchangeSeconds = shooter.exchangeSeconds;
     stats->bytesSent = shooter.bytesSent;
+    stats->luminaireSeconds = luminaireSeconds;
   }
   return t;
 }

@@ -5,10 +5,12 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/comm.h"
 #include "common/firstshot.h"
 #include "common/scene_desc.h"
+#include "preprocess/luminaires.h"
 
 namespace fs {
 
@@ -53,6 +55,10 @@ struct PreprocessOptions {
   /// GL back end: where the item buffers are reduced (issue 36, preprocess/gl_reduce.h): "cpu" (read back),
   /// "gpu" (compute shaders), "auto" (gpu unless GL_RENDERER is a software rasteriser: llvmpipe, softpipe).
   std::string glReduce = "auto";
+  /// Luminaires (preprocess/luminaires.h): how they are found and how many particles each gets. Their lights leave
+  /// the replaced lights (no light samples, no factors) and the table carries their exit distributions. Its quiet
+  /// flag is replaced by the one above.
+  LuminaireOptions luminaires;
 };
 
 struct PreprocessStats {
@@ -62,6 +68,7 @@ struct PreprocessStats {
   double exchangeSeconds = 0;     ///< of them, spent exchanging factors between ranks
   uint64_t bytesSent = 0;         ///< factor bytes this rank sent to the others
   std::string renderer;           ///< e.g. "gl/osmesa (llvmpipe ...)" or "embree"
+  std::vector<double> luminaireSeconds;  ///< per luminaire of the table, the time its exit distribution took
 };
 
 /// Options at the scene's settings: resolveSettings(scene) and the defaults of the rest (the library's

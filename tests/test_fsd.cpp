@@ -135,7 +135,7 @@ TEST(FsdFile, WrongVersion) {
   b[8] = 1;  // a table from before the exposed-part factors: refused, with what to do
   writeBytes(dir + "/old.fsd", b);
   EXPECT_THAT(readError(dir + "/old.fsd"),
-              HasSubstr("format version 1, this build reads version 4: run firstshot-preprocess again"));
+              HasSubstr("format version 1, this build reads version 5: run firstshot-preprocess again"));
 }
 
 TEST(FsdFile, Truncated) {
@@ -294,8 +294,9 @@ TEST(FsdFile, TableWithoutGroupsHasNoGroupArrays) {
   const CsrrLayout l = csrrLayout(b, t.mesh.size());
   EXPECT_EQ(l.groups, 0u);
   EXPECT_EQ(l.singles, t.nonZeros());
-  // rowCount, then straight to the singles: 4 bytes per row and 8 per factor, then checksum and end marker.
-  EXPECT_EQ(b.size(), l.rowCount + 4 * t.mesh.size() + 8 * t.nonZeros() + 16);
+  // rowCount, then straight to the singles: 4 bytes per row and 8 per factor, then the empty LUMN section (tag,
+  // length, count 0), checksum and end marker.
+  EXPECT_EQ(b.size(), l.rowCount + 4 * t.mesh.size() + 8 * t.nonZeros() + 20 + 16);
 }
 
 namespace {

@@ -1,0 +1,237 @@
+// Which small lights form luminaires, their boxes and exit patches, and their traced exit distributions (luminaires.h).
+#include "preprocess/luminaires.h"
+
+#include <fmt/core.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <optional>
+
+#include "common/progress.h"
+#include "common/rng.h"
+#include "preprocess/luminaire_trace.h"
+
+namespace fs {
+namespace {
+
+/// An axis-aligned box being built up; empty until extended.
+struct BoxBuilder {
+  Vec3d lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
+  bool empty() const { return !(lo.x <= hi.x); }
+  void extend(const Vec3d& p) { lo = glm::min(lo, p), hi = glm::max(hi, p); }
+  void extend(const BoxBuilder& b) {
+    if (!b.empty()) extend(b.lo), extend(b.hi);
+  }
+};
+
+/// The bounds of light @p l: its position, or its emissive shape's vertices.
+BoxBuilder lightBounds(const SceneDesc& scene, uint32_t l) {
+  const LightDesc& light = scene.lights[l];
+  BoxBuilder b;
+  if (light.type == LightType::Area) {
+    for (const Vec3d& v : scene.shapes[size_t(light.shape)].vertices) b.extend(v);
+  } else {
+    b.extend(light.position);
+  }
+  return b;
+}
+
+/// A luminaire of box @p b grown by the margin (1e-3 of its diagonal + 1e-5 of the scene's, @p sceneDiagonal).
+Luminaire boxed(std::string name, std::vector<uint32_t> lights, const BoxBuilder& b, double sceneDiagonal) {
+  const double margin = 1e-3 * glm::length(b.hi - b.lo) + 1e-5 * sceneDiagonal;
+  Luminaire lum;
+  lum.name = std::move(name);
+  lum.lights = std::move(lights);
+  std::sort(lum.lights.begin(), lum.lights.end());
+  lum.lo = Vec3(b.lo - Vec3d(margin));
+  lum.hi = Vec3(b.hi + Vec3d(margin));
+  return lum;
+}
+
+bool overlap(const Luminaire& a, const Luminaire& b) {
+  for (int k = 0; k < 3; ++k)
+    if (a.hi[k] < b.lo[k] || b.hi[k] < a.lo[k]) return false;
+  return true;
+}
+
+/// Luminaires whose boxes overlap, merged (box union, lights joined, the first one's name) until none do.
+void mergeOverlapping(std::vector<Luminaire>& lums) {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (size_t i = 0; i < lums.size() && !merged; ++i)
+      for (size_t j = i + 1; j < lums.size() && !merged; ++j) {
+        if (!overlap(lums[i], lums[j])) continue;
+        Luminaire& a = lums[i];
+        a.lo = glm::min(a.lo, lums[j].lo), a.hi = glm::max(a.hi, lums[j].hi);
+        a.lights.insert(a.lights.end(), lums[j].lights.begin(), lums[j].lights.end());
+        std::sort(a.lights.begin(), a.lights.end());
+        a.lights.erase(std::unique(a.lights.begin(), a.lights.end()), a.lights.end());
+        lums.erase(lums.begin() + long(j));
+        merged = true;
+      }
+  }
+}
+
+/// The named luminaires: every shape and light of one name, in the order the names first appear.
+std::vector<Luminaire> namedLuminaires(const SceneDesc& scene, const std::vector<uint32_t>& smallLights,
+                                       double sceneDiagonal, bool quiet) {
+  std::vector<std::string> names;
+  auto note = [&](const std::string& n) {
+    if (!n.empty() && std::find(names.begin(), names.end(), n) == names.end()) names.push_back(n);
+  };
+  for (const ShapeDesc& s : scene.shapes) note(s.luminaire);
+  for (const LightDesc& l : scene.lights) note(l.luminaire);
+  std::vector<Luminaire> out;
+  for (const std::string& name : names) {
+    BoxBuilder b;
+    std::vector<uint32_t> lights;
+    for (const ShapeDesc& s : scene.shapes)
+      if (s.luminaire == name)
+        for (const Vec3d& v : s.vertices) b.extend(v);
+    for (uint32_t l = 0; l < scene.lights.size(); ++l) {
+      const LightDesc& light = scene.lights[l];
+      if (light.luminaire != name || light.type == LightType::Directional) continue;
+      b.extend(lightBounds(scene, l));
+      if (std::binary_search(smallLights.begin(), smallLights.end(), l))
+        lights.push_back(l);
+      else if (!quiet)
+        std::fprintf(stderr, "%s: luminaire \"%s\": %s is a large light, left to the renderer\n", scene.file.c_str(),
+                     name.c_str(), light.name.c_str());
+    }
+    if (lights.empty()) {
+      if (!quiet)
+        std::fprintf(stderr, "%s: luminaire \"%s\" has no small light: none made\n", scene.file.c_str(), name.c_str());
+      continue;
+    }
+    out.push_back(boxed(name, std::move(lights), b, sceneDiagonal));
+  }
+  return out;
+}
+
+/// The rule of luminaires.h for one light: its luminaire's box before the margin, or nothing.
+std::optional<BoxBuilder> probeLight(const SceneDesc& scene, const ParticleScene& geometry, uint32_t l, uint64_t seed,
+                              double sceneDiagonal) {
+  const ParticleSource source(scene, {l}, geometry);
+  if (!(maxComponent(source.power()) > 0.0f)) return std::nullopt;
+  const BoxBuilder own = lightBounds(scene, l);
+  const Vec3d centre = 0.5 * (own.lo + own.hi);
+  const double radius = kNearRadius * sceneDiagonal;
+  Sampler sampler(seed, kProbeStream, l);
+  double total = 0, glass = 0, near = 0;
+  BoxBuilder glassBox, nearBox;
+  for (int i = 0; i < kProbeParticles; ++i) {
+    const EmittedParticle p = source.sample(sampler);
+    const double w = (double(p.weight.x) + p.weight.y + p.weight.z) / 3.0;
+    total += w;
+    ParticleScene::Hit hit;
+    // Not a surface the light touches (a point light on a wall): those hits are where the particle starts.
+    if (!(w > 0) || !geometry.intersect(p.origin, p.direction, std::numeric_limits<float>::infinity(), hit,
+                                        geometry.offset(p.origin)))
+      continue;
+    if (scene.materials[size_t(hit.material)].type == MaterialType::Dielectric) {
+      glass += w;
+      glassBox.extend(Vec3d(hit.lo)), glassBox.extend(Vec3d(hit.hi));
+    }
+    const Vec3d x = Vec3d(p.origin) + double(hit.t) * Vec3d(p.direction);
+    if (glm::length(x - centre) <= radius) {
+      near += w;
+      nearBox.extend(x);
+    }
+  }
+  if (!(total > 0)) return std::nullopt;
+  BoxBuilder b = own;
+  if (glass >= kGlassShare * total) {
+    b.extend(glassBox);
+    return b;
+  }
+  if (near >= kNearShare * total) {
+    b.extend(nearBox);
+    return b;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+void setExitPatches(Luminaire& lum) {
+  const Vec3 e = lum.hi - lum.lo;
+  const float s = std::max({e.x, e.y, e.z}) / 8.0f;
+  auto cells = [&](float extent) { return uint32_t(std::clamp(s > 0.0f ? std::lround(extent / s) : 1L, 1L, 8L)); };
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    lum.nu[size_t(f)] = cells(e[(a + 1) % 3]);
+    lum.nv[size_t(f)] = cells(e[(a + 2) % 3]);
+  }
+}
+
+std::vector<Luminaire> findLuminaires(const SceneDesc& scene, const std::vector<uint32_t>& smallLights,
+                                      const LuminaireOptions& options, const ParticleScene* geometry) {
+  if (options.mode == "off") return {};
+  Vec3d lo, hi;
+  scene.bounds(lo, hi);
+  const double diagonal = glm::length(hi - lo);
+  std::vector<Luminaire> lums = namedLuminaires(scene, smallLights, diagonal, options.quiet);
+  if (options.mode == "auto") {
+    std::vector<uint32_t> candidates;
+    for (uint32_t l : smallLights) {
+      bool taken = scene.lights[l].type == LightType::Directional;
+      for (const Luminaire& n : lums) taken = taken || std::binary_search(n.lights.begin(), n.lights.end(), l);
+      if (!taken) candidates.push_back(l);
+    }
+    if (!candidates.empty()) {
+      std::unique_ptr<ParticleScene> own;
+      if (!geometry) own = std::make_unique<ParticleScene>(scene), geometry = own.get();
+      std::vector<std::optional<BoxBuilder>> found(candidates.size());
+      tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
+        found[i] = probeLight(scene, *geometry, candidates[i], options.seed, diagonal);
+      });
+      for (size_t i = 0; i < candidates.size(); ++i)
+        if (found[i])
+          lums.push_back(boxed("auto:" + scene.lights[candidates[i]].name, {candidates[i]}, *found[i], diagonal));
+    }
+  } else if (options.mode != "named") {
+    throw std::invalid_argument("unknown luminaire mode \"" + options.mode + "\" (auto, named, off)");
+  }
+  mergeOverlapping(lums);
+  for (Luminaire& lum : lums) setExitPatches(lum);
+  return lums;
+}
+
+std::vector<Luminaire> makeLuminaires(const SceneDesc& scene, const std::vector<uint32_t>& smallLights,
+                                      const LuminaireOptions& options, std::vector<double>* seconds) {
+  if (options.mode == "off") return {};
+  // The BVH only when some light could be in a luminaire.
+  bool any = false;
+  for (uint32_t l : smallLights) any = any || scene.lights[l].type != LightType::Directional;
+  if (!any) return {};
+  const ParticleScene geometry(scene);
+  std::vector<Luminaire> lums = findLuminaires(scene, smallLights, options, &geometry);
+  if (seconds) seconds->clear();
+  for (size_t i = 0; i < lums.size(); ++i) {
+    const auto start = std::chrono::steady_clock::now();
+    {
+      Progress progress("luminaire " + lums[i].name, (options.particles + kLuminaireChunk - 1) / kLuminaireChunk,
+                        options.quiet);
+      traceExitDistribution(scene, geometry, lums[i], uint32_t(i), options.particles, options.seed, &progress);
+      progress.finish();
+    }
+    if (seconds) seconds->push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
+  return lums;
+}
+
+std::string luminaireSummary(const Luminaire& lum, double seconds) {
+  const Vec3 e = lum.hi - lum.lo;
+  const double ratio = luminance(lum.power) > 0 ? double(luminance(lum.exitPower) / luminance(lum.power)) : 0.0;
+  return fmt::format("luminaire {}: {} light{}, box {:.4g} × {:.4g} × {:.4g} m, {} exit patches, {} particles, "
+                     "exit/emitted power {:.4f}, relative error {:.2e}, {:.2f} s",
+                     lum.name, lum.lights.size(), lum.lights.size() == 1 ? "" : "s", e.x, e.y, e.z, lum.patchCount(),
+                     lum.particles, ratio, lum.relError, seconds);
+}
+
+}  // namespace fs
