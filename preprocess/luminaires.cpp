@@ -14,6 +14,7 @@
 
 #include "common/progress.h"
 #include "common/rng.h"
+#include "common/sampling.h"
 #include "preprocess/luminaire_trace.h"
 
 namespace fs {
@@ -60,19 +61,28 @@ bool overlap(const Luminaire& a, const Luminaire& b) {
 }
 
 /// Luminaires whose boxes overlap, merged (box union, lights joined, the first one's name) until none do.
-void mergeOverlapping(std::vector<Luminaire>& lums) {
-  for (bool merged = true; merged;) {
-    merged = false;
-    for (size_t i = 0; i < lums.size() && !merged; ++i)
-      for (size_t j = i + 1; j < lums.size() && !merged; ++j) {
+void mergeOverlapping(std::vector<Luminaire>& lums, double maxDiagonal) {
+  auto named = [](const Luminaire& l) { return l.name.rfind("auto:", 0) != 0; };
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (size_t i = 0; i < lums.size() && !changed; ++i)
+      for (size_t j = i + 1; j < lums.size() && !changed; ++j) {
         if (!overlap(lums[i], lums[j])) continue;
+        changed = true;
         Luminaire& a = lums[i];
-        a.lo = glm::min(a.lo, lums[j].lo), a.hi = glm::max(a.hi, lums[j].hi);
+        const Vec3 lo = glm::min(a.lo, lums[j].lo), hi = glm::max(a.hi, lums[j].hi);
+        if (glm::length(hi - lo) > maxDiagonal && !(named(a) && named(lums[j]))) {
+          // A chain of lamps whose boxes touch (desk lamps on adjacent desks) would become one room-sized box: the
+          // detected ones among them stay ordinary small lights.
+          if (!named(lums[j])) lums.erase(lums.begin() + long(j));
+          if (!named(a)) lums.erase(lums.begin() + long(i));
+          continue;
+        }
+        a.lo = lo, a.hi = hi;
         a.lights.insert(a.lights.end(), lums[j].lights.begin(), lums[j].lights.end());
         std::sort(a.lights.begin(), a.lights.end());
         a.lights.erase(std::unique(a.lights.begin(), a.lights.end()), a.lights.end());
         lums.erase(lums.begin() + long(j));
-        merged = true;
       }
   }
 }
@@ -115,17 +125,23 @@ std::vector<Luminaire> namedLuminaires(const SceneDesc& scene, const std::vector
 
 /// The rule of luminaires.h for one light: its luminaire's box before the margin, or nothing.
 std::optional<BoxBuilder> probeLight(const SceneDesc& scene, const ParticleScene& geometry, uint32_t l, uint64_t seed,
-                              double sceneDiagonal) {
+                                     double sceneDiagonal) {
   const ParticleSource source(scene, {l}, geometry);
   if (!(maxComponent(source.power()) > 0.0f)) return std::nullopt;
   const BoxBuilder own = lightBounds(scene, l);
   const Vec3d centre = 0.5 * (own.lo + own.hi);
-  const double radius = kNearRadius * sceneDiagonal;
   Sampler sampler(seed, kProbeStream, l);
-  double total = 0, glass = 0, near = 0;
-  BoxBuilder glassBox, nearBox;
+  struct FirstHit {
+    double w;
+    Vec3d x;
+  };
+  std::vector<FirstHit> hits;
+  std::vector<double> onward;  // length of the segment after each first hit (a diffuse bounce), m
+  double total = 0, glass = 0;
+  BoxBuilder glassBox;
   for (int i = 0; i < kProbeParticles; ++i) {
     const EmittedParticle p = source.sample(sampler);
+    const Vec2 u = sampler.next2D();
     const double w = (double(p.weight.x) + p.weight.y + p.weight.z) / 3.0;
     total += w;
     ParticleScene::Hit hit;
@@ -137,11 +153,15 @@ std::optional<BoxBuilder> probeLight(const SceneDesc& scene, const ParticleScene
       glass += w;
       glassBox.extend(Vec3d(hit.lo)), glassBox.extend(Vec3d(hit.hi));
     }
-    const Vec3d x = Vec3d(p.origin) + double(hit.t) * Vec3d(p.direction);
-    if (glm::length(x - centre) <= radius) {
-      near += w;
-      nearBox.extend(x);
-    }
+    // The room's scale as this light sees it: how far light goes after its first reflection.
+    const Vec3 x = p.origin + hit.t * p.direction;
+    hits.push_back({w, Vec3d(x)});
+    const Vec3 n = glm::dot(hit.ng, p.direction) < 0.0f ? hit.ng : -hit.ng;
+    const Vec3 d = Frame(n).toWorld(squareToCosineHemisphere(u));
+    ParticleScene::Hit next;
+    onward.push_back(geometry.intersect(x, d, std::numeric_limits<float>::infinity(), next, geometry.offset(x))
+                         ? double(next.t)
+                         : sceneDiagonal);
   }
   if (!(total > 0)) return std::nullopt;
   BoxBuilder b = own;
@@ -149,6 +169,14 @@ std::optional<BoxBuilder> probeLight(const SceneDesc& scene, const ParticleScene
     b.extend(glassBox);
     return b;
   }
+  if (onward.empty()) return std::nullopt;
+  const size_t q = onward.size() * 9 / 10;  // the 90th percentile: inside a bowl most bounces meet the bowl again
+  std::nth_element(onward.begin(), onward.begin() + long(q), onward.end());
+  const double radius = std::min(kNearRadius * sceneDiagonal, kFixtureScale * onward[q]);
+  double near = 0;
+  BoxBuilder nearBox;
+  for (const FirstHit& h : hits)
+    if (glm::length(h.x - centre) <= radius) near += h.w, nearBox.extend(h.x);
   if (near >= kNearShare * total) {
     b.extend(nearBox);
     return b;
@@ -197,7 +225,7 @@ std::vector<Luminaire> findLuminaires(const SceneDesc& scene, const std::vector<
   } else if (options.mode != "named") {
     throw std::invalid_argument("unknown luminaire mode \"" + options.mode + "\" (auto, named, off)");
   }
-  mergeOverlapping(lums);
+  mergeOverlapping(lums, kNearRadius * diagonal);
   for (Luminaire& lum : lums) setExitPatches(lum);
   return lums;
 }

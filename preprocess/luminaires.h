@@ -11,10 +11,15 @@
 ///    particles from the light (Sampler(seed, kProbeStream, light)), each particle's first hit. The light is a
 ///    luminaire when (a) at least kGlassShare of its power first hits glass (a dielectric material, smooth or rough):
 ///    the box bounds the faces hit there (whole triangles, so that a glass envelope lies inside it) and the light; or
-///    else (b) at least kNearShare of its power first hits a surface within kNearRadius × the scene's bounding-box
-///    diagonal of the light's centre: the box bounds those hit points and the light.
+///    else (b) at least kNearShare of its power first hits surfaces within a radius R of the light's centre: the box
+///    bounds those hit points and the light. R is kFixtureScale × the 90th percentile of the length of the probes'
+///    next segment after a diffuse bounce at their first hit (the room's scale as the light sees it: the light a bowl
+///    or shade lets out crosses the room, however much of it meets the fixture again; a downlight's floor light goes
+///    as far as it came, so the floor is not near), and at most kNearRadius × the scene's bounding-box diagonal.
 /// Every box then grows by 1e-3 of its own diagonal plus 1e-5 of the scene's (a light or surface on its boundary is
-/// inside it), and luminaires whose boxes overlap (or touch) are merged until none do.
+/// inside it), and luminaires whose boxes overlap (or touch) are merged until none do, as long as the merged box's
+/// diagonal stays within kNearRadius × the scene's; where it would not, the detected ones among the two are dropped
+/// (their lights stay ordinary small lights: a row of desk lamps is not one room-sized luminaire).
 /// Exit patches: a face of the box is cut into cells of about s = longest box edge / 8, between 1 and 8 along
 /// each edge.
 #include <cstdint>
@@ -41,6 +46,7 @@ inline constexpr int kProbeParticles = 4096;
 inline constexpr double kGlassShare = 0.9;
 inline constexpr double kNearShare = 0.5;
 inline constexpr double kNearRadius = 0.1;
+inline constexpr double kFixtureScale = 0.25;
 inline constexpr uint64_t kProbeStream = 0x70726f6265ull;  ///< the probes' "pixel" key: apart from the walks'
 
 /// The luminaires of @p scene among @p smallLights (indices into scene.lights, ascending: the small-light rule,
