@@ -3,7 +3,8 @@
 # method a user could pick without a table (path with the light tree, path with NEE to every light, the irradiance
 # cache, light tracing, BDPT). Noise = RMS over pixels of the two seeds' difference / sqrt(2), relative to the image
 # mean (firstshot-compare's nrmse / sqrt(2)); efficiency ratio = noise^2 ratio. The table's preprocessing is counted
-# in the first-shot side's time: its render gets SECONDS minus the preprocessing time.
+# in the first-shot side's time: its render gets SECONDS minus the preprocessing time. "path + table" forces the
+# path tracer on the table (with the luminaires the preprocessor found, docs/luminaires.md; their number is a column).
 #
 # usage: bench/auto_vs_best.sh BUILD OUT [SECONDS] [WIDTH] [HEIGHT] [SCENES...]
 #   BUILD: build/release; OUT: a folder for the images and tables; SECONDS (default 10) per render;
@@ -56,8 +57,8 @@ run() {
 
 table="$out/table.md"
 {
-  echo "| scene | preprocess (s) | path | path, NEE to every light | irradiance cache | light | bdpt | best without table | auto, no table (choice) | auto + table (choice) | auto + table against the best |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| scene | preprocess (s) | luminaires | path | path, NEE to every light | irradiance cache | light | bdpt | best without table | auto, no table (choice) | path + table | auto + table (choice) | auto + table against the best |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$table"
 for scene in "${scenes[@]}"; do
   tag=$(basename "$(dirname "$scene")")-$(basename "$scene" | sed 's/\.[a-z]*$//')
@@ -66,7 +67,7 @@ for scene in "${scenes[@]}"; do
   echo "auto_vs_best: $tag" >&2
   start=$(date +%s.%N)
   if ! "${pin[@]}" "$preprocess" "$scene" -o "$dir/table.fsd" --threads 1 -q > "$dir/preprocess.log" 2>&1; then
-    echo "| $tag | refused: $(grep -m1 -o 'error.*' "$dir/preprocess.log" | cut -c1-80) |||||||||" >> "$table"
+    echo "| $tag | refused: $(grep -m1 -o 'error.*' "$dir/preprocess.log" | cut -c1-80) |||||||||||" >> "$table"
     continue
   fi
   prep=$(python3 -c "import time; print('%.1f' % (time.time() - $start))")
@@ -78,14 +79,16 @@ for scene in "${scenes[@]}"; do
   n[bdpt]=$(run bdpt "$seconds" --integrator bdpt)
   n[auto]=$(run auto "$seconds")
   rest=$(python3 -c "print(max(0.5, $seconds - $prep))")
+  n[pathT]=$(run pathT "$rest" --firstshot "$dir/table.fsd" --integrator path)
   n[autoT]=$(run autoT "$rest" --firstshot "$dir/table.fsd")
+  lums=$(grep -c '^luminaire' "$dir/preprocess.log" || true)
   best=$(printf '%s\n' "${n[path]}" "${n[all]}" "${n[cache]}" "${n[light]}" "${n[bdpt]}" | grep -v '^-$' | sort -g | head -1)
   choice() {
     grep -o 'auto chose [^(]*' "$dir/$1-1.log" | head -1 | sed 's/.*auto chose //; s/ *$//' | grep . ||
       grep -o -- '--integrator auto: [a-z -]* (' "$dir/$1-1.log" | head -1 | sed 's/.*auto: //; s/ *($//'
   }
   ratio=$(python3 -c "b=float('$best'); a='${n[autoT]}'; print('-' if a == '-' else '%.2fx' % ((b / float(a))**2))")
-  echo "| $tag | $prep | ${n[path]} | ${n[all]} | ${n[cache]} | ${n[light]} | ${n[bdpt]} | $best | ${n[auto]} ($(choice auto)) | ${n[autoT]} ($(choice autoT)) | $ratio |" >> "$table"
+  echo "| $tag | $prep | $lums | ${n[path]} | ${n[all]} | ${n[cache]} | ${n[light]} | ${n[bdpt]} | $best | ${n[auto]} ($(choice auto)) | ${n[pathT]} | ${n[autoT]} ($(choice autoT)) | $ratio |" >> "$table"
   unset n
 done
 cat "$table"

@@ -240,12 +240,22 @@ std::vector<Luminaire> makeLuminaires(const SceneDesc& scene, const std::vector<
   const ParticleScene geometry(scene);
   std::vector<Luminaire> lums = findLuminaires(scene, smallLights, options, &geometry);
   if (seconds) seconds->clear();
+  // Each luminaire's share of the particles: its lights' power (mean RGB) over all luminaires'.
+  std::vector<double> power(lums.size(), 0.0);
+  double total = 0;
   for (size_t i = 0; i < lums.size(); ++i) {
+    const Color c = ParticleSource(scene, lums[i].lights, geometry).power();
+    power[i] = (double(c.x) + c.y + c.z) / 3.0, total += power[i];
+  }
+  for (size_t i = 0; i < lums.size(); ++i) {
+    const double share = total > 0 ? power[i] / total : 1.0 / double(lums.size());
+    const uint64_t particles =
+        std::max(std::min(kMinLuminaireParticles, options.particles), uint64_t(std::llround(share * double(options.particles))));
     const auto start = std::chrono::steady_clock::now();
     {
-      Progress progress("luminaire " + lums[i].name, (options.particles + kLuminaireChunk - 1) / kLuminaireChunk,
+      Progress progress("luminaire " + lums[i].name, (particles + kLuminaireChunk - 1) / kLuminaireChunk,
                         options.quiet);
-      traceExitDistribution(scene, geometry, lums[i], uint32_t(i), options.particles, options.seed, &progress);
+      traceExitDistribution(scene, geometry, lums[i], uint32_t(i), particles, options.seed, &progress);
       progress.finish();
     }
     if (seconds) seconds->push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -36,13 +36,16 @@ class ParticleScene;
 /// How firstshot-preprocess finds and traces luminaires (--luminaires, --luminaire-particles).
 struct LuminaireOptions {
   std::string mode = "auto";      ///< auto: named and detected | named: only named | off: none
-  uint64_t particles = 2097152;   ///< particles traced per luminaire (a multiple of 4096 keeps every chunk full)
+  /// Particles traced for all luminaires together, shared by their lights' power, at least kMinLuminaireParticles
+  /// each (a multiple of 4096 keeps every chunk full).
+  uint64_t particles = 4194304;
   uint64_t seed = 1;              ///< the random numbers' seed (probes and walks)
   bool quiet = true;              ///< no progress or warnings on stderr
 };
 
 /// Detection's thresholds (see the file comment).
 inline constexpr int kProbeParticles = 4096;
+inline constexpr uint64_t kMinLuminaireParticles = 65536;
 inline constexpr double kGlassShare = 0.9;
 inline constexpr double kNearShare = 0.5;
 inline constexpr double kNearRadius = 0.1;
@@ -60,7 +63,7 @@ std::vector<Luminaire> findLuminaires(const SceneDesc& scene, const std::vector<
 /// nv likewise.
 void setExitPatches(Luminaire& lum);
 
-/// findLuminaires, then each one's exit distribution traced (traceExitDistribution, options.particles particles),
+/// findLuminaires, then each one's exit distribution traced (traceExitDistribution, its share of options.particles),
 /// with progress on stderr unless options.quiet. @p seconds, when not null, receives each luminaire's tracing time.
 std::vector<Luminaire> makeLuminaires(const SceneDesc& scene, const std::vector<uint32_t>& smallLights,
                                       const LuminaireOptions& options, std::vector<double>* seconds = nullptr);

@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
     uint64_t luminaireParticles = fs::LuminaireOptions().particles;
     app.add_option("--luminaires", luminaires, "luminaires (lights and what surrounds them, traced once to their box's exit surfaces): auto (the scene's named ones and those detected: lights mostly inside glass or close to what they light; default) | named (only the scene's \"luminaire\" names) | off")
         ->check(CLI::IsMember({"auto", "named", "off"}));
-    app.add_option("--luminaire-particles", luminaireParticles, "particles traced per luminaire (default 2097152)")
+    app.add_option("--luminaire-particles", luminaireParticles, "particles traced for all luminaires together, shared by their power, at least 65536 each (default 4194304)")
         ->check(CLI::Range(uint64_t(1), uint64_t(1) << 40));
     app.add_option("--dump-csv", dump, "print one CSV row per non-zero factor of an .fsd file and exit");
     app.add_flag("--stats", stats, "load the scene, build the patches, print their statistics and exit");

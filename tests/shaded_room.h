@@ -42,6 +42,7 @@ inline FirstShotTable quickTable(const SceneDesc& desc, double patchSize = 0) {
   if (patchSize > 0) po.settings.patchSize = patchSize;
   po.settings.lightPatchSize = 0.05;
   po.quiet = true;
+  po.luminaires.mode = "off";  // the shaded light replaced by the table, as these tests mean (not a luminaire)
   return preprocessScene(desc, po);
 }
 

@@ -33,6 +33,7 @@ namespace {
 RenderScene withTable(const SceneDesc& d) {
   PreprocessOptions po = defaultOptions(d);
   po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+  po.luminaires.mode = "off";  // the bulb replaced by the table (found as a luminaire, it would be no replaced light)
   return RenderScene(d, preprocessScene(d, po));
 }
 
