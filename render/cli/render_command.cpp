@@ -146,6 +146,9 @@ int RenderCommand::maxDepth() const {
 void RenderCommand::makeIntegrator() {
   integratorOptions_ = integrators_.options(maxDepth());
   integratorOptions_.comm = &comm_;
+  // The sensors' cosine rays are traced as from the camera, which sees a luminaire as it is: their NEE must then take
+  // its lights, not its exit patches (docs/luminaires.md).
+  if (sensors_.active()) integratorOptions_.luminaires = false;
   IntegratorSetup setup{&app_, &scene_, seed(), threads_, spp_, samplerMode(), quiet_};
   IntegratorCli& cli = integrators_.chosen();
   cli.configure(setup);
