@@ -77,7 +77,8 @@ Color PathWalk::escaped(const PathVertex& prev, const Vec3& dir) const {
 Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool specularChain, Sampler& sampler,
                       uint64_t& rays, SampleInfo* info, const Hit* first) const {
   const RenderScene& scene = *scene_;
-  const bool haveTable = scene.firstShot() != nullptr;
+  // A table without replaced lights (its lights all in luminaires) adds nothing: no first-shot term to look up.
+  const bool haveTable = scene.firstShot() != nullptr && !scene.firstShot()->replacedLights.empty();
   bool sampledPatches = false;  // a vertex of this path sampled the lit patches (PatchNee::First: once)
   Color L(0.0f);
   // The calling thread's recorder (path_recorder.h), null but for reports, and for it what the path passed after its

@@ -20,6 +20,11 @@
 /// A small area light met by a path is counted only where the first-shot term could not have counted it: seen by the camera, after a delta bounce (mirror,
 /// glass), or from a vertex that sampled it by NEE (PrimaryMode::Exact).
 ///
+/// With luminaires in the table (render/lights/luminaires.h, IntegratorOptions::luminaires), their exit patches are
+/// kept emitters, a segment from a non-delta vertex that enters a box adds the exit light where it crosses
+/// (enterLuminaires, MIS against NEE), and the luminaire's lights are suppressed past that entry until the path
+/// leaves the box; from the camera and delta bounces a box is entered as it is.
+///
 /// A report of where an image's variance comes from (bench/variance_report.h) sets the calling thread's
 /// PathRecorder (path_recorder.h) around trace(): each amount added to L is then also told to it, by path length
 /// and by what brought it (emission met, NEE per light group, the first-shot term, patch NEE). Without one the
