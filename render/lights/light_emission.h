@@ -90,8 +90,14 @@ class EmissionSampler {
   bool sampleOrigin(const Vec2d& uPair, EmissionSample& out) const;
 
   /// Adds the exit patches of @p boxes (which must outlive the sampler) as emitters numbered from exitBegin() on, with
-  /// the power of their exit distributions. Nothing if @p boxes is empty.
+  /// the power of their exit distributions. A luminaire's lights, whose particles then light only the inside of its
+  /// box, are chosen by the share of their power that stays inside (1 − exitPower/power, at least kMinInnerShare):
+  /// power() is then that share of their power, and their particles' power grows to match. Nothing if @p boxes is
+  /// empty.
   void addExits(const LuminaireBoxes& boxes);
+  /// The least share of a luminaire's light's power its choice keeps (addExits): a clear glass bulb sends almost all
+  /// of it out, and the camera still sees the inside.
+  static constexpr double kMinInnerShare = 0.05;
 
   /// Probability of choosing emitter @p e (its share of the power).
   float pdfChoice(size_t e) const { return total_ > 0 ? float(power_[e] / total_) : 0.0f; }
@@ -128,7 +134,7 @@ class EmissionSampler {
   uint32_t patchOf(uint32_t e) const { return patchSides_[e - lightCount_] / 2; }
   Vec3 patchNormal(uint32_t e) const;
 
-  /// Power of emitter @p e (channel mean), W.
+  /// Power of emitter @p e (channel mean), W: what it is chosen by (addExits: a luminaire's light's inner share).
   double power(size_t e) const { return power_[e]; }
   /// Total emitted power (channel mean), W.
   double totalPower() const { return total_; }
