@@ -1,10 +1,13 @@
 #pragma once
 /// @file hidden_lights_scenes.h
 /// Scenes whose light hides (BDPT with a table, luminaires): a bulb in an open metal bowl, a filament in a clear
-/// glass envelope, in a small furnished room.
+/// glass envelope, a point light in a box open towards the camera, in a small furnished room; and their first-shot
+/// table with the luminaires found.
 #include <string>
 
 #include "common/scene_desc.h"
+#include "preprocess/preprocessor.h"
+#include "render/scene/render_scene.h"
 #include "tests/test_util.h"
 
 namespace fs::test {
@@ -40,6 +43,32 @@ inline SceneDesc glassBulb() {
   return hiddenLightsRoom(R"("glass": {"type": "dielectric", "ior": 1.5}, "filament": {"type": "diffuse", "emission": 12})",
               R"({"type": "sphere", "material": "glass", "center": [1.2, 1.1, 1.0], "radius": 0.2, "subdivisions": 3, "smooth": true},
                  {"type": "sphere", "material": "filament", "center": [1.2, 1.1, 1.0], "radius": 0.08, "subdivisions": 2})");
+}
+
+/// A point light (2 W) in a 30 cm box of grey diffuse walls whose face towards the camera is open, on a stand in the
+/// hidden-lights room; the camera looks into the opening from 0.8 m.
+inline SceneDesc openBox() {
+  SceneDesc d = hiddenLightsRoom(
+      R"("shade": {"type": "diffuse", "albedo": 0.6})",
+      R"({"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.3,0.8,0.6],[1.3,0.8,0.9],[1.0,0.8,0.9]]},
+         {"type": "quad", "material": "shade", "vertices": [[1.0,1.1,0.6],[1.0,1.1,0.9],[1.3,1.1,0.9],[1.3,1.1,0.6]]},
+         {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,0.8,0.9],[1.0,1.1,0.9],[1.0,1.1,0.6]]},
+         {"type": "quad", "material": "shade", "vertices": [[1.3,0.8,0.6],[1.3,1.1,0.6],[1.3,1.1,0.9],[1.3,0.8,0.9]]},
+         {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,1.1,0.6],[1.3,1.1,0.6],[1.3,0.8,0.6]]}],
+    "lights": [{"type": "point", "position": [1.15, 0.95, 0.7], "power": 2})");
+  d.camera.position = Vec3d(1.35, 1.05, 1.6);
+  d.camera.lookAt = Vec3d(1.15, 0.95, 0.75);
+  d.camera.fovYDeg = 60;
+  return d;
+}
+
+/// @p d with its first-shot table (Embree item buffers, R = 64, luminaires found at the defaults with 2^19
+/// particles each).
+inline RenderScene withLuminaireTable(const SceneDesc& d) {
+  PreprocessOptions po = defaultOptions(d);
+  po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
+  po.luminaires.particles = 1u << 19;
+  return RenderScene(d, preprocessScene(d, po));
 }
 
 }  // namespace fs::test

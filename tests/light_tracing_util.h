@@ -42,7 +42,7 @@ inline void forEachLightPath(const RenderScene& scene, const LightTracingIntegra
     uint64_t rays = 0;
     for (uint64_t i = b * block; i < std::min(n, (b + 1) * block); ++i) {
       Sampler sampler(seed, i, 0, LightTracingIntegrator::kParticleStream);
-      if (!traceLightPath(scene, lt.emission(), lt.pathOptions(), sampler, path, rays)) path.clear();
+      if (!traceLightPath(scene, lt.particleEmitters(), lt.pathOptions(), sampler, path, rays)) path.clear();
       visit(i, path);
     }
   });

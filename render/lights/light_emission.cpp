@@ -79,6 +79,23 @@ EmissionSampler::EmissionSampler(const RenderScene& scene, const FirstShotLighti
   finish();
 }
 
+void EmissionSampler::addExits(const LuminaireBoxes& boxes) {
+  if (boxes.empty()) return;
+  exits_ = ExitEmission(boxes);
+  exitBegin_ = uint32_t(power_.size());
+  for (uint32_t e = 0; e < exits_.count(); ++e) power_.push_back(exits_.power(e));
+  // A luminaire's lights' particles light only the inside of its box: they are chosen by the share of their power
+  // that does not leave it (at least kMinInnerShare), their power weight growing to match.
+  for (uint32_t l = 0; l < lightCount_; ++l) {
+    const int i = boxes.ofLight(l);
+    if (i < 0) continue;
+    const Luminaire& lum = boxes.items()[size_t(i)];
+    const double emitted = mean(lum.power), left = mean(lum.exitPower);
+    power_[l] *= emitted > 0 ? std::clamp(1.0 - left / emitted, kMinInnerShare, 1.0) : 1.0;
+  }
+  finish();
+}
+
 void EmissionSampler::setBounds(const SceneDesc& scene) {
   Vec3d lo, hi;
   scene.bounds(lo, hi);
@@ -165,6 +182,12 @@ bool EmissionSampler::originOf(size_t l, const Vec2& uPos, EmissionSample& out) 
   out.light = static_cast<uint32_t>(l);
   out.pdfLight = float(power_[l] / total_);
   out.pdfPos = pdfPosition(out.light);
+  if (isExit(out.light)) {
+    const ExitPatch& patch = exits_.patch(out.light - exitBegin_);
+    out.p = patch.point(uPos);
+    out.n = patch.normal;
+    return true;
+  }
   if (isPatch(out.light)) {
     out.p = samplePatchPoint(scene_->mesh().patches[patchOf(out.light)], uPos);
     out.n = patchNormal(out.light);
@@ -197,6 +220,7 @@ bool EmissionSampler::originOf(size_t l, const Vec2& uPos, EmissionSample& out) 
 }
 
 float EmissionSampler::pdfPosition(uint32_t e) const {
+  if (isExit(e)) return 1.0f / exits_.patch(e - exitBegin_).area;
   if (isPatch(e)) return float(1.0 / scene_->mesh().patches[patchOf(e)].area);
   const RenderLight& light = lights_->lights()[e];
   switch (light.type) {
@@ -231,6 +255,7 @@ float EmissionSampler::pdfGlossyPatch(uint32_t e, const Vec3& y, const Vec3& d) 
 }
 
 float EmissionSampler::pdfDirection(uint32_t e, const Vec3& y, const Vec3& n, const Vec3& d) const {
+  if (isExit(e)) return exits_.pdfDirection(e - exitBegin_, d);
   if (isPatch(e)) {
     if (!std::isnan(glossyCentre_[e - lightCount_].x)) return pdfGlossyPatch(e, y, d);
     return std::max(0.0f, glm::dot(patchNormal(e), d)) * kInvPiF;
@@ -249,6 +274,18 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t str
   const Vec2 uPos = sampler.next2D();
   const Vec2 uDir = sampler.next2D();
   if (!sampleOrigin(u, uPos, out)) return false;
+  if (isExit(out.light)) {
+    // The bin by the rest of u inside the patch's CDF interval (53 bits: ample for 128 bins), the direction in the
+    // bin by uDir. The power is the bin's radiance·cosθ over the densities (exit_emission.h: the same for all).
+    const double lower = out.light > 0 ? cdf_[out.light - 1] : 0.0, width = cdf_[out.light] - lower;
+    const double rest = width > 0 ? std::clamp((u - lower) / width, 0.0, 0x1.fffffffffffffp-1) : 0.5;
+    ExitDirection dir;
+    if (!exits_.sampleDirection(out.light - exitBegin_, rest, uDir, dir)) return false;
+    out.d = dir.d;
+    out.pdfDir = dir.pdf;
+    out.power = dir.radiance * (std::abs(glm::dot(out.n, out.d)) / (out.pdfLight * out.pdfPos * out.pdfDir));
+    return maxComponent(out.power) > 0.0f;
+  }
   if (isPatch(out.light)) {
     float cosOut = 0;
     if (!std::isnan(glossyCentre_[out.light - lightCount_].x)) {

@@ -18,12 +18,17 @@
 /// an even mixture of the cosine and the BSDF's own sampling towards the side's light centre (the
 /// sample positions' mean weighted by e_i·r_ij). Emitters are numbered lights first (LightSet
 /// indices), then the patch sides.
+///
+/// Luminaires (addExits(), light tracing): the exit patches of a first-shot table's luminaires join as emitters after
+/// the patch sides, chosen by their power like the others; a point uniform on the patch, a bin of the exit
+/// distribution and a direction inside it (render/lights/exit_emission.h). The luminaires' lights keep emitting.
 #include <cstdint>
 #include <vector>
 
 #include "common/math.h"
 #include "common/rng.h"
 #include "common/scene_desc.h"
+#include "render/lights/exit_emission.h"
 #include "render/lights/lights.h"
 
 namespace fs {
@@ -33,16 +38,16 @@ class RenderScene;
 
 /// One particle leaving a light.
 struct EmissionSample {
-  uint32_t light = 0;     ///< emitter index: a LightSet light (< EmissionSampler::lightCount()), or a patch side
+  uint32_t light = 0;     ///< emitter index: a LightSet light (< EmissionSampler::lightCount()), a patch side or an exit patch
   Vec3 p{0.0f};           ///< origin, m
-  Vec3 n{0.0f};           ///< area light, patch: unit normal of the emitting side at p; directional: the travel direction; point, spot: 0
+  Vec3 n{0.0f};           ///< area light, patch, exit patch: unit normal of the emitting side at p; directional: the travel direction; point, spot: 0
   Vec3 d{0.0f};           ///< unit direction of travel
   float pdfLight = 0;     ///< probability of having chosen the light
   float pdfPos = 1;       ///< area density of p, 1/m² (1 for point and spot lights: a delta position)
   float pdfDir = 0;       ///< solid-angle density of d, 1/sr (1 for directional lights: a delta direction)
   /// Emitted radiance over the position's density: Le/(pdfLight·pdfPos), W/(m² sr)·m² (area lights);
-  /// the light vertex's weight when it is connected to the camera. 0 for the delta lights and for
-  /// patches (whose radiance depends on the direction: EmissionSampler::patchRadiance).
+  /// the light vertex's weight when it is connected to the camera. 0 for the delta lights, for
+  /// patches (whose radiance depends on the direction: EmissionSampler::patchRadiance) and for exit patches.
   Color radiance{0.0f};
   /// The particle's power: emitted radiance·|cosθ|/(pdfLight·pdfPos·pdfDir), W. The expected sum
   /// over particles of their power is the scene's total emitted power.
@@ -84,6 +89,16 @@ class EmissionSampler {
   /// next-event estimation; x's 53 bits keep the choice exact for emitters of tiny power share.
   bool sampleOrigin(const Vec2d& uPair, EmissionSample& out) const;
 
+  /// Adds the exit patches of @p boxes (which must outlive the sampler) as emitters numbered from exitBegin() on, with
+  /// the power of their exit distributions. A luminaire's lights, whose particles then light only the inside of its
+  /// box, are chosen by the share of their power that stays inside (1 − exitPower/power, at least kMinInnerShare):
+  /// power() is then that share of their power, and their particles' power grows to match. Nothing if @p boxes is
+  /// empty.
+  void addExits(const LuminaireBoxes& boxes);
+  /// The least share of a luminaire's light's power its choice keeps (addExits): a clear glass bulb sends almost all
+  /// of it out, and the camera still sees the inside.
+  static constexpr double kMinInnerShare = 0.05;
+
   /// Probability of choosing emitter @p e (its share of the power).
   float pdfChoice(size_t e) const { return total_ > 0 ? float(power_[e] / total_) : 0.0f; }
   /// Area density of sampleOrigin()'s point on emitter @p e, 1/m² (1 for point and spot: a delta
@@ -96,7 +111,13 @@ class EmissionSampler {
 
   /// Number of LightSet lights; emitters from this index on are patch sides.
   uint32_t lightCount() const { return lightCount_; }
-  bool isPatch(uint32_t e) const { return e >= lightCount_; }
+  bool isPatch(uint32_t e) const { return e >= lightCount_ && e - lightCount_ < patchSides_.size(); }
+  /// Whether emitter @p e is an exit patch (addExits()); its number there is e − exitBegin().
+  bool isExit(uint32_t e) const { return e >= exitBegin_ && e - exitBegin_ < exits_.count(); }
+  /// The emitter number of the first exit patch.
+  uint32_t exitBegin() const { return exitBegin_; }
+  /// The exit patches' emission (empty without addExits()).
+  const ExitEmission& exits() const { return exits_; }
   /// Number of patch-side emitters (table mode), after the lightCount() lights.
   uint32_t patchSideCount() const { return uint32_t(patchSides_.size()); }
   bool isDirectional(uint32_t e) const;
@@ -113,7 +134,7 @@ class EmissionSampler {
   uint32_t patchOf(uint32_t e) const { return patchSides_[e - lightCount_] / 2; }
   Vec3 patchNormal(uint32_t e) const;
 
-  /// Power of emitter @p e (channel mean), W.
+  /// Power of emitter @p e (channel mean), W: what it is chosen by (addExits: a luminaire's light's inner share).
   double power(size_t e) const { return power_[e]; }
   /// Total emitted power (channel mean), W.
   double totalPower() const { return total_; }
@@ -143,6 +164,8 @@ class EmissionSampler {
   /// inversion at u searches only between the guides of u's bucket and its neighbours.
   std::vector<uint32_t> guide_;
   double total_ = 0;
+  ExitEmission exits_;         ///< addExits()
+  uint32_t exitBegin_ = 0;     ///< the first exit patch's emitter number
   Vec3 centre_{0.0f};          ///< bounding sphere, m
   float radius_ = 0;
 };

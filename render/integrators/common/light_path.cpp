@@ -29,12 +29,16 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   // bounce earlier.
   const int bounced = emission.isPatch(es.light) ? 1 : 0;
   const int maxDepth = options.maxDepth - bounced, rrDepth = options.rrDepth - bounced;
+  // A luminaire's light (with the exit particles): its box, which the particle's path ends by leaving.
+  const int inner = options.luminaires && es.light < emission.lightCount() ? options.luminaires->ofLight(es.light) : -1;
+  const Luminaire* box = inner >= 0 ? &options.luminaires->items()[size_t(inner)] : nullptr;
   SubpathWalk walk(scene, Ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d), es.power,
                    {maxDepth, rrDepth, start, TransportMode::Importance, options.sqrtSurvival});
   float pdfDir = es.pdfDir;
   bool deltaDir = es.deltaDirection;
   while (walk.next(rays, sampler)) {
     const Hit& hit = walk.hit();
+    if (box && !box->contains(hit.p)) break;  // the segment left the box (convex: it cannot come back)
     LightVertex v;
     v.hit = hit;
     v.wi = -walk.ray().d;

@@ -46,9 +46,14 @@ struct LightPathOptions {
   /// With deltaFirstHitOnly: also go on from a first hit too sharp for the table
   /// (BSDF::tooSharpForTable: the lit patches do not emit its reflection), from any light.
   bool polishedFirstHit = false;
+  /// Light tracing with the luminaires' exit particles (EmissionSampler::addExits): a particle of a luminaire's light
+  /// ends where it leaves that luminaire's box for the first time (its first hit outside the box is not recorded:
+  /// the exit particles carry its light from the box on). Null: no luminaires (every other caller).
+  const LuminaireBoxes* luminaires = nullptr;
 };
 
-/// Traces one light subpath into @p path (cleared first). A particle leaving a lit patch (table
+/// Traces one light subpath into @p path (cleared first). A particle leaving an exit patch (addExits) starts with no
+/// bounce made: its vertex 0 lies on the patch, in empty space. A particle leaving a lit patch (table
 /// mode) has bounced once already: it makes at most maxDepth − 1 hits and meets roulette one
 /// bounce earlier. Consumes the sampler's dimensions in a
 /// fixed order: 5 for the emission, then per bounce 2 for the BSDF and, from rrDepth on, 1 for roulette. @p rays counts the

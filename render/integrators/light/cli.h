@@ -1,8 +1,9 @@
 #pragma once
 /// @file cli.h
 /// Light tracing's command line (render/integrators/integrator_cli.h): --light-paths. It reads every shared
-/// option: --shoot-firstshot, and the others through the small lights' NEE (table mode) and the
-/// path tracer it hands the pixels whose first hit is a mirror or glass (docs/light-tracing.md).
+/// option: --shoot-firstshot, --luminaires (particles from the exit patches), and the others through the small lights'
+/// NEE (table mode) and the path tracer it hands the pixels whose first hit is a mirror or glass
+/// (docs/light-tracing.md).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -44,7 +45,7 @@ class LightCli : public IntegratorCli {
  protected:
   std::vector<std::string> shared() const override {
     using namespace integrator_option;
-    return {kPrimary, kLightSampler, kPatchNee, kLightVisibility, kTableVisibility, kShootFirstShot};
+    return {kPrimary, kLightSampler, kPatchNee, kLightVisibility, kTableVisibility, kShootFirstShot, kLuminaires};
   }
 
  private:

@@ -17,6 +17,12 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   mirrors_ = false;
   for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
   polished_ = mayBePolished(scene);
+  luminaires_ = options_.luminaires && !scene.luminaires().empty();
+  withExits_ = EmissionSampler();
+  if (luminaires_) {
+    withExits_ = shooting_.emission();
+    withExits_.addExits(scene.luminaires());
+  }
   if (!shooting_.tableMode()) return;
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
   smallAreaLights_ = deltaFirst_.totalPower() > 0;
@@ -29,6 +35,12 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
 
 bool LightTracingIntegrator::pathTraced(const Hit& hit, const BSDF& bsdf) const {
   return bsdf.hasDelta() || (polished_ && hit.onPatch() && bsdf.tooSharpForTable());
+}
+
+LightPathOptions LightTracingIntegrator::pathOptions() const {
+  LightPathOptions o{options_.maxDepth, options_.rrDepth};
+  if (luminaires_) o.luminaires = &scene_->luminaires();
+  return o;
 }
 
 int LightTracingIntegrator::pathsPerPixel(const Camera& camera) const {
@@ -129,13 +141,17 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
   LightPathOptions deltaFirst = po;
   deltaFirst.deltaFirstHitOnly = true;
   deltaFirst.polishedFirstHit = polished_;
+  deltaFirst.luminaires = nullptr;  // replaced lights only: none is a luminaire's
+  const EmissionSampler& emission = particleEmitters();
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler = particleSampler(mode, seed, i, pass, n, kParticleStream);
-    if (traceLightPath(*scene_, shooting_.emission(), po, sampler, path, rays, i, n)) {
+    if (traceLightPath(*scene_, emission, po, sampler, path, rays, i, n)) {
       // A patch particle (table mode) starts one bounce in (traceLightPath stops it a hit earlier):
       // its vertex 0, the first-shot radiance at the camera's first hit, is the small lights'
-      // direct light that Li() takes exactly.
-      splatPath(path, shooting_.emission().isPatch(path[0].light) ? 1 : 0, camera, invN, out, rays);
+      // direct light that Li() takes exactly. An exit particle's vertex 0 lies on a box's face in
+      // empty space, which the camera sees through.
+      const uint32_t e = path[0].light;
+      splatPath(path, emission.isPatch(e) || emission.isExit(e) ? 1 : 0, camera, invN, out, rays);
     }
     // Table mode with mirrors or glass: a small area light's particle whose first hit is a delta
     // surface (no table holds that bounce); with polished surfaces also any small light's particle

@@ -35,6 +35,16 @@
 /// same table and PrimaryMode::Exact. Without the option the table's small lights are shot like the
 /// others (shooting is exact without the table), and only the path-traced delta pixels read the
 /// table.
+///
+/// Luminaires (IntegratorOptions::luminaires and a table that has them, docs/luminaires.md; in either mode, as
+/// their lights are kept lights): a luminaire's light reaches the room through its exit distribution. Particles also
+/// leave the exit patches (EmissionSampler::addExits, chosen by power with the other emitters); their vertex 0, on
+/// the exit patch in empty space, does not splat (the camera sees through the box's faces), every later vertex does,
+/// and one that enters a box goes on (room light entering it). The luminaires' lights still emit their own particles,
+/// which splat inside the box (the camera sees the inside of a shade as it is) and end where their path first leaves
+/// it (LightPathOptions::luminaires). The two are estimators of disjoint sets of light paths (those that reach the
+/// camera from inside the box before leaving it, and those from after), each unbiased with its particles' share of
+/// the count. The delta pixels' path walk keeps the luminaires' lights as lights.
 #include <vector>
 
 #include "render/integrators/common/light_path.h"
@@ -68,8 +78,13 @@ class LightTracingIntegrator : public ShootingIntegrator {
   void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
                       uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
 
-  /// The light subpaths' walk: IntegratorOptions::maxDepth and rrDepth.
-  LightPathOptions pathOptions() const { return {options_.maxDepth, options_.rrDepth}; }
+  /// The light subpaths' walk: IntegratorOptions::maxDepth and rrDepth, and with the luminaires the boxes that end
+  /// their lights' particles.
+  LightPathOptions pathOptions() const;
+  /// What the particles leave: emission(), and with the luminaires their exit patches too.
+  const EmissionSampler& particleEmitters() const { return luminaires_ ? withExits_ : shooting_.emission(); }
+  /// Whether the particles use the luminaires' exit distributions (preprocess()).
+  bool usesLuminaires() const { return luminaires_; }
 
   /// pathsPerPixel() of the automatic setting in scenes without mirrors or glass: the error at a
   /// given time stops falling near it on the fixture room (docs/light-tracing.md).
@@ -112,6 +127,9 @@ class LightTracingIntegrator : public ShootingIntegrator {
   /// Table mode: the replaced area lights (with polished surfaces every replaced light), for particles whose first
   /// hit is delta (or polished).
   EmissionSampler deltaFirst_;
+  /// IntegratorOptions::luminaires and the scene has luminaires: the particles leave withExits_.
+  bool luminaires_ = false;
+  EmissionSampler withExits_;  ///< emission() and the luminaires' exit patches
 };
 
 }  // namespace fs
