@@ -97,18 +97,18 @@ void LightSampler::addPatches(Group& g, GroupId id, std::vector<LightBounds>& bo
 
 void LightSampler::addExits(Group& g, std::vector<LightBounds>& bounds) {
   const LuminaireBoxes& boxes = scene_->luminaires();
-  exitEmitter_.assign(boxes.exitCount(), kNoId);
+  // One emitter per luminaire, bounded by its box in every direction; next_event.cpp then chooses a face facing the
+  // receiver and a patch by power (LuminaireBoxes::choosePatch): a short descent, and no patch it cannot see.
+  exitEmitter_.assign(boxes.items().size(), kNoId);
   for (uint32_t i = 0; i < boxes.items().size(); ++i) {
     const Luminaire& lum = boxes.items()[i];
-    for (uint32_t k = 0; k < lum.patchCount(); ++k) {
-      const float phi = meanOf(lum.patchPower(k));
-      if (!(phi > 0.0f)) continue;
-      const ExitPatch p = lum.patch(k);
-      const Vec3 v[4] = {p.corner, p.corner + p.eu, p.corner + p.eu + p.ev, p.corner + p.ev};
-      exitEmitter_[boxes.exitFirst(i) + k] = uint32_t(g.emitters.size());
-      g.emitters.push_back({Emitter::Kind::Exit, boxes.exitFirst(i) + k, i, p.area});
-      bounds.push_back(surfaceBounds(v, 4, p.normal, phi));
-    }
+    const float phi = meanOf(lum.exitPower);
+    if (!(phi > 0.0f)) continue;
+    LightBounds b;
+    b.lo = lum.lo, b.hi = lum.hi, b.phi = phi;  // cosO = −1: every direction
+    exitEmitter_[i] = uint32_t(g.emitters.size());
+    g.emitters.push_back({Emitter::Kind::Exit, i, i, 0.0f});
+    bounds.push_back(b);
   }
 }
 
@@ -155,7 +155,6 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
       const Emitter& em = groups_[g].emitters[e];
       if (em.kind == Emitter::Kind::Patch) groupable[e] = 1;  // a group of its own: no lights in it
       if (em.kind == Emitter::Kind::Triangle) groupable[e] = em.index + 1;
-      if (em.kind == Emitter::Kind::Exit) groupable[e] = uint32_t(n) + 1 + em.sub;  // one luminaire's patches together
     }
     groups_[g].tree = LightTree(bounds[g], &groupable, kPatchLeaf);
   }
@@ -181,9 +180,14 @@ Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
     }
     case Emitter::Kind::Patch:
       return samplePatchPoint(scene_->mesh().patches[e.index], u);
-    case Emitter::Kind::Exit: {
-      const LuminaireBoxes& boxes = scene_->luminaires();
-      return boxes.items()[e.sub].patch(e.index - boxes.exitFirst(e.sub)).point(u);
+    case Emitter::Kind::Exit: {  // a point of the luminaire's box surface (next_event.cpp chooses NEE's patch)
+      const Luminaire& lum = scene_->luminaires().items()[e.index];
+      const int f = std::min(5, int(u.x * 6.0f)), a = f / 2;
+      Vec3 p(0.0f);
+      p[a] = (f & 1) ? lum.hi[a] : lum.lo[a];
+      p[(a + 1) % 3] = lum.lo[(a + 1) % 3] + (u.x * 6.0f - float(f)) * (lum.hi[(a + 1) % 3] - lum.lo[(a + 1) % 3]);
+      p[(a + 2) % 3] = lum.lo[(a + 2) % 3] + u.y * (lum.hi[(a + 2) % 3] - lum.lo[(a + 2) % 3]);
+      return p;
     }
     case Emitter::Kind::Environment:
       break;  // a direction, no point
@@ -202,11 +206,15 @@ float LightSampler::environmentPmf() const {
 }
 
 float LightSampler::exitPmf(const Vec3& x, const Vec3& n, uint32_t exit, float& area) const {
-  if (!luminaires_ || exit >= exitEmitter_.size() || exitEmitter_[exit] == kNoId) return 0.0f;
-  const Group& g = groups_[kKept];
-  const uint32_t e = exitEmitter_[exit];
-  area = g.emitters[e].area;
-  return selectProbability(g, x, n, e);
+  if (!luminaires_) return 0.0f;
+  const LuminaireBoxes& boxes = scene_->luminaires();
+  const uint32_t i = boxes.exitLuminaire(exit);
+  if (exitEmitter_[i] == kNoId) return 0.0f;
+  const uint32_t k = exit - boxes.exitFirst(i);
+  const float p = boxes.patchProbability(i, x, k);
+  if (!(p > 0.0f)) return 0.0f;
+  area = boxes.items()[i].patch(k).area;
+  return selectProbability(groups_[kKept], x, n, exitEmitter_[i]) * p;
 }
 
 uint32_t LightSampler::patchEmitter(const Hit& y, const Vec3& x) const {

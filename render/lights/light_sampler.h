@@ -43,9 +43,9 @@ enum class LightGroup : uint8_t { Kept = 0, Replaced = 1, Patches = 2, Inner = 3
 /// Something a LightSampler chooses.
 struct Emitter {
   /// Environment: the scene's infinite light (LightSet::environment), a direction, no point.
-  /// Exit: a luminaire's exit patch (LuminaireBoxes' numbering across luminaires).
+  /// Exit: a luminaire, whose exit patch next-event estimation then chooses (LuminaireBoxes::choosePatch).
   enum class Kind : uint8_t { Light, Triangle, Patch, Environment, Exit } kind = Kind::Light;
-  uint32_t index = 0;  ///< LightSet index (Light, Triangle), patch ID or exit patch number
+  uint32_t index = 0;  ///< LightSet index (Light, Triangle), patch ID or luminaire
   uint32_t sub = 0;    ///< Triangle: LightSampler::triangle() index; Patch: the side (0 front, 1 back); Exit: its luminaire
   float area = 0.0f;   ///< m² (Triangle, Patch)
 };
@@ -156,7 +156,7 @@ class LightSampler {
   VisibilityGrid grid_;
   std::vector<uint32_t> patchSide_;
   bool luminaires_ = false;
-  std::vector<uint32_t> exitEmitter_;  ///< per exit patch: its emitter in the kept group, or kNoId
+  std::vector<uint32_t> exitEmitter_;  ///< per luminaire: its emitter in the kept group, or kNoId
 };
 
 }  // namespace fs

@@ -55,10 +55,23 @@ class LuminaireBoxes {
   /// The luminaire of exit patch number @p e.
   uint32_t exitLuminaire(uint32_t e) const;
 
+  /// Next-event estimation's choice of an exit patch of luminaire @p luminaire (already chosen) for a receiver at
+  /// @p x: one of the faces whose outer side holds @p x, by its power, then one of its patches by power. @p u ∈ [0,1)
+  /// makes the choice and comes back rescaled within the chosen patch's share. @return the patch (its number within
+  /// the luminaire) and in @p p the probability of the choice; false where no face facing @p x emits.
+  bool choosePatch(uint32_t luminaire, const Vec3& x, float& u, uint32_t& patch, float& p) const;
+  /// The probability with which choosePatch() at @p x chooses patch @p patch of luminaire @p luminaire.
+  float patchProbability(uint32_t luminaire, const Vec3& x, uint32_t patch) const;
+
  private:
   const std::vector<Luminaire>* items_ = nullptr;
   std::vector<int> lightLuminaire_;
   std::vector<uint32_t> exitFirst_;  ///< per luminaire, and the total last
+  /// Per exit patch (numbered across luminaires): the CDF of its face's patches by power up to and including it.
+  std::vector<float> patchCdf_;
+  std::vector<float> facePower_;  ///< per luminaire, 6 per face: the face's power (mean RGB), W
+  /// The faces of luminaire @p i whose outer side holds @p x, and their total power.
+  float facingPower(uint32_t i, const Vec3& x, bool facing[6]) const;
 };
 
 }  // namespace fs

@@ -123,10 +123,13 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
       break;
     case Emitter::Kind::Exit: {
       const LuminaireBoxes& boxes = scene.luminaires();
-      const uint32_t k = e.index - boxes.exitFirst(e.sub);
-      const Luminaire& lum = boxes.items()[e.sub];
+      uint32_t k = 0;
+      float pPatch = 0.0f;
+      Vec2 uPoint = u;
+      if (!boxes.choosePatch(e.index, hit.p, uPoint.x, k, pPatch)) return Color(0.0f);
+      const Luminaire& lum = boxes.items()[e.index];
       const ExitPatch p = lum.patch(k);
-      const Vec3 d = p.point(u) - hit.p;
+      const Vec3 d = p.point(uPoint) - hit.p;
       const float dist2 = glm::dot(d, d);
       if (!(dist2 > 0.0f)) return Color(0.0f);
       rec.distance = std::sqrt(dist2);
@@ -135,7 +138,7 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
       if (!(cosY > 0.0f)) return Color(0.0f);  // x is inside the box or beside this face
       const Color le = lum.radianceAt(k, -rec.wi);
       if (!(maxComponent(le) > 0.0f)) return Color(0.0f);
-      rec.pdf = pSelect * dist2 / (cosY * e.area);
+      rec.pdf = pSelect * pPatch * dist2 / (cosY * p.area);
       rec.value = le / rec.pdf;
       break;
     }
