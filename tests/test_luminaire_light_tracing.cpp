@@ -1,9 +1,7 @@
 // Luminaires in light tracing (render/integrators/light/integrator.h): particles leave the exit patches with the
 // exit distribution, and the luminaires' own lights' particles end where they leave the box. The exit particles must
-// carry the luminaires' exit power, each the same power up to its bin's colour; the image must be the path tracer's
-// with the luminaires' lights as ordinary lights on the same table (per 8×8 block within 3σ, σ from the per-pass block
-// means), on a bulb in an open metal bowl, a filament in a clear glass envelope and a point light in a box the camera
-// looks into (the inside seen as it is). The per-sample noise with and without the luminaires is printed.
+// carry the luminaires' exit power, each the same power up to its bin's colour, and the inner particles stay in their
+// box (the images: test_luminaire_render.cpp). The per-sample noise with and without the luminaires is printed.
 #include <gtest/gtest.h>
 
 #include <fmt/core.h>
@@ -28,17 +26,6 @@ IntegratorOptions options(bool luminaires) {
   io.maxDepth = 32;
   io.luminaires = luminaires;
   return io;
-}
-
-/// Light tracing with the luminaires (@p passes) against path tracing with their lights as lights (@p passesPath).
-void expectSameImage(const std::string& name, const RenderScene& scene, int passes, int passesPath) {
-  ASSERT_FALSE(scene.firstShot()->luminaires.empty()) << name << ": no luminaire found";
-  auto light = makeIntegrator("light", options(true));
-  auto path = makeIntegrator("path", options(false));
-  light->preprocess(scene);
-  path->preprocess(scene);
-  ASSERT_TRUE(dynamic_cast<const LightTracingIntegrator&>(*light).usesLuminaires());
-  test::expectBlocksAgree(name, test::blockMeans(*light, scene, passes), test::blockMeans(*path, scene, passesPath, 2));
 }
 
 /// The mean pixel variance of one pass of light tracing with and without the luminaires on @p scene, printed.
@@ -134,18 +121,8 @@ TEST(LuminaireLightTracing, InnerParticlesStayInTheirBox) {
   EXPECT_GT(longExit.load(), 10);
 }
 
-TEST(LuminaireLightTracing, BowlLampAsPathTracing) {
-  expectSameImage("bowl lamp", test::withLuminaireTable(test::bowlLamp()), 300, 3000);
-}
-
-TEST(LuminaireLightTracing, GlassBulbAsPathTracing) {
-  expectSameImage("glass bulb", test::withLuminaireTable(test::glassBulb()), 300, 1500);
-}
-
-// The camera looks into the box: the inner particles show its inside as it is, the exit particles the room.
-TEST(LuminaireLightTracing, OpenBoxSeenInsideAsItIs) {
-  expectSameImage("open box", test::withLuminaireTable(test::openBox()), 300, 4000);
-}
+// The images of light tracing with the luminaires against light tracing or path tracing without: in
+// test_luminaire_render.cpp, beside the path tracer's.
 
 // The per-sample noise with and without the luminaires (reported, not asserted: the particles that light the room
 // leave the exit patches with the same power each instead of bouncing out of the fixture, while a share of the count
