@@ -78,3 +78,18 @@ TEST(LuminaireRender, GlassBulbLessNoisy) {
              von.mean(), von.se(), voff.mean(), voff.se());
   EXPECT_LT(von.mean() + 3.0 * std::hypot(von.se(), voff.se()), voff.mean());
 }
+
+// The shipped fixture room (scenes/fixture-room.json): 14 bulbs in a cove under a shelf along the walls and 3 lamps
+// in shades open at top and bottom, each found as a luminaire at the defaults. At 32 × 24, path tracing with them
+// against light tracing without (σ from the passes).
+TEST(LuminaireRender, FixtureRoomCovesAndShades) {
+  SceneDesc d = loadScene(test::source("scenes/fixture-room.json"));
+  d.camera.width = 32, d.camera.height = 24;
+  const RenderScene scene = test::withLuminaireTable(d);
+  EXPECT_GE(scene.firstShot()->luminaires.size(), 10u) << "the cove's bulbs and the lamps are luminaires";
+  auto ref = makeIntegrator("light", pathOptions(d, false)), on = makeIntegrator("path", pathOptions(d, true));
+  ref->preprocess(scene);
+  on->preprocess(scene);
+  test::expectBlocksAgree("fixture room, path with the luminaires against light without", test::blockMeans(*on, scene, 1500),
+                          test::blockMeans(*ref, scene, 200, 2));
+}

@@ -97,11 +97,12 @@ int LuminaireBoxes::containing(const Vec3& p) const {
 int LuminaireBoxes::entries(const Vec3& o, const Vec3& d, float tmax, Entry* out) const {
   if (empty()) return 0;
   int n = 0;
-  for (size_t i = 0; i < items_->size() && n < kMaxEntries; ++i) {
+  for (size_t i = 0; i < items_->size(); ++i) {
     Entry e;
     if (!(*items_)[i].entry(o, d, tmax, e.t, e.face)) continue;
     e.luminaire = uint32_t(i);
-    int k = n++;
+    if (n == kMaxEntries && !(e.t < out[n - 1].t)) continue;  // full: keep the nearest
+    int k = n < kMaxEntries ? n++ : n - 1;
     for (; k > 0 && out[k - 1].t > e.t; --k) out[k] = out[k - 1];  // nearest first
     out[k] = e;
   }

@@ -25,9 +25,8 @@ class LightSet;
 
 class LuminaireBoxes {
  public:
-  /// A segment enters at most this many boxes (more are ignored: they would need a scene of overlapping rooms full
-  /// of lamps; the preprocessor merges overlapping boxes).
-  static constexpr int kMaxEntries = 8;
+  /// A segment enters at most this many boxes (the nearest of them; more would need a row of lamps along one ray).
+  static constexpr int kMaxEntries = 64;
   /// A box a segment enters: where and through which face.
   struct Entry {
     uint32_t luminaire = 0;
