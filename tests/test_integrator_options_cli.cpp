@@ -27,18 +27,18 @@ const std::vector<std::pair<std::string, std::string>> kOptions = {
     {"--clamp-footprint", "off"},   {"--neighbour-clamp", "off"},    {"--ic-patch-nee", "1"},
     {"--two-pass", ""},             {"--one-pass", ""},              {"--cache-file", "DIR/c.fsic"},
     {"--show-records", "DIR/r.png"}, {"--iterations", "1"},          {"--bundle-resolution", "8"},
-    {"--bundle-directions", "halton"},
+    {"--bundle-directions", "halton"}, {"--luminaires", "off"},
 };
 
 /// Which integrator reads which of them: the table of README.md.
 const std::map<std::string, std::vector<std::string>> kUses = {
-    {"path", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility"}},
+    {"path", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility", "--luminaires"}},
     {"irradiance-cache", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility",
                           "--accuracy", "--ic-samples", "--bounces", "--ambient", "--gradients", "--clamp-footprint",
                           "--neighbour-clamp", "--ic-patch-nee", "--two-pass", "--one-pass", "--cache-file",
                           "--show-records"}},
     {"light", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility",
-               "--shoot-firstshot", "--light-paths"}},
+               "--shoot-firstshot", "--light-paths", "--luminaires"}},
     {"bundle", {"--primary", "--table-visibility", "--iterations", "--bundle-resolution", "--bundle-directions"}},
     {"bdpt", {"--light-sampler", "--light-visibility", "--table-visibility", "--shoot-firstshot"}},
 };
