@@ -44,11 +44,7 @@ inline std::vector<Moments> blockMeans(const Integrator& integrator, const Rende
   std::vector<Moments> blocks(size_t(bw) * bh);
   for (int k = 0; k < passes; ++k) {
     Film film(w, h);
-    RenderOptions ro;
-    ro.spp = 1;
-    ro.firstSample = k;
-    ro.seed = seed;
-    render(integrator, camera, film, ro);
+    render(integrator, camera, film, RenderOptions::pass(k, seed));
     std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
@@ -117,9 +113,7 @@ inline Moments pixelVariance(const Integrator& integrator, const RenderScene& sc
   const int w = camera.width(), h = camera.height();
   auto pass = [&](int k) {
     Film film(w, h);
-    RenderOptions ro;
-    ro.spp = 1, ro.firstSample = k, ro.seed = 7;
-    render(integrator, camera, film, ro);
+    render(integrator, camera, film, RenderOptions::pass(k, 7));
     std::vector<double> v(size_t(w) * h);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {

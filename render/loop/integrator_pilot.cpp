@@ -94,10 +94,7 @@ struct PilotImage {
   /// Renders passes until @p total are done.
   void renderTo(int total, const Camera& camera, uint64_t seed, SamplerMode sampler, int threads) {
     for (; passes < total; ++passes) {
-      RenderOptions ro;
-      ro.spp = 1;
-      ro.firstSample = passes;
-      ro.seed = seed;
+      RenderOptions ro = RenderOptions::pass(passes, seed);
       ro.sampler = sampler;
       ro.threads = threads;
       ro.quiet = true;

@@ -30,6 +30,14 @@ struct RenderOptions {
   /// Progressive rendering (the preview) renders pass k as {firstSample = k, spp = 1}; the passes
   /// 0..n-1 then give the same film, bit for bit, as one render with spp = n.
   int firstSample = 0;
+  /// Pass @p k alone: one sample per pixel, sample index @p k, seed @p seed (every other field its default).
+  static RenderOptions pass(int k, uint64_t seed) {
+    RenderOptions ro;
+    ro.spp = 1;
+    ro.firstSample = k;
+    ro.seed = seed;
+    return ro;
+  }
   /// If set, checked before each tile and each sample: once true, the render stops, every pixel
   /// holding its first samples in order (a partial pass), and RenderStats::cancelled is set.
   /// Splatting integrators check it per particle chunk and leave the film at a pass boundary.

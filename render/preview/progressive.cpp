@@ -117,10 +117,7 @@ void ProgressiveRenderer::run() {
 
     // One pass: sample index spp of every pixel.
     const Camera camera(job.camera);
-    RenderOptions ro;
-    ro.spp = 1;
-    ro.firstSample = spp;
-    ro.seed = seed_;
+    RenderOptions ro = RenderOptions::pass(spp, seed_);
     ro.sampler = sampler_;
     ro.threads = threads_;
     ro.quiet = true;
