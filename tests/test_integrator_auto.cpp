@@ -1,11 +1,14 @@
 // --integrator auto (render/loop/integrator_pilot.h, render/cli/render_command_auto.cpp): the pilot's size stays
 // within its share of the budget, its noise measure is right, its choice does not depend on the threads, the
-// options given narrow it, and on a bulb behind glass it hands the render to light tracing.
+// options given narrow it, a table of luminaires alone adds no variants, and on a bulb behind glass it hands the
+// render to light tracing.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/loop/integrator_pilot.h"
@@ -144,4 +147,30 @@ TEST(IntegratorAuto, ResumeTakesTheCheckpointsChoice) {
   const auto resumed = fs::test::run(base + " --time 0.2 --resume -o " + dir + "/a.exr");
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
   EXPECT_THAT(resumed.output, HasSubstr("--integrator auto: " + chosen + " (the choice of the render in the checkpoint)"));
+}
+
+TEST(IntegratorAuto, ATableOfLuminairesAloneIsNotTriedTwice) {
+  // A point light in a clear glass sphere is a luminaire: the table replaces no light, so --patch-nee and
+  // --shoot-firstshot would change nothing, and the pilot tries each integrator once. Without the glass the table
+  // replaces the light: the variants are tried.
+  const std::string dir = fs::test::tempDir(), pre = FIRSTSHOT_PREPROCESS_EXE;
+  for (const bool glass : {true, false}) {
+    const std::string scene = dir + (glass ? "/bulb.json" : "/bare.json"), fsd = scene + ".fsd";
+    std::ofstream(scene) << R"({"materials": {"floor": {"type": "diffuse", "albedo": 0.5},
+        "glass": {"type": "dielectric", "ior": 1.5}},
+      "shapes": [{"type": "quad", "material": "floor", "vertices": [[-2,0,-2],[-2,0,2],[2,0,2],[2,0,-2]]})"
+                         << (glass ? R"(, {"type": "sphere", "material": "glass", "center": [0, 1, 0], "radius": 0.1})" : "")
+                         << R"(],
+      "lights": [{"type": "point", "position": [0, 1, 0], "power": 100}],
+      "camera": {"position": [0, 1.5, 3], "look_at": [0, 0.5, 0], "fov_y": 50, "resolution": [64, 64]},
+      "settings": {"patch_size": 0.5, "spp": 256}})";
+    const auto p = fs::test::run(pre + " " + scene + " --luminaire-particles 65536 --quiet -o " + fsd);
+    ASSERT_EQ(p.exitCode, 0) << p.output;
+    const auto r = fs::test::run(kRender + " " + scene + " --firstshot " + fsd + " --time 0.001 -o " + dir + "/a.exr");
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    const std::string table = pilotTable(r.output);
+    ASSERT_FALSE(table.empty()) << r.output;
+    EXPECT_EQ(table.find("--patch-nee") == std::string::npos, glass) << table;
+    EXPECT_EQ(table.find("--shoot-firstshot") == std::string::npos, glass) << table;
+  }
 }

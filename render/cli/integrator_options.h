@@ -85,7 +85,7 @@ struct IntegratorOptionsCli {
 
   /// --integrator auto: the settings the pilot may choose from (render/loop/integrator_pilot.h). The integrators
   /// that read every integrator option given on @p app (an option only some read narrows the choice to them),
-  /// and, with a table (@p table), each with --patch-nee off and every (path, irradiance-cache) or
+  /// and, with a table that replaces lights (@p table), each with --patch-nee off and every (path, irradiance-cache) or
   /// --shoot-firstshot patches and off (light, bdpt) unless that option was given. The bundle only when the
   /// options given leave nothing else; with a sky or environment map (@p infinite) only path and
   /// irradiance-cache. @throws InputError when no integrator reads every option given.

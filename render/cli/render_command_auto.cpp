@@ -25,8 +25,12 @@ const PilotCandidate& pathOrFirst(const std::vector<PilotCandidate>& candidates)
 
 void RenderCommand::resolveIntegrator() {
   if (!integrators_.isAuto()) return;
+  // A table's options (--patch-nee, --shoot-firstshot) change nothing where it replaces no light (a table of
+  // luminaires alone): their variants would be the same pictures at twice the pilot's cost.
+  if (!fsdPath_.empty()) buildRenderScene();
+  const bool replaces = renderScene_ && renderScene_->firstShot() && !renderScene_->firstShot()->replacedLights.empty();
   const std::vector<PilotCandidate> candidates =
-      integrators_.autoCandidates(app_, !fsdPath_.empty(), scene_.sky || scene_.environment, scene_.file);
+      integrators_.autoCandidates(app_, replaces, scene_.sky || scene_.environment, scene_.file);
   auto say = [&](const std::string& text) {
     if (!quiet_) fmt::print(stderr, "firstshot-render: --integrator auto: {}\n", text);
   };
@@ -70,7 +74,7 @@ void RenderCommand::resolveIntegrator() {
   }
 
   const auto start = std::chrono::steady_clock::now();
-  buildRenderScene();
+  if (!renderScene_) buildRenderScene();
   IntegratorOptions base = integrators_.options(maxDepth());
   base.comm = nullptr;  // every rank runs the same pilot and makes the same choice
   const PilotFactory make = [&](const PilotCandidate& c, uint64_t seed) {
