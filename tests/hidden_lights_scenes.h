@@ -8,6 +8,7 @@
 #include "common/scene_desc.h"
 #include "preprocess/preprocessor.h"
 #include "render/scene/render_scene.h"
+#include "tests/render_util.h"
 #include "tests/test_util.h"
 
 namespace fs::test {
