@@ -89,7 +89,7 @@ Color MirrorBRDF::sample(BSDFQuery& q, const Vec2&) const {
   q.pdf = 1.0f;
   q.specular = true;
   q.eta = 1.0f;
-  return tint;
+  return fresnel ? tint * fresnel->eval(std::abs(q.wo.z)) : tint;
 }
 
 // ---- Dielectric ----
@@ -129,7 +129,7 @@ float fresnelMean(float f0) { return f0 + (1.0f - f0) / 21.0f; }
 
 float MetallicRoughnessBRDF::pSpecular(float cosO) const {
   const float fd = schlickFresnel(Color(dielectricF0(ior)), cosO).x;
-  const float ws = metallic * mean(schlickFresnel(baseColor, cosO)) + (1.0f - metallic) * fd;
+  const float ws = metallic * mean(metalFresnel(cosO)) + (1.0f - metallic) * fd;
   const float wd = (1.0f - metallic) * (1.0f - fd) * mean(baseColor);
   if (!(wd > 0.0f)) return 1.0f;
   return std::clamp(ws / (ws + wd), 0.02f, 0.98f);
@@ -141,13 +141,13 @@ Color MetallicRoughnessBRDF::eval(const BSDFQuery& q) const {
   const Vec3 wi = upper(q.wi, flip), wo = upper(q.wo, flip);
   const float alpha = ggxAlpha(roughness);
   const float c = std::clamp(glm::dot(wo, glm::normalize(wi + wo)), 0.0f, 1.0f);
-  const float s = ggxSpecular(wi, wo, alpha);
+  const float s = microfacetSpecular(microfacet, wi, wo, alpha);
   const float f0 = dielectricF0(ior);
   const float fd = schlickFresnel(Color(f0), c).x;
   const float fi = schlickFresnel(Color(f0), wi.z).x, fo = schlickFresnel(Color(f0), wo.z).x;
   const float diffuse = (1.0f - fi) * (1.0f - fo) / (1.0f - fresnelMean(f0));
   const Color dielectric = baseColor * (diffuse * kInvPiF) + Color(fd * s);
-  const Color metal = schlickFresnel(baseColor, c) * s;
+  const Color metal = metalFresnel(c) * s;
   return metal * metallic + dielectric * (1.0f - metallic);
 }
 
@@ -156,7 +156,7 @@ float MetallicRoughnessBRDF::pdf(const BSDFQuery& q) const {
   const bool flip = q.wo.z < 0.0f;
   const Vec3 wi = upper(q.wi, flip), wo = upper(q.wo, flip);
   const float ps = pSpecular(wo.z);
-  return ps * ggxReflectionPdf(wi, wo, ggxAlpha(roughness)) + (1.0f - ps) * wi.z * kInvPiF;
+  return ps * microfacetReflectionPdf(microfacet, wi, wo, ggxAlpha(roughness)) + (1.0f - ps) * wi.z * kInvPiF;
 }
 
 Color MetallicRoughnessBRDF::sample(BSDFQuery& q, const Vec2& u) const {
@@ -167,7 +167,10 @@ Color MetallicRoughnessBRDF::sample(BSDFQuery& q, const Vec2& u) const {
   Vec3 wi;
   if (u.x < ps) {
     const Vec2 v(std::min(u.x / ps, 0x1.fffffep-1f), u.y);
-    const Vec3 h = sampleGgxVisibleNormal(wo, ggxAlpha(roughness), v);
+    const Vec3 h = sampleMicrofacetNormal(microfacet, wo, ggxAlpha(roughness), v);
+    // Beckmann's normals are drawn without regard to wo: one facing away from it reflects nothing (the density
+    // pdf() gives counts only facets that face wo). GGX's visible normals always face wo.
+    if (microfacet == MicrofacetModel::Beckmann && !(glm::dot(wo, h) > 0.0f)) return failedSample(q);
     wi = 2.0f * glm::dot(wo, h) * h - wo;
   } else {
     wi = squareToCosineHemisphere(Vec2(std::min((u.x - ps) / (1.0f - ps), 0x1.fffffep-1f), u.y));
@@ -184,7 +187,8 @@ Color MetallicRoughnessBRDF::sample(BSDFQuery& q, const Vec2& u) const {
 Color MetallicRoughnessBRDF::albedo() const {
   const float f0 = dielectricF0(ior);
   const float fd = fresnelMean(f0);
-  const Color metal = baseColor + (Color(1.0f) - baseColor) * (1.0f / 21.0f);
+  const Color metal =
+      conductor ? baseColor * conductor->hemisphericalMean() : baseColor + (Color(1.0f) - baseColor) * (1.0f / 21.0f);
   return metal * metallic + (Color(fd) + baseColor * (1.0f - fd)) * (1.0f - metallic);
 }
 
@@ -200,7 +204,8 @@ Color BSDF::diffuseAlbedo() const {
 BSDF makeBSDF(const MaterialDesc& m) { return makeBSDF(m, m.albedo); }
 
 BSDF makeBSDF(const MaterialDesc& m, const Color& albedo, float metallic, float roughness) {
-  if (m.type == MaterialType::Pbr) return MetallicRoughnessBRDF{albedo, metallic, roughness, m.ior};
+  if (m.type == MaterialType::Pbr)
+    return MetallicRoughnessBRDF{albedo, metallic, roughness, m.ior, m.microfacet, m.conductor};
   return makeBSDF(m, albedo);
 }
 
@@ -211,11 +216,12 @@ BSDF makeBSDF(const MaterialDesc& m, const Color& albedo) {
     // incidence angle, so albedo + specular ≤ 1 (checked by validateScene) conserves energy.
     case MaterialType::Glossy:
       return StretchedPhongBRDF(albedo, m.specular * StretchedPhongBRDF::glossyEnergyBound(m.exponent), m.exponent);
-    case MaterialType::Mirror: return MirrorBRDF{m.specular};
+    case MaterialType::Mirror: return MirrorBRDF{m.specular, m.conductor};
     case MaterialType::Dielectric:
       if (m.glassRoughness > 0.0f) return RoughDielectricBSDF{m.ior, m.transmittance, m.glassRoughness};
       return DielectricBSDF{m.ior, m.transmittance};
-    case MaterialType::Pbr: return MetallicRoughnessBRDF{albedo, m.metallic, m.roughness, m.ior};
+    case MaterialType::Pbr:
+      return MetallicRoughnessBRDF{albedo, m.metallic, m.roughness, m.ior, m.microfacet, m.conductor};
     case MaterialType::ThinGlass:
       if (m.glassRoughness > 0.0f) return RoughThinGlassBSDF{ThinGlassBSDF(m.transmittance, m.ior), m.glassRoughness};
       return ThinGlassBSDF(m.transmittance, m.ior);

@@ -20,9 +20,12 @@
 /// chosen that lobe (1 for the mirror, R or 1−R for the dielectric). That pdf is not a solid-angle
 /// density and must not enter MIS against one.
 #include <cstdint>
+#include <optional>
 #include <variant>
 
+#include "common/conductor_fresnel.h"
 #include "common/math.h"
+#include "common/microfacet_model.h"
 #include "common/rough_dielectric.h"
 #include "common/thin_glass.h"
 
@@ -112,13 +115,20 @@ struct StretchedPhongBRDF {
   Color albedo() const { return rhoD + ks * (2.0f * kPiF / (n + 2.0f)); }
 };
 
-/// Perfect mirror with tint: reflects wo about the normal, weight = tint (delta lobe, two-sided).
+/// Perfect mirror with tint: reflects wo about the normal, weight = tint (delta lobe, two-sided); with a conductor's
+/// Fresnel (common/conductor_fresnel.h), weight = tint × F(|cos θ_o|), as Mitsuba's smooth `conductor`.
 struct MirrorBRDF {
-  Color tint{1.0f};  ///< reflectance
+  Color tint{1.0f};  ///< reflectance (with a Fresnel: the factor on it)
+  std::optional<ConductorFresnel> fresnel;  ///< unset: the same reflectance at every angle
+
+  MirrorBRDF() = default;
+  MirrorBRDF(const Color& tint_, const std::optional<ConductorFresnel>& fresnel_ = std::nullopt)  // NOLINT: implicit
+      : tint(tint_), fresnel(fresnel_) {}
   Color sample(BSDFQuery& q, const Vec2& u) const;
   Color eval(const BSDFQuery&) const { return Color(0.0f); }
   float pdf(const BSDFQuery&) const { return 0.0f; }
-  Color albedo() const { return tint; }
+  /// tint, times the Fresnel's cosine-weighted hemispherical mean when there is one.
+  Color albedo() const { return fresnel ? tint * fresnel->hemisphericalMean() : tint; }
 };
 
 /// Smooth dielectric interface (outside index 1, inside index ior; the normal points outside).
@@ -156,11 +166,24 @@ struct DielectricBSDF {
 /// pSpecular(wo) and the cosine-weighted diffuse lobe otherwise; pdf() is the exact mixture density.
 /// baseColor is a plain field read at every query (nothing derived from it is cached), so a per-hit
 /// base colour (a texture) can be substituted in a copy.
+/// Two options that scene files ask for (Mitsuba's rough conductors); without them the model is the above:
+/// - conductor: the metal's Fresnel is b × F_c(c), a tint times the exact Fresnel of the complex index η + ik
+///   (common/conductor_fresnel.h), instead of Schlick's from F0 = b; reciprocal as F_c depends on c alone.
+/// - microfacet = Beckmann: the specular lobe's D, G2 and sampling are Beckmann's (common/beckmann.h), same α.
 struct MetallicRoughnessBRDF {
-  Color baseColor{1.0f};  ///< b ∈ [0,1]³: the diffuse albedo of the dielectric, F0 of the metal
+  Color baseColor{1.0f};  ///< b ∈ [0,1]³: the diffuse albedo of the dielectric, F0 of the metal (with a conductor: its tint)
   float metallic = 1.0f;  ///< ∈ [0, 1]: 1 a conductor, 0 a dielectric, blended linearly between
   float roughness = 1.0f; ///< perceptual roughness r ∈ [0, 1] (α = r²)
   float ior = 1.5f;       ///< index of refraction of the dielectric (f0 = 0.04 at 1.5)
+  MicrofacetModel microfacet = MicrofacetModel::Ggx;  ///< the specular lobe's distribution
+  std::optional<ConductorFresnel> conductor;  ///< set: the metal's Fresnel is b × the conductor's
+
+  MetallicRoughnessBRDF() = default;
+  MetallicRoughnessBRDF(const Color& baseColor_, float metallic_, float roughness_, float ior_,
+                        MicrofacetModel microfacet_ = MicrofacetModel::Ggx,
+                        const std::optional<ConductorFresnel>& conductor_ = std::nullopt)
+      : baseColor(baseColor_), metallic(metallic_), roughness(roughness_), ior(ior_), microfacet(microfacet_),
+        conductor(conductor_) {}
 
   /// Probability of sampling the specular lobe for @p cosO = |cos θ_o|: its expected share of the
   /// directional albedo (Fresnel at cos θ_o; the diffuse part weighted by 1 − F_d), in [0.02, 0.98]
@@ -170,11 +193,16 @@ struct MetallicRoughnessBRDF {
   Color eval(const BSDFQuery& q) const;
   float pdf(const BSDFQuery& q) const;
   /// The hemispherical mean of the Fresnel terms, ignoring masking: metallic·(b + (1−b)/21) +
-  /// (1 − metallic)·(F̄ + (1 − F̄)·b) with F̄ = f0 + (1 − f0)/21. Never 0 (grazing light always reflects).
+  /// (1 − metallic)·(F̄ + (1 − F̄)·b) with F̄ = f0 + (1 − f0)/21 (with a conductor, b × its mean in place of the
+  /// metal's b + (1−b)/21). Never 0 without a conductor (grazing light always reflects).
   Color albedo() const;
+
+ private:
+  /// The metal's Fresnel at c = wo·h: Schlick's from F0 = b, or b × the conductor's.
+  Color metalFresnel(float c) const { return conductor ? baseColor * conductor->eval(c) : schlickFresnel(baseColor, c); }
 };
 
-/// A BSDF as a small value type (no heap, ~40 bytes): one of the models above, dispatched by
+/// A BSDF as a small value type (no heap, under 100 bytes): one of the models above, dispatched by
 /// std::visit. Build one per material once and reuse it for every hit.
 class BSDF {
  public:
@@ -255,8 +283,9 @@ class BSDF {
 };
 
 /// BSDF of a material: Diffuse → Lambert(albedo); Glossy → stretched Phong(albedo, ks = specular,
-/// n = exponent); Mirror → mirror(specular); Dielectric → dielectric(ior, transmittance); Pbr →
-/// metallic-roughness(base colour = albedo, metallic, roughness, ior); ThinGlass → thin glass(transmittance, ior).
+/// n = exponent); Mirror → mirror(specular, conductor); Dielectric → dielectric(ior, transmittance); Pbr →
+/// metallic-roughness(base colour = albedo, metallic, roughness, ior, microfacet, conductor); ThinGlass → thin
+/// glass(transmittance, ior).
 /// Issue 34: a dielectric or thin glass of glassRoughness > 0 is the rough model (common/rough_dielectric.h).
 /// Emission is not part of the BSDF.
 BSDF makeBSDF(const MaterialDesc& material);

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 
+#include "common/conductor_presets.h"
 #include "common/thin_glass.h"
 
 namespace fs::mitsuba {
@@ -19,17 +21,6 @@ const std::map<std::string, double>& namedIors() {
       {"bromine", 1.661},      {"water ice", 1.31},          {"fused quartz", 1.458},    {"pyrex", 1.470},
       {"acrylic glass", 1.49}, {"polypropylene", 1.49},      {"bk7", 1.5046},            {"sodium chloride", 1.544},
       {"amber", 1.55},         {"pet", 1.5750},              {"diamond", 2.419}};
-  return table;
-}
-
-/// Linear RGB reflectance at normal incidence of Mitsuba's conductor presets (Real-Time Rendering,
-/// 4th ed., table 9.2); "none" is Mitsuba's ideal 100 % mirror.
-const std::map<std::string, Color>& conductorF0s() {
-  static const std::map<std::string, Color> table = {
-      {"none", Color(1.0f)},                      {"Au", Color(1.000f, 0.782f, 0.344f)},
-      {"Ag", Color(0.972f, 0.960f, 0.915f)},      {"Cu", Color(0.955f, 0.638f, 0.538f)},
-      {"Al", Color(0.913f, 0.922f, 0.924f)},      {"Cr", Color(0.549f, 0.556f, 0.554f)},
-      {"Hg", Color(0.781f, 0.780f, 0.778f)},      {"Ni_palik", Color(0.660f, 0.609f, 0.526f)}};
   return table;
 }
 
@@ -55,24 +46,21 @@ double ior(Plugin& p, const char* name, const char* fallback) {
   return it->second;
 }
 
-/// A conductor's reflectance at normal incidence: from eta and k (relative to ext_eta) when given, else from the
-/// "material" preset; times specular_reflectance.
-Color conductorF0(Plugin& p) {
-  Color f0;
-  if (p.has("eta") || p.has("k")) {
-    const double ext = p.number("ext_eta", 1.0);
-    const Color eta = p.color("eta", Color(0.0f)) / float(ext), k = p.color("k", Color(1.0f)) / float(ext);
-    for (int c = 0; c < 3; ++c)
-      f0[c] = ((eta[c] - 1) * (eta[c] - 1) + k[c] * k[c]) / ((eta[c] + 1) * (eta[c] + 1) + k[c] * k[c]);
-  } else {
-    const std::string name = p.string("material", "none");
-    const auto it = conductorF0s().find(name);
-    if (it == conductorF0s().end())
-      p.doc().fail(p.take("material"), "conductor material \"" + name + "\" has no RGB table here (" + keys(conductorF0s()) +
-                                           "; or give eta and k)");
-    f0 = it->second;
-  }
-  return glm::min(f0 * p.color("specular_reflectance", Color(1.0f)), Color(1.0f));
+/// Whether the document is a Mitsuba 0.x scene (`version` below 2), whose defaults differ here and there.
+bool mitsuba0(const Document& doc) { return std::atoi(doc.scene().attribute("version").value()) < 2; }
+
+/// A conductor's Fresnel as Mitsuba defines it: the `material` preset (common/conductor_presets.h; Mitsuba 3's default
+/// "none", the ideal mirror, Mitsuba 0.x's "Cu"), whose η and k an explicit `eta` and `k` replace, both over
+/// `ext_eta` (a number or a named index; Mitsuba 3 vacuum, Mitsuba 0.x air).
+ConductorFresnel conductorFresnel(Plugin& p) {
+  const bool v0 = mitsuba0(p.doc());
+  const pugi::xml_node named = p.take("material");
+  if (named && std::string(named.name()) != "string") p.doc().fail(named, "expected <string>");
+  const std::string name = named ? named.attribute("value").value() : v0 ? "Cu" : "none";
+  const std::optional<ConductorFresnel> preset = conductorPreset(name);
+  if (!preset) p.doc().fail(named, "unknown conductor material \"" + name + "\" (" + conductorPresetNames() + "; or give eta and k)");
+  const float ext = float(ior(p, "ext_eta", v0 ? "air" : "vacuum"));
+  return ConductorFresnel(p.color("eta", preset->eta()) / ext, p.color("k", preset->k()) / ext);
 }
 
 /// alpha, or the mean of alpha_u and alpha_v (anisotropy noted).
@@ -80,6 +68,18 @@ double roughness(Plugin& p) {
   if (!p.has("alpha_u") && !p.has("alpha_v")) return p.number("alpha", 0.1);
   p.doc().note("anisotropic", "anisotropic roughness approximated by the mean of alpha_u and alpha_v");
   return 0.5 * (p.number("alpha_u", 0.1) + p.number("alpha_v", 0.1));
+}
+
+/// `distribution`: Mitsuba's default beckmann, ggx, or phong (Beckmann's near twin, as Beckmann of the same alpha,
+/// noted).
+MicrofacetModel microfacet(Plugin& p) {
+  const std::string d = p.string("distribution", "beckmann");
+  if (d == "ggx") return MicrofacetModel::Ggx;
+  if (d == "phong")
+    p.doc().note("phong_distribution", "the phong microfacet distribution rendered as Beckmann of the same alpha");
+  else if (d != "beckmann")
+    p.doc().fail(p.node(), "unknown microfacet distribution \"" + d + "\" (beckmann, ggx, phong)");
+  return MicrofacetModel::Beckmann;
 }
 
 }  // namespace
@@ -139,17 +139,21 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
     p.take("specular_reflectance");
     doc_.note(t, t + " mapped to the pbr material (metallic 0, roughness = sqrt(alpha), ior = int_ior/ext_ior, "
                      "base colour = diffuse_reflectance)");
-  } else if (t == "conductor") {
+  } else if (t == "conductor") {  // a mirror of reflectance specular_reflectance × F(η, k): exact
     m.type = MaterialType::Mirror;
-    m.specular = conductorF0(p);
-    doc_.note(t, "conductor approximated as a mirror reflecting its Fresnel reflectance at normal incidence");
+    m.conductor = conductorFresnel(p);
+    m.specular = glm::min(p.color("specular_reflectance", Color(1.0f)), Color(1.0f));
   } else if (t == "roughconductor") {
     m.type = MaterialType::Pbr;
-    m.albedo = conductorF0(p);
+    m.conductor = conductorFresnel(p);
+    m.albedo = glm::min(p.color("specular_reflectance", Color(1.0f)), Color(1.0f));
     m.metallic = 1.0f;
     m.roughness = float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));
-    doc_.note(t, "roughconductor mapped to the pbr material (metallic 1, roughness = sqrt(alpha), base colour = "
-                 "Fresnel reflectance at normal incidence, Schlick's Fresnel for the complex one)");
+    m.microfacet = microfacet(p);
+    p.take("sample_visible");  // a sampling choice: the same expected image
+    doc_.note(t, "roughconductor mapped to the pbr material (metallic 1, roughness = sqrt(alpha), tint = "
+                 "specular_reflectance, the exact Fresnel of eta + ik); its Smith masking-shadowing is "
+                 "height-correlated where Mitsuba's is the product G1(wi)·G1(wo)");
   } else if (t == "principled") {
     // Mitsuba's Disney-style principled BSDF shares base_color, metallic and roughness (α = roughness²) with the
     // glTF model; its specular is eta's other name. Sheen, clearcoat, transmission and anisotropy are dropped.

@@ -100,6 +100,16 @@ void validateThinGlass(const std::string& file, const std::string& w, const Mate
                                                      " transmits (its two faces reflect the rest)");
 }
 
+/// A conductor's Fresnel (mirror and pbr only): η and k finite and ≥ 0. @p w names the material.
+void validateConductor(const std::string& file, const std::string& w, const MaterialDesc& m) {
+  if (m.type != MaterialType::Mirror && m.type != MaterialType::Pbr)
+    throw InputError(file, w, "material \"" + m.name + "\": a conductor's eta and k apply to mirror and pbr materials");
+  const ConductorFresnel& c = *m.conductor;
+  if (!isFinite(c.eta()) || !isFinite(c.k())) throw InputError(file, w, "a value is not finite (NaN or Inf)");
+  if (glm::any(glm::lessThan(c.eta(), Color(0.0f))) || glm::any(glm::lessThan(c.k(), Color(0.0f))))
+    throw InputError(file, w, "material \"" + m.name + "\": a conductor's eta and k must not be negative");
+}
+
 void frameCamera(SceneDesc& scene) {
   Vec3d lo, hi;
   scene.bounds(lo, hi);
@@ -142,6 +152,7 @@ void validateScene(SceneDesc& scene) {
       throw InputError(file, w + ".metallic", "must be in [0, 1]");
     if (m.type == MaterialType::Pbr && !(m.roughness >= 0.0f && m.roughness <= 1.0f))
       throw InputError(file, w + ".roughness", "must be in [0, 1]");
+    if (m.conductor) validateConductor(file, w, m);
   }
   if (scene.shapes.empty()) throw InputError(file, "shapes", "the scene has no shapes");
   for (const auto& s : scene.shapes) {
@@ -221,6 +232,8 @@ uint64_t hashScene(const SceneDesc& scene) {
     hashAlpha(h, m);
     if (m.normalTexture) h.add(uint8_t(3)).add(m.normalTexture->hash()).add(m.normalScale);  // issue 34
     if (m.emissionTexture) h.add(uint8_t(6)).add(m.emissionTexture->hash()).add(m.emissionFactor);  // issue 34
+    if (m.conductor) h.add(uint8_t(10)).add(m.conductor->eta()).add(m.conductor->k());  // others hash as before
+    if (m.microfacet != MicrofacetModel::Ggx) h.add(uint8_t(11)).add(m.microfacet);
   }
   h.add<uint64_t>(scene.shapes.size());
   for (const auto& s : scene.shapes) {

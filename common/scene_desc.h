@@ -9,7 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "common/conductor_fresnel.h"
 #include "common/math.h"
+#include "common/microfacet_model.h"
 
 namespace fs {
 
@@ -36,6 +38,13 @@ struct MaterialDesc {
   float roughness = 1.0f; ///< pbr: perceptual roughness ∈ [0, 1] (GGX α = roughness², common/microfacet.h)
   Color transmittance{1.0f};  ///< dielectric: tint of refracted light; thin glass: the pane's transmittance at normal incidence
   float glassRoughness = 0.0f;  ///< dielectric, thin glass: perceptual roughness ∈ [0, 1] (0 smooth; issue 34, frosted glass)
+  /// Mirror and pbr: a conductor's Fresnel (common/conductor_fresnel.h). Set, the mirror reflects specular × F(|cos θ|)
+  /// and the pbr material's metal part has the Fresnel base colour × F(c) (a tint times the metal's exact Fresnel, as
+  /// Mitsuba's conductors) instead of the same reflectance at every angle (mirror) or Schlick's from F0 = base colour
+  /// (pbr). Unset: those, as for every material that does not ask for it.
+  std::optional<ConductorFresnel> conductor;
+  /// Pbr: the specular lobe's microfacet distribution (GGX, glTF's; Beckmann where a scene file asks for it).
+  MicrofacetModel microfacet = MicrofacetModel::Ggx;
   Color emission{0.0f};  ///< emitted radiance, W/(m² sr)
   /// Diffuse and glossy: a base-colour texture; at a point with texture coordinates uv the diffuse reflectance
   /// is albedo × texture.lookup(uv) (albedo is then the factor, 1 by default; render/scene/surface_texture.h).

@@ -9,6 +9,7 @@
 #include <optional>
 #include <set>
 
+#include "common/conductor_presets.h"
 #include "common/error.h"
 #include "common/ies.h"
 #include "common/lights.h"
@@ -109,6 +110,28 @@ float parseGlassRoughness(const Reader& r, const Json& j, const std::string& whe
   return static_cast<float>(v);
 }
 
+/// A mirror's or pbr material's optional conductor Fresnel: "conductor" (a preset name, common/conductor_presets.h)
+/// or "eta" and "k" together (RGB or one number each, ≥ 0).
+void parseConductor(const Reader& r, const Json& j, const std::string& where, MaterialDesc& m) {
+  const bool named = j.contains("conductor"), given = j.contains("eta") || j.contains("k");
+  if (named && given) r.fail(where + ".conductor", "give either \"conductor\" or \"eta\" and \"k\", not both");
+  if (named) {
+    const std::string name = r.string(j["conductor"], where + ".conductor");
+    m.conductor = conductorPreset(name);
+    if (!m.conductor) r.fail(where + ".conductor", "unknown conductor \"" + name + "\" (" + conductorPresetNames() + ")");
+  } else if (given) {
+    m.conductor = ConductorFresnel(r.color(r.need(j, where, "eta"), where + ".eta"), r.color(r.need(j, where, "k"), where + ".k"));
+  }
+}
+
+/// A pbr material's optional "microfacet": "ggx" (the default, glTF's) or "beckmann".
+MicrofacetModel parseMicrofacet(const Reader& r, const Json& j, const std::string& where) {
+  if (!j.contains("microfacet")) return MicrofacetModel::Ggx;
+  const std::string d = r.string(j["microfacet"], where + ".microfacet");
+  if (d != "ggx" && d != "beckmann") r.fail(where + ".microfacet", "unknown microfacet distribution \"" + d + "\" (ggx, beckmann)");
+  return d == "beckmann" ? MicrofacetModel::Beckmann : MicrofacetModel::Ggx;
+}
+
 MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& name, const std::string& where,
                            TextureImages& images) {
   MaterialDesc m;
@@ -125,9 +148,10 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.specular = r.color(r.need(j, where, "specular"), where + ".specular");
     m.exponent = static_cast<float>(r.nonNegative(r.need(j, where, "exponent"), where + ".exponent"));
   } else if (type == "mirror") {
-    r.keys(j, where, {"type", "specular", "normal_texture", "normal_scale"});
+    r.keys(j, where, {"type", "specular", "conductor", "eta", "k", "normal_texture", "normal_scale"});
     m.type = MaterialType::Mirror;
     m.specular = Color(1.0f);
+    parseConductor(r, j, where, m);
   } else if (type == "dielectric") {
     r.keys(j, where, {"type", "ior", "transmittance", "roughness"});
     m.type = MaterialType::Dielectric;
@@ -141,8 +165,11 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
     m.glassRoughness = parseGlassRoughness(r, j, where);
   } else if (type == "pbr") {
     r.keys(j, where, {"type", "base_color", "base_color_texture", "metallic", "roughness", "metallic_roughness_texture",
-                      "ior", "emission", "emission_texture", "normal_texture", "normal_scale"});
+                      "ior", "conductor", "eta", "k", "microfacet", "emission", "emission_texture", "normal_texture",
+                      "normal_scale"});
     m.type = MaterialType::Pbr;
+    parseConductor(r, j, where, m);
+    m.microfacet = parseMicrofacet(r, j, where);
     m.albedo = j.contains("base_color") ? r.color(j["base_color"], where + ".base_color") : Color(1.0f);
     if (maxComponent(m.albedo) > 1.0f) r.fail(where + ".base_color", "must be in [0, 1]");
     auto unit = [&](const char* key, float fallback) {

@@ -363,7 +363,10 @@ TEST(MakeBSDF, MapsMaterials) {
   const BSDF d = makeBSDF(m);
   EXPECT_TRUE(d.hasTransmission());
   EXPECT_FLOAT_EQ(std::get<DielectricBSDF>(d.model()).ior, 1.33f);
-  EXPECT_LE(sizeof(BSDF), 52u);  // a small value type (issue 34: + a shaded point's geometric normal, 13 bytes)
+  // A small value type: 52 bytes with a shaded point's geometric normal; 88 with a metal's optional conductor Fresnel
+  // (η, k and their hemispherical mean, 40 bytes) and microfacet model in the mirror and the pbr model (no render
+  // measurably slower: textured-room, path, 320 × 240 × 64 spp, 13.9 s before and 14.1 s after, ±1 s between runs).
+  EXPECT_LE(sizeof(BSDF), 88u);
 }
 
 }  // namespace

@@ -52,6 +52,12 @@ void expectSameMaterial(const MaterialDesc& a, const MaterialDesc& b) {
   EXPECT_NEAR(a.ior, b.ior, 1e-6) << w;
   EXPECT_NEAR(a.metallic, b.metallic, 1e-6) << w;
   EXPECT_NEAR(a.roughness, b.roughness, 1e-6) << w;
+  EXPECT_EQ(a.microfacet, b.microfacet) << w;
+  ASSERT_EQ(bool(a.conductor), bool(b.conductor)) << w;
+  if (a.conductor) {
+    expectNear(a.conductor->eta(), b.conductor->eta(), w + " eta");
+    expectNear(a.conductor->k(), b.conductor->k(), w + " k");
+  }
 }
 
 /// The image's up direction: the camera's up made perpendicular to its view direction.
@@ -175,9 +181,8 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     <bsdf type="diffuse" id="tex"><texture type="bitmap" name="reflectance"><string name="filename" value="wood.png"/></texture></bsdf>
     <shape type="rectangle"><ref id="d"/></shape>)");
   const std::string err = testing::internal::GetCapturedStderr();
-  // Hand-computed values: plastics are pbr of metallic 0, ior η, roughness √α; conductor F0 from (η, k).
+  // Hand-computed values: plastics are pbr of metallic 0, ior η, roughness √α; conductors carry η and k.
   const double ppEta = 1.49 / 1.000277;  // the default: polypropylene 1.49 over air 1.000277
-  auto conductor = [](double n, double k) { return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k); };
   // thindielectric: a lossless thin_glass pane of bk7 in air, transmitting (1 − r0)/(1 + r0) at normal incidence.
   const double bk7 = 1.5046 / 1.000277, r0 = (bk7 - 1) * (bk7 - 1) / ((bk7 + 1) * (bk7 + 1));
   const SceneDesc j = json(fmt::format(R"({{
@@ -187,16 +192,16 @@ TEST(MitsubaScene, BsdfsMatchJson) {
       "p": {{"type": "pbr", "base_color": [0.5, 0.25, 0.125], "metallic": 0, "roughness": 0, "ior": 1.5}},
       "rp": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": 1.5}},
       "rp2": {{"type": "pbr", "base_color": 0.5, "metallic": 0, "roughness": {}, "ior": {}}},
-      "au": {{"type": "mirror", "specular": [1.0, 0.782, 0.344]}},
+      "au": {{"type": "mirror", "conductor": "Au"}},
       "pr": {{"type": "pbr", "base_color": [0.8, 0.4, 0.2], "metallic": 0.3, "roughness": 0.6, "ior": 1.5}},
-      "rc": {{"type": "pbr", "base_color": [{}, {}, {}], "metallic": 1, "roughness": {}}},
+      "rc": {{"type": "pbr", "base_color": 1, "metallic": 1, "roughness": {}, "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.45, 2.14],
+              "microfacet": "beckmann"}},
       "water": {{"type": "dielectric", "ior": {}}},
       "glass": {{"type": "dielectric", "ior": {}, "transmittance": [0.9, 0.8, 0.7]}},
       "thin": {{"type": "thin_glass", "ior": {}, "transmittance": {}}},
       "tex": {{"type": "diffuse", "albedo": 0.5}}}},
     "shapes": [{{"type": "quad", "material": "d", "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]]}}]}})",
-      std::sqrt(0.2), std::sqrt(0.5), ppEta, conductor(0.2, 3.9), conductor(0.9, 2.45), conductor(1.1, 2.14),
-      std::sqrt(0.1), 1.3330 / 1.000277, 1.5046 / 1.000277, bk7, (1 - r0) / (1 + r0)));
+      std::sqrt(0.2), std::sqrt(0.5), ppEta, std::sqrt(0.1), 1.3330 / 1.000277, 1.5046 / 1.000277, bk7, (1 - r0) / (1 + r0)));
   expectSameScene(x, j);
   for (const MaterialDesc& m : j.materials) {
     SCOPED_TRACE(m.name);
@@ -204,7 +209,7 @@ TEST(MitsubaScene, BsdfsMatchJson) {
     expectSameMaterial(x.materials[x.findMaterial(m.name)], m);
   }
   // Each approximation once per bsdf type, one line each.
-  for (const char* type : {"xml: roughplastic mapped", "xml: conductor approximated", "xml: bitmap textures approximated"}) {
+  for (const char* type : {"xml: roughplastic mapped", "xml: roughconductor mapped", "xml: bitmap textures approximated"}) {
     size_t count = 0;
     for (size_t pos = err.find(type); pos != std::string::npos; pos = err.find(type, pos + 1)) ++count;
     EXPECT_EQ(count, 1u) << type << " in:\n" << err;
