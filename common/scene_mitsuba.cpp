@@ -6,8 +6,10 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
+#include "common/camera_fov.h"
 #include "common/error.h"
 #include "common/lights.h"
 #include "common/mitsuba_bsdf.h"
@@ -21,33 +23,35 @@ namespace {
 
 constexpr int kMaxImageSide = 1 << 15; ///< as the JSON camera's resolution
 
-/// Mitsuba's horizontal field of view, degrees, from fov + fov_axis or focal_length (its parse_fov), for a film of
-/// aspect width/height.
-double fovX(Plugin& p, double aspect) {
+/// A sensor's field of view as Mitsuba's parse_fov reads it: `fov` (degrees) on `fov_axis`, or `focal_length` on the
+/// diagonal of 36 × 24 mm film.
+struct SensorFov {
+  double deg = 0;
+  FovAxis axis = FovAxis::X;
+};
+
+SensorFov sensorFov(Plugin& p) {
   if (p.has("fov") && p.has("focal_length")) p.doc().fail(p.node(), "give either fov or focal_length, not both");
-  double fov = 0;
-  std::string axis;
+  SensorFov f;
   if (p.has("fov")) {
-    fov = p.number("fov", 0);
-    axis = p.string("fov_axis", "x");
+    f.deg = p.number("fov", 0);
+    std::string axis = p.string("fov_axis", "x");
     std::transform(axis.begin(), axis.end(), axis.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (axis == "smaller") axis = aspect > 1 ? "y" : "x";
-    if (axis == "larger") axis = aspect > 1 ? "x" : "y";
+    const std::map<std::string, FovAxis> axes = {{"x", FovAxis::X}, {"y", FovAxis::Y}, {"diagonal", FovAxis::Diagonal},
+                                                 {"smaller", FovAxis::Smaller}, {"larger", FovAxis::Larger}};
+    if (!axes.count(axis)) p.doc().fail(p.take("fov_axis"), "fov_axis must be x, y, diagonal, smaller or larger");
+    f.axis = axes.at(axis);
   } else {
-    std::string f = p.string("focal_length", "50mm");
-    if (f.size() > 2 && f.compare(f.size() - 2, 2, "mm") == 0) f.resize(f.size() - 2);
+    std::string text = p.string("focal_length", "50mm");
+    if (text.size() > 2 && text.compare(text.size() - 2, 2, "mm") == 0) text.resize(text.size() - 2);
     char* end = nullptr;
-    const double mm = std::strtod(f.c_str(), &end);
-    if (f.empty() || *end != '\0' || !(mm > 0)) p.doc().fail(p.take("focal_length"), "expected a focal length like \"50mm\"");
-    fov = glm::degrees(2.0 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * mm)));
-    axis = "diagonal";
+    const double mm = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(mm > 0)) p.doc().fail(p.take("focal_length"), "expected a focal length like \"50mm\"");
+    f.deg = glm::degrees(2.0 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * mm)));
+    f.axis = FovAxis::Diagonal;
   }
-  if (!(fov > 0 && fov < 180)) p.doc().fail(p.take("fov"), "fov must be in (0, 180) degrees");
-  const double t = std::tan(glm::radians(fov) * 0.5);
-  if (axis == "x") return fov;
-  if (axis == "y") return glm::degrees(2.0 * std::atan(t * aspect));
-  if (axis == "diagonal") return glm::degrees(2.0 * std::atan(t / std::sqrt(1.0 + 1.0 / (aspect * aspect))));
-  p.doc().fail(p.take("fov_axis"), "fov_axis must be x, y, diagonal, smaller or larger");
+  if (!(f.deg > 0 && f.deg < 180)) p.doc().fail(p.take("fov"), "fov must be in (0, 180) degrees");
+  return f;
 }
 
 class SceneReader {
@@ -118,8 +122,11 @@ class SceneReader {
   void sensor(pugi::xml_node node) {
     Plugin p(doc_, node);
     if (p.type() == "thinlens") {
-      doc_.note("thinlens", "thinlens sensor approximated as a pinhole (no depth of field)");
-      p.number("aperture_radius", 0), p.number("focus_distance", 0);
+      const double aperture = p.number("aperture_radius", 0), focus = p.number("focus_distance", 1);
+      if (!(aperture >= 0)) doc_.fail(p.take("aperture_radius"), "aperture_radius must not be negative");
+      if (!(focus > 0)) doc_.fail(p.take("focus_distance"), "focus_distance must be positive");
+      doc_.note("thinlens", "thinlens sensor rendered as a pinhole at its position: no depth of field, everything in "
+                            "focus (aperture_radius and focus_distance read, not used)");
     } else if (p.type() != "perspective") {
       doc_.fail(node, "sensor type \"" + p.type() + "\" is not supported (perspective; thinlens as a pinhole)");
     }
@@ -138,8 +145,9 @@ class SceneReader {
       if (scene_.settings.spp < 1) doc_.fail(s.take("sample_count"), "sample_count must be at least 1");
       s.finish();
     }
-    const double aspect = double(c.width) / c.height;
-    c.fovYDeg = glm::degrees(2.0 * std::atan(std::tan(glm::radians(fovX(p, aspect)) * 0.5) / aspect));
+    const SensorFov fov = sensorFov(p);
+    c.fovAxis = fov.axis;  // kept when firstshot-render changes the resolution (common/camera_fov.h)
+    c.fovYDeg = verticalFov(fov.axis, fov.deg, double(c.width) / c.height);
     const Mat4d m = p.transform("to_world");
     c.position = Vec3d(m * glm::dvec4(0, 0, 0, 1));
     const Vec3d forward = Vec3d(m * glm::dvec4(0, 0, 1, 0)), up = Vec3d(m * glm::dvec4(0, 1, 0, 0));

@@ -1,6 +1,7 @@
-// Mitsuba shapes (common/mitsuba_shapes.cpp, common/mitsuba_serialized.cpp): a serialized file written here in the
-// format's layout against the same mesh as OBJ (the same SceneDesc and the same image), corrupt and truncated
-// serialized files named precisely, the cylinder's area and normals, shape groups' instances as transformed copies.
+// Mitsuba shapes and cameras (common/mitsuba_shapes.cpp, common/mitsuba_serialized.cpp, common/camera_fov.h):
+// a serialized file written here in the format's layout against the same mesh as OBJ (the same SceneDesc and the
+// same image), corrupt and truncated serialized files named precisely, the cylinder's area and normals, shape groups'
+// instances as transformed copies, and the field of view kept on a sensor's fov_axis when the resolution changes.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -9,6 +10,7 @@
 
 #include <cstring>
 
+#include "common/camera_fov.h"
 #include "common/error.h"
 #include "common/mitsuba_shapes.h"
 #include "common/scene_shapes.h"
@@ -362,4 +364,77 @@ TEST(MitsubaShapes, InstancesAreTransformedCopiesOfTheirGroup) {
   expectLoadError(writeScene(R"(<shape type="instance"/>)", {}), {"scene/shape (line 2)", "exactly one shapegroup"});
   expectLoadError(writeScene(R"(<shape type="cube" id="c"/><shape type="instance"><ref id="c"/></shape>)", {}),
                   {"scene/shape[2] (line 2)", "exactly one shapegroup"});
+}
+
+TEST(MitsubaCamera, ResolutionKeepsTheFieldOfViewOnTheSensorsAxis) {
+  // A 200 × 100 film with fov 50° on each axis, then rendered at other resolutions: the field on that axis stays
+  // 50°, so with t = tan 25° and the new aspect a = w/h, tan(fov_y/2) is t/a (x), t (y), t/√(1 + a²) (diagonal),
+  // and for smaller and larger that of y or x, whichever is the smaller or larger side of the new film.
+  const double t = std::tan(glm::radians(25.0));
+  auto sensor = [](const std::string& axis) {
+    return loadScene(writeScene(fmt::format(R"(<sensor type="perspective"><float name="fov" value="50"/>
+        <string name="fov_axis" value="{}"/><film type="hdrfilm"><integer name="width" value="200"/>
+        <integer name="height" value="100"/></film></sensor><shape type="cube"/>)", axis), {})).camera;
+  };
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{100, 100}, {300, 100}, {100, 200}, {200, 100}}) {
+    SCOPED_TRACE(fmt::format("{} x {}", w, h));
+    const double a = double(w) / h;
+    const std::vector<std::pair<std::string, double>> expected = {
+        {"x", t / a}, {"y", t}, {"diagonal", t / std::sqrt(1 + a * a)}, {"smaller", a > 1 ? t : t / a}, {"larger", a > 1 ? t / a : t}};
+    for (const auto& [axis, tanHalfY] : expected) {
+      CameraDesc c = sensor(axis);
+      resizeCamera(c, w, h);
+      EXPECT_EQ(c.width, w);
+      EXPECT_EQ(c.height, h);
+      EXPECT_NEAR(std::tan(glm::radians(c.fovYDeg) / 2), tanHalfY, 1e-12) << axis;
+    }
+  }
+  // A JSON camera keeps its vertical field.
+  CameraDesc json = test::sceneFromJson(R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov_y": 40, "resolution": [200, 100]},
+      "materials": {"m": {"type": "diffuse", "albedo": 0.5}},
+      "shapes": [{"type": "box", "material": "m", "min": [0, 0, 0], "max": [1, 1, 1]}]})").camera;
+  resizeCamera(json, 100, 300);
+  EXPECT_EQ(json.fovYDeg, 40.0);
+}
+
+TEST(MitsubaCamera, RenderWidthAndHeightKeepTheHorizontalField) {
+  // The sensor at the origin looks along +z with 50° across its 64 × 32 film (fov_axis x). A lamp (radiance 1) at
+  // z = 1 spans |x| ≤ tan(25°)/2, the middle half of that field, and the whole height. Rendered with --width 32
+  // --height 32 the field across stays 50°, so columns 8 to 23 see the lamp and the others see nothing; a vertical
+  // field kept from the file's aspect (tan(fov_y/2) = tan(25°)/2) would show the lamp across all 32 columns.
+  const std::string scene = writeScene(fmt::format(R"(<sensor type="perspective"><float name="fov" value="50"/>
+        <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="32"/></film></sensor>
+      <shape type="rectangle"><boolean name="flip_normals" value="true"/>
+        <transform name="to_world"><scale x="{}" y="10"/><translate z="1"/></transform>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>)", std::tan(glm::radians(25.0)) / 2), {});
+  const std::string out = std::filesystem::path(scene).parent_path().string() + "/img.exr";
+  const test::CommandResult r = test::run(std::string(FIRSTSHOT_RENDER_EXE) + " " + scene +
+                                          " --integrator path --spp 2 --width 32 --height 32 -q -o " + out);
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  int w = 0, h = 0;
+  std::vector<std::string> channels;
+  const std::vector<float> image = Film::read(out, w, h, channels);
+  ASSERT_EQ(w, 32);
+  ASSERT_EQ(h, 32);
+  const size_t nc = channels.size();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      EXPECT_NEAR(image[(size_t(y) * w + x) * nc], x >= 8 && x < 24 ? 1.0f : 0.0f, 1e-5f) << "pixel " << x << ", " << y;
+}
+
+TEST(MitsubaCamera, ThinlensIsAPinholeAndSaysSo) {
+  const char* lens = R"(<sensor type="{}"><float name="fov" value="40"/>{}
+      <transform name="to_world"><lookat origin="0, 1, 4" target="0, 0.5, 0"/></transform></sensor><shape type="cube"/>)";
+  testing::internal::CaptureStderr();
+  const SceneDesc thin = loadScene(writeScene(fmt::format(fmt::runtime(lens), "thinlens",
+      R"(<float name="aperture_radius" value="0.05"/><float name="focus_distance" value="4"/>)"), {}));
+  const std::string err = testing::internal::GetCapturedStderr();
+  const SceneDesc pin = loadScene(writeScene(fmt::format(fmt::runtime(lens), "perspective", ""), {}));
+  EXPECT_THAT(err, HasSubstr("thinlens sensor rendered as a pinhole"));
+  EXPECT_THAT(err, ::testing::Not(HasSubstr("not used by firstshot")));
+  EXPECT_EQ(thin.camera.position, pin.camera.position);
+  EXPECT_EQ(thin.camera.lookAt, pin.camera.lookAt);
+  EXPECT_EQ(thin.camera.fovYDeg, pin.camera.fovYDeg);
+  expectLoadError(writeScene(fmt::format(fmt::runtime(lens), "thinlens", R"(<float name="aperture_radius" value="-1"/>)"), {}),
+                  {"scene/sensor/aperture_radius (line 2)", "must not be negative"});
 }
