@@ -125,7 +125,7 @@ void SerializedReader::openStream(uint64_t offset) {
   in_.clear();
   in_.seekg(std::streamoff(offset + 4));
   left_ = size_ - offset - 4;
-  chunk_.resize(kSerializedChunk);
+  chunk_.resize(size_t(std::min<uint64_t>(left_, kSerializedChunk)) + 1);
   if (inflateInit(&z_) != Z_OK) fail("zlib cannot start decompressing");
   zlibOpen_ = true;
 }

@@ -175,7 +175,8 @@ const std::vector<ShapeDesc>& ShapeMapper::group(pugi::xml_node node) {
 
 void ShapeMapper::instance(pugi::xml_node node) {
   Plugin p(doc_, node);
-  const std::vector<pugi::xml_node> groups = p.nested("shape");
+  std::vector<pugi::xml_node> groups = p.nested("shape");
+  if (const pugi::xml_node named = p.take("shapegroup")) groups.push_back(doc_.resolve(named));  // <ref name="shapegroup" …>
   if (groups.size() != 1 || std::string(groups[0].attribute("type").value()) != "shapegroup")
     doc_.fail(node, "an instance takes exactly one shapegroup (a <ref id=\"…\"/> to it)");
   for (const char* tag : {"bsdf", "emitter"})

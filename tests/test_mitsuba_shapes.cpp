@@ -9,9 +9,11 @@
 #include <zlib.h>
 
 #include <cstring>
+#include <random>
 
 #include "common/camera_fov.h"
 #include "common/error.h"
+#include "common/mitsuba_serialized.h"
 #include "common/mitsuba_shapes.h"
 #include "common/scene_shapes.h"
 #include "tests/block_compare.h"
@@ -267,6 +269,30 @@ TEST(MitsubaShapes, CorruptSerializedFilesAreNamed) {
                   {"scene/shape/shape_index (line 3)", "shape_index must not be negative"});
 }
 
+TEST(MitsubaShapes, MutatedSerializedFilesLoadOrAreInputErrors) {
+  // Bytes changed at random, or the file cut short: each read of either shape loads or is an InputError naming the
+  // file, never a crash or another exception (counts are checked before anything is allocated).
+  const std::string good = serializedFile({triangle(), tent()}), path = test::tempDir() + "/m.serialized";
+  std::mt19937 rng(7);
+  int refused = 0;
+  for (int i = 0; i < 120; ++i) {
+    std::string file = good;
+    if (i % 4 == 0) {
+      file.resize(rng() % file.size());
+    } else {
+      for (uint32_t k = 0, n = 1 + rng() % 4; k < n; ++k) file[rng() % file.size()] = char(rng());
+    }
+    test::writeText(path, file);
+    try {
+      mitsuba::readSerializedShape(path, i % 2, "scene.xml", "scene/shape");
+    } catch (const InputError& e) {
+      ++refused;
+      EXPECT_THAT(e.what(), HasSubstr("scene.xml: scene/shape: serialized file " + path));
+    }
+  }
+  EXPECT_GT(refused, 60);
+}
+
 TEST(MitsubaShapes, CylinderAreaNormalsAndTextureCoordinates) {
   // Radius 0.3 from (1, 0, 0) to (1, 2, 0), moved by to_world; and Mitsuba's default one (radius 1, z from 0 to 1)
   // with its normals flipped.
@@ -332,9 +358,10 @@ TEST(MitsubaShapes, InstancesAreTransformedCopiesOfTheirGroup) {
   const SceneDesc s = loadScene(writeScene(red + R"(
       <shape type="shapegroup" id="g">)" + fmt::format(fmt::runtime(rectangle), "") + fmt::format(fmt::runtime(tentMesh), "") + R"(</shape>
       <shape type="instance"><ref id="g"/></shape>
-      <shape type="instance"><ref id="g"/><transform name="to_world">)" + move + R"(</transform></shape>)",
+      <shape type="instance"><ref name="shapegroup" id="g"/><transform name="to_world">)" + move + R"(</transform></shape>)",
       {{"tent.obj", tentObj()}}));
-  // The same shapes written out, each instance's transform after the shape's own.
+  // The same shapes written out, each instance's transform after the shape's own (the second instance names its
+  // reference, as Mitsuba's Python dictionaries do).
   const SceneDesc flat = loadScene(writeScene(red + fmt::format(fmt::runtime(rectangle), "") + fmt::format(fmt::runtime(tentMesh), "") +
       fmt::format(fmt::runtime(rectangle), move) + fmt::format(fmt::runtime(tentMesh), "<transform name=\"to_world\">" + move + "</transform>"),
       {{"tent.obj", tentObj()}}));
