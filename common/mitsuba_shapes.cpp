@@ -44,7 +44,8 @@ void makeCylinder(ShapeDesc& s, const Vec3d& p0, const Vec3d& p1, double radius)
   Vec3d sx, sy;
   perpendicularPair(glm::normalize(axis), sx, sy);
   const int n = kCylinderSegments;
-  const double step = 2 * kPi / n, r = radius * kPi / (n * std::sin(kPi / n));  // n facets of width 2r·sin(π/n): area 2π·radius·h
+  // n facets of width 2r·sin(π/n) along the axis: their area is 2π·radius·length for this r.
+  const double step = 2 * kPi / n, r = radius * kPi / (n * std::sin(kPi / n));
   std::vector<Vec3> radial(size_t(n) + 1);
   for (int i = 0; i <= n; ++i) {
     const Vec3d d = std::cos(i * step) * sx + std::sin(i * step) * sy;
@@ -59,7 +60,8 @@ void makeCylinder(ShapeDesc& s, const Vec3d& p0, const Vec3d& p1, double radius)
     s.faces.push_back(f);
     const float u0 = float(i) / float(n), u1 = float(i + 1) / float(n);
     s.uv.insert(s.uv.end(), {Vec2(u0, 0.0f), Vec2(u1, 0.0f), Vec2(u1, 1.0f), Vec2(u0, 1.0f)});
-    s.normals.insert(s.normals.end(), {radial[size_t(i)], radial[size_t(i) + 1], radial[size_t(i) + 1], radial[size_t(i)]});
+    const Vec3 n0 = radial[size_t(i)], n1 = radial[size_t(i) + 1];
+    s.normals.insert(s.normals.end(), {n0, n1, n1, n0});
   }
 }
 

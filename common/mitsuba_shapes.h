@@ -48,10 +48,11 @@ class ShapeMapper {
   std::map<pugi::xml_node, std::vector<ShapeDesc>> groups_;  ///< each shapegroup's shapes, as its elements place them
 };
 
-/// Mitsuba's `cylinder` as the mesh of @p s (empty before): the open tube of @p radius (m) from @p p0 to @p p1 (its centre line, m), without
-/// end caps, normals outward, as kCylinderSegments planar quads around the axis whose radius is enlarged so that
-/// their area is the cylinder's, 2π·radius·|p1 − p0|. Each corner has the cylinder's own normal (smooth shading)
-/// and Mitsuba's texture coordinates: u = φ/2π around the axis, from Mitsuba's seam, v = 0 at p0 to 1 at p1.
+/// Mitsuba's `cylinder` as the mesh of @p s (empty before): the open tube of @p radius (m) from @p p0 to @p p1 (its
+/// centre line, m), without end caps, normals outward, as kCylinderSegments planar quads around the axis whose
+/// radius is enlarged so that their area is the cylinder's, 2π·radius·|p1 − p0|. Each corner has the cylinder's own
+/// normal (smooth shading) and Mitsuba's texture coordinates: u = φ/2π around the axis, from Mitsuba's seam, v = 0
+/// at p0 to 1 at p1.
 void makeCylinder(ShapeDesc& s, const Vec3d& p0, const Vec3d& p1, double radius);
 
 /// Quads around a tessellated cylinder: facets 5.625° wide, their corners 0.04% outside the true radius and their
