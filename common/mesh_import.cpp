@@ -14,17 +14,16 @@
 #include <fstream>
 #include <map>
 #include <optional>
-#include <unordered_map>
 
 #include "common/asset_checks.h"
 #include "common/bump_map.h"
 #include "common/error.h"
 #include "common/gltf_file.h"
 #include "common/gltf_materials.h"
-#include "common/hash.h"
 #include "common/photometry.h"
 #include "common/skipped_faces.h"
 #include "common/texture.h"
+#include "common/vertex_welder.h"
 
 namespace fs {
 namespace {
@@ -162,25 +161,6 @@ Vec3 importedTangent(const Mat3d& m, const aiVector3D& v) {
 struct TangentsOut {
   std::vector<Vec3>* tangents = nullptr;
   std::vector<Vec3>* bitangents = nullptr;
-};
-
-/// Joins vertices at bit-identical positions, so that triangles sharing an edge share its vertices.
-class Welder {
- public:
-  explicit Welder(std::vector<Vec3d>& vertices) : vertices_(vertices) {}
-  uint32_t index(Vec3d p) {
-    p += Vec3d(0.0);  // -0 -> +0
-    auto [it, inserted] = map_.try_emplace(p, uint32_t(vertices_.size()));
-    if (inserted) vertices_.push_back(p);
-    return it->second;
-  }
-
- private:
-  struct KeyHash {
-    size_t operator()(const Vec3d& p) const { return size_t(Hasher().add(p).value()); }
-  };
-  std::vector<Vec3d>& vertices_;
-  std::unordered_map<Vec3d, uint32_t, KeyHash> map_;
 };
 
 /// Appends every triangle of @p mesh, transformed by @p toWorld, keeping degenerate ones, and its first set of

@@ -128,6 +128,11 @@ std::vector<double> numbers(const Document& doc, pugi::xml_node node, const char
   return out;
 }
 
+std::string elementName(const Document& doc, pugi::xml_node node) {
+  const std::string p = doc.path(node);
+  return node.attribute("id") ? p + " (\"" + node.attribute("id").value() + "\")" : p;
+}
+
 Document::Document(std::string file, const std::string& text) : file_(std::move(file)) {
   lineStarts_.push_back(0);
   for (size_t i = 0; i < text.size(); ++i)

@@ -121,6 +121,9 @@ class Plugin {
   std::set<size_t> readUnnamed_;
 };
 
+/// A name for a scene element kept in the scene (ShapeDesc::name, LightDesc::name): its path, and its id if it has one.
+std::string elementName(const Document& doc, pugi::xml_node node);
+
 /// Numbers separated by commas and/or white space in the attribute @p attr of @p node (exactly
 /// @p count of them when count > 0). @throws InputError naming the element.
 std::vector<double> numbers(const Document& doc, pugi::xml_node node, const char* attr, size_t count = 0);

@@ -155,13 +155,20 @@ struct ShapeDesc {
   Vec2 cornerUv(size_t f, int k) const { return uv[4 * f + size_t(k)]; }
 };
 
+/// The image axis whose field of view a scene fixes (common/camera_fov.h): the vertical one (JSON's fov_y), the
+/// horizontal one, the diagonal, or the smaller or larger of width and height (Mitsuba's `fov_axis`).
+enum class FovAxis : uint8_t { Y, X, Diagonal, Smaller, Larger };
+
 /// Pinhole camera.
 struct CameraDesc {
   Vec3d position{0, 1, 3};
   Vec3d lookAt{0, 1, 0};
   Vec3d up{0, 1, 0};
-  double fovYDeg = 45;  ///< vertical field of view, degrees
+  double fovYDeg = 45;  ///< vertical field of view at width × height, degrees
   int width = 512, height = 512;
+  /// The axis whose field of view the scene gave: a new resolution (resizeCamera, firstshot-render's --width and
+  /// --height) keeps the field on this axis and recomputes fovYDeg from it. Y for JSON scenes and assets.
+  FovAxis fovAxis = FovAxis::Y;
   bool given = false;   ///< false when framed automatically
 };
 

@@ -1,81 +1,64 @@
-// Mitsuba 3 XML scenes → SceneDesc: the scene's elements, shapes, emitters and the sensor
-// (docs/scene-format.md, "Mitsuba 3 XML scenes"); bsdfs in mitsuba_bsdf.cpp, XML in mitsuba_xml.cpp.
+// Mitsuba 3 XML scenes → SceneDesc: the scene's elements, emitters and the sensor (docs/scene-format.md, "Mitsuba 3
+// XML scenes"); shapes in mitsuba_shapes.cpp, bsdfs in mitsuba_bsdf.cpp, XML in mitsuba_xml.cpp.
 #include "common/scene_mitsuba.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
+#include "common/camera_fov.h"
 #include "common/error.h"
 #include "common/lights.h"
-#include "common/mesh_import.h"
 #include "common/mitsuba_bsdf.h"
+#include "common/mitsuba_shapes.h"
 #include "common/mitsuba_xml.h"
-#include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
 
 namespace fs {
 namespace mitsuba {
 namespace {
 
-constexpr int kDiskSegments = 64;      ///< triangles of a tessellated disk
-constexpr int kSphereSubdivisions = 3; ///< icosphere levels of a tessellated sphere (1280 triangles)
 constexpr int kMaxImageSide = 1 << 15; ///< as the JSON camera's resolution
 
-/// Mitsuba's disk (the unit disk in z = 0, normal +z) as a fan of kDiskSegments triangles around its centre; the
-/// polygon's radius is enlarged so that its area is the disk's, π.
-void makeDisk(ShapeDesc& s) {
-  const double step = 2 * kPi / kDiskSegments;
-  const double r = std::sqrt(2 * kPi / (kDiskSegments * std::sin(step)));
-  const uint32_t centre = uint32_t(s.vertices.size());
-  s.vertices.emplace_back(0.0);
-  for (int i = 0; i < kDiskSegments; ++i) s.vertices.emplace_back(r * std::cos(i * step), r * std::sin(i * step), 0.0);
-  for (uint32_t i = 0; i < uint32_t(kDiskSegments); ++i) {
-    Face f;
-    f.v[0] = centre, f.v[1] = centre + 1 + i, f.v[2] = centre + 1 + (i + 1) % kDiskSegments;
-    s.faces.push_back(f);
-  }
-}
+/// A sensor's field of view as Mitsuba's parse_fov reads it: `fov` (degrees) on `fov_axis`, or `focal_length` on the
+/// diagonal of 36 × 24 mm film.
+struct SensorFov {
+  double deg = 0;
+  FovAxis axis = FovAxis::X;
+};
 
-/// A name for a scene element: its path, and its id if it has one.
-std::string elementName(const Document& doc, pugi::xml_node node) {
-  const std::string p = doc.path(node);
-  return node.attribute("id") ? p + " (\"" + node.attribute("id").value() + "\")" : p;
-}
-
-/// Mitsuba's horizontal field of view, degrees, from fov + fov_axis or focal_length (its parse_fov), for a film of
-/// aspect width/height.
-double fovX(Plugin& p, double aspect) {
+SensorFov sensorFov(Plugin& p) {
   if (p.has("fov") && p.has("focal_length")) p.doc().fail(p.node(), "give either fov or focal_length, not both");
-  double fov = 0;
-  std::string axis;
+  SensorFov f;
   if (p.has("fov")) {
-    fov = p.number("fov", 0);
-    axis = p.string("fov_axis", "x");
+    f.deg = p.number("fov", 0);
+    std::string axis = p.string("fov_axis", "x");
     std::transform(axis.begin(), axis.end(), axis.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (axis == "smaller") axis = aspect > 1 ? "y" : "x";
-    if (axis == "larger") axis = aspect > 1 ? "x" : "y";
+    const std::map<std::string, FovAxis> axes = {{"x", FovAxis::X}, {"y", FovAxis::Y}, {"diagonal", FovAxis::Diagonal},
+                                                 {"smaller", FovAxis::Smaller}, {"larger", FovAxis::Larger}};
+    if (!axes.count(axis)) p.doc().fail(p.take("fov_axis"), "fov_axis must be x, y, diagonal, smaller or larger");
+    f.axis = axes.at(axis);
   } else {
-    std::string f = p.string("focal_length", "50mm");
-    if (f.size() > 2 && f.compare(f.size() - 2, 2, "mm") == 0) f.resize(f.size() - 2);
+    std::string text = p.string("focal_length", "50mm");
+    if (text.size() > 2 && text.compare(text.size() - 2, 2, "mm") == 0) text.resize(text.size() - 2);
     char* end = nullptr;
-    const double mm = std::strtod(f.c_str(), &end);
-    if (f.empty() || *end != '\0' || !(mm > 0)) p.doc().fail(p.take("focal_length"), "expected a focal length like \"50mm\"");
-    fov = glm::degrees(2.0 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * mm)));
-    axis = "diagonal";
+    const double mm = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !(mm > 0)) p.doc().fail(p.take("focal_length"), "expected a focal length like \"50mm\"");
+    f.deg = glm::degrees(2.0 * std::atan(std::sqrt(36.0 * 36.0 + 24.0 * 24.0) / (2.0 * mm)));
+    f.axis = FovAxis::Diagonal;
   }
-  if (!(fov > 0 && fov < 180)) p.doc().fail(p.take("fov"), "fov must be in (0, 180) degrees");
-  const double t = std::tan(glm::radians(fov) * 0.5);
-  if (axis == "x") return fov;
-  if (axis == "y") return glm::degrees(2.0 * std::atan(t * aspect));
-  if (axis == "diagonal") return glm::degrees(2.0 * std::atan(t / std::sqrt(1.0 + 1.0 / (aspect * aspect))));
-  p.doc().fail(p.take("fov_axis"), "fov_axis must be x, y, diagonal, smaller or larger");
+  if (!(f.deg > 0 && f.deg < 180)) p.doc().fail(p.take("fov"), "fov must be in (0, 180) degrees");
+  return f;
 }
 
 class SceneReader {
  public:
-  SceneReader(Document& doc, SceneDesc& scene) : doc_(doc), scene_(scene), bsdfs_(doc, scene) {}
+  SceneReader(Document& doc, SceneDesc& scene)
+      : doc_(doc), scene_(scene), bsdfs_(doc, scene),
+        shapes_(doc, scene, bsdfs_, [this](const std::string& name) { return resolve(name); }) {}
 
   void read() {
     for (pugi::xml_node c : doc_.scene().children()) {
@@ -93,7 +76,7 @@ class SceneReader {
           sensor(c);
         }
       } else if (tag == "shape") {
-        shape(c);
+        shapes_.add(c);
       } else if (tag == "bsdf") {
         bsdfs_.material(c);
       } else if (tag == "emitter") {
@@ -139,8 +122,11 @@ class SceneReader {
   void sensor(pugi::xml_node node) {
     Plugin p(doc_, node);
     if (p.type() == "thinlens") {
-      doc_.note("thinlens", "thinlens sensor approximated as a pinhole (no depth of field)");
-      p.number("aperture_radius", 0), p.number("focus_distance", 0);
+      const double aperture = p.number("aperture_radius", 0), focus = p.number("focus_distance", 1);
+      if (!(aperture >= 0)) doc_.fail(p.take("aperture_radius"), "aperture_radius must not be negative");
+      if (!(focus > 0)) doc_.fail(p.take("focus_distance"), "focus_distance must be positive");
+      doc_.note("thinlens", "thinlens sensor rendered as a pinhole at its position: no depth of field, everything in "
+                            "focus (aperture_radius and focus_distance read, not used)");
     } else if (p.type() != "perspective") {
       doc_.fail(node, "sensor type \"" + p.type() + "\" is not supported (perspective; thinlens as a pinhole)");
     }
@@ -159,8 +145,9 @@ class SceneReader {
       if (scene_.settings.spp < 1) doc_.fail(s.take("sample_count"), "sample_count must be at least 1");
       s.finish();
     }
-    const double aspect = double(c.width) / c.height;
-    c.fovYDeg = glm::degrees(2.0 * std::atan(std::tan(glm::radians(fovX(p, aspect)) * 0.5) / aspect));
+    const SensorFov fov = sensorFov(p);
+    c.fovAxis = fov.axis;  // kept when firstshot-render changes the resolution (common/camera_fov.h)
+    c.fovYDeg = verticalFov(fov.axis, fov.deg, double(c.width) / c.height);
     const Mat4d m = p.transform("to_world");
     c.position = Vec3d(m * glm::dvec4(0, 0, 0, 1));
     const Vec3d forward = Vec3d(m * glm::dvec4(0, 0, 1, 0)), up = Vec3d(m * glm::dvec4(0, 1, 0, 0));
@@ -172,59 +159,6 @@ class SceneReader {
       doc_.note("mirrored camera", "the sensor's to_world mirrors the image; rendered without the mirroring");
     c.given = true;
     p.finish();
-  }
-
-  void shape(pugi::xml_node node) {
-    Plugin p(doc_, node);
-    ShapeDesc s;
-    s.name = elementName(doc_, node);
-    const std::string& t = p.type();
-    if (t == "obj" || t == "ply") {
-      s.type = ShapeType::Mesh;
-      const std::string name = p.string("filename", "");
-      if (name.empty()) doc_.fail(node, "missing <string name=\"filename\">");
-      s.sourceFile = resolve(name).string();
-      MeshData mesh = loadMeshFile(s.sourceFile, doc_.file(), doc_.where(node));
-      s.vertices = std::move(mesh.vertices);
-      s.faces = std::move(mesh.faces);
-      s.uv = std::move(mesh.uv);
-      s.normals = std::move(mesh.normals);  // issue 34
-      s.tangents = std::move(mesh.tangents), s.bitangents = std::move(mesh.bitangents);
-    } else if (t == "rectangle") {
-      s.type = ShapeType::Quad;
-      shapes::makeQuad(s, {Vec3d(-1, -1, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0), Vec3d(-1, 1, 0)});
-    } else if (t == "cube") {
-      s.type = ShapeType::Box;
-      shapes::makeBox(s, Vec3d(-1.0), Vec3d(1.0));
-    } else if (t == "sphere") {
-      s.type = ShapeType::Sphere;
-      const double radius = p.number("radius", 1.0);
-      if (!(radius > 0)) doc_.fail(p.take("radius"), "radius must be positive");
-      shapes::makeSphere(s, p.point("center", Vec3d(0.0)), radius, kSphereSubdivisions);
-    } else if (t == "disk") {
-      s.type = ShapeType::Mesh;
-      makeDisk(s);
-    } else {
-      doc_.fail(node, "shape type \"" + t + "\" is not supported (obj, ply, rectangle, cube, sphere, disk)");
-    }
-    shapes::transform(s, p.transform("to_world"));
-    if (p.boolean("flip_normals", false)) shapes::flip(s);
-    std::vector<pugi::xml_node> bsdfs = p.nested("bsdf");
-    if (const pugi::xml_node named = p.take("bsdf")) bsdfs.push_back(doc_.resolve(named));
-    if (bsdfs.size() > 1) doc_.fail(node, "a shape takes one bsdf");
-    s.material = bsdfs.empty() ? bsdfs_.defaultMaterial() : bsdfs_.material(bsdfs[0]);
-    for (pugi::xml_node e : p.nested("emitter")) {
-      Plugin emitter(doc_, e);
-      if (emitter.type() != "area") doc_.fail(e, "emitter type \"" + emitter.type() + "\" inside a shape (only area)");
-      MaterialDesc m = scene_.materials[s.material];
-      m.name = s.name + " emitter";
-      m.emission = emitter.color("radiance", Color(1.0f));
-      emitter.finish();
-      scene_.materials.push_back(m);
-      s.material = int(scene_.materials.size() - 1);
-    }
-    p.finish();
-    scene_.shapes.push_back(std::move(s));
   }
 
   void emitter(pugi::xml_node node) {
@@ -266,6 +200,7 @@ class SceneReader {
   Document& doc_;
   SceneDesc& scene_;
   BsdfMapper bsdfs_;
+  ShapeMapper shapes_;
   std::vector<std::filesystem::path> searchPaths_;
 };
 

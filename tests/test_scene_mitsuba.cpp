@@ -350,8 +350,8 @@ void expectBadXml(const std::string& text, std::initializer_list<const char*> pa
 }  // namespace
 
 TEST(MitsubaScene, UnsupportedPluginsAreNamed) {
-  expectBadXml("<scene version=\"3.0.0\">\n  <shape type=\"cube\"/>\n  <shape type=\"cylinder\"/>\n</scene>\n",
-               {"scene/shape[2] (line 3)", "shape type \"cylinder\" is not supported"});
+  expectBadXml("<scene version=\"3.0.0\">\n  <shape type=\"cube\"/>\n  <shape type=\"bsplinecurve\"/>\n</scene>\n",
+               {"scene/shape[2] (line 3)", "shape type \"bsplinecurve\" is not supported"});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"blendbsdf\"/>\n</shape>\n</scene>\n",
                {"scene/shape/bsdf (line 3)", "bsdf type \"blendbsdf\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n<emitter type=\"envmap\"/>\n</scene>\n",

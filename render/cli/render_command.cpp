@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "common/camera_fov.h"
 #include "common/cli.h"
 #include "common/firstshot.h"
 #include "common/interrupt.h"
@@ -65,8 +66,9 @@ void RenderCommand::declareOptions() {
       ->check(CLI::Range(0, 1 << 30));
   app.add_option("--exposure", exposure_, "PNG exposure in stops (scale by 2^exposure)");
   app.add_flag("--aov", aov_, "EXR: add albedo and normal layers for external denoisers");
-  app.add_option("--width", width_, "image width (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
-  app.add_option("--height", height_, "image height (default: the scene's camera)")->check(CLI::Range(1, 1 << 16));
+  app.add_option("--width", width_, "image width (default: the scene's camera; the field of view on the scene's axis is "
+                                    "kept: the vertical one, or a Mitsuba sensor's fov_axis)")->check(CLI::Range(1, 1 << 16));
+  app.add_option("--height", height_, "image height (default: the scene's camera; as --width)")->check(CLI::Range(1, 1 << 16));
   app.add_option("--patch-size", patchSize_, "without --firstshot: longest patch edge in metres (default: every face as it is; --integrator bundle: "
                                              "the scene's patch_size, else automatic as the preprocessor's)")
       ->check(CLI::Range(1e-6, 1e6));
@@ -112,8 +114,8 @@ void RenderCommand::loadScene() {
   scene_ = fs::loadScene(scenePath_);
   if (sensors_.daylightFactor) switchToDaylightFactorScene();
   sensors_.addQuadGrids(scene_, sensorSets_);  // --grid-quad: on the scene's quads
-  if (width_ > 0) scene_.camera.width = width_;
-  if (height_ > 0) scene_.camera.height = height_;
+  if (width_ > 0 || height_ > 0)  // the field of view on the scene's axis is kept (a Mitsuba fov_axis x: the horizontal)
+    resizeCamera(scene_.camera, width_ > 0 ? width_ : scene_.camera.width, height_ > 0 ? height_ : scene_.camera.height);
   if (!preview_ && !sensors_.active()) Film::requireFits(scene_.camera.width, scene_.camera.height, scene_.file);  // before any other work
 }
 
