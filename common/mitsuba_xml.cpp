@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/error.h"
+#include "common/spectrum_rgb.h"
 
 namespace fs::mitsuba {
 namespace {
@@ -399,21 +400,101 @@ Color Plugin::colorOf(pugi::xml_node ref) {
     t.finish();
     return c;
   }
-  expectTag(doc_, n, {"rgb", "spectrum", "float"});
-  if (tag == "spectrum" && (n.attribute("filename") || n.attribute("type")))
-    doc_.fail(n, "spectrum files and spectrum plugins are not supported (give <rgb>)");
-  if (tag == "spectrum" && std::string(n.attribute("value").value()).find(':') != std::string::npos)
-    doc_.fail(n, "wavelength:value spectra are not supported (give <rgb> or one value for grey)");
+  expectTag(doc_, n, {"rgb", "srgb", "spectrum", "blackbody", "float"});
+  if (tag == "spectrum" || tag == "blackbody") return spectrumColor(n);
+  if (tag == "srgb") return srgbColor(n);
   const auto v = numbers(doc_, n, "value");
   if (v.size() == 1) {
     c = Color(float(v[0]));
   } else if (v.size() == 3 && tag == "rgb") {
     c = Color(float(v[0]), float(v[1]), float(v[2]));
   } else {
-    doc_.fail(n, tag == "rgb" ? "expected 3 numbers (or one for grey)" : "expected one number (grey)");
+    doc_.fail(n, tag == "rgb" ? "expected 3 numbers (or one for grey)" : "expected one number");
   }
   if (glm::any(glm::lessThan(c, Color(0.0f)))) doc_.fail(n, "must not be negative");
   return c;
+}
+
+Color Plugin::srgbColor(pugi::xml_node n) {
+  std::vector<double> v;
+  const std::string text = n.attribute("value").value();
+  if (!text.empty() && text[0] == '#') {  // "#rrggbb"
+    unsigned rgb = 0;
+    char tail = 0;
+    if (text.size() != 7 || std::sscanf(text.c_str() + 1, "%6x%c", &rgb, &tail) != 1)
+      doc_.fail(n, "expected \"#rrggbb\" or 3 numbers in [0, 1], got \"" + text + "\"");
+    v = {((rgb >> 16) & 255) / 255.0, ((rgb >> 8) & 255) / 255.0, (rgb & 255) / 255.0};
+  } else {
+    v = numbers(doc_, n, "value");
+    if (v.size() == 1) v = {v[0], v[0], v[0]};
+    if (v.size() != 3) doc_.fail(n, "expected 3 numbers (or one for grey)");
+  }
+  for (double x : v)
+    if (!(x >= 0)) doc_.fail(n, "must not be negative");
+  return Color(float(srgbToLinear(v[0])), float(srgbToLinear(v[1])), float(srgbToLinear(v[2])));
+}
+
+Color Plugin::spectrumColor(pugi::xml_node n) {
+  const bool emission = std::string(node_.name()) == "emitter";  // a radiance or an intensity, else a reflectance
+  const std::string tag = n.name();
+  if (tag == "blackbody" || n.attribute("type")) {  // Mitsuba 0.6's <blackbody temperature="…K" scale="…"/>, or 3's
+    double kelvin = 0, scale = 1;
+    if (tag == "blackbody") {
+      std::string t = n.attribute("temperature").value();
+      if (!t.empty() && (t.back() == 'K' || t.back() == 'k')) t.pop_back();
+      char* end = nullptr;
+      kelvin = std::strtod(t.c_str(), &end);
+      if (t.empty() || *end != '\0') doc_.fail(n, "expected temperature=\"…K\"");
+      if (n.attribute("scale")) scale = numbers(doc_, n, "scale", 1)[0];
+    } else {
+      Plugin p(doc_, n);
+      if (p.type() != "blackbody")
+        doc_.fail(n, "spectrum type \"" + p.type() + "\" is not supported (blackbody; or a value list)");
+      kelvin = p.number("temperature", 0), scale = p.number("scale", 1);
+      p.finish();
+    }
+    if (!(kelvin > 0 && kelvin < 1e6)) doc_.fail(n, "the temperature must be in (0, 10⁶) kelvin");
+    if (!(scale >= 0)) doc_.fail(n, "scale must not be negative");
+    doc_.note("blackbody", "blackbody spectra: Planck radiance, W/(m² sr nm), to linear sRGB by the CIE 1931 observer "
+                           "(luminance = its mean over ȳ, the scale of Mitsuba's RGB renderer)");
+    return emissionRgb([&](double nm) { return planckRadiance(nm, kelvin); }) * float(scale);
+  }
+  if (n.attribute("filename")) doc_.fail(n, "spectrum files are not supported (give the wavelength:value list)");
+  const std::string text = n.attribute("value").value();
+  if (text.find(':') == std::string::npos) {
+    const auto v = numbers(doc_, n, "value");
+    if (v.size() != 1) doc_.fail(n, "expected one number (grey) or wavelength:value pairs");
+    if (v[0] < 0) doc_.fail(n, "must not be negative");
+    return Color(float(v[0]));
+  }
+  SampledSpectrum s;
+  size_t i = 0;
+  while (i < text.size()) {  // "λ:v" pairs separated by commas and/or white space
+    if (text[i] == ',' || std::isspace((unsigned char)text[i])) {
+      ++i;
+      continue;
+    }
+    size_t end = i;
+    while (end < text.size() && text[end] != ',' && !std::isspace((unsigned char)text[end])) ++end;
+    const std::string pair = text.substr(i, end - i);
+    const size_t colon = pair.find(':');
+    double nm = 0, v = 0;
+    const auto a = std::from_chars(pair.data(), pair.data() + colon, nm);
+    const auto b = colon == std::string::npos ? a : std::from_chars(pair.data() + colon + 1, pair.data() + pair.size(), v);
+    if (colon == std::string::npos || a.ec != std::errc() || a.ptr != pair.data() + colon || b.ec != std::errc() ||
+        b.ptr != pair.data() + pair.size() || !std::isfinite(nm) || !std::isfinite(v))
+      doc_.fail(n, "expected wavelength:value pairs (nm:value), got \"" + pair + "\"");
+    if (!s.nm.empty() && !(nm > s.nm.back())) doc_.fail(n, "wavelengths must increase (\"" + pair + "\")");
+    if (v < 0) doc_.fail(n, "must not be negative (\"" + pair + "\")");
+    s.nm.push_back(nm), s.value.push_back(v);
+    i = end;
+  }
+  doc_.note(emission ? "spectrum emission" : "spectrum reflectance",
+            emission ? "emission spectra (nm:value) to linear sRGB by the CIE 1931 observer, luminance = their mean "
+                       "over ȳ (Mitsuba's RGB scale)"
+                     : "reflectance spectra (nm:value) to linear sRGB by the CIE 1931 observer under D65 (a flat "
+                       "spectrum is grey; Mitsuba 0.6's RGB mode makes it (1.2, 0.95, 0.91))");
+  return emission ? emissionRgb([&](double nm) { return s.at(nm); }) : reflectanceRgb(s);
 }
 
 Mat4d Plugin::transform(const char* name) {

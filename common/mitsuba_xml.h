@@ -102,8 +102,10 @@ class Plugin {
   bool boolean(const char* name, bool fallback);         ///< `<boolean value="true|false">`
   std::string string(const char* name, const std::string& fallback);  ///< `<string>`
   Vec3d point(const char* name, const Vec3d& fallback);  ///< `<point>` or `<vector>`: value="x, y, z" or x=… y=… z=…
-  /// A colour: `<rgb>` ("r, g, b", or one value), `<spectrum>` (one value: grey), `<float>`, or a
-  /// texture (bitmap: 0.5 grey; checkerboard: the mean of its two colours; both noted). Never negative.
+  /// A colour: `<rgb>` ("r, g, b", or one value), `<srgb>` (gamma-encoded "r, g, b" or "#rrggbb", linearised),
+  /// `<spectrum>` (one value: grey; wavelength:value pairs or `type="blackbody"` through the CIE observer,
+  /// common/spectrum_rgb.h: a reflectance, or an emission inside an `<emitter>`), Mitsuba 0.6's `<blackbody>`,
+  /// `<float>`, or a texture (bitmap: 0.5 grey; checkerboard: the mean of its two colours; both noted). Never negative.
   Color color(const char* name, const Color& fallback);
   /// `<transform name=…>`: translate, rotate, scale, matrix and lookat in document order (each
   /// applied after the ones before it). Identity when absent.
@@ -111,6 +113,8 @@ class Plugin {
 
  private:
   Color colorOf(pugi::xml_node node);
+  Color srgbColor(pugi::xml_node node);      ///< `<srgb>`, linearised
+  Color spectrumColor(pugi::xml_node node);  ///< `<spectrum>` or `<blackbody>`
 
   Document& doc_;
   pugi::xml_node node_;

@@ -278,6 +278,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     h.add(std::string_view("sky")).add(s.dome.type()).add(s.dome.sunDirection()).add(s.dome.zenithLuminance());
     h.add(s.dome.horizontalIlluminance()).add(s.perez.diffuseHorizontal).add(s.perez.directNormal);
     h.add(s.perez.dayOfYear).add(s.groundReflectance).add(s.sunHorizontalLux);
+    if (s.turbidity > 0) h.add(std::string_view("turbidity")).add(s.turbidity);
   }
   if (scene.environment) {
     const EnvironmentDesc& e = *scene.environment;
@@ -285,6 +286,7 @@ uint64_t hashScene(const SceneDesc& scene) {
     std::stringstream bytes;
     bytes << in.rdbuf();
     h.add(std::string_view("environment")).add(std::string_view(bytes.str())).add(e.scale).add(e.rotateDeg);
+    if (e.file.empty()) h.add(std::string_view("constant")).add(e.constant);
   }
   return h.value();
 }

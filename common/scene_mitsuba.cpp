@@ -13,6 +13,7 @@
 #include "common/error.h"
 #include "common/lights.h"
 #include "common/mitsuba_bsdf.h"
+#include "common/mitsuba_emitters.h"
 #include "common/mitsuba_shapes.h"
 #include "common/mitsuba_xml.h"
 #include "common/skipped_faces.h"
@@ -162,39 +163,7 @@ class SceneReader {
   }
 
   void emitter(pugi::xml_node node) {
-    Plugin p(doc_, node);
-    LightDesc l;
-    l.name = elementName(doc_, node);
-    const Mat4d m = p.transform("to_world");
-    const Vec3d origin(m * glm::dvec4(0, 0, 0, 1)), axis(m * glm::dvec4(0, 0, 1, 0));
-    const std::string& t = p.type();
-    if (t == "point") {
-      l.type = LightType::Point;
-      l.position = p.point("position", origin);
-      l.power = p.color("intensity", Color(1.0f)) * float(4 * kPi);  // W/sr → W
-    } else if (t == "spot") {
-      l.type = LightType::Spot;
-      l.position = origin;
-      l.direction = axis;
-      l.outerAngleDeg = p.number("cutoff_angle", 20.0);
-      l.innerAngleDeg = std::min(p.number("beam_width", 0.75 * l.outerAngleDeg), l.outerAngleDeg);
-      if (!(l.outerAngleDeg > 0 && l.outerAngleDeg <= 180 && l.innerAngleDeg > 0))
-        doc_.fail(node, "cutoff_angle and beam_width must be in (0, 180] degrees");
-      l.power = p.color("intensity", Color(1.0f)) * float(SpotCone(l).integral());  // on-axis W/sr → W
-      doc_.note("spot", "spot falloff: Mitsuba's linear ramp in angle from beam_width to cutoff_angle approximated by "
-                        "a smoothstep in cos(angle) over the same cone (same on-axis intensity)");
-    } else if (t == "directional") {
-      l.type = LightType::Directional;
-      l.direction = p.point("direction", axis);
-      l.irradiance = p.color("irradiance", Color(1.0f));
-    } else if (t == "area") {
-      doc_.fail(node, "an area emitter belongs inside a <shape>");
-    } else {
-      doc_.fail(node, "emitter type \"" + t + "\" is not supported (point, spot, directional; area inside a shape; "
-                      "environment emitters are refused)");
-    }
-    p.finish();
-    scene_.lights.push_back(l);
+    readEmitter(doc_, node, scene_, [this](const std::string& name) { return resolve(name); });
   }
 
   Document& doc_;

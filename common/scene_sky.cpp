@@ -106,7 +106,7 @@ SunInput parseSun(const SceneJsonReader& r, const Json& j, const std::string& wh
 void parseSky(const SceneJsonReader& r, const Json& j, SunInput& sun, SceneDesc& scene) {
   const std::string where = "sky";
   r.keys(j, where, {"type", "horizontal_illuminance", "zenith_luminance", "direct_normal_irradiance",
-                    "diffuse_horizontal_irradiance", "ground_reflectance", "sun"});
+                    "diffuse_horizontal_irradiance", "ground_reflectance", "turbidity", "sun"});
   const std::string type = r.string(r.need(j, where, "type"), where + ".type");
   if (j.contains("sun")) sun = parseSun(r, j["sun"], where + ".sun");
   auto sky = std::make_shared<SkyDesc>();
@@ -118,17 +118,26 @@ void parseSky(const SceneJsonReader& r, const Json& j, SunInput& sun, SceneDesc&
     for (const char* k : keys)
       if (j.contains(k)) r.fail(where + "." + k, why);
   };
-  if (type == "cie-overcast" || type == "cie-clear") {
+  if (type != "preetham") only({"turbidity"}, "goes with \"type\": \"preetham\"");
+  if (type == "cie-overcast" || type == "cie-clear" || type == "preetham") {
     only({"direct_normal_irradiance", "diffuse_horizontal_irradiance"}, "goes with \"type\": \"perez\"");
     const bool overcast = type == "cie-overcast";
-    if (!overcast && !sun.given) r.fail(where, "a CIE clear sky needs a \"sun\" (its position shapes the sky)");
+    if (!overcast && !sun.given) r.fail(where, "a " + type + " sky needs a \"sun\" (its position shapes the sky)");
     if (!overcast && !sun.hasIrradiance)
-      r.fail(sun.where,
-             "missing key \"irradiance\" (or \"illuminance\"): the CIE clear sky has no direct part of its own");
+      r.fail(sun.where, "missing key \"irradiance\" (or \"illuminance\"): the " + type +
+                            " sky has no direct part of its own");
     if (j.contains("horizontal_illuminance") == j.contains("zenith_luminance"))
       r.fail(where, "give one of \"horizontal_illuminance\" (lux) and \"zenith_luminance\" (cd/m²)");
+    double abcde[5] = {0, 0, 0, 0, 0};
+    if (type == "preetham") {
+      sky->turbidity = j.contains("turbidity") ? r.number(j["turbidity"], where + ".turbidity") : 3.0;
+      if (!(sky->turbidity >= 1 && sky->turbidity <= 10)) r.fail(where + ".turbidity", "must be in [1, 10]");
+      preethamCoefficients(sky->turbidity, abcde);
+    }
     auto make = [&](double lux) {
-      return overcast ? SkyLuminance::overcast(lux) : SkyLuminance::clear(sun.toSun, lux);
+      return overcast            ? SkyLuminance::overcast(lux)
+             : type == "cie-clear" ? SkyLuminance::clear(sun.toSun, lux)
+                                   : SkyLuminance::perez(sun.toSun, abcde, lux);
     };
     if (j.contains("horizontal_illuminance")) {
       sky->dome = make(r.positive(j["horizontal_illuminance"], where + ".horizontal_illuminance"));
@@ -155,7 +164,7 @@ void parseSky(const SceneJsonReader& r, const Json& j, SunInput& sun, SceneDesc&
       r.fail(where, e.what());
     }
   } else {
-    r.fail(where + ".type", "unknown sky type \"" + type + "\" (cie-overcast, cie-clear, perez)");
+    r.fail(where + ".type", "unknown sky type \"" + type + "\" (cie-overcast, cie-clear, perez, preetham)");
   }
   if (sun.given && sun.hasIrradiance) sky->sunHorizontalLux = photometry::lux(sun.irradiance) * sun.toSun.y;
   scene.sky = std::move(sky);

@@ -21,6 +21,7 @@ namespace fs {
 struct SkyDesc {
   SkyLuminance dome;                ///< the sky's luminance (cd/m²) over the upper hemisphere
   PerezInput perez;                 ///< Perez skies: the irradiances the dome was made from (for the scene hash)
+  double turbidity = 0.0;           ///< Preetham skies: the turbidity of the dome's distribution (0: not one)
   double groundReflectance = 0.2;   ///< ρ of the ground below the horizon
   double sunHorizontalLux = 0.0;    ///< the sun's illuminance on an unobstructed horizontal plane, lux (0: no sun)
   /// Luminance of the ground below the horizon, cd/m²: ρ (E_sky + E_sun) / π (common/sky_models.h).
@@ -29,9 +30,10 @@ struct SkyDesc {
 
 /// An environment map: a lat-long (equirectangular) image of radiance (render/lights/environment_map.h).
 struct EnvironmentDesc {
-  std::string file;          ///< resolved path (relative names are taken from the scene file's folder)
+  std::string file;          ///< resolved path (relative names are taken from the scene file's folder); empty: constant
   float scale = 1.0f;        ///< multiplies every texel
   double rotateDeg = 0.0;    ///< rotation about the up axis (y), degrees
+  Color constant{0.0f};      ///< with no file: the same radiance from every direction, W/(m² sr) (before scale)
 };
 
 /// The renderer's radiance, W/(m² sr) on each channel, of luminance @p candelaPerM2 (cd/m²): L / kEfficacy.

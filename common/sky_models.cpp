@@ -34,6 +34,12 @@ double SkyLuminance::relative(const Vec3d& dir) const {
 
 double SkyLuminance::luminance(const Vec3d& dir) const { return dir.y > 0.0 ? zenith_ * relative(dir) : 0.0; }
 
+void preethamCoefficients(double turbidity, double (&abcde)[5]) {
+  const double t = std::clamp(turbidity, 2.0, 10.0);
+  abcde[0] = 0.1787 * t - 1.4630, abcde[1] = -0.3554 * t + 0.4275, abcde[2] = -0.0227 * t + 5.3251;
+  abcde[3] = 0.1206 * t - 2.5771, abcde[4] = -0.0670 * t + 0.3703;
+}
+
 double relativeHorizontalIntegral(const SkyLuminance& sky) {
   if (sky.type() == SkyType::CieOvercast) return 7.0 * kPi / 9.0;
   // Midpoint rule in (μ = cos θ, azimuth): dω = dμ dφ, integrand relative · μ.

@@ -9,6 +9,10 @@
 ///   φ(θ) = 1 − exp(−0.32 / cos θ), f(γ) = 0.91 + 10 exp(−3γ) + 0.45 cos²γ, γ the angle to the sun, Z the sun's
 ///   zenith angle; E_h by quadrature (a 512 × 1024 midpoint rule in cos θ and azimuth, error under 10⁻⁴).
 /// - **Perez all-weather sky** (common/perez_sky.h): its relative distribution, scaled the same way.
+/// - **Preetham clear sky** (Preetham, Shirley & Smits 1999, "A practical analytic model for daylight", appendix A.2):
+///   the Perez distribution with parameters linear in the turbidity T, A = 0.1787T − 1.4630, B = −0.3554T + 0.4275,
+///   C = −0.0227T + 5.3251, D = 0.1206T − 2.5771, E = −0.0670T + 0.3703 (the paper's Y distribution; T limited to
+///   [2, 10], its range), scaled the same way.
 /// The ground below the horizon is a Lambertian plane of reflectance ρ lit by sky and sun: L_g = ρ (E_sky + E_sun)/π.
 #include <cstdint>
 
@@ -50,6 +54,9 @@ class SkyLuminance {
   double clearNorm_ = 1;  ///< clear sky: 1 / (φ(0) f(Z)); Perez: 1 / lv(0, Z)
   double perez_[5] = {0, 0, 0, 0, 0};  ///< Perez: a, b, c, d, e
 };
+
+/// Preetham's Perez parameters a..e of the luminance for turbidity @p turbidity (limited to [2, 10]).
+void preethamCoefficients(double turbidity, double (&abcde)[5]);
 
 /// ∫ relative(ω) cos θ dω over the upper hemisphere of @p sky's relative distribution (sr), by the quadrature of the
 /// file comment: E_h = Lz times this.

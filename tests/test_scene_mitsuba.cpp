@@ -354,11 +354,11 @@ TEST(MitsubaScene, UnsupportedPluginsAreNamed) {
                {"scene/shape[2] (line 3)", "shape type \"bsplinecurve\" is not supported"});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"blendbsdf\"/>\n</shape>\n</scene>\n",
                {"scene/shape/bsdf (line 3)", "bsdf type \"blendbsdf\""});
-  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n<emitter type=\"envmap\"/>\n</scene>\n",
-               {"scene/emitter (line 3)", "emitter type \"envmap\""});
+  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n<emitter type=\"projector\"/>\n</scene>\n",
+               {"scene/emitter (line 3)", "emitter type \"projector\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
-               "<spectrum name=\"reflectance\" value=\"400:0.1, 700:0.5\"/></bsdf></shape>\n</scene>\n",
-               {"scene/shape/bsdf/reflectance (line 3)", "wavelength"});
+               "<spectrum name=\"reflectance\" value=\"700:0.1, 400:0.5\"/></bsdf></shape>\n</scene>\n",
+               {"scene/shape/bsdf/reflectance (line 3)", "wavelengths must increase"});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n"
                "<bsdf type=\"conductor\"><string name=\"material\" value=\"Unobtainium\"/></bsdf></shape>\n</scene>\n",
                {"line 3", "Unobtainium"});

@@ -39,6 +39,8 @@ std::shared_ptr<const EnvironmentMap> makeInfiniteLight(const SceneDesc& scene) 
   if (scene.sky) return std::make_shared<const EnvironmentMap>(bakeSky(*scene.sky));
   if (!scene.environment) return nullptr;
   const EnvironmentDesc& e = *scene.environment;
+  if (e.file.empty())  // a constant environment: one radiance everywhere (any size gives the same light)
+    return std::make_shared<const EnvironmentMap>(std::vector<Color>(8 * 4, e.constant), 8, 4, e.scale);
   try {
     return std::make_shared<const EnvironmentMap>(EnvironmentMap::load(e.file, e.scale, e.rotateDeg));
   } catch (const InputError& err) {
