@@ -82,6 +82,12 @@ double roughness(Plugin& p) {
   return 0.5 * (p.number("alpha_u", 0.1) + p.number("alpha_v", 0.1));
 }
 
+/// The diffuse reflectance (or pbr base colour) of @p m from @p c: its factor and texture.
+void setAlbedo(MaterialDesc& m, const TexturedColor& c) {
+  m.albedo = c.factor;
+  m.albedoTexture = c.texture;
+}
+
 }  // namespace
 
 int BsdfMapper::material(pugi::xml_node node) {
@@ -124,14 +130,15 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
   if (!wrapped && !glass)
     doc_.note("onesided", "a bsdf without twosided is black from behind in Mitsuba; firstshot's surfaces reflect on both sides");
   if (t == "diffuse") {
-    m.albedo = p.color("reflectance", Color(0.5f));
+    setAlbedo(m, textures_.color(p, "reflectance", Color(0.5f)));
   } else if (t == "plastic" || t == "roughplastic") {
     // A dielectric coat of index η over a diffuse base: the metallic-roughness model with metallic 0 (its
     // Schlick Fresnel and GGX lobe for Mitsuba's exact Fresnel and GGX/Beckmann lobe; Mitsuba's internal
     // scattering under the coat, "nonlinear", is not modelled).
     m.type = MaterialType::Pbr;
     m.ior = float(ior(p, "int_ior", "polypropylene") / ior(p, "ext_ior", "air"));
-    m.albedo = glm::min(p.color("diffuse_reflectance", Color(0.5f)), Color(1.0f));
+    setAlbedo(m, textures_.color(p, "diffuse_reflectance", Color(0.5f)));
+    m.albedo = glm::min(m.albedo, Color(1.0f));
     m.metallic = 0.0f;
     m.roughness = t == "plastic" ? 0.0f : float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));
     if (p.has("specular_reflectance"))
@@ -154,7 +161,8 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
     // Mitsuba's Disney-style principled BSDF shares base_color, metallic and roughness (α = roughness²) with the
     // glTF model; its specular is eta's other name. Sheen, clearcoat, transmission and anisotropy are dropped.
     m.type = MaterialType::Pbr;
-    m.albedo = glm::min(p.color("base_color", Color(0.5f)), Color(1.0f));
+    setAlbedo(m, textures_.color(p, "base_color", Color(0.5f)));
+    m.albedo = glm::min(m.albedo, Color(1.0f));
     m.metallic = float(std::clamp(p.number("metallic", 0.0), 0.0, 1.0));
     m.roughness = float(std::clamp(p.number("roughness", 0.5), 0.0, 1.0));
     const double eta = p.number("eta", 1.5);
@@ -185,3 +193,4 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
 }
 
 }  // namespace fs::mitsuba
+

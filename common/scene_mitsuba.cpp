@@ -11,6 +11,7 @@
 #include "common/lights.h"
 #include "common/mesh_import.h"
 #include "common/mitsuba_bsdf.h"
+#include "common/mitsuba_texture.h"
 #include "common/mitsuba_xml.h"
 #include "common/scene_shapes.h"
 #include "common/skipped_faces.h"
@@ -75,7 +76,11 @@ double fovX(Plugin& p, double aspect) {
 
 class SceneReader {
  public:
-  SceneReader(Document& doc, SceneDesc& scene) : doc_(doc), scene_(scene), bsdfs_(doc, scene) {}
+  SceneReader(Document& doc, SceneDesc& scene)
+      : doc_(doc), scene_(scene), textures_(doc, [this](const std::string& name) { return resolve(name); }),
+        bsdfs_(doc, scene, textures_) {
+    doc_.setBitmapMean([this](pugi::xml_node node) { return textures_.mean(node); });
+  }
 
   void read() {
     for (pugi::xml_node c : doc_.scene().children()) {
@@ -193,6 +198,7 @@ class SceneReader {
     } else if (t == "rectangle") {
       s.type = ShapeType::Quad;
       shapes::makeQuad(s, {Vec3d(-1, -1, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0), Vec3d(-1, 1, 0)});
+      for (Vec2& uv : s.uv) uv.y = 1.0f - uv.y;  // Mitsuba's: (u, v) = ((x + 1)/2, (y + 1)/2)
     } else if (t == "cube") {
       s.type = ShapeType::Box;
       shapes::makeBox(s, Vec3d(-1.0), Vec3d(1.0));
@@ -218,6 +224,10 @@ class SceneReader {
       if (emitter.type() != "area") doc_.fail(e, "emitter type \"" + emitter.type() + "\" inside a shape (only area)");
       MaterialDesc m = scene_.materials[s.material];
       m.name = s.name + " emitter";
+      if (m.isCutout()) {  // an emitter cannot be a cut-out here
+        doc_.note("masked emitter", "a masked area emitter is opaque (its mask's opacity is dropped)");
+        m.alphaMode = AlphaMode::Opaque, m.alphaTexture = nullptr, m.alpha = 1.0f;
+      }
       m.emission = emitter.color("radiance", Color(1.0f));
       emitter.finish();
       scene_.materials.push_back(m);
@@ -265,6 +275,7 @@ class SceneReader {
 
   Document& doc_;
   SceneDesc& scene_;
+  TextureMapper textures_;
   BsdfMapper bsdfs_;
   std::vector<std::filesystem::path> searchPaths_;
 };
