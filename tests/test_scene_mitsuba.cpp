@@ -345,8 +345,8 @@ void expectBadXml(const std::string& text, std::initializer_list<const char*> pa
 TEST(MitsubaScene, UnsupportedPluginsAreNamed) {
   expectBadXml("<scene version=\"3.0.0\">\n  <shape type=\"cube\"/>\n  <shape type=\"cylinder\"/>\n</scene>\n",
                {"scene/shape[2] (line 3)", "shape type \"cylinder\" is not supported"});
-  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"blendbsdf\"/>\n</shape>\n</scene>\n",
-               {"scene/shape/bsdf (line 3)", "bsdf type \"blendbsdf\""});
+  expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\">\n  <bsdf type=\"hair\"/>\n</shape>\n</scene>\n",
+               {"scene/shape/bsdf (line 3)", "bsdf type \"hair\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"/>\n<emitter type=\"envmap\"/>\n</scene>\n",
                {"scene/emitter (line 3)", "emitter type \"envmap\""});
   expectBadXml("<scene version=\"3.0.0\">\n<shape type=\"cube\"><bsdf type=\"diffuse\">\n"
