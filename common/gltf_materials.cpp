@@ -65,6 +65,21 @@ TextureWrap wrapMode(const Json* sampler, const char* key) {
   return mode == 33071 ? TextureWrap::ClampToEdge : mode == 33648 ? TextureWrap::MirroredRepeat : TextureWrap::Repeat;
 }
 
+/// The lookup filter of a sampler (glTF 2.0, 5.26): magFilter, NEAREST (9728) or LINEAR (9729), decides, being
+/// what shows where a texel covers a pixel or more; without it the minFilter's filter within a level, NEAREST or
+/// NEAREST_MIPMAP_* (9728, 9984, 9986) against LINEAR or LINEAR_MIPMAP_* (9729, 9985, 9987), the choice between
+/// MIP levels having no meaning without MIP maps (common/texture.h). Neither: linear, the usual default.
+TextureFilter filterMode(const Json* sampler) {
+  for (const char* key : {"magFilter", "minFilter"}) {
+    const Json* v = sampler ? jsonMember(*sampler, key) : nullptr;
+    if (!v || !v->is_number_integer()) continue;
+    const int64_t mode = v->get<int64_t>();
+    if (mode == 9728 || mode == 9984 || mode == 9986) return TextureFilter::Nearest;
+    if (mode == 9729 || mode == 9985 || mode == 9987) return TextureFilter::Linear;
+  }
+  return TextureFilter::Linear;
+}
+
 Color rgb(const std::array<float, 4>& v) { return {v[0], v[1], v[2]}; }
 
 }  // namespace
@@ -164,16 +179,20 @@ std::shared_ptr<const Texture> GltfTextures::texture(const GltfTextureRef& ref, 
   auto texture = std::make_shared<Texture>();
   texture->image = it->second;
   std::tie(texture->wrapU, texture->wrapV) = wrap(ref);
+  texture->filter = filterMode(sampler(ref));
   texture->transform = ref.transform;
   return texture;
 }
 
-std::pair<TextureWrap, TextureWrap> GltfTextures::wrap(const GltfTextureRef& ref) const {
+const nlohmann::json* GltfTextures::sampler(const GltfTextureRef& ref) const {
   const Json* t = textureJson(file_.json(), ref);
   const Json* index = t ? jsonMember(*t, "sampler") : nullptr;
-  const Json* sampler =
-      index && index->is_number_unsigned() ? jsonArrayElement(file_.json(), "samplers", index->get<uint64_t>()) : nullptr;
-  return {wrapMode(sampler, "wrapS"), wrapMode(sampler, "wrapT")};
+  return index && index->is_number_unsigned() ? jsonArrayElement(file_.json(), "samplers", index->get<uint64_t>()) : nullptr;
+}
+
+std::pair<TextureWrap, TextureWrap> GltfTextures::wrap(const GltfTextureRef& ref) const {
+  const Json* s = sampler(ref);
+  return {wrapMode(s, "wrapS"), wrapMode(s, "wrapT")};
 }
 
 std::string GltfTextures::report(const std::string& file) const {

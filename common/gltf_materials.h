@@ -52,13 +52,15 @@ GltfMaterial readGltfMaterial(const nlohmann::json& gltf, size_t k);
 class GltfTextures {
  public:
   explicit GltfTextures(const GltfFile& file) : file_(file) {}
-  /// The base-colour texture of @p ref (image read through OpenImageIO, sRGB decoded; sampler and transform), or
-  /// nullptr when there is none or it cannot be read (then report() names it).
+  /// The base-colour texture of @p ref (image read through OpenImageIO, sRGB decoded; its sampler's wrap modes and
+  /// filter, and its transform), or nullptr when there is none or it cannot be read (then report() names it).
   std::shared_ptr<const Texture> texture(const GltfTextureRef& ref, bool srgb = true);
   /// The image of @p ref (sRGB decoded when @p srgb), or nullptr when there is none or it cannot be read.
   const TextureImage* image(const GltfTextureRef& ref, bool srgb);
   /// The sampler's wrap modes (u, v) of @p ref; repeat by default.
   std::pair<TextureWrap, TextureWrap> wrap(const GltfTextureRef& ref) const;
+  /// The sampler of @p ref's texture (samplers[textures[ref.texture].sampler]), or nullptr when it has none.
+  const nlohmann::json* sampler(const GltfTextureRef& ref) const;
   /// Prints one line on stderr when textures could not be read: "F: N textures not read, their factors used
   /// alone (first: why)". @return the line, or "".
   std::string report(const std::string& file) const;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "common/conductor_presets.h"
+#include "common/mitsuba_lobes.h"
 #include "common/thin_glass.h"
 
 namespace fs::mitsuba {
@@ -82,6 +83,35 @@ MicrofacetModel microfacet(Plugin& p) {
   return MicrofacetModel::Beckmann;
 }
 
+/// The diffuse reflectance (or pbr base colour) of @p m from @p c: its factor and texture.
+void setAlbedo(MaterialDesc& m, const TexturedColor& c) {
+  m.albedo = c.factor;
+  m.albedoTexture = c.texture;
+}
+
+/// Mitsuba 0.6's energy conservation of a diffuse and a specular part (its ensureEnergyConservation): both scaled by
+/// 1/s when the sum s of their largest channels exceeds 1.
+void conserveEnergy(TexturedColor& diffuse, Color& specular) {
+  float top = 0.0f;  // the largest texel
+  if (diffuse.texture)
+    for (const Color& c : diffuse.texture->image->texels) top = std::max(top, maxComponent(c));
+  const float s = maxComponent(diffuse.factor) * (diffuse.texture ? top : 1.0f) + maxComponent(specular);
+  if (s > 1.0f) diffuse.factor /= s, specular /= s;
+}
+
+/// The glossy material (stretched Phong, docs/scene-format.md) of diffuse reflectance @p diffuse plus a Phong lobe of
+/// exponent @p n whose albedo at normal incidence is @p lobeAlbedo: glossy's lobe reflects specular·(n+1)/(n+2)
+/// there, so specular = lobeAlbedo·(n+2)/(n+1); then fitted to glossy's bound (leaveRoomForLobe).
+MaterialDesc glossyMaterial(const TexturedColor& diffuse, const Color& lobeAlbedo, double n) {
+  MaterialDesc m;
+  m.type = MaterialType::Glossy;
+  m.exponent = float(n);
+  m.specular = glm::min(lobeAlbedo * float((n + 2) / (n + 1)), Color(1.0f));
+  setAlbedo(m, diffuse);
+  leaveRoomForLobe(m);
+  return m;
+}
+
 }  // namespace
 
 int BsdfMapper::material(pugi::xml_node node) {
@@ -108,6 +138,9 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
   const Document::Nested nested(doc_, node);
   Plugin p(doc_, node);
   const std::string& t = p.type();
+  if (t == "blendbsdf") return blended(p, wrapped);
+  if (t == "mask") return masked(p, wrapped);
+  if (t == "coating" || t == "roughcoating") return coated(p, wrapped);
   if (t == "twosided" || t == "bumpmap" || t == "normalmap") {
     const std::vector<pugi::xml_node> inner = p.nested("bsdf");
     if (inner.empty()) doc_.fail(node, t + " needs a nested <bsdf>");
@@ -124,14 +157,30 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
   if (!wrapped && !glass)
     doc_.note("onesided", "a bsdf without twosided is black from behind in Mitsuba; firstshot's surfaces reflect on both sides");
   if (t == "diffuse") {
-    m.albedo = p.color("reflectance", Color(0.5f));
+    setAlbedo(m, textures_.color(p, "reflectance", Color(0.5f)));
+  } else if (t == "roughdiffuse") {
+    // Lambert of Oren–Nayar's white-sky albedo (common/mitsuba_lobes.h): the same light reflected in all, spread
+    // evenly instead of back towards the light; ρ² (facets lighting each other) from the texture's mean.
+    const char* key = p.has("reflectance") || !p.has("diffuse_reflectance") ? "reflectance" : "diffuse_reflectance";
+    const TexturedColor rho = textures_.color(p, key, Color(0.5f));
+    const double alpha = textures_.scalar(p, "alpha", 0.2);
+    if (!(alpha >= 0)) doc_.fail(p.take("alpha"), "alpha must not be negative");
+    const OrenNayarAlbedo on = orenNayarAlbedo(alpha, p.boolean("use_fast_approx", false));
+    setAlbedo(m, rho);
+    m.albedo = rho.factor * (float(on.single) + float(on.twice) * rho.mean());
+    doc_.note(t, "roughdiffuse (Oren–Nayar, sigma = alpha/sqrt(2)) mapped to diffuse: albedo = its white-sky albedo "
+                 "(0.988 × reflectance at alpha 0.2, reflectance 0.5); its backscatter towards the light and flatter "
+                 "look are not modelled");
+  } else if (t == "phong" || t == "ward") {
+    m = glossy(p);
   } else if (t == "plastic" || t == "roughplastic") {
     // A dielectric coat of index η over a diffuse base: the metallic-roughness model with metallic 0 (its
     // Schlick Fresnel and GGX lobe for Mitsuba's exact Fresnel and GGX/Beckmann lobe; Mitsuba's internal
     // scattering under the coat, "nonlinear", is not modelled).
     m.type = MaterialType::Pbr;
     m.ior = float(ior(p, "int_ior", "polypropylene") / ior(p, "ext_ior", "air"));
-    m.albedo = glm::min(p.color("diffuse_reflectance", Color(0.5f)), Color(1.0f));
+    setAlbedo(m, textures_.color(p, "diffuse_reflectance", Color(0.5f)));
+    m.albedo = glm::min(m.albedo, Color(1.0f));
     m.metallic = 0.0f;
     m.roughness = t == "plastic" ? 0.0f : float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));
     if (p.has("specular_reflectance"))
@@ -158,7 +207,8 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
     // Mitsuba's Disney-style principled BSDF shares base_color, metallic and roughness (α = roughness²) with the
     // glTF model; its specular is eta's other name. Sheen, clearcoat, transmission and anisotropy are dropped.
     m.type = MaterialType::Pbr;
-    m.albedo = glm::min(p.color("base_color", Color(0.5f)), Color(1.0f));
+    setAlbedo(m, textures_.color(p, "base_color", Color(0.5f)));
+    m.albedo = glm::min(m.albedo, Color(1.0f));
     m.metallic = float(std::clamp(p.number("metallic", 0.0), 0.0, 1.0));
     m.roughness = float(std::clamp(p.number("roughness", 0.5), 0.0, 1.0));
     const double eta = p.number("eta", 1.5);
@@ -181,10 +231,81 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
       m.transmittance *= ThinGlassBSDF::maxTransmittance(m.ior);
     }
   } else {
-    doc_.fail(node, "bsdf type \"" + t + "\" is not supported (diffuse, twosided, plastic, roughplastic, conductor, "
-                    "roughconductor, principled, dielectric, roughdielectric, thindielectric, bumpmap, normalmap)");
+    doc_.fail(node, "bsdf type \"" + t + "\" is not supported (diffuse, roughdiffuse, twosided, plastic, roughplastic, "
+                    "phong, ward, conductor, roughconductor, principled, dielectric, roughdielectric, thindielectric, "
+                    "coating, roughcoating, blendbsdf, mask, bumpmap, normalmap)");
   }
   p.finish();
+  return m;
+}
+
+void leaveRoomForLobe(MaterialDesc& m) {
+  if (maxComponent(m.albedo + m.specular) <= 1.0f) return;
+  if (m.albedoTexture) {  // the texels carry the diffuse reflectance, the factor only what leaves room for the lobe
+    const Color room = glm::max(Color(1.0f) - m.specular, Color(1e-6f)), scale = m.albedo / room;
+    m.albedoTexture = mapTexels(*m.albedoTexture, [&](const Color& c) { return glm::min(c * scale, Color(1.0f)); });
+    m.albedo = glm::min(m.albedo, room);
+  } else {
+    m.specular = glm::max(glm::min(m.specular, Color(1.0f) - m.albedo), Color(0.0f));
+  }
+}
+
+pugi::xml_node BsdfMapper::onlyNested(Plugin& p) {
+  const std::vector<pugi::xml_node> inner = p.nested("bsdf");
+  if (inner.size() != 1) doc_.fail(p.node(), p.type() + " needs one nested <bsdf> (it has " + std::to_string(inner.size()) + ")");
+  return inner[0];
+}
+
+MaterialDesc BsdfMapper::glossy(Plugin& p) {
+  const std::string& t = p.type();
+  TexturedColor diffuse = textures_.color(p, "diffuse_reflectance", Color(0.5f));
+  Color specular = p.color("specular_reflectance", Color(0.2f));
+  conserveEnergy(diffuse, specular);
+  if (t == "phong") {  // Mitsuba's normalised Phong lobe (n+2)/(2π) cosⁿ reflects specular_reflectance at normal incidence
+    const double n = textures_.scalar(p, "exponent", 30.0);
+    if (!(n >= 0)) doc_.fail(p.take("exponent"), "exponent must not be negative");
+    doc_.note(t, "phong mapped to glossy (stretched Phong): the same exponent, albedo = diffuse_reflectance, specular "
+                 "matching the lobe's albedo at normal incidence; the stretched lobe keeps more light at grazing angles");
+    return glossyMaterial(diffuse, specular, n);
+  }
+  const std::string variant = p.string("variant", "balanced");
+  if (variant != "balanced" && variant != "ward" && variant != "ward-duer")
+    doc_.fail(p.take("variant"), "unknown ward variant \"" + variant + "\" (ward, ward-duer, balanced)");
+  const double alpha = roughness(p);
+  if (!(alpha > 0)) doc_.fail(p.node(), "ward's alpha must be positive");
+  doc_.note(t, "ward mapped to glossy (stretched Phong): albedo = diffuse_reflectance, a Phong lobe as wide at normal "
+               "incidence (exponent (2/alpha^2 - 2)/4) and of the same albedo there; the Ward lobe's shape at grazing "
+               "angles is not kept");
+  return glossyMaterial(diffuse, specular * float(wardAlbedoAtNormalIncidence(alpha, variant.c_str())),
+                        phongExponentOfRoughness(alpha));
+}
+
+MaterialDesc BsdfMapper::coated(Plugin& p, bool wrapped) {
+  // A dielectric layer of index η over the nested bsdf, absorbing σa per unit length over its thickness.
+  const std::string& t = p.type();
+  const double eta = ior(p, "int_ior", "bk7") / ior(p, "ext_ior", "air");
+  const Color absorbed = glm::exp(-2.0f * float(p.number("thickness", 1.0)) * p.color("sigma_a", Color(0.0f)));
+  const float rough = t == "roughcoating" ? float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0))) : 0.0f;
+  if (p.has("specular_reflectance"))
+    doc_.note("coating_specular", "a coating's specular_reflectance is ignored (the coat's Fresnel reflection kept)");
+  p.take("specular_reflectance");
+  MaterialDesc m = map(onlyNested(p), wrapped);
+  p.finish();
+  if (m.type == MaterialType::Diffuse && !m.isEmissive()) {  // a coated diffuse base is what the pbr material models
+    m.type = MaterialType::Pbr;
+    m.albedo = glm::min(m.albedo * absorbed, Color(1.0f));
+    m.metallic = 0.0f;
+    m.roughness = rough;
+    m.ior = float(eta);
+    doc_.note(t, t + " over a diffuse bsdf mapped to the pbr material (metallic 0, ior = int_ior/ext_ior, roughness "
+                     "= sqrt(alpha); base colour = reflectance × the coat's absorption at normal incidence, "
+                     "exp(-2 sigma_a thickness)), as plastic");
+    return m;
+  }
+  m.albedo *= absorbed, m.specular *= absorbed;
+  if (m.type == MaterialType::Dielectric || m.type == MaterialType::ThinGlass) m.transmittance *= absorbed;
+  doc_.note(t + " other", t + " over a bsdf other than diffuse: the nested bsdf, tinted by the coat's absorption at "
+                          "normal incidence; the coat's own reflection is not modelled");
   return m;
 }
 

@@ -97,6 +97,10 @@ ShapeDesc ShapeMapper::make(pugi::xml_node node, bool inGroup) {
     if (emitter.type() != "area") doc_.fail(e, "emitter type \"" + emitter.type() + "\" inside a shape (only area)");
     MaterialDesc m = scene_.materials[s.material];
     m.name = s.name + " emitter";
+    if (m.isCutout()) {  // an emitter cannot be a cut-out here
+      doc_.note("masked emitter", "a masked area emitter is opaque (its mask's opacity is dropped)");
+      m.alphaMode = AlphaMode::Opaque, m.alphaTexture = nullptr, m.alpha = 1.0f;
+    }
     m.emission = emitter.color("radiance", Color(1.0f));
     emitter.finish();
     scene_.materials.push_back(m);
@@ -142,6 +146,7 @@ void ShapeMapper::geometry(Plugin& p, ShapeDesc& s) {
   } else if (t == "rectangle") {
     s.type = ShapeType::Quad;
     shapes::makeQuad(s, {Vec3d(-1, -1, 0), Vec3d(1, -1, 0), Vec3d(1, 1, 0), Vec3d(-1, 1, 0)});
+    for (Vec2& uv : s.uv) uv.y = 1.0f - uv.y;  // Mitsuba's: (u, v) = ((x + 1)/2, (y + 1)/2)
   } else if (t == "cube") {
     s.type = ShapeType::Box;
     shapes::makeBox(s, Vec3d(-1.0), Vec3d(1.0));

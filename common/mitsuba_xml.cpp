@@ -388,6 +388,11 @@ Color Plugin::colorOf(pugi::xml_node ref) {
   if (tag == "texture") {
     const Document::Nested nested(doc_, n);
     Plugin t(doc_, n);
+    if (t.type() == "bitmap" && doc_.bitmapMean_) {
+      doc_.note("bitmap mean", "bitmap textures where firstshot takes a constant (a roughness, a weight, a conductor's "
+                               "or glass's tint, a radiance) replaced by their image's mean");
+      return doc_.bitmapMean_(n);
+    }
     if (t.type() == "bitmap") {
       doc_.note("bitmap", "bitmap textures approximated by 0.5 grey (the image is not read)");
       t.string("filename", "");

@@ -3,6 +3,7 @@
 /// Reading Mitsuba 3 XML documents (pugixml): the document with its $parameters substituted and ids
 /// resolved, element paths with line numbers for messages, and the typed properties of one plugin.
 /// The scene mapping itself is in common/scene_mitsuba.cpp and common/mitsuba_bsdf.cpp.
+#include <functional>
 #include <map>
 #include <set>
 #include <string>
@@ -58,6 +59,9 @@ class Document {
   void note(const std::string& key, const std::string& message);
   /// Counts a property or element the mapping does not read (one line for all of them, by flush()).
   void ignore(pugi::xml_node node) { ignored_.push_back(path(node)); }
+  /// How a `<texture type="bitmap">` becomes a constant colour where one is taken (Plugin::color): set by the scene
+  /// reader, which finds its file (common/mitsuba_texture.h: the image's mean). Unset: 0.5 grey, noted.
+  void setBitmapMean(std::function<Color(pugi::xml_node)> f) { bitmapMean_ = std::move(f); }
   /// Prints the notes, then "file: N properties not used by firstshot, skipped (the first ones)", on stderr.
   /// Called once the scene is read: a scene refused with an InputError prints its one error line only.
   void flush();
@@ -76,6 +80,8 @@ class Document {
   std::set<std::string> noted_;
   std::vector<std::string> notes_;
   std::vector<std::string> ignored_;
+  std::function<Color(pugi::xml_node)> bitmapMean_;
+  friend class Plugin;
 };
 
 /// The properties of one plugin element (`<shape type="…">`, `<bsdf …>`, …): its children with a
@@ -105,7 +111,8 @@ class Plugin {
   /// A colour: `<rgb>` ("r, g, b", or one value), `<srgb>` (gamma-encoded "r, g, b" or "#rrggbb", linearised),
   /// `<spectrum>` (one value: grey; wavelength:value pairs or `type="blackbody"` through the CIE observer,
   /// common/spectrum_rgb.h: a reflectance, or an emission inside an `<emitter>`), Mitsuba 0.6's `<blackbody>`,
-  /// `<float>`, or a texture (bitmap: 0.5 grey; checkerboard: the mean of its two colours; both noted). Never negative.
+  /// `<float>`, or a texture by its mean (a bitmap's image, Document::setBitmapMean; a checkerboard's two colours;
+  /// both noted). Never negative.
   Color color(const char* name, const Color& fallback);
   /// `<transform name=…>`: translate, rotate, scale, matrix and lookat in document order (each
   /// applied after the ones before it). Identity when absent.

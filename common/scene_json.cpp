@@ -62,22 +62,33 @@ Mat4d parseTransform(const Reader& r, const Json& j, const std::string& where) {
 /// Images read so far, by resolved path: a file used by several materials is read once.
 using TextureImages = std::map<std::string, std::shared_ptr<const TexelImage>>;
 
-/// "albedo_texture": a file name (relative to the scene file), or {"file", "wrap", "offset", "scale", "rotation"}
-/// (docs/scene-format.md). A file that cannot be read is an error naming it and the material @p name.
+/// A texture's wrap mode by name: repeat, clamp or mirror.
+TextureWrap parseWrap(const Reader& r, const Json& j, const std::string& where) {
+  const std::string w = r.string(j, where);
+  if (w != "repeat" && w != "clamp" && w != "mirror") r.fail(where, "unknown wrap mode \"" + w + "\" (repeat, clamp, mirror)");
+  return w == "clamp" ? TextureWrap::ClampToEdge : w == "mirror" ? TextureWrap::MirroredRepeat : TextureWrap::Repeat;
+}
+
+/// "albedo_texture": a file name (relative to the scene file), or {"file", "wrap", "filter", "offset", "scale",
+/// "rotation"} (docs/scene-format.md). A file that cannot be read is an error naming it and the material @p name.
 std::shared_ptr<const Texture> parseTexture(const Reader& r, const Json& j, const std::string& name,
                                             const std::string& where, TextureImages& images, bool srgb = true) {
   auto texture = std::make_shared<Texture>();
   const Json* file = &j;
   if (j.is_object()) {
-    r.keys(j, where, {"file", "wrap", "offset", "scale", "rotation"});
+    r.keys(j, where, {"file", "wrap", "filter", "offset", "scale", "rotation"});
     file = &r.need(j, where, "file");
-    if (j.contains("wrap")) {
-      const std::string w = r.string(j["wrap"], where + ".wrap");
-      if (w != "repeat" && w != "clamp" && w != "mirror")
-        r.fail(where + ".wrap", "unknown wrap mode \"" + w + "\" (repeat, clamp, mirror)");
-      texture->wrapU = texture->wrapV = w == "clamp"    ? TextureWrap::ClampToEdge
-                                        : w == "mirror" ? TextureWrap::MirroredRepeat
-                                                        : TextureWrap::Repeat;
+    if (j.contains("wrap") && j["wrap"].is_array()) {  // [u, v]: a mode per axis
+      if (j["wrap"].size() != 2) r.fail(where + ".wrap", "expected a mode or [mode along u, mode along v]");
+      texture->wrapU = parseWrap(r, j["wrap"][0], where + ".wrap[0]");
+      texture->wrapV = parseWrap(r, j["wrap"][1], where + ".wrap[1]");
+    } else if (j.contains("wrap")) {
+      texture->wrapU = texture->wrapV = parseWrap(r, j["wrap"], where + ".wrap");
+    }
+    if (j.contains("filter")) {
+      const std::string f = r.string(j["filter"], where + ".filter");
+      if (f != "linear" && f != "nearest") r.fail(where + ".filter", "unknown filter \"" + f + "\" (linear, nearest)");
+      texture->filter = f == "nearest" ? TextureFilter::Nearest : TextureFilter::Linear;
     }
     const auto pair = [&](const char* key, Vec2& out) {
       const Json& v = j[key];

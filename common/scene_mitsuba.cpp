@@ -15,6 +15,7 @@
 #include "common/mitsuba_bsdf.h"
 #include "common/mitsuba_emitters.h"
 #include "common/mitsuba_shapes.h"
+#include "common/mitsuba_texture.h"
 #include "common/mitsuba_xml.h"
 #include "common/skipped_faces.h"
 
@@ -58,8 +59,11 @@ SensorFov sensorFov(Plugin& p) {
 class SceneReader {
  public:
   SceneReader(Document& doc, SceneDesc& scene)
-      : doc_(doc), scene_(scene), bsdfs_(doc, scene),
-        shapes_(doc, scene, bsdfs_, [this](const std::string& name) { return resolve(name); }) {}
+      : doc_(doc), scene_(scene), textures_(doc, [this](const std::string& name) { return resolve(name); }),
+        bsdfs_(doc, scene, textures_),
+        shapes_(doc, scene, bsdfs_, [this](const std::string& name) { return resolve(name); }) {
+    doc_.setBitmapMean([this](pugi::xml_node node) { return textures_.mean(node); });
+  }
 
   void read() {
     for (pugi::xml_node c : doc_.scene().children()) {
@@ -168,6 +172,7 @@ class SceneReader {
 
   Document& doc_;
   SceneDesc& scene_;
+  TextureMapper textures_;
   BsdfMapper bsdfs_;
   ShapeMapper shapes_;
   std::vector<std::filesystem::path> searchPaths_;

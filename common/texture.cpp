@@ -1,4 +1,4 @@
-// Textures: reading through the OpenImageIO module, bilinear lookups (common/texture.h).
+// Textures: reading through the OpenImageIO module, bilinear and nearest lookups (common/texture.h).
 #include "common/texture.h"
 
 #include <dlfcn.h>
@@ -63,16 +63,21 @@ TexelImage toTexels(const ModuleImage& m, const std::string& name, bool srgb) {
   return im;
 }
 
-/// The bilinear lookup of a texture at @p uvIn: @p fetch(x, y) gives texel (x, y)'s value (Color or float).
+/// A texel index from a scaled coordinate, clamped far outside any image (where folding is exact) before the cast.
+int64_t texelIndex(double x) { return int64_t(std::clamp(std::floor(x), -1e15, 1e15)); }
+
+/// The lookup of a texture at @p uvIn by its filter: @p fetch(x, y) gives texel (x, y)'s value (Color or float).
 template <typename Fetch>
-auto bilinear(const Texture& t, const Vec2& uvIn, const Fetch& fetch) {
+auto filtered(const Texture& t, const Vec2& uvIn, const Fetch& fetch) {
   const TexelImage& im = *t.image;
   const Vec2 uv = t.transform.apply(uvIn);
+  if (t.filter == TextureFilter::Nearest)  // texel (i, j) covers u ∈ [i/w, (i+1)/w), v ∈ [j/h, (j+1)/h)
+    return fetch(int(foldTexelIndex(texelIndex(double(uv.x) * im.width), im.width, t.wrapU)),
+                 int(foldTexelIndex(texelIndex(double(uv.y) * im.height), im.height, t.wrapV)));
   // Texel centres at (i + ½)/w: the lookup is exact there and linear between them.
   const double x = double(uv.x) * im.width - 0.5, y = double(uv.y) * im.height - 0.5;
-  const double fx = std::floor(x), fy = std::floor(y);
-  const auto ix = int64_t(std::clamp(fx, -1e15, 1e15)), iy = int64_t(std::clamp(fy, -1e15, 1e15));
-  const float tx = float(x - fx), ty = float(y - fy);
+  const int64_t ix = texelIndex(x), iy = texelIndex(y);
+  const float tx = float(x - std::floor(x)), ty = float(y - std::floor(y));
   const int x0 = int(foldTexelIndex(ix, im.width, t.wrapU)), x1 = int(foldTexelIndex(ix + 1, im.width, t.wrapU));
   const int y0 = int(foldTexelIndex(iy, im.height, t.wrapV)), y1 = int(foldTexelIndex(iy + 1, im.height, t.wrapV));
   const auto top = fetch(x0, y0) * (1.0f - tx) + fetch(x1, y0) * tx;
@@ -90,19 +95,20 @@ Vec2 TextureTransform::apply(const Vec2& uv) const {
 
 Color Texture::lookup(const Vec2& uvIn) const {
   const TexelImage& im = *image;
-  return bilinear(*this, uvIn, [&](int x, int y) { return im.at(x, y); });
+  return filtered(*this, uvIn, [&](int x, int y) { return im.at(x, y); });
 }
 
 float Texture::alphaLookup(const Vec2& uvIn) const {
   const TexelImage& im = *image;
-  if (im.alpha.empty()) return bilinear(*this, uvIn, [&](int x, int y) { return im.at(x, y).x; });
-  return bilinear(*this, uvIn, [&](int x, int y) { return im.alpha[size_t(y) * size_t(im.width) + size_t(x)]; });
+  if (im.alpha.empty()) return filtered(*this, uvIn, [&](int x, int y) { return im.at(x, y).x; });
+  return filtered(*this, uvIn, [&](int x, int y) { return im.alpha[size_t(y) * size_t(im.width) + size_t(x)]; });
 }
 
 uint64_t Texture::hash() const {
   Hasher h;
   h.add(image ? image->hash : 0).add(wrapU).add(wrapV);
   h.add(transform.offset).add(transform.rotation).add(transform.scale);
+  if (filter != TextureFilter::Linear) h.add(filter);
   return h.value();
 }
 

@@ -2,7 +2,8 @@
 /// @file texture.h
 /// Textures the renderer looks up at every hit (issue 34): images read through OpenImageIO (PNG, JPEG, EXR and
 /// whatever else it reads; 8- and 16-bit colour decoded from sRGB to linear, float data taken as linear), one
-/// bilinear lookup on the full-resolution image with the glTF sampler's wrap modes and KHR_texture_transform.
+/// lookup on the full-resolution image, bilinear or nearest (the glTF sampler's filter, Mitsuba's filter_type), with
+/// the glTF sampler's wrap modes and KHR_texture_transform.
 ///
 /// No MIP maps, for now: every pixel of firstshot's images averages many samples (camera rays jittered over the
 /// pixel), which supersamples the texture, so the bilinear lookup on level 0 converges to the box-filtered texture
@@ -50,19 +51,27 @@ struct TexelImage {
   const Color& at(int x, int y) const { return texels[size_t(y) * size_t(width) + size_t(x)]; }
 };
 
-/// A texture as a material uses it: an image (shared between materials), its wrap modes and transform.
+/// How a lookup between texel centres reads the image: linear interpolates the four nearest texels (bilinear), nearest
+/// takes the texel the point lies in, so a texel's value holds over its whole square (glTF's NEAREST, Mitsuba's
+/// filter_type "nearest": pixel art, checkers, label maps).
+enum class TextureFilter : uint8_t { Linear, Nearest };
+
+/// A texture as a material uses it: an image (shared between materials), its filter, wrap modes and transform.
 struct Texture {
   std::shared_ptr<const TexelImage> image;
   TextureWrap wrapU = TextureWrap::Repeat, wrapV = TextureWrap::Repeat;
+  TextureFilter filter = TextureFilter::Linear;
   TextureTransform transform;
 
-  /// Bilinear lookup at texture coordinates @p uv (glTF convention), after the transform; texel indices outside
-  /// the image fold back by the wrap modes. Linear RGB.
+  /// The texture at texture coordinates @p uv (glTF convention), after the transform: bilinear between texel
+  /// centres (exact at them), or the texel @p uv lies in (nearest); texel indices outside the image fold back by the
+  /// wrap modes. Linear RGB.
   Color lookup(const Vec2& uv) const;
-  /// Bilinear lookup of the alpha at @p uv as lookup(): the image's alpha channel, or its first channel (R, or grey)
-  /// when it has none.
+  /// The alpha at @p uv, looked up as lookup(): the image's alpha channel, or its first channel (R, or grey) when it
+  /// has none.
   float alphaLookup(const Vec2& uv) const;
-  /// A hash of the image, wrap modes and transform (for scene hashes).
+  /// A hash of the image, filter, wrap modes and transform (for scene hashes; the linear filter adds nothing, so
+  /// textures read before filters existed keep their hashes).
   uint64_t hash() const;
 };
 

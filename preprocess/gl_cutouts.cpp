@@ -32,7 +32,8 @@ struct CutoutSlot {
   int32_t width = 0, height = 0, wrapU = 0, wrapV = 0;
   uint32_t offset = 0;     ///< first texel in the texel buffer
   int32_t textured = 0;
-  int32_t pad[2] = {0, 0};
+  int32_t nearest = 0;     ///< 1: TextureFilter::Nearest
+  int32_t pad = 0;
 };
 static_assert(sizeof(CutoutSlot) == 48);
 
@@ -44,7 +45,7 @@ const char* kCutoutFragmentShader = R"(#version 450 core
 struct Slot {
   int mode; float cutoff; float factor; float mean;
   int width; int height; int wrapU; int wrapV;
-  uint offset; int textured; int pad0; int pad1;
+  uint offset; int textured; int nearest; int pad;
 };
 layout(std430, binding = 0) readonly buffer CutoutSlots { Slot slots[]; };
 layout(std430, binding = 1) readonly buffer CutoutTexels { float texels[]; };
@@ -68,7 +69,11 @@ void main() {
   if (vSlot != 0u) {
     Slot s = slots[vSlot - 1u];
     float a = s.mean;
-    if (s.textured != 0) {  // Texture::alphaLookup: texel centres at (i + 1/2)/w, bilinear between them
+    if (s.textured != 0 && s.nearest != 0) {  // Texture::alphaLookup, nearest: the texel the point lies in
+      int ix = int(clamp(floor(vUV.x * float(s.width)), -1.0e8, 1.0e8));
+      int iy = int(clamp(floor(vUV.y * float(s.height)), -1.0e8, 1.0e8));
+      a = clamp(s.factor * texel(s, fold(ix, s.width, s.wrapU), fold(iy, s.height, s.wrapV)), 0.0, 1.0);
+    } else if (s.textured != 0) {  // Texture::alphaLookup: texel centres at (i + 1/2)/w, bilinear between them
       float x = vUV.x * float(s.width) - 0.5, y = vUV.y * float(s.height) - 0.5;
       float fx = floor(x), fy = floor(y);
       int ix = int(clamp(fx, -1.0e8, 1.0e8)), iy = int(clamp(fy, -1.0e8, 1.0e8));
@@ -128,6 +133,7 @@ GLCutouts::GLCutouts(const ItemGeometry& geometry, const std::vector<uint32_t>& 
           }
           s.textured = 1, s.width = im.width, s.height = im.height, s.offset = at->second;
           s.wrapU = wrapCode(m.alphaTexture->wrapU), s.wrapV = wrapCode(m.alphaTexture->wrapV);
+          s.nearest = m.alphaTexture->filter == TextureFilter::Nearest ? 1 : 0;
         }
         slots.push_back(s);
       }

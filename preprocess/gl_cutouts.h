@@ -7,8 +7,8 @@
 /// Each vertex of a cut-out patch's triangle carries its texture coordinates, the alpha texture's transform already
 /// applied (the transform is affine and so is the map from a patch triangle to its face's texture coordinates, so
 /// interpolating the corners is exact), and a slot: one per (material, with or without texture coordinates). The
-/// fragment shader repeats Texture::alphaLookup (bilinear on level 0, texel centres at (i + ½)/w, the wrap modes)
-/// from the alpha texels in a shader storage buffer, in single precision: a texel boundary or the cut-off may fall
+/// fragment shader repeats Texture::alphaLookup (bilinear or nearest on level 0, texel centres at (i + ½)/w, the wrap
+/// modes) from the alpha texels in a shader storage buffer, in single precision: a texel boundary or the cut-off may fall
 /// a float's rounding away from where the CPU puts it. Mask: the fragment stays where alpha ≥ the cut-off. Blend:
 /// it stays with probability alpha, by a hash of the pixel, the patch and the view (the same view gives the same
 /// item buffer on every thread). Opaque patches carry slot 0 and never run the lookup.
