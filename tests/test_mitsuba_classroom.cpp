@@ -1,7 +1,7 @@
 // A public Mitsuba 0.6 scene as it ships (../shared/scenes/classroom, NovaZeeke's "Japanese Classroom" in Bitterli's
-// Mitsuba version, lit by a sunsky through its windows): it loads with its sun and sky; and (DISABLED_, about two
-// minutes on two cores: run with --gtest_also_run_disabled_tests) the tools preprocess and render it, the image finite
-// with a positive mean. Skipped, saying so, where ../shared/scenes is absent.
+// Mitsuba version, lit by a sunsky through its windows): it loads with its sun and sky, and the tools preprocess and
+// render it at their defaults, the image finite with a positive mean (not under the sanitizers: minutes there).
+// Skipped, saying so, where ../shared/scenes is absent.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -28,17 +28,18 @@ TEST(MitsubaClassroom, Loads) {
   EXPECT_EQ(d.camera.width, 1280);
 }
 
-TEST(MitsubaClassroom, DISABLED_PreprocessesAndRenders) {
+TEST(MitsubaClassroom, PreprocessesAndRendersAtTheDefaults) {
   const std::string scene = test::source(kScene);
   if (!std::filesystem::exists(scene)) GTEST_SKIP() << scene << " is absent (the public scenes live in ../shared/scenes)";
-  // The tools at their defaults, but for a coarse patch size and a tiny image with one pass of the path tracer, so
-  // that the test stays short.
+#ifdef FIRSTSHOT_SANITIZED
+  GTEST_SKIP() << "the whole classroom takes minutes under the sanitizers (the Release build runs it)";
+#endif
+  // The tools at their defaults (about 20 s of preprocessing, 1.4 GiB), then one pass of a small picture.
   const std::string dir = test::tempDir();
-  const auto pre = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " '" + scene + "' --patch-size 0.5 -o " + dir +
-                             "/c.fsd 2>&1");
+  const auto pre = test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " '" + scene + "' --quiet -o " + dir + "/c.fsd 2>&1");
   ASSERT_EQ(pre.exitCode, 0) << pre.output;
   const auto render = test::run(std::string(FIRSTSHOT_RENDER_EXE) + " '" + scene + "' --firstshot " + dir +
-                                "/c.fsd --integrator path --width 32 --height 18 --spp 1 -o " + dir + "/c.exr 2>&1");
+                                "/c.fsd --width 32 --height 18 --spp 1 --quiet -o " + dir + "/c.exr 2>&1");
   ASSERT_EQ(render.exitCode, 0) << render.output;
   const image::Image img = image::read(dir + "/c.exr");
   ASSERT_EQ(img.width, 32);
