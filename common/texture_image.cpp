@@ -12,6 +12,8 @@
 #include <cstring>
 #include <string>
 
+#include "common/spectrum_rgb.h"
+
 #include "common/error.h"
 
 namespace fs {
@@ -156,7 +158,7 @@ int64_t foldTexelIndex(int64_t i, int64_t n, TextureWrap wrap) {
   }
 }
 
-float srgbDecode(double c) { return float(c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4)); }
+float srgbDecode(double c) { return float(srgbToLinear(c)); }
 
 float srgbToLinear(uint8_t v) {
   static const std::array<float, 256> table = [] {
