@@ -13,7 +13,6 @@
 #include <string>
 
 #include "common/spectrum_rgb.h"
-
 #include "common/error.h"
 
 namespace fs {
