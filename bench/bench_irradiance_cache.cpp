@@ -1,7 +1,7 @@
 // The irradiance cache integrator: time and error against a path-traced reference at
 // a = 0.05, 0.1, 0.2, 0.3 on the Cornell box and the many-lights room, both with first-shot
 // tables; records per second; and the cache's own lookup and insert rates on 1 and 2 threads.
-// A plain program that prints Markdown tables (the README's).
+// A plain program that prints Markdown tables (those of docs/measurements.md, "Irradiance cache").
 //
 // Error: both integrators are evaluated on the renderer's own camera rays (seed, pixel, sample);
 // per ray the reference is the mean of P path-traced estimates with the same path length (B + 1

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Sensor throughput: sensors per second at a stated standard error (README, "Illuminance at sensors").
+"""Sensor throughput: sensors per second at a stated standard error (docs/measurements.md, "Sensor throughput").
 
 Runs firstshot-render's sensor mode as a user does, once per method (path / irradiance-cache, each without and
 with a first-shot table), at --samples N, and reads the JSON output and the timings the tool prints on stderr.

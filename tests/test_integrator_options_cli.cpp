@@ -1,6 +1,6 @@
 // firstshot-render's integrator options (render/cli/integrator_options.h, render/integrators/integrator_cli.h):
 // every integrator accepts the options it reads and refuses, with exit code 2 and the option's
-// name, every other integrator's option (README.md, "Which integrator reads which option").
+// name, every other integrator's option (docs/cli.md, "Which integrator reads which option").
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -30,7 +30,7 @@ const std::vector<std::pair<std::string, std::string>> kOptions = {
     {"--bundle-directions", "halton"}, {"--luminaires", "off"},
 };
 
-/// Which integrator reads which of them: the table of README.md.
+/// Which integrator reads which of them: the table of docs/cli.md.
 const std::map<std::string, std::vector<std::string>> kUses = {
     {"path", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility", "--luminaires"}},
     {"irradiance-cache", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility",

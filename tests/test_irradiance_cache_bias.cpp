@@ -82,7 +82,7 @@ TEST(IrradianceCacheBias, ManyLightsDefaultsMatchPathTracing) {
   const CacheBias b = measure(scene, 6, 2, 512);
   report("many-lights, no first-shot", b);
   // A CI-sized check (σ ≈ 0.4%: it catches the old −12%, not a 0.5% bias); DISABLED_Measure gives
-  // the precise figures of the README.
+  // the precise figures of docs/measurements.md.
   EXPECT_LT(std::abs(b.relative()), 0.005 + 3 * b.relativeSe());
   EXPECT_LT(b.relativeSe(), 0.006) << "too noisy to catch a bias of a few percent";
 }

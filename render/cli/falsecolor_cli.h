@@ -3,7 +3,7 @@
 /// firstshot-render's photometric outputs (header-only, included by render/cli/render_command.cpp,
 /// which links CLI11): --units luminance (EXR outputs in cd/m²) and --falsecolor OUT.png with --falsecolor-scale,
 /// --falsecolor-range and --falsecolor-contours, of the image's luminance or of a --grid's
-/// illuminance, or its daylight factor with --daylight-factor (README.md, "Photometric outputs"; docs/photometry.md;
+/// illuminance, or its daylight factor with --daylight-factor (docs/cli.md, "Photometric outputs"; docs/photometry.md;
 /// render/output/falsecolor.h).
 #include <CLI/CLI.hpp>
 

@@ -3,7 +3,7 @@
 /// False-colour pictures of a scalar field (issue 15): the luminance of a rendered image (cd/m²) or
 /// the illuminance of a sensor grid (lx), mapped through a perceptually ordered colour map on a log
 /// or linear scale, with a legend bar whose ticks are labelled in the field's units, and optional
-/// iso-lines at the ticks (README.md, "Photometric outputs"; docs/photometry.md).
+/// iso-lines at the ticks (docs/cli.md, "Photometric outputs"; docs/photometry.md).
 ///
 /// The picture is the field (scaled up by a whole factor when small, nearest neighbour, so a grid's
 /// cells stay visible) at the top left, and to its right the legend: the units, then a vertical bar
