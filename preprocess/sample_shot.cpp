@@ -53,7 +53,7 @@ double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s
   for (uint32_t k = spread ? 0 : p.count; k <= p.count; ++k) {
     const Vec3d x = k == p.count ? c : 0.5 * (c + Vec3d(p.v[k]));
     if (exposure && exposure->buried(x)) continue;
-    if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) continue;  // a mask's hole (issue 34)
+    if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) continue;  // a mask's hole
     const int v = pointVisibility(views, *s.weights, rays, x, near);
     if (v >= 0) ++seen, visible += v;
   }
@@ -161,7 +161,7 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
     if (scratch.inTask.size() != mesh.size()) scratch.inTask.assign(mesh.size(), 0);
     for (uint32_t id : task.patches) scratch.inTask[id] = 1;
   }
-  // ---- GPU reduction (issue 36): item buffers stay in GPU memory, only per-patch sums come back ----
+  // ---- GPU reduction: item buffers stay in GPU memory, only per-patch sums come back ----
   GLReduce* gpu = masked ? nullptr : GLReduce::forRenderer(renderer, mesh, scratch.glReduce, scratch.gpu);
   bool idsHere = !gpu;  // else read back only where the CPU reads them (kept buffers, exposed parts)
   const std::function<void()> needIds = [&] {
