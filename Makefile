@@ -65,7 +65,7 @@ bench-report: build
 bench-quick: build
 	/usr/bin/python3 bench/firstshot_bench.py --build $(BUILD) --quick $(BENCH_ARGS) cornell many-lights
 
-## The preprocessor for the GPU machine (issue 36, docs/gpu.md): firstshot-preprocess and firstshot-fsd-compare built
+## The preprocessor for the GPU machine (docs/gpu.md): firstshot-preprocess and firstshot-fsd-compare built
 ## in $(GPU_BUILD) with their shared libraries, into .gpu/bundle.tar.xz (ignored by git, carried to the device),
 ## checked here with nothing but the bundle's libraries; bench/gpu_preprocess.sh runs it there.
 GPU_BUILD ?= build/gpu

@@ -1,4 +1,4 @@
-"""Render a firstshot JSON scene with Blender's Cycles, the peer a graphics user would pick instead (issue 37).
+"""Render a firstshot JSON scene with Blender's Cycles, the peer a graphics user would pick instead.
 
 An optional peer for measurements, never run in CI. Run it with Blender (Debian package `blender`, 3.4):
 

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Usage: bench/gpu_preprocess.sh [BIN_DIR]        (docs/gpu.md; issue 36)
+# Usage: bench/gpu_preprocess.sh [BIN_DIR]        (docs/gpu.md)
 # The preprocessor on llvmpipe against the GPU, in one run on one machine: each case once with OSMesa (llvmpipe, one
 # worker per core) and once with EGL (the GPU the EGL device platform finds; llvmpipe through Mesa's surfaceless
 # platform where there is none), printing wall time, the preprocessor's summary line and its phase profile

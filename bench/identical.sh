@@ -27,7 +27,7 @@ VARIANTS=(
  "light|--integrator light"
  "lightoff|--integrator light --shoot-firstshot off --light-paths 2"
  "bdpt|--integrator bdpt"
- "bdptpatch|--integrator bdpt --max-depth 3"  # bdpt does not read --primary (an error since issue 38)
+ "bdptpatch|--integrator bdpt --max-depth 3"  # bdpt does not read --primary (passing it is an error)
  "bundle|--integrator bundle --bundle-resolution 32"
  "bundlepatch|--integrator bundle --bundle-resolution 32 --primary patch"
  "sensors|--grid -1,-1,1,1,0.5,0.5 --samples 8"

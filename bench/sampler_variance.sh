@@ -1,6 +1,6 @@
 #!/bin/bash
-# The samplers' variance on every scene of the speed-against-error harness, without a reference (issue 37;
-# docs/measurements.md, "Every harness scene and integrator, at equal samples, without a reference"):
+# The samplers' variance on every scene of the speed-against-error harness, without a reference
+# (docs/measurements.md, "Every harness scene and integrator, at equal samples, without a reference"):
 # two renders with seeds 1 and 2 per scene, method and sampler; Var ∝ the mean squared difference of the two.
 # Prints one Markdown row per scene and method: independent/sobol of Σ(a−b)² and of the ε-relative rel. RMSE², the
 # time ratio sobol/independent (each sampler's two renders, wall seconds) and the equal-time ratios (variance × time,

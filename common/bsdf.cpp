@@ -195,7 +195,7 @@ Color MetallicRoughnessBRDF::albedo() const {
 // ---- BSDF ----
 
 Color BSDF::diffuseAlbedo() const {
-  if (shaded_) return Color(0.0f);  // issue 34: no Lambertian part about the geometric normal
+  if (shaded_) return Color(0.0f);  // shaded: no Lambertian part about the geometric normal
   if (const auto* l = std::get_if<LambertBRDF>(&model_)) return l->rho;
   if (const auto* p = std::get_if<StretchedPhongBRDF>(&model_)) return p->rhoD;
   return Color(0.0f);

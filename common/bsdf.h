@@ -240,7 +240,7 @@ class BSDF {
   /// The thin glass pane (common/thin_glass.h) this BSDF is, or nullptr: walks pass straight through it
   /// (render/scene/thin_glass_walk.h) and shadow rays cross it with its transmittance.
   const ThinGlassBSDF* thinGlass() const { return std::get_if<ThinGlassBSDF>(&model_); }
-  /// True for a lobe sharper than a first-shot table resolves: a pbr surface or rough glass (issue 34) of roughness
+  /// True for a lobe sharper than a first-shot table resolves: a pbr surface or rough glass of roughness
   /// below kTableRoughness. The table's patch-level sum Σ e r f cannot follow such a lobe (it would lose the
   /// reflections of the replaced lights in polished metal), so the path walk lights these points by NEE to
   /// every light and lets BSDF rays count the replaced lights they meet (docs/measurements.md, pbr).
@@ -263,7 +263,7 @@ class BSDF {
 
   const Model& model() const { return model_; }
 
-  // --- Shading normals (issue 34) ---
+  // --- Shading normals ---
   /// Makes this the BSDF of a point whose shading normal (the local z) differs from its geometric normal
   /// @p ngLocal (unit, in the shading frame, ngLocal.z > 0): eval and sample then give 0 to a direction that lies
   /// on one side of the surface and on the other of the shading normal (pbrt's and Mitsuba's rule, against light
@@ -286,7 +286,7 @@ class BSDF {
 /// n = exponent); Mirror → mirror(specular, conductor); Dielectric → dielectric(ior, transmittance); Pbr →
 /// metallic-roughness(base colour = albedo, metallic, roughness, ior, microfacet, conductor); ThinGlass → thin
 /// glass(transmittance, ior).
-/// Issue 34: a dielectric or thin glass of glassRoughness > 0 is the rough model (common/rough_dielectric.h).
+/// A dielectric or thin glass of glassRoughness > 0 is the rough model (common/rough_dielectric.h).
 /// Emission is not part of the BSDF.
 BSDF makeBSDF(const MaterialDesc& material);
 /// The BSDF of @p material with @p albedo in place of material.albedo: a textured material at one point

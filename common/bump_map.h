@@ -1,6 +1,6 @@
 #pragma once
 /// @file bump_map.h
-/// OBJ/MTL bump maps (`bump`, `map_bump`: assimp's HEIGHT texture, issue 34) as normal maps. A bump image is either a
+/// OBJ/MTL bump maps (`bump`, `map_bump`: assimp's HEIGHT texture) as normal maps. A bump image is either a
 /// height map, turned here into a tangent-space normal map, or already a normal map (Blender's OBJ exporter writes
 /// normal maps as `map_Bump`), told by its colours.
 ///

@@ -3,7 +3,7 @@
 /// Piecewise-constant densities for importance sampling a tabulated function (pbrt's Distribution1D/2D idea, written
 /// here from the definition): 1D over [0, 1) with n equal cells, 2D over [0, 1)² with nu × nv cells as a marginal over
 /// rows and a conditional within each row. Sampling inverts the CDF exactly (continuous within a cell), so the
-/// density of a sample is f(cell) / ∫f, the same value pdf() returns. Used by the environment map (issue 35).
+/// density of a sample is f(cell) / ∫f, the same value pdf() returns. Used by the environment map (render/lights/environment_map.h).
 #include <cstdint>
 #include <vector>
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file emission_texture.h
-/// Emission that varies over a surface (issue 34): a material's emission texture (glTF's emissiveTexture, the JSON's
+/// Emission that varies over a surface: a material's emission texture (glTF's emissiveTexture, the JSON's
 /// `emission_texture`) read per point through the shape's texture coordinates. The radiance at a point is
 /// MaterialDesc::emissionFactor × the texel there (bilinear, with its wrap modes and transform; sRGB-decoded);
 /// MaterialDesc::emission stays the surface's mean radiance, so that everything that needs a light's power (which

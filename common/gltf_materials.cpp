@@ -86,7 +86,7 @@ Color rgb(const std::array<float, 4>& v) { return {v[0], v[1], v[2]}; }
 
 namespace {
 
-/// Material @p m's alpha (issue 34): alphaMode, alphaCutoff and baseColorFactor's fourth number, into @p g.
+/// Material @p m's alpha: alphaMode, alphaCutoff and baseColorFactor's fourth number, into @p g.
 void readGltfAlpha(const Json& m, GltfMaterial& g) {
   const Json* mode = jsonMember(m, "alphaMode");
   if (mode && mode->is_string())
@@ -124,7 +124,7 @@ GltfMaterial readGltfMaterial(const Json& gltf, size_t k) {
   }
   g.emissive = color(m, "emissiveFactor", g.emissive);
   g.emissiveTexture = textureRef(m, "emissiveTexture");
-  g.normalTexture = textureRef(m, "normalTexture");  // issue 34
+  g.normalTexture = textureRef(m, "normalTexture");
   if (const Json* normal = jsonMember(m, "normalTexture")) g.normalScale = number(*normal, "scale", g.normalScale);
   const Json* extensions = jsonMember(m, "extensions");
   const Json* strength = extensions ? jsonMember(*extensions, "KHR_materials_emissive_strength") : nullptr;
@@ -261,7 +261,7 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
   }
   m.metallicRoughnessTexture = std::move(mrTexture);  // it multiplies the factors per point
   m.emission = g.emissive;
-  // Issue 34: the normal map, read linear, when it uses the coordinates the shapes keep (TEXCOORD_0); otherwise
+  // The normal map, read linear, when it uses the coordinates the shapes keep (TEXCOORD_0); otherwise
   // the surface stays unperturbed (a normal map has no mean to fold in).
   if (g.normalTexture.texCoord == 0)
     if ((m.normalTexture = textures.texture(g.normalTexture, false))) m.normalScale = g.normalScale;
@@ -276,7 +276,7 @@ MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures) 
     const Color tint = glm::clamp(base * t, Color(0.0f), Color(1.0f));
     glass.type = g.volume ? MaterialType::Dielectric : MaterialType::ThinGlass;
     glass.transmittance = g.volume ? tint : tint * ThinGlassBSDF::maxTransmittance(glass.ior);
-    glass.glassRoughness = std::clamp(roughness, 0.0f, 1.0f);  // issue 34: rough glass (the texture's mean folded in)
+    glass.glassRoughness = std::clamp(roughness, 0.0f, 1.0f);  // rough glass (× the texture's mean where it was folded in)
     return glass;
   }
   return m;

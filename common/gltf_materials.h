@@ -35,11 +35,11 @@ struct GltfMaterial {
   bool volume = false;        ///< KHR_materials_volume with thicknessFactor > 0: a solid, not a thin wall
   GltfTextureRef baseColorTexture, metallicRoughnessTexture, emissiveTexture;
   GltfTextureRef transmissionTexture;  ///< its R channel multiplies transmission
-  // Alpha (issue 34's cut-outs): alphaMode, alphaCutoff and baseColorFactor's alpha.
+  // Alpha (cut-outs): alphaMode, alphaCutoff and baseColorFactor's alpha.
   AlphaMode alphaMode = AlphaMode::Opaque;  ///< "OPAQUE" (default), "MASK", "BLEND"
   float alphaCutoff = 0.5f;                 ///< alphaCutoff (MASK)
   float alpha = 1.0f;                       ///< baseColorFactor[3]
-  GltfTextureRef normalTexture;  ///< issue 34: the tangent-space normal map
+  GltfTextureRef normalTexture;  ///< the tangent-space normal map
   float normalScale = 1.0f;      ///< normalTexture.scale
 };
 
@@ -87,11 +87,11 @@ std::string reportUnsupportedGltfExtensions(const nlohmann::json& gltf, const st
 /// The material of @p g. With KHR_materials_transmission (t = transmission × the mean R of its texture × (1 −
 /// metallic) > 0), glass: a thin pane (ThinGlass; glTF's thin-walled default) of transmittance base colour × t × a
 /// lossless pane's at its ior, or with KHR_materials_volume a solid dielectric tinted by base colour × t; the rest of
-/// the base (1 − t of the diffuse layer) is dropped; the roughness (× its texture's mean G) is the glass's
-/// (glassRoughness: rough glass, common/rough_dielectric.h, issue 34). Else the pbr material: its metallic-roughness texture folded in (metallic × the mean of the texture's B channel,
-/// roughness × the mean of its G channel); its base-colour texture, when read through TEXCOORD_0, as the albedo
-/// texture (albedo = the base colour factor, multiplied per point by the texel), else folded in as its mean. Emission
-/// is g.emissive, without its texture (it depends on the mesh: emissionOnMesh).
+/// the base (1 − t of the diffuse layer) is dropped; the roughness (× its texture's mean G where that texture is folded
+/// in) is the glass's (glassRoughness: rough glass, common/rough_dielectric.h). Else the pbr material: its
+/// metallic-roughness texture multiplies metallic (B) and roughness (G) per point when read through TEXCOORD_0, else
+/// is folded in as its means; its base-colour texture likewise: the albedo texture (albedo = the base colour factor
+/// × the texel per point) or its mean. Emission is g.emissive, without its texture (it depends on the mesh: emissionOnMesh).
 MaterialDesc convertGltfMaterial(const GltfMaterial& g, GltfTextures& textures);
 
 /// The emission of @p g on a mesh whose triangles cover @p uv (in TEXCOORD_<emissiveTexture.texCoord>, weighted

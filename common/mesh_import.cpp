@@ -150,7 +150,7 @@ Vec3 importedNormal(const Mat3d& normalMatrix, const aiVector3D& n) {
 }
 
 /// A file's tangent-frame vector @p v (glTF TANGENT's xyz, or assimp's bitangent) in world space: a surface
-/// vector, transformed by @p m itself; unit, 0 where it is not finite or zero (issue 34).
+/// vector, transformed by @p m itself; unit, 0 where it is not finite or zero.
 Vec3 importedTangent(const Mat3d& m, const aiVector3D& v) {
   const Vec3d w = m * Vec3d(v.x, v.y, v.z);
   const double length = glm::length(w);
@@ -174,9 +174,9 @@ struct TangentsOut {
 bool appendTriangles(const aiMesh& mesh, const Mat4d& toWorld, Welder& welder, std::vector<Face>& faces,
                      std::vector<Vec2>* uv, std::vector<Vec3>* normals, TangentsOut frames = {}) {
   const bool flip = glm::determinant(Mat3d(toWorld)) < 0.0;
-  const bool framed = mesh.mNormals && mesh.mTangents && mesh.mBitangents;  // issue 34
+  const bool framed = mesh.mNormals && mesh.mTangents && mesh.mBitangents;  // tangent frames from the file
   const aiVector3D* coords = mesh.mTextureCoords[0];
-  const Mat3d normalMatrix = glm::transpose(glm::inverse(Mat3d(toWorld)));  // issue 34
+  const Mat3d normalMatrix = glm::transpose(glm::inverse(Mat3d(toWorld)));  // normals by the inverse transpose
   for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
     const aiFace& in = mesh.mFaces[f];
     if (in.mNumIndices != 3) continue;  // points and lines
@@ -213,7 +213,7 @@ bool hasNormals(const aiScene& scene) {
   return false;
 }
 
-/// Whether any mesh of @p scene has tangent frames (glTF TANGENT beside NORMAL; issue 34).
+/// Whether any mesh of @p scene has tangent frames (glTF TANGENT beside NORMAL).
 bool hasTangents(const aiScene& scene) {
   for (unsigned m = 0; m < scene.mNumMeshes; ++m)
     if (scene.mMeshes[m] && scene.mMeshes[m]->mNormals && scene.mMeshes[m]->mTangents && scene.mMeshes[m]->mBitangents)
@@ -360,7 +360,7 @@ class MaterialTable {
     if (const std::optional<GltfMaterial>& g = converted_[k]->second; g && g->emissiveTexture.texture >= 0) {
       const auto uv = uvTriangles(mesh, toWorld, g->emissiveTexture.texCoord);
       m.emission = emissionOnMesh(*g, *textures_, uv ? &*uv : nullptr);
-      // Issue 34: emission per point, through the coordinates the shapes keep; an image that could not be read is
+      // Emission per point, through the coordinates the shapes keep; an image that could not be read is
       // already named once (emissionOnMesh asked for it) and leaves the factor alone.
       if (g->emissiveTexture.texCoord == 0 && mesh.mTextureCoords[0] && maxComponent(g->emissive) > 0.0f &&
           textures_->image(g->emissiveTexture, true))
@@ -405,7 +405,7 @@ class MaterialTable {
     if (gltf_) g = readGltfMaterial(gltf_->json(), fileIndex);
     MaterialDesc m = g ? convertGltfMaterial(*g, *textures_) : convertMaterial(*mat);
     if (!g) m.albedoTexture = diffuseTexture(*mat);
-    if (!g) opacityCutout(*mat, m);  // map_d (issue 34)
+    if (!g) opacityCutout(*mat, m);  // map_d: a mask cut-out
     if (!g) objNormalMaps(*mat, m);
     m.name = name.length > 0 ? name.C_Str() : "material[" + std::to_string(fileIndex) + "]";
     return {std::move(m), std::move(g)};
@@ -425,7 +425,7 @@ class MaterialTable {
     return int(materials_.size()) - 1;
   }
 
-  /// OBJ/MTL's map_d (assimp's opacity texture) makes @p m a mask cut-out (issue 34): alpha = d × the texture
+  /// OBJ/MTL's map_d (assimp's opacity texture) makes @p m a mask cut-out: alpha = d × the texture
   /// (its alpha channel, else its grey, linear), cut-off 0.5. Without map_d, or when it cannot be read (then
   /// reportTextures() names it), or on an emitting material, @p m stays opaque (d alone is not read).
   void opacityCutout(const aiMaterial& mat, MaterialDesc& m) {
@@ -470,7 +470,7 @@ class MaterialTable {
     return texture;
   }
 
-  /// Issue 34: MTL's `norm` (assimp's NORMALS) as the normal map, read linear as glTF's; without one, a bump map
+  /// MTL's `norm` (assimp's NORMALS) as the normal map, read linear as glTF's; without one, a bump map
   /// (`bump`, `map_bump`: assimp's HEIGHT) becomes it (common/bump_map.h: a normal map as it is, a height map
   /// converted with its `-bm` multiplier); reportTextures() says how many were converted.
   void objNormalMaps(const aiMaterial& mat, MaterialDesc& m) {

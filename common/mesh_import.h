@@ -13,7 +13,7 @@ struct MeshData {
   std::vector<Vec3d> vertices;
   std::vector<Face> faces;  ///< all triangles
   std::vector<Vec2> uv;     ///< per face corner as ShapeDesc::uv (the first set); empty when no mesh has any, (0, 0) for one without
-  std::vector<Vec3> normals;  ///< per face corner as ShapeDesc::normals (issue 34); empty when no mesh has any, 0 for one without
+  std::vector<Vec3> normals;  ///< per face corner as ShapeDesc::normals; empty when no mesh has any, 0 for one without
   /// Per face corner as ShapeDesc::tangents (glTF TANGENT); empty when no mesh has any.
   std::vector<Vec3> tangents, bitangents;
 };

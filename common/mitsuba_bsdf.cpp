@@ -224,7 +224,7 @@ MaterialDesc BsdfMapper::map(pugi::xml_node node, bool wrapped) {
       doc_.note("specular_reflectance", "a dielectric's specular_reflectance is ignored (Fresnel reflection kept)");
     p.take("specular_reflectance");
     if (t == "roughdielectric") {
-      m.glassRoughness = float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));  // issue 34: rough glass, α = r²
+      m.glassRoughness = float(std::sqrt(std::clamp(roughness(p), 0.0, 1.0)));  // rough glass, α = r²
     } else if (t == "thindielectric") {  // a window pane: thin_glass of that index, lossless unless tinted
       m.type = MaterialType::ThinGlass;  // Mitsuba's R + T²R/(1 − R²) per face pair, times specular_transmittance
       if (m.ior > 0.0f && m.ior < 1.0f) m.ior = 1.0f / m.ior;  // a pane is the same seen from either side

@@ -1,6 +1,6 @@
 #pragma once
 /// @file patch_cutouts.h
-/// Alpha cut-outs on the patch mesh (issue 34): leaves, fences, grilles, perforated shades. A material whose
+/// Alpha cut-outs on the patch mesh: leaves, fences, grilles, perforated shades. A material whose
 /// alpha mode is mask or blend (MaterialDesc::alphaMode; docs/scene-format.md, "Cut-outs") is absent where its
 /// alpha says so, for every ray of render/ and preprocess/: the ray tracers' filters (render/scene/
 /// embree_cutout_filter.cpp, preprocess/embree_item_buffer.cpp) and the exact point tests of the preprocessor ask

@@ -2,7 +2,7 @@
 /// @file patch_faces.h
 /// Which source face of its shape each traced patch lies in, and where a point lies in that face: what the
 /// per-point surface data of the source faces (texture coordinates, render/scene/surface_textures.h; shading normals,
-/// render/scene/shading_normals.h) is interpolated by (issue 34).
+/// render/scene/shading_normals.h) is interpolated by.
 ///
 /// Every patch, of the uniform split or of the preprocessor's adaptive quadtrees, is a sub-polygon of one face of
 /// its shape (Patch::shape), so that face is the one that holds the patch's centroid; the search walks the shape's

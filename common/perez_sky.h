@@ -1,6 +1,6 @@
 #pragma once
 /// @file perez_sky.h
-/// The Perez all-weather sky (issue 35), driven by measured irradiances as Radiance's gendaylit is:
+/// The Perez all-weather sky, driven by measured irradiances as Radiance's gendaylit is:
 /// - Perez, Seals & Michalsky (1993), "All-weather model for sky luminance distribution — preliminary configuration
 ///   and validation", Solar Energy 50(3) 235–245, with its erratum (Solar Energy 51(5) 423): relative luminance
 ///   lv(ζ, γ) = [1 + a exp(b / cos ζ)] · [1 + c exp(d γ) + e cos² γ], the five parameters from the sky's clearness ε

@@ -1,6 +1,6 @@
 #pragma once
 /// @file rough_dielectric.h
-/// Rough glass (issue 34, frosted glass): microfacet reflection and refraction at a GGX interface (Walter, Marschner,
+/// Rough glass (frosted glass): microfacet reflection and refraction at a GGX interface (Walter, Marschner,
 /// Li & Torrance 2007, "Microfacet Models for Refraction through Rough Surfaces"), and its thin-pane cousin.
 /// The distribution, the Smith masking and the sampling of visible normals are common/microfacet.h's (the pbr
 /// material's); α = ggxAlpha(roughness). Both models are non-delta: eval and pdf are densities, so light

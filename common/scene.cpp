@@ -147,7 +147,7 @@ void validateScene(SceneDesc& scene) {
     if ((m.type == MaterialType::Dielectric || m.type == MaterialType::Pbr) && !(m.ior > 0))
       throw InputError(file, w + ".ior", "must be positive");
     if (m.type == MaterialType::ThinGlass) validateThinGlass(file, w, m);
-    validateCutout(file, w, m);  // alpha (issue 34)
+    validateCutout(file, w, m);  // alpha (cut-outs)
     if (m.type == MaterialType::Pbr && !(m.metallic >= 0.0f && m.metallic <= 1.0f))
       throw InputError(file, w + ".metallic", "must be in [0, 1]");
     if (m.type == MaterialType::Pbr && !(m.roughness >= 0.0f && m.roughness <= 1.0f))
@@ -207,7 +207,7 @@ void validateScene(SceneDesc& scene) {
 
 namespace {
 
-/// A cut-out material's alpha (issue 34): nothing for an opaque one, so that scenes without cut-outs keep their hashes.
+/// A cut-out material's alpha: nothing for an opaque one, so that scenes without cut-outs keep their hashes.
 void hashAlpha(Hasher& h, const MaterialDesc& m) {
   if (!m.isCutout()) return;
   h.add(std::string_view("alpha")).add(m.alphaMode).add(m.alphaCutoff).add(m.alpha);
@@ -230,8 +230,8 @@ uint64_t hashScene(const SceneDesc& scene) {
     if (m.albedoTexture) h.add(m.albedoTexture->hash());  // untextured scenes hash as before
     if (m.metallicRoughnessTexture) h.add(uint8_t(2)).add(m.metallicRoughnessTexture->hash());
     hashAlpha(h, m);
-    if (m.normalTexture) h.add(uint8_t(3)).add(m.normalTexture->hash()).add(m.normalScale);  // issue 34
-    if (m.emissionTexture) h.add(uint8_t(6)).add(m.emissionTexture->hash()).add(m.emissionFactor);  // issue 34
+    if (m.normalTexture) h.add(uint8_t(3)).add(m.normalTexture->hash()).add(m.normalScale);
+    if (m.emissionTexture) h.add(uint8_t(6)).add(m.emissionTexture->hash()).add(m.emissionFactor);
     if (m.conductor) h.add(uint8_t(10)).add(m.conductor->eta()).add(m.conductor->k());  // others hash as before
     if (m.microfacet != MicrofacetModel::Ggx) h.add(uint8_t(11)).add(m.microfacet);
   }
@@ -246,12 +246,12 @@ uint64_t hashScene(const SceneDesc& scene) {
     const bool cutByTexture = !textured && s.material >= 0 && size_t(s.material) < scene.materials.size() &&
                               scene.materials[size_t(s.material)].isCutout() && scene.materials[size_t(s.material)].alphaTexture;
     if (cutByTexture && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
-    // Issue 34: shading normals, and the coordinates a normal map alone reads (untextured, unmapped shapes as before).
+    // Shading normals, and the coordinates a normal map alone reads (untextured, unmapped shapes as before).
     const bool mapped = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
                         scene.materials[size_t(s.material)].normalTexture;
     if (mapped && !textured && s.hasUv()) h.bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
     const bool glowing = s.material >= 0 && size_t(s.material) < scene.materials.size() &&
-                         scene.materials[size_t(s.material)].emissionTexture;  // issue 34: emission per point
+                         scene.materials[size_t(s.material)].emissionTexture;  // emission per point
     if (glowing && s.hasUv()) h.add(uint8_t(7)).bytes(s.uv.data(), s.uv.size() * sizeof(Vec2));
     if (s.hasNormals()) h.add(uint8_t(4)).bytes(s.normals.data(), s.normals.size() * sizeof(Vec3));
     if (!s.luminaire.empty()) h.add(uint8_t(8)).add(std::string_view(s.luminaire));  // unnamed shapes as before
@@ -271,7 +271,7 @@ uint64_t hashScene(const SceneDesc& scene) {
       h.bytes(l.ies->candela.data(), l.ies->candela.size() * sizeof(double));
     }
   }
-  // Daylight (issue 35): only when present, so that scenes without it keep their hashes. The table does not hold the
+  // Daylight: only when present, so that scenes without it keep their hashes. The table does not hold the
   // sky (a large light), but a table belongs to one scene: the renderer's check then also catches a changed sky.
   if (scene.sky) {
     const SkyDesc& s = *scene.sky;

@@ -21,7 +21,7 @@ enum class MaterialType : uint8_t { Diffuse, Glossy, Mirror, Dielectric, Pbr, Th
 
 struct Texture;  // common/texture.h
 
-/// How a material's alpha (coverage) is used (issue 34, glTF's alphaMode): opaque ignores it; mask makes the
+/// How a material's alpha (coverage) is used (glTF's alphaMode): opaque ignores it; mask makes the
 /// surface absent where alpha < the cut-off (leaves, fences, grilles, perforated shades); blend lets a ray pass a
 /// point with probability 1 − alpha (stochastic transparency, decided by a hash of the ray and the hit).
 enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
@@ -37,7 +37,7 @@ struct MaterialDesc {
   float metallic = 1.0f;  ///< pbr: metalness ∈ [0, 1] (glTF's default 1)
   float roughness = 1.0f; ///< pbr: perceptual roughness ∈ [0, 1] (GGX α = roughness², common/microfacet.h)
   Color transmittance{1.0f};  ///< dielectric: tint of refracted light; thin glass: the pane's transmittance at normal incidence
-  float glassRoughness = 0.0f;  ///< dielectric, thin glass: perceptual roughness ∈ [0, 1] (0 smooth; issue 34, frosted glass)
+  float glassRoughness = 0.0f;  ///< dielectric, thin glass: perceptual roughness ∈ [0, 1] (0 smooth; > 0 frosted glass)
   /// Mirror and pbr: a conductor's Fresnel (common/conductor_fresnel.h). Set, the mirror reflects specular × F(|cos θ|)
   /// and the pbr material's metal part has the Fresnel base colour × F(c) (a tint times the metal's exact Fresnel, as
   /// Mitsuba's conductors) instead of the same reflectance at every angle (mirror) or Schlick's from F0 = base colour
@@ -53,7 +53,7 @@ struct MaterialDesc {
   /// Pbr: a metallic-roughness texture, glTF's layout (roughness in G, metallic in B, linear values); at a point
   /// the metallic and roughness are the factors above × the texture there. Null: none.
   std::shared_ptr<const Texture> metallicRoughnessTexture;
-  // Alpha cut-outs (issue 34; docs/scene-format.md, "Cut-outs"; common/patch_cutouts.h) ---------------------
+  // Alpha cut-outs (docs/scene-format.md, "Cut-outs"; common/patch_cutouts.h) ---------------------
   AlphaMode alphaMode = AlphaMode::Opaque;
   float alphaCutoff = 0.5f;  ///< mask: the surface exists where alpha ≥ this (glTF's default 0.5)
   float alpha = 1.0f;        ///< the alpha factor: alpha at a point is this × the alpha texture there
@@ -63,13 +63,13 @@ struct MaterialDesc {
   /// Whether some points of the surface may be absent (a mask or blend alpha mode).
   bool isCutout() const { return alphaMode != AlphaMode::Opaque; }
   // ----------------------------------------------------------------------------------------------------------
-  // --- Shading normals (issue 34) ---
+  // --- Shading normals ---
   /// A tangent-space normal map (glTF's normalTexture: +x along u, +y up the image, linear texels in [0, 1] mapped
   /// to 2t − 1), read through the shape's texture coordinates; null: none. The shading normal at a point is the
   /// texel's direction in the tangent frame of the interpolated normal (render/scene/shading_normals.h).
   std::shared_ptr<const Texture> normalTexture;
   float normalScale = 1.0f;  ///< glTF's normalTexture.scale: multiplies the texel's x and y (after 2t − 1)
-  // --- Emission per point (issue 34; common/emission_texture.h) ---
+  // --- Emission per point (common/emission_texture.h) ---
   /// An emission texture (sRGB-decoded): on a shape with texture coordinates the radiance at a point is
   /// emissionFactor × the texel there, and `emission` is its mean over the surface (what the light's power is
   /// taken from). Null: `emission` everywhere.
@@ -130,7 +130,7 @@ struct ShapeDesc {
   /// the shape has none. Per corner rather than per vertex because mesh vertices are welded by position
   /// (common/mesh_import.cpp), and a texture seam gives one position two coordinates.
   std::vector<Vec2> uv;
-  // --- Shading normals (issue 34) ---
+  // --- Shading normals ---
   /// Unit shading normals per face corner, world space, as uv: normals[4·f + k] (unused corners 0). Empty: the
   /// shape is shaded flat (its geometric normals; the built-in shapes, and meshes without normals in their file).
   /// Their side does not decide the front: a face's winding does, and normals that point behind it are turned.
@@ -138,7 +138,7 @@ struct ShapeDesc {
   bool hasNormals() const { return !normals.empty(); }
   /// The shading normal of corner @p k of faces[@p f] (hasNormals() must hold).
   Vec3 cornerNormal(size_t f, int k) const { return normals[4 * f + size_t(k)]; }
-  // --- Tangent frames from the file (issue 34: glTF's TANGENT) ---
+  // --- Tangent frames from the file (glTF's TANGENT) ---
   /// The file's tangent frame per face corner, world space, as normals: tangents[4·f + k] (xyz of glTF's TANGENT,
   /// along which a normal map's +x points) and bitangents[4·f + k] (its w × NORMAL × TANGENT, the map's +y), both
   /// transformed as surface vectors (by the shape's matrix, not the inverse transpose). 0 at a corner without one.
@@ -216,7 +216,7 @@ struct SceneDesc {
   std::vector<ShapeDesc> shapes;
   std::vector<LightDesc> lights;  ///< including one Area entry per emissive shape
   SettingsDesc settings;
-  /// Daylight (issue 35, common/sky_desc.h): a sky model or an environment map, at most one, lighting the scene from
+  /// Daylight (common/sky_desc.h): a sky model or an environment map, at most one, lighting the scene from
   /// infinitely far away (a large light of the renderer, never replaced by first-shot). Null: none. The sun is a
   /// directional light in @c lights.
   std::shared_ptr<const SkyDesc> sky;

@@ -113,7 +113,7 @@ std::shared_ptr<const Texture> parseTexture(const Reader& r, const Json& j, cons
   return texture;
 }
 
-/// Issue 34: a dielectric's or thin glass's optional "roughness" ∈ [0, 1] (0, the default, is smooth glass).
+/// A dielectric's or thin glass's optional "roughness" ∈ [0, 1] (0, the default, is smooth glass).
 float parseGlassRoughness(const Reader& r, const Json& j, const std::string& where) {
   if (!j.contains("roughness")) return 0.0f;
   const double v = r.number(j["roughness"], where + ".roughness");
@@ -208,12 +208,12 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   if (j.contains("specular")) m.specular = r.color(j["specular"], where + ".specular");
   if (j.contains("transmittance")) m.transmittance = r.color(j["transmittance"], where + ".transmittance");
   if (j.contains("emission")) m.emission = r.color(j["emission"], where + ".emission");
-  if (j.contains("emission_texture")) {  // issue 34: emission × the texel at each point; `emission` the mean
+  if (j.contains("emission_texture")) {  // emission × the texel at each point; `emission` the mean
     m.emissionTexture = parseTexture(r, j["emission_texture"], name, where + ".emission_texture", images);
     m.emissionFactor = j.contains("emission") ? m.emission : Color(1.0f);
     m.emission = m.emissionFactor * m.emissionTexture->image->mean;
   }
-  // Issue 34: a tangent-space normal map (linear texels, glTF's convention) and its scale.
+  // A tangent-space normal map (linear texels, glTF's convention) and its scale.
   if (j.contains("normal_texture"))
     m.normalTexture = parseTexture(r, j["normal_texture"], name, where + ".normal_texture", images, false);
   if (j.contains("normal_scale")) {
@@ -223,7 +223,7 @@ MaterialDesc parseMaterial(const Reader& r, const Json& j, const std::string& na
   return m;
 }
 
-// Alpha cut-outs (issue 34; docs/scene-format.md, "Cut-outs") ----------------------------------------------
+// Alpha cut-outs (docs/scene-format.md, "Cut-outs") ----------------------------------------------
 
 /// The alpha keys every textured material type (diffuse, glossy, pbr) takes; parseAlpha reads them.
 constexpr std::array<const char*, 4> kAlphaKeys = {"alpha_mode", "alpha_cutoff", "alpha", "alpha_texture"};
@@ -318,7 +318,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     const double rad = r.positive(r.need(j, where, "radius"), where + ".radius");
     const int sub = j.contains("subdivisions") ? int(r.integer(j["subdivisions"], where + ".subdivisions", 0, 7)) : 3;
     shapes::makeSphere(s, c, rad, sub);
-    if (j.contains("smooth") && r.boolean(j["smooth"], where + ".smooth")) shapes::smoothSphere(s, c);  // issue 34
+    if (j.contains("smooth") && r.boolean(j["smooth"], where + ".smooth")) shapes::smoothSphere(s, c);
   } else if (type == "mesh") {
     allow({"file"});
     s.type = ShapeType::Mesh;
@@ -330,7 +330,7 @@ ShapeDesc parseShape(const Reader& r, const Json& j, const std::string& where, c
     s.vertices = std::move(mesh.vertices);
     s.faces = std::move(mesh.faces);
     s.uv = std::move(mesh.uv);
-    s.normals = std::move(mesh.normals);  // issue 34: shading normals from the file
+    s.normals = std::move(mesh.normals);  // shading normals from the file
     s.tangents = std::move(mesh.tangents), s.bitangents = std::move(mesh.bitangents);  // and its TANGENT
   } else {
     r.fail(where + ".type", "unknown shape type \"" + type + "\" (quad, box, sphere, mesh)");

@@ -112,7 +112,7 @@ void transform(ShapeDesc& s, const Mat4d& m) {
     for (auto& n : s.normals)
       if (n != Vec3(0.0f)) n = Vec3(glm::normalize(normalMatrix * Vec3d(n))) * (mirror ? -1.0f : 1.0f);
   }
-  for (std::vector<Vec3>* frame : {&s.tangents, &s.bitangents})  // issue 34: surface vectors, by the matrix itself
+  for (std::vector<Vec3>* frame : {&s.tangents, &s.bitangents})  // surface vectors, by the matrix itself
     for (auto& t : *frame)
       if (t != Vec3(0.0f)) t = Vec3(glm::normalize(glm::dmat3(m) * Vec3d(t)));
   if (mirror) flip(s);
@@ -127,7 +127,7 @@ void flip(ShapeDesc& s) {
     for (std::vector<Vec3>* frame : {&s.tangents, &s.bitangents})  // the file's tangent frame stays as it is
       if (!frame->empty()) std::reverse(frame->begin() + long(4 * i), frame->begin() + long(4 * i + f.count));
   }
-  for (auto& n : s.normals) n = -n;  // issue 34: the shading normals follow the front side
+  for (auto& n : s.normals) n = -n;  // the shading normals follow the front side
 }
 
 void smoothSphere(ShapeDesc& s, const Vec3d& center) {

@@ -26,7 +26,7 @@ void transform(ShapeDesc& s, const Mat4d& m);
 /// Reverses the winding (and so the normals) of every face; shading normals are reversed with them.
 void flip(ShapeDesc& s);
 
-/// Issue 34: gives sphere @p s (makeSphere, centre @p center) the sphere's own normals at its corners as shading
+/// Gives sphere @p s (makeSphere, centre @p center) the sphere's own normals at its corners as shading
 /// normals, so that it shades smooth ("smooth": true).
 void smoothSphere(ShapeDesc& s, const Vec3d& center);
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file scene_sky.h
-/// The JSON scene format's daylight keys (issue 35, docs/scene-format.md "Sky, sun and environment"):
+/// The JSON scene format's daylight keys (docs/scene-format.md "Sky, sun and environment"):
 /// - "sky": a CIE overcast, CIE clear or Perez sky → SceneDesc::sky (common/sky_desc.h);
 /// - "sun", inside "sky" or at the top level: the sun's place in the sky from a direction or from a latitude,
 ///   longitude, time zone, date and time (common/sun_position.h), and its irradiance, given or (Perez) the model's

@@ -88,7 +88,7 @@ void skipFaces(ShapeDesc& s, FileCounts& c) {
       if (s.hasUv()) keptUv.insert(keptUv.end(), s.uv.begin() + long(4 * i), s.uv.begin() + long(4 * i + 4));
       if (s.hasNormals())
         keptNormals.insert(keptNormals.end(), s.normals.begin() + long(4 * i), s.normals.begin() + long(4 * i + 4));
-      if (s.hasTangents()) {  // issue 34: glTF TANGENT
+      if (s.hasTangents()) {  // glTF TANGENT
         keptTangents.insert(keptTangents.end(), s.tangents.begin() + long(4 * i), s.tangents.begin() + long(4 * i + 4));
         keptBitangents.insert(keptBitangents.end(), s.bitangents.begin() + long(4 * i),
                               s.bitangents.begin() + long(4 * i + 4));

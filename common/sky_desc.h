@@ -1,6 +1,6 @@
 #pragma once
 /// @file sky_desc.h
-/// The scene's daylight as plain data (issue 35; the JSON keys "sky" and "environment", docs/scene-format.md): a sky
+/// The scene's daylight as plain data (the JSON keys "sky" and "environment", docs/scene-format.md): a sky
 /// model, resolved to its luminance distribution, or an environment map file. Either lights the scene from infinitely
 /// far away; the renderer makes it a large light (render/lights/sky_light.h). The sun is not here: it is a directional
 /// LightDesc of the scene (common/scene_sky.h).

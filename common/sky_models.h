@@ -1,6 +1,6 @@
 #pragma once
 /// @file sky_models.h
-/// Luminance distributions of the daylit sky (issue 35), in photometric units over the upper hemisphere of the
+/// Luminance distributions of the daylit sky, in photometric units over the upper hemisphere of the
 /// scene's frame (y up). Each model is a relative distribution scaled to a given zenith luminance or a given
 /// horizontal illuminance of the sky dome alone (the sun's direct part excluded):
 /// - **CIE standard overcast sky** (Moon & Spencer 1942, CIE S 003): L(θ) = Lz (1 + 2 cos θ) / 3, θ the zenith

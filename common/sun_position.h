@@ -1,6 +1,6 @@
 #pragma once
 /// @file sun_position.h
-/// Where the sun stands for a place and a moment (issue 35: daylight). The solar coordinates are those of
+/// Where the sun stands for a place and a moment (daylight). The solar coordinates are those of
 /// Meeus, "Astronomical Algorithms" (2nd ed., 1998), chapter 25 (the sun's apparent longitude to 0.01°, with the
 /// main nutation and aberration terms), the sidereal time of chapter 12, the horizontal coordinates of chapter 13,
 /// the solar parallax and Saemundsson's refraction formula (Meeus chapter 16, scaled by pressure and temperature).

@@ -1,6 +1,6 @@
 #pragma once
 /// @file texture.h
-/// Textures the renderer looks up at every hit (issue 34): images read through OpenImageIO (PNG, JPEG, EXR and
+/// Textures the renderer looks up at every hit: images read through OpenImageIO (PNG, JPEG, EXR and
 /// whatever else it reads; 8- and 16-bit colour decoded from sRGB to linear, float data taken as linear), one
 /// lookup on the full-resolution image, bilinear or nearest (the glTF sampler's filter, Mitsuba's filter_type), with
 /// the glTF sampler's wrap modes and KHR_texture_transform.
@@ -11,11 +11,11 @@
 /// Measured (docs/measurements.md, "Texture lookups"): where a texel covers about a pixel or more, the texture adds
 /// no noise at 16 spp (Cornell, RMS 0.0628 against 0.0624 untextured); under strong minification (a 1-texel checker
 /// tiled 8× on a floor seen at grazing angles) its aliasing is the noise (RMS 0.030 against 0.0022) and only falls
-/// as 1/√spp. A MIP pyramid with camera-ray footprints is the remedy for such scenes (issue 34's follow-up).
+/// as 1/√spp. A MIP pyramid with camera-ray footprints would be the remedy for such scenes.
 ///
 /// The images come through common/oiio/ (a module loaded on first use: only scenes with textures pay for
-/// OpenImageIO's start-up). Imported assets' textures whose mean still stands in for them (emissive and
-/// metallic-roughness) keep common/texture_image.h.
+/// OpenImageIO's start-up). Imported assets' textures that are not looked up per point (on other coordinates than
+/// TEXCOORD_0, transmission; an emitter's mean over its mesh) are decoded by common/texture_image.h for their means.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -43,7 +43,7 @@ struct TexelImage {
   int width = 0, height = 0;
   std::vector<Color> texels;  ///< width·height, row-major
   /// Linear alpha per texel (width·height, row-major), never sRGB-decoded; empty when the image has no alpha
-  /// channel (issue 34's cut-outs: Texture::alphaLookup).
+  /// channel (cut-outs: Texture::alphaLookup).
   std::vector<float> alpha;
   Color mean{0.0f};           ///< mean of the texels
   std::string name;           ///< the file (or glTF image) it came from, for messages

@@ -2,8 +2,8 @@
 /// @file texture_image.h
 /// Texture images of imported assets: an 8-bit PNG or JPEG, embedded or from a file, decoded through libpng and
 /// libjpeg directly (not OpenImageIO, whose Debian build loads 267 shared libraries at start-up:
-/// docs/architecture.md, "Image files"), and its mean values. The renderer has no textures yet (issue 34): the
-/// importer folds a texture into its material's constant factors (docs/scene-format.md, "Asset files as scenes").
+/// docs/architecture.md, "Image files"), and its mean values: where the renderer does not look a texture up per
+/// point (common/texture.h), the importer folds its mean into the material's factors (docs/scene-format.md, "Asset files as scenes").
 #include <array>
 #include <cstdint>
 #include <string_view>

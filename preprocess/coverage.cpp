@@ -291,7 +291,7 @@ double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int co
   return analytic::polygonProjectedArea(direction, poly, count);
 }
 
-// ---- For the GPU reduction (issue 36) ----
+// ---- For the GPU reduction (preprocess/gl_reduce.h) ----
 
 bool coverageSetup(const View& view, const Patch& patch, double near, CoverageSetup& out) {
   Vec3d poly[4];

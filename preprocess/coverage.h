@@ -42,7 +42,7 @@ struct PatchCoverage {
 /// clamped at 1), and an unoccluded patch gets exactly 1.
 /// With @p exposure, centres whose point on the patch is buried (preprocess/exposure.h) count in
 /// neither sum.
-/// With @p cutouts (issue 34), an occluder proposed on a cut-out patch occludes only where its surface exists, and
+/// With @p cutouts, an occluder proposed on a cut-out patch occludes only where its surface exists, and
 /// on a mask cut-out patch itself the centres over its holes count in neither sum, as buried ones: the fraction is
 /// that of its existing part (the receiving factor is the irradiance at its solid points; a blend patch's points all
 /// count).
@@ -71,7 +71,7 @@ void markProjection(const View& view, const Patch& patch, double near, int margi
 /// Projected area of the polygon perpendicular to @p direction, m².
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count);
 
-// ---- What patchCoverage() sets up per (patch, view), for the GPU reduction (issue 36, preprocess/gl_reduce.h) ----
+// ---- What patchCoverage() sets up per (patch, view), for the GPU reduction (preprocess/gl_reduce.h) ----
 
 /// Patch @p patch in @p view as patchCoverage() tests it: its projection clipped to depth ≥ @p near
 /// (q[0..n), image-plane units), the orientation that makes "inside" the same side of every edge, the

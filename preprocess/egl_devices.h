@@ -1,6 +1,6 @@
 #pragma once
 /// @file egl_devices.h
-/// The EGL displays behind GLContext's EGL back end (issue 36): which device they run on.
+/// The EGL displays behind GLContext's EGL back end: which device they run on.
 ///
 /// EGL_EXT_device_enumeration lists the devices of every vendor library (with GLVND: NVIDIA's and Mesa's);
 /// EGL_EXT_platform_device opens a display on one of them. The automatic choice (kEglDeviceAuto, what

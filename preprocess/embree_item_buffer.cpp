@@ -83,7 +83,7 @@ void tracePackets(RTCScene scene, const RaySetup& setup, const std::vector<uint3
     }
 }
 
-/// The alpha cut-outs' filter (issue 34): rejects each valid candidate hit on a cut-out patch where the surface is
+/// The alpha cut-outs' filter: rejects each valid candidate hit on a cut-out patch where the surface is
 /// absent. Embree calls it for candidate hits in any order; rejecting is all it does.
 void rejectCutoutHoles(const RTCFilterFunctionNArguments* args) {
   const auto* f = static_cast<const std::pair<const PatchCutouts*, const uint32_t*>*>(args->geometryUserPtr);

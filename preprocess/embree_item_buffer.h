@@ -60,7 +60,7 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   std::pair<const PatchCutouts*, const uint32_t*> cutoutFilter_{nullptr, nullptr};  ///< the filter's user data
 
  public:
-  /// The alpha cut-outs these rays see through, or nullptr (issue 34).
+  /// The alpha cut-outs these rays see through, or nullptr.
   const PatchCutouts* cutouts() const { return cutouts_.get(); }
 };
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file gl_cutouts.h
-/// Alpha cut-outs in the GL item buffer (issue 34): the fragments of a cut-out patch are discarded where its
+/// Alpha cut-outs in the GL item buffer: the fragments of a cut-out patch are discarded where its
 /// surface is absent, as the Embree back end's filter rejects such hits (common/patch_cutouts.h), so that the item
 /// buffer shows what lies behind a hole.
 ///

@@ -1,6 +1,6 @@
 #pragma once
 /// @file gl_device_option.h
-/// firstshot-preprocess's `--gl-device` option (issue 36): which EGL device the GL item buffers run on.
+/// firstshot-preprocess's `--gl-device` option: which EGL device the GL item buffers run on.
 #include <cstdio>
 #include <string>
 

@@ -152,7 +152,7 @@ GLItemBuffer::GLItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBo
     throw std::runtime_error("GL item buffer: too many triangles for one draw call");
 
   // Program.
-  const bool cutouts = geometry.cutouts != nullptr;  // issue 34: absent fragments discarded (gl_cutouts.h)
+  const bool cutouts = geometry.cutouts != nullptr;  // absent fragments discarded (gl_cutouts.h)
   const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, kVersion, cutouts ? GLCutouts::vertexDefines() : "");
   const GLuint fsh = compile(GL_FRAGMENT_SHADER, cutouts ? GLCutouts::fragmentShader() : kFragmentShader);
   program_ = glCreateProgram();
@@ -347,7 +347,7 @@ bool GLItemBuffer::draw(const View& view, unsigned int texture) {
   return true;
 }
 
-// ---- item buffers kept in GPU memory (issue 36: reduced there, preprocess/gl_reduce.h) ----
+// ---- item buffers kept in GPU memory (reduced there, preprocess/gl_reduce.h) ----
 
 unsigned int GLItemBuffer::renderToTexture(const View& view, int slot) {
   context_.makeCurrent();

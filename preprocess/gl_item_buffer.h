@@ -15,7 +15,7 @@
 /// render draws only the clusters whose bounding sphere meets the view frustum (glMultiDrawArrays).
 /// The order of triangles only matters between coplanar overlapping triangles (exact depth ties).
 ///
-/// Alpha cut-outs (issue 34): a scene with them draws with preprocess/gl_cutouts.h's shaders, which discard the
+/// Alpha cut-outs: a scene with them draws with preprocess/gl_cutouts.h's shaders, which discard the
 /// fragments where a cut-out surface is absent.
 #include <cstdint>
 #include <memory>
@@ -48,7 +48,7 @@ class GLItemBuffer final : public ItemBufferRenderer {
   /// Whether the geometry has alpha cut-outs (their fragments are discarded where the surface is absent).
   bool hasCutouts() const { return cutouts_ != nullptr; }
 
-  // ---- Item buffers kept in GPU memory (issue 36, reduced there: preprocess/gl_reduce.h) ----
+  // ---- Item buffers kept in GPU memory (reduced there: preprocess/gl_reduce.h) ----
   /// Renders @p view into the GL_R32UI texture of slot @p slot (0, 1, …: one per view of a window,
   /// resized to the view), texel (i, j) = pixel (i, j), and returns the texture; nothing is read back.
   unsigned int renderToTexture(const View& view, int slot);
@@ -79,7 +79,7 @@ class GLItemBuffer final : public ItemBufferRenderer {
   std::vector<int> drawFirst_, drawCount_;  // scratch for glMultiDrawArrays
   int locEyeHi_ = -1, locEyeLo_ = -1, locRight_ = -1, locUp_ = -1, locForward_ = -1;
   int locPlane_ = -1, locDepth_ = -1, locOrtho_ = -1;
-  std::unique_ptr<GLCutouts> cutouts_;  ///< alpha cut-outs (issue 34); null in a scene without them
+  std::unique_ptr<GLCutouts> cutouts_;  ///< alpha cut-outs; null in a scene without them
   struct Slot {
     unsigned int texture = 0;
     int width = 0, height = 0;

@@ -1,4 +1,4 @@
-// Item buffers reduced on the GPU by compute shaders (preprocess/gl_reduce.h, issue 36).
+// Item buffers reduced on the GPU by compute shaders (preprocess/gl_reduce.h).
 #include "preprocess/gl_reduce.h"
 
 #include <fmt/core.h>

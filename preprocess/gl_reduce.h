@@ -1,6 +1,6 @@
 #pragma once
 /// @file gl_reduce.h
-/// Item buffers reduced on the GPU (issue 36): with the GL back end, a light sample's views are rendered
+/// Item buffers reduced on the GPU: with the GL back end, a light sample's views are rendered
 /// into R32UI textures that stay in GPU memory (GLItemBuffer::renderToTexture) and compute shaders (GL 4.3)
 /// produce, per patch, what renderSample() otherwise computes on the CPU from the read-back buffers:
 ///  - the touched sum Σ w over the pixels showing the patch (and the list of touched patches), and

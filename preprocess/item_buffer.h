@@ -24,7 +24,7 @@ struct ItemGeometry {
   std::vector<Vec3> positions;    ///< 3 per triangle, world space (the patches' float vertices)
   std::vector<uint32_t> patchIds; ///< 1 per triangle; never kNoPatch
   Bounds3d bounds;                ///< of all positions
-  /// Alpha cut-outs on the patches (issue 34; null: none): the Embree back end sees through their holes (a filter),
+  /// Alpha cut-outs on the patches (null: none): the Embree back end sees through their holes (a filter),
   /// the GL back end refuses them.
   std::shared_ptr<const PatchCutouts> cutouts;
 

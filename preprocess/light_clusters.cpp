@@ -89,10 +89,10 @@ class Clusterer {
     out.positions.push_back(p);
     out.weights.push_back(w);
     out.normals.push_back(n);
-    if (!fine_.emission.empty()) out.emission.push_back(emission);  // issue 34: textured emitters
+    if (!fine_.emission.empty()) out.emission.push_back(emission);  // textured emitters
   }
 
-  /// The weight-averaged emission of fine_[*begin..*end) (issue 34: a textured emitter); 0 when fine_ has none.
+  /// The weight-averaged emission of fine_[*begin..*end) (a textured emitter); 0 when fine_ has none.
   Color emissionOf(const uint32_t* begin, const uint32_t* end) const {
     if (fine_.emission.empty()) return Color(0.0f);
     Vec3d sum(0.0);

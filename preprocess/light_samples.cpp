@@ -19,7 +19,7 @@ void areaSamples(const SceneDesc& scene, uint32_t lightIndex, double lightPatchS
     s.light = lightIndex;
     s.position = Vec3(t.positions[i]);
     s.normal = Vec3(t.normals[i]);
-    s.emission = t.emission.empty() ? le : t.emission[i];  // issue 34: a textured emitter's per sample
+    s.emission = t.emission.empty() ? le : t.emission[i];  // a textured emitter's per sample
     s.weight = static_cast<float>(t.weights[i]);
     out.push_back(s);
   }

@@ -82,7 +82,7 @@ double radiusAbout(const Vec3d& c, const Vec3d* v, int n) {
 /// Accumulates triangles into vertex samples, merging vertices with identical coordinates.
 class SampleBuilder {
  public:
-  /// Issue 34: the cells added next lie in face @p f of shape @p s of material @p m; when it emits per point
+  /// The cells added next lie in face @p f of shape @p s of material @p m; when it emits per point
   /// (common/emission_texture.h), each vertex accumulates ∫ Le φ_i dA over its triangles.
   void setFace(const MaterialDesc& m, const ShapeDesc& s, size_t f) {
     textured_ = emitsPerPoint(m, s) ? &m : nullptr;

@@ -58,7 +58,7 @@ struct LightTessellation {
   std::vector<double> weights;               ///< S_i/3, m² (S_i: area of the triangles around vertex i)
   std::vector<Vec3d> normals;                ///< unit, area-weighted normal of the triangles around it
   std::vector<std::array<Vec3d, 3>> triangles;  ///< the leaf triangles, m (counter-clockwise from the front)
-  /// Issue 34, an emitter with an emission texture (common/emission_texture.h): each sample's radiance
+  /// An emitter with an emission texture (common/emission_texture.h): each sample's radiance
   /// ∫ Le φ_i dA / ∫ φ_i dA, W/(m² sr) (φ_i its hat function over the leaf triangles around it, ∫ φ_i dA its
   /// weight), so that Σ weight·emission is the light's ∫ Le dA and a sample under a bright part of the texture
   /// emits more.

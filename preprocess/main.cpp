@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
     double timeLimit = 0;
     int threads = 0;
     bool stats = false, quiet = false;
-    std::string glReduce = "auto";  // issue 36
+    std::string glReduce = "auto";  // --gl-reduce
     app.add_option("scene", scenePath, "scene file (.json, .obj, .gltf, .glb, .ply)");
     app.add_option("-o,--output", out, "the first-shot file to write (.fsd)");
     app.add_option("--resolution", cli.resolution, "R: pixels across a full cube face (default: settings.item_buffer_resolution)")

@@ -32,7 +32,7 @@ OcclusionCull::OcclusionCull(const SceneDesc& scene, const PatchMesh& mesh, uint
     const ShapeDesc& shape = scene.shapes[s];
     if (scene.materials[shape.material].isEmissive() || shape.faces.size() > kMaxFacesPerShape ||
         scene.materials[shape.material].type == MaterialType::ThinGlass ||  // a pane hides nothing
-        scene.materials[shape.material].isCutout())  // nor does a face with holes (issue 34)
+        scene.materials[shape.material].isCutout())  // nor does a face with holes (a cut-out)
       continue;
     for (const fs::Face& f : shape.faces) {
       Face F;

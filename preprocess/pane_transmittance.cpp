@@ -17,7 +17,7 @@ std::vector<uint8_t> seeThroughMaterials(const SceneDesc& scene) {
   std::vector<uint8_t> flags(scene.materials.size(), 0);
   bool any = false;
   for (size_t m = 0; m < scene.materials.size(); ++m) {
-    // A rough pane (issue 34) scatters: the item buffers keep it, as an opaque surface with patches of its own.
+    // A rough pane scatters: the item buffers keep it, as an opaque surface with patches of its own.
     flags[m] = scene.materials[m].type == MaterialType::ThinGlass && scene.materials[m].glassRoughness == 0.0f;
     any = any || flags[m];
   }

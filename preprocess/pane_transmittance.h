@@ -1,6 +1,6 @@
 #pragma once
 /// @file pane_transmittance.h
-/// The thin glass panes between a light sample and a patch (issue 35). The item buffers leave the panes
+/// The thin glass panes between a light sample and a patch. The item buffers leave the panes
 /// out (ItemGeometry::fromPatches with the panes' materials: neither back end draws them, and no exact
 /// point test meets them), so a patch behind a window gets the factor it would get without the glass;
 /// the preprocessor then multiplies each factor r_ij by the panes' transmittance T(θ) along the ray from

@@ -38,7 +38,7 @@ namespace fs {
 
 namespace {
 
-/// Alpha cut-outs (issue 34): both back ends see through their holes (the GL one discards fragments,
+/// Alpha cut-outs: both back ends see through their holes (the GL one discards fragments,
 /// preprocess/gl_cutouts.h), but on llvmpipe the GL one is the slower (the shipped cut-out screen on one core:
 /// 4.4 s against Embree's 2.9 s), so the default and "auto" take Embree; "gl" on the command line is honoured.
 void resolveCutoutBackend(const SceneDesc& scene, const SettingsOverrides& cli, FirstShotSettings& s) {
@@ -154,7 +154,7 @@ struct Shooter {
       if (comm.mine(tasks[k].sample)) mine.push_back(k);
     profile::Scope meshTime(profile::Mesh);
     ItemGeometry geometry = ItemGeometry::fromPatches(mesh, seeThroughMaterials(scene));  // panes left out
-    geometry.cutouts = PatchCutouts::build(scene, mesh);  // alpha cut-outs (issue 34): null without
+    geometry.cutouts = PatchCutouts::build(scene, mesh);  // alpha cut-outs: null without
     meshTime.stop();
     int threads = options.threads > 0 ? options.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
     threads = std::max(1, std::min<int>(threads, static_cast<int>(mine.size())));
@@ -186,7 +186,7 @@ struct Shooter {
       try {
         std::unique_ptr<ItemBufferRenderer> renderers[2];  // gl, embree
         ShotScratch scratch;
-        scratch.glReduce = options.glReduce;  // issue 36
+        scratch.glReduce = options.glReduce;
         for (size_t m; (m = next++) < mine.size();) {
           const size_t k = mine[m];
           const Task& task = tasks[k];
@@ -332,7 +332,7 @@ void carryOver(const PatchMesh& mesh, const std::vector<SampleSetup>& setups, co
   }
 }
 
-/// Thin glass (issue 35): each factor times the panes' transmittance between its light sample and its
+/// Thin glass: each factor times the panes' transmittance between its light sample and its
 /// patch's centroid (preprocess/pane_transmittance.h); the item buffers did not draw the panes. The panes'
 /// own patches lose their factors (the analytic estimator's point tests found them lit: a pane is a delta
 /// surface, never a lit patch), as do factors that no light crosses to. Nothing for a scene without glass.

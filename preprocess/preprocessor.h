@@ -52,7 +52,7 @@ struct PreprocessOptions {
   /// (preprocess/kept_item_buffers.h), instead of re-tracing the pixels around split patches.
   /// Off: always re-trace (to compare the two).
   bool keepItemBuffers = true;
-  /// GL back end: where the item buffers are reduced (issue 36, preprocess/gl_reduce.h): "cpu" (read back),
+  /// GL back end: where the item buffers are reduced (preprocess/gl_reduce.h): "cpu" (read back),
   /// "gpu" (compute shaders), "auto" (gpu unless GL_RENDERER is a software rasteriser: llvmpipe, softpipe).
   std::string glReduce = "auto";
   /// Luminaires (preprocess/luminaires.h): how they are found and how many particles each gets. Their lights leave

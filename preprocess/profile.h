@@ -20,7 +20,7 @@ enum Phase : int {
   Render,          ///< item buffer: GL draw (to glFinish) or Embree rays
   Readback,        ///< GL glReadPixels
   Accumulate,      ///< Σ weights per patch
-  GpuReduce,       ///< GL back end reducing on the GPU (issue 36): touched sums (dispatch, gather, read-back)
+  GpuReduce,       ///< GL back end reducing on the GPU: touched sums (dispatch, gather, read-back)
   GpuJobs,         ///< the same: the coverage jobs set up on the CPU (projections, pixel boxes, tiles)
   GpuCoverage,     ///< the same: coverage sums (upload of the jobs, dispatches, read-back)
   Kept,            ///< item buffers kept for the refinement passes: runs, splits followed, unpacked

@@ -226,7 +226,7 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
     if (scratch.inTask.size() != mesh.size()) scratch.inTask.assign(mesh.size(), 0);
     for (uint32_t id : task.patches) scratch.inTask[id] = 1;
   }
-  // ---- GPU reduction (issue 36): item buffers stay in GPU memory, only per-patch sums come back ----
+  // ---- GPU reduction: item buffers stay in GPU memory, only per-patch sums come back ----
   GLReduce* gpu = masked ? nullptr : GLReduce::forRenderer(renderer, mesh, scratch.glReduce, scratch.gpu);
   bool idsHere = !gpu;  // else read back only where the CPU reads them (kept buffers, exposed parts)
   const std::function<void()> needIds = [&] {

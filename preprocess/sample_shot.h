@@ -64,7 +64,7 @@ struct ShotScratch {
   std::vector<std::vector<uint32_t>> ids;      ///< item buffer per view
   std::vector<uint32_t> candidates;            ///< patches the occlusion cull leaves
   std::vector<uint8_t> inTask;                 ///< per patch: in the task (all zero between calls)
-  // ---- GPU reduction (issue 36, preprocess/gl_reduce.h) ----
+  // ---- GPU reduction (preprocess/gl_reduce.h) ----
   std::string glReduce = "cpu";                ///< cpu | gpu | auto (PreprocessOptions::glReduce)
   std::shared_ptr<GLReduce> gpu;               ///< the GL renderer's reducer, made on first use
   std::vector<PatchCoverage> coverage;         ///< from the GPU: per touched patch (sorted)

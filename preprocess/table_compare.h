@@ -1,6 +1,6 @@
 #pragma once
 /// @file table_compare.h
-/// How far two first-shot tables of one scene differ (issue 36: the GL item buffers on a GPU against llvmpipe),
+/// How far two first-shot tables of one scene differ (e.g. the GL item buffers on a GPU against llvmpipe),
 /// for firstshot-fsd-compare and bench/gpu_preprocess.sh. The rasterisers may differ in pixels along edges, and the
 /// adaptive mesh may then split a patch in one table and not the other; so the tables are compared by what does
 /// not depend on the mesh, the flux each light sample delivers, and factor by factor where the meshes agree.

@@ -1,6 +1,6 @@
 #!/bin/bash
 # Usage: scripts/gpu_bundle.sh [BUILD_DIR]          (make gpu-bundle; docs/gpu.md)
-# The preprocessor for a machine with a GPU and none of our Debian packages (issue 36): builds firstshot-preprocess
+# The preprocessor for a machine with a GPU and none of our Debian packages: builds firstshot-preprocess
 # and firstshot-fsd-compare (Release, MPI off; BUILD_DIR default build/gpu, configured if new) and packs them with
 # every shared library they load (ldd), and the scaling scene of bench/gpu_preprocess.sh, into .gpu/bundle.tar.xz
 # (git ignores .gpu/). Left out: the C library and its loader (the machine's own) and the GL/EGL vendor libraries

@@ -44,7 +44,7 @@ inline void expectShippedSceneFirstShotAgreesWithNee(const std::string& name, co
 
 /// Scene @p desc (named @p name) with its table by light tracing, BDPT and the irradiance cache against the path
 /// tracer's NEE image without one (independent renders, 48 × 36): each image mean within 0.3% + 3σ of it, σ below
-/// 0.3% of it (issue 34's emissive texture and cut-out screen).
+/// 0.3% of it (the emissive texture and cut-out screen scenes).
 inline void expectTableIntegratorsAgreeWithNee(const std::string& name, SceneDesc desc) {
   desc.camera.width = 48, desc.camera.height = 36;
   const RenderScene plain(desc);

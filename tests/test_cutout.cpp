@@ -1,4 +1,4 @@
-// Alpha cut-outs (issue 34): a screen whose checker alpha texture has half its area absent, between a directional
+// Alpha cut-outs: a screen whose checker alpha texture has half its area absent, between a directional
 // light straight down and a floor. Rays pass its holes (closest hits, occlusion, the preprocessor's item-buffer
 // rays); sensors under a hole read E and under a solid cell 0; the floor's images are ρ/π·E/2 by NEE, the
 // first-shot table, light tracing and BDPT; blend mode lets 1 − α through; images do not depend on the thread

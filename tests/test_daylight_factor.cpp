@@ -1,4 +1,4 @@
-// The daylight factor at sensors (issue 35, render/sensors/daylight_factor.h, firstshot-render --daylight-factor):
+// The daylight factor at sensors (render/sensors/daylight_factor.h, firstshot-render --daylight-factor):
 // E_outside's closed form 7π/9 · Lz against a numerical integral of the CIE overcast distribution; an unobstructed
 // sensor reads DF = 100% within 3σ with the sun and a lamp switched off; a sensor in a closed box with lights inside
 // reads 0; a sensor under a square roof opening of a black room matches a numerical integral over the opening within

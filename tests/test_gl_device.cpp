@@ -1,4 +1,4 @@
-// EGL device selection (issue 36, preprocess/egl_devices.h, --gl-device): EGL lists at least one device here
+// EGL device selection (preprocess/egl_devices.h, --gl-device): EGL lists at least one device here
 // (Mesa's software device; on a GPU machine the GPU too), each opens an OpenGL 4.5 context, a device number out of
 // range is an input error naming the count, the summary line names the GL_RENDERER the item buffers ran on, and
 // --backend auto takes GL on a GPU only. And firstshot-fsd-compare's measure (preprocess/table_compare.h).

@@ -1,4 +1,4 @@
-// Item buffers reduced on the GPU (issue 36, preprocess/gl_reduce.h) against the CPU reduction: the same
+// Item buffers reduced on the GPU (preprocess/gl_reduce.h) against the CPU reduction: the same
 // scene preprocessed with glReduce "cpu" and "gpu" gives the same table within float rounding.
 //
 // Tolerance: the GPU sums fixed-point weights (w · 2^k, k such that a window's total stays below 2^61) where

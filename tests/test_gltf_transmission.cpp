@@ -1,7 +1,7 @@
-// KHR_materials_transmission (and _volume) as glass (common/gltf_materials.h, issue 34): a thin-walled transmitting
+// KHR_materials_transmission (and _volume) as glass (common/gltf_materials.h): a thin-walled transmitting
 // material is a thin glass pane whose transmittance is base colour × transmission × a lossless pane's; with a volume
-// it is a solid dielectric; a metal ignores transmission; a rough one is rough glass (issue 34), with nothing on stderr;
-// and the extension is no longer reported as unsupported.
+// it is a solid dielectric; a metal ignores transmission; a rough one is rough glass, with nothing on stderr;
+// and the extension is not reported as unsupported.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -76,7 +76,7 @@ TEST(GltfTransmission, MetalIgnoresItAndRoughIsRoughGlass) {
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_EQ(frosted.type, MaterialType::ThinGlass);
   EXPECT_FLOAT_EQ(frosted.glassRoughness, 0.4f);
-  EXPECT_EQ(err.find("rough"), std::string::npos) << err;  // no longer rendered smooth: nothing to say
+  EXPECT_EQ(err.find("rough"), std::string::npos) << err;  // rendered rough: nothing to say
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// An emissive mesh's light, both ways the renderer takes it (issue 33, scenes/bulb-room.json: an
+// An emissive mesh's light, both ways the renderer takes it (scenes/bulb-room.json: an
 // icosphere of 20,480 triangles): the preprocessor's clustered samples must send the triangles'
 // radiant intensity on average over directions, and NEE's shadow rays must not stop on the light's
 // own grazing triangles. Each bias alone was 0.4–0.5% of the room's image.

@@ -1,4 +1,4 @@
-// --max-depth means the same in every integrator (issue 38): at max depth 1, 2 and 3 the image mean
+// --max-depth means the same in every integrator: at max depth 1, 2 and 3 the image mean
 // of each integrator that takes it — the irradiance cache, light tracing, BDPT, the bundle — agrees
 // with the path tracer's within 3σ on small renders: the Cornell box (looking a little down, its
 // small area light out of view), the many-lights room (64 point lights), light tracing's mirror-and-

@@ -1,4 +1,4 @@
-// The glTF metallic-roughness material through the pipeline (issue 34): on the Cornell box with a rough
+// The glTF metallic-roughness material through the pipeline: on the Cornell box with a rough
 // metal short block and a rough plastic tall block (MaterialType::Pbr), each integrator reading a first-shot
 // table (the reflected first-shot radiance evaluates the BRDF at the hit point; the lit patches are emitters
 // for patch NEE, light tracing and BDPT) agrees with NEE path tracing without a table within 3σ, at max depth 3

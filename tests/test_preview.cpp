@@ -5,7 +5,7 @@
 //  - the instant picture equals the offline direct first-shot render (--primary patch
 //    --max-depth 1) wherever a pixel lies inside one patch.
 //  - the instant picture shows albedo textures: on a one-patch checker floor, texel × the patch's
-//    flat shading per pixel, and elsewhere the untextured scene's picture byte for byte (issue 34).
+//    flat shading per pixel, and elsewhere the untextured scene's picture byte for byte.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -250,7 +250,7 @@ TEST(PreviewCli, BdptScriptedRunEqualsTheOfflineRender) {
   expectScriptedRunEqualsOffline(cornell() + " --integrator bdpt --width 32 --height 24", 3);
 }
 
-/// --sampler sobol in the preview (issue 37): pass k is sample k of every pixel's sequence, so N
+/// --sampler sobol in the preview: pass k is sample k of every pixel's sequence, so N
 /// frames equal the offline render, bit for bit (the path tracer and a splatting integrator).
 TEST(PreviewCli, SobolScriptedRunEqualsTheOfflineRender) {
   expectScriptedRunEqualsOffline(cornell() + " --sampler sobol --width 32 --height 24", 4);
@@ -386,7 +386,7 @@ Image instantPicture(const std::string& dir, const std::string& fsd, const std::
 
 }  // namespace
 
-/// Issue 34: the instant picture shows albedo textures. A diffuse patch side's radiance is ∝ its albedo, so
+/// The instant picture shows albedo textures. A diffuse patch side's radiance is ∝ its albedo, so
 /// the raster multiplies the patch's flat colour by ρ(x)/ρ̄(patch): on the one-patch checker floor each pixel
 /// must be texel × (E_side/π with the table, |cos θ| under the headlight) — exact up to float rounding, where
 /// the patch average alone would show one mixed colour (r/b ≈ 1 instead of 16 and 1/16). And the textures leave
@@ -490,7 +490,7 @@ void writeCutoutScene(const std::string& dir) {
 
 }  // namespace
 
-/// Issue 34: the instant picture draws alpha cut-outs. Under the headlight the black screen shows black where it
+/// The instant picture draws alpha cut-outs. Under the headlight the black screen shows black where it
 /// exists and the lit wall through its holes: every pixel centre whose ray (RenderScene::intersect, which honours
 /// cut-outs) meets the screen is black, every other is lit — except those whose ray meets the screen's plane within
 /// 0.01 in uv of a block boundary or its edge, where the raster's rounding may decide either way.
@@ -529,7 +529,7 @@ TEST(PreviewCli, InstantPictureShowsCutouts) {
   EXPECT_GT(solid, 500u);
 }
 
-/// Issue 34: an emitter with an emission texture shows factor × texel per point in the instant picture (a quad at
+/// An emitter with an emission texture shows factor × texel per point in the instant picture (a quad at
 /// z = −0.5 facing the camera, uv = (x, 1 − y), the checker of writeCheckerScene as its emission texture, factor 2).
 TEST(PreviewCli, InstantPictureShowsEmissionTextures) {
   if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";

@@ -1,4 +1,4 @@
-// Rough glass (common/rough_dielectric.h, issue 34): the GGX dielectric and the rough thin pane. White furnace
+// Rough glass (common/rough_dielectric.h): the GGX dielectric and the rough thin pane. White furnace
 // (R + T = 1 minus the multiple-scattering loss, by roughness), generalised reciprocity with η², the adjoint of
 // Importance mode, eval/pdf/sample consistency and chi-square from roughness 0.05 to 1, the smooth (delta) limit,
 // energy ≤ 1, and the JSON keys.
@@ -358,7 +358,7 @@ TEST(RoughGlassKeys, RoughnessMakesTheRoughModels) {
 }
 
 TEST(RoughGlassKeys, MitsubaRoughDielectricIsRoughGlass) {
-  // Mitsuba's roughdielectric of GGX width alpha: a dielectric of roughness √alpha (no longer made smooth).
+  // Mitsuba's roughdielectric of GGX width alpha: a dielectric of roughness √alpha (not made smooth).
   const std::string path = test::tempDir() + "/rough.xml";
   test::writeText(path, R"(<scene version="3.0.0">
     <bsdf type="roughdielectric" id="frosted"><float name="alpha" value="0.25"/><float name="int_ior" value="1.5"/><float name="ext_ior" value="1"/></bsdf>

@@ -1,4 +1,4 @@
-// Rough glass through the integrators (issue 34): a frosted pane under a directional light transmits the smooth pane's
+// Rough glass through the integrators: a frosted pane under a directional light transmits the smooth pane's
 // irradiance (a thin lossless pane only spreads the light); with the camera inside a block of rough glass, the path
 // tracer (radiance, 1/η² entering), light tracing and BDPT (importance, the adjoint) agree, which they would not by
 // η² = 2.25 if the adjoint were wrong (and the reverse, a lamp in the glass); path, light tracing and BDPT agree on

@@ -1,4 +1,4 @@
-// --sampler sobol beyond the path tracer (issue 37): every integrator's image and the sensors'
+// --sampler sobol beyond the path tracer: every integrator's image and the sensors'
 // irradiance agree with the independent sampler's, and the splatting integrators' images in Sobol'
 // mode stay a function of (seed, pixel or particle, pass) — the same for 1 and 2 threads and for
 // passes of 1 spp as for one pass. σ always comes from repetitions with different seeds: the

@@ -1,5 +1,5 @@
 // A JSON scene that places a public asset with its own materials (a mesh shape without "material"), and the
-// line a scene without any light prints (issue 34: scenes users bring).
+// line a scene without any light prints (scenes users bring).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

@@ -176,7 +176,7 @@ TEST(EmissiveMesh, FirstShotImageAgreesWithNee) {
   EXPECT_LT(m.relativeSe(), 0.001);
 }
 
-// One settings route on the preprocess side (issue 38): the scene's settings, the command line's on
+// One settings route on the preprocess side: the scene's settings, the command line's on
 // top, then the automatic patch sizes resolved, all in resolveSettings; each field one meaning.
 TEST(PreprocessSettings, SceneThenCommandLineThenAutomaticSizes) {
   SceneDesc d = cornellWithoutPatchSize();

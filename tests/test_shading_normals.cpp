@@ -1,4 +1,4 @@
-// Shading normals (issue 34): corner normals interpolated by barycentric coordinates, normal maps in the generated
+// Shading normals: corner normals interpolated by barycentric coordinates, normal maps in the generated
 // tangent frame (the shading they give against Lambert's law), the geometric side rule, normals read from glTF and
 // OBJ files, a smooth low-poly sphere without facet edges, light tracing and BDPT against path tracing (the adjoint
 // correction), first-shot against NEE on scenes/normal-map.json, and images that do not depend on the thread count.

@@ -1,4 +1,4 @@
-// The sky, the sun and environment maps as lights of the render scene (issue 35, render/lights/sky_light.h): the
+// The sky, the sun and environment maps as lights of the render scene (render/lights/sky_light.h): the
 // baked map keeps each model's horizontal illuminance (0.5%); an upward sensor on an unobstructed plane reads the
 // sky's horizontal illuminance plus the sun's (DF = 100%) within 3σ for the CIE overcast, CIE clear and Perez skies;
 // NEE only, BSDF sampling only and their MIS agree within 3σ under a clear sky with an area light beside it; a

@@ -1,4 +1,4 @@
-// Textures (issue 34): bilinear lookups of known values, wrap modes, KHR_texture_transform, decoding through
+// Textures: bilinear lookups of known values, wrap modes, KHR_texture_transform, decoding through
 // OpenImageIO (8-bit sRGB PNG, 16-bit PPM, float EXR), texture coordinates on quads, subdivided and adaptive
 // patches (render/scene/surface_textures.h), and a missing texture named with its material.
 #include <gmock/gmock.h>

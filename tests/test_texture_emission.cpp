@@ -1,4 +1,4 @@
-// Emission per point (issue 34): scenes/emissive-texture.json, a ceiling panel whose emission texture is white on its
+// Emission per point: scenes/emissive-texture.json, a ceiling panel whose emission texture is white on its
 // left half and black on its right, over a floor. What a ray sees at two texture coordinates (and on a glTF's
 // emissiveTexture); the floor's irradiance
 // under each half against a quadrature of the panel, by NEE (sensors) and by BSDF (cosine) sampling; the

@@ -1,4 +1,4 @@
-// Normal maps as asset files give them (issue 34): glTF's TANGENT attribute is the tangent frame a normal map tilts
+// Normal maps as asset files give them: glTF's TANGENT attribute is the tangent frame a normal map tilts
 // in (instead of the one generated from the texture coordinates), through a whole-asset scene and a JSON mesh shape
 // with a mirroring transform; an OBJ/MTL's `norm` image is the material's normal map, and its `bump` / `map_bump`
 // height maps are named once on stderr.

@@ -1,4 +1,4 @@
-// Textured surfaces in the renderer (issue 34): a textured plane under a point light shows texel × E/π (NEE and
+// Textured surfaces in the renderer: a textured plane under a point light shows texel × E/π (NEE and
 // first-shot), first-shot agrees with NEE on a textured Cornell box, diffuse or pbr with a metallic-roughness texture (patch
 // NEE included), a metallic-roughness texture sets the lobe per point, and the image does not
 // depend on the thread count.

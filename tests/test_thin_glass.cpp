@@ -1,4 +1,4 @@
-// Thin glass (issue 35): the pane's reflectance and transmittance against hand-computed values, its two
+// Thin glass: the pane's reflectance and transmittance against hand-computed values, its two
 // delta lobes, the JSON material and its errors.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Thin glass seen through by shadow rays, light paths and the first-shot item buffers (issue 35): a
+// Thin glass seen through by shadow rays, light paths and the first-shot item buffers: a
 // directional light through a pane onto a floor gives the pane's T·E at sensors (NEE) and in images (NEE,
 // the first-shot table, light tracing, BDPT); an angled sun through a vertical pane T(θ)·E·cos; both
 // preprocessor back ends make the same table; first-shot against NEE in scenes/window-room.json.

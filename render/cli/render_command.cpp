@@ -119,7 +119,7 @@ void RenderCommand::loadScene() {
   if (!preview_ && !sensors_.active()) Film::requireFits(scene_.camera.width, scene_.camera.height, scene_.file);  // before any other work
 }
 
-void RenderCommand::switchToDaylightFactorScene() {  // issue 35: the CIE overcast sky alone
+void RenderCommand::switchToDaylightFactorScene() {  // --daylight-factor: the CIE overcast sky alone
   const DaylightFactorSetup setup = daylightFactorScene(scene_);
   if (!fsdPath_.empty() && !setup.switchedOff.empty())
     throw InputError(fsdPath_, "--firstshot",
@@ -156,7 +156,7 @@ void RenderCommand::makeIntegrator() {
   cli.configure(setup);
   spp_ = setup.spp;
   integrator_ = cli.make(integratorOptions_);
-  // Issue 35: the path walk and the irradiance cache meet the infinite light (NEE, escaped paths, background) so far.
+  // Only the path walk and the irradiance cache meet the infinite light (NEE, escaped paths, background).
   if ((scene_.sky || scene_.environment) && integrators_.name != "path" && integrators_.name != "irradiance-cache")
     throw InputError(scene_.file, scene_.sky ? "sky" : "environment",
                      "the " + integrators_.name +

@@ -3,7 +3,7 @@
 /// firstshot-render's sensor mode (header-only, included by render/cli/render_command.cpp, which links CLI11):
 /// --sensors FILE and --grid SPEC choose the points, --samples/--time the effort, -o OUT.csv or
 /// OUT.json receives one row per sensor; the summary per set (E_min, E_avg, E_max, U0) goes to
-/// stdout and into the JSON (docs/cli.md, "Illuminance at sensors"; docs/photometry.md). --daylight-factor (issue 35)
+/// stdout and into the JSON (docs/cli.md, "Illuminance at sensors"; docs/photometry.md). --daylight-factor
 /// renders under the CIE overcast sky alone and adds each sensor's daylight factor (render/sensors/daylight_factor.h).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>

@@ -202,7 +202,7 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
     return e > 0.0f;
   };
   if (bsdf.shaded()) {
-    // Issue 34, a shading normal (a diffuse one too: BSDF::isDiffuse is false): the factors' irradiance is about
+    // A shading normal (a diffuse one too: BSDF::isDiffuse is false): the factors' irradiance is about
     // the geometric normal, the reflected radiance about the shading one, so each term is weighted by
     // |ω'_i·n_s|/|ω'_i·n_g| (the BSDF's side test drops samples the two normals disagree on).
     auto shadedWeight = [&](const TableFactor& factor, const LightSample& s, Vec3& wi, float& e) {

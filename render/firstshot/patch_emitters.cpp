@@ -32,7 +32,7 @@ float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrr
   // The material's own roughness bounds the textured one from above: below the table's it is polished everywhere.
   if (bsdf.hasDelta() || scene.bsdf(p.material).tooSharpForTable()) return 0.0f;
   Color E = sideIrradiance[2 * size_t(j) + side];
-  if (bsdf.hasTransmission()) E += sideIrradiance[2 * size_t(j) + 1 - side];  // rough glass (issue 34): shines through
+  if (bsdf.hasTransmission()) E += sideIrradiance[2 * size_t(j) + 1 - side];  // rough glass: shines through
   const Color phi = bsdf.albedo() * E * float(p.area);
   return (phi.x + phi.y + phi.z) * (1.0f / 3.0f);
 }
@@ -66,7 +66,7 @@ Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting,
   hit.patch = j;
   const BSDF bsdf = scene.bsdfAt(hit);  // the texture at y itself
   if (bsdf.tooSharpForTable()) return Color(0.0f);  // a polished point: its reflection is not the table's
-  const Frame frame = scene.shadingFrame(hit);  // issue 34: as the path walk's first-shot term at y
+  const Frame frame = scene.shadingFrame(hit);  // as the path walk's first-shot term at y
   return lighting.eval(hit, frame, frame.toLocal(w), bsdf);
 }
 

@@ -34,7 +34,7 @@ float patchSidePower(const RenderScene& scene, const std::vector<Color>& sideIrr
 bool mayBePolished(const RenderScene& scene);
 
 /// The coverage of point @p y of patch @p j (PatchCutouts::coverage; 1 without cut-outs): what a point sampled
-/// on a patch emitter, rather than hit by a ray, multiplies its radiance by (issue 34).
+/// on a patch emitter, rather than hit by a ray, multiplies its radiance by.
 inline float cutoutCoverage(const RenderScene& scene, uint32_t j, const Vec3& y) {
   return scene.cutouts() ? scene.cutouts()->coverage(j, Vec3d(y)) : 1.0f;
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// @file integrator_cli.h
-/// An integrator's command line, and the table of integrators (issue 38): each integrator declares
+/// An integrator's command line, and the table of integrators: each integrator declares
 /// the options only it has (name, help, checks, defaults), says which of the options shared by
 /// several integrators (those that set IntegratorOptions, declared once by the tool in
 /// render/cli/integrator_options.h) it reads, checks the values given and makes itself with them.

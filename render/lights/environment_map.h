@@ -1,8 +1,8 @@
 #pragma once
 /// @file environment_map.h
-/// An environment map (issue 35): radiance arriving from infinitely far away, from a latitude-longitude
+/// An environment map: radiance arriving from infinitely far away, from a latitude-longitude
 /// (equirectangular) image, with a scale and a rotation about the up axis, importance-sampled by a piecewise-
-/// constant 2D density (common/distribution_2d.h). Not yet a light of the render scene: the module and its tests.
+/// constant 2D density (common/distribution_2d.h). The render scene's infinite light is one (render/lights/sky_light.h).
 ///
 /// Mapping (scene frame, y up): a direction d, first rotated by −rotation about y, has θ = acos(d.y) from the zenith
 /// and φ = atan2(d.x, −d.z); the texel is column ⌊(0.5 + φ/2π)·W⌋, row ⌊θ/π · H⌋ (row 0 at the top, the zenith),

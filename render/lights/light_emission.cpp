@@ -210,7 +210,7 @@ bool EmissionSampler::originOf(size_t l, const Vec2& uPos, EmissionSample& out) 
       break;
     }
     case LightType::Area: {
-      Color le;  // at the point (issue 34: a textured emitter's texel)
+      Color le;  // at the point (a textured emitter's texel)
       if (!lights_->samplePoint(light, uPos, out.p, out.n, &le)) return false;
       out.radiance = le / (out.pdfLight * out.pdfPos);
       break;

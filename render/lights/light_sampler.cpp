@@ -68,7 +68,7 @@ void LightSampler::addLight(Group& g, GroupId id, uint32_t l, std::vector<LightB
         const Vec3 normal = len > 0.0f ? c / len : Vec3(0, 0, 1);
         triangles_.push_back({v[0], v[1] - v[0], v[2] - v[0], normal, t});
         g.emitters.push_back({Emitter::Kind::Triangle, l, uint32_t(triangles_.size() - 1), area});
-        const Color le = light.textured ? light.triangleRadiance[t] : light.radiance;  // issue 34: its texels' mean
+        const Color le = light.textured ? light.triangleRadiance[t] : light.radiance;  // its texels' mean
         bounds.push_back(surfaceBounds(v, 3, normal, len > 0.0f ? meanOf(le) * kPiF * area : 0.0f));
       }
       return;

@@ -26,7 +26,7 @@ EmitterMesh triangulate(const ShapeDesc& s) {
   return m;
 }
 
-/// Issue 34: what @p l needs to emit per point when its shape @p s of material @p mat has an emission texture
+/// What @p l needs to emit per point when its shape @p s of material @p mat has an emission texture
 /// (common/emission_texture.h): the corners' texture coordinates per triangle, as triangulate() cuts the faces,
 /// and each triangle's mean radiance.
 void addEmissionTexture(RenderLight& l, const MaterialDesc& mat, const ShapeDesc& s) {

@@ -32,7 +32,7 @@ struct RenderLight {
   std::vector<float> cdf;   ///< area CDF over the emitter's triangles (last entry 1)
   std::vector<float> triangleArea;
   double area = 0;          ///< total area, m²
-  // Emission per point (issue 34, common/emission_texture.h): an emitter whose material has an emission texture.
+  // Emission per point (common/emission_texture.h): an emitter whose material has an emission texture.
   /// Its material when it emits per point (LightSet::radianceAt looks the texel up); null: `radiance` everywhere.
   std::shared_ptr<const MaterialDesc> textured;
   std::vector<Vec2> triangleUv;         ///< textured: the texture coordinates of each triangle's 3 corners

@@ -26,7 +26,7 @@ Color weighLightSample(const RenderScene& scene, const Hit& hit, const Frame& fr
   if (request.nonDiffuseOnly && q.wi.z * q.wo.z > 0.0f)
     f = glm::max(f - bsdf.diffuseAlbedo() * kInvPiF, Color(0.0f));
   if (!(maxComponent(f) > 0.0f)) return Color(0.0f);
-  Color through(1.0f);  // thin glass on the way: its transmittance (issue 35)
+  Color through(1.0f);  // thin glass on the way: its transmittance
   if (seen != TableVisibility::Visible) {
     ++rays;
     through = scene.transmittance(shadowRay(hit, rec.wi, rec.distance));
@@ -109,7 +109,7 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
       if (!(cosL > 0.0f)) return Color(0.0f);
       // pdf and 1/pdf from the same inputs: two independent divisions instead of one after the other.
       rec.pdf = pSelect * dist2 / (cosL * e.area);
-      const Color le = light.textured ? lights.emitterRadiance(e, u) : light.radiance;  // issue 34: per point
+      const Color le = light.textured ? lights.emitterRadiance(e, u) : light.radiance;  // per point
       rec.value = le * (cosL * e.area / (pSelect * dist2));
       break;
     }

@@ -17,9 +17,9 @@
 /// drawing when the group is empty: x chooses the emitter and, rescaled within the chosen emitter's
 /// share of [0,1) (LightSampler::sample's rest), is the point's first number, y its second. So the
 /// pair's stratification covers the whole light (both triangles of a quad, say), not the choice
-/// and the point separately (issue 37).
+/// and the point separately.
 ///
-/// The scene's infinite light (a sky or an environment map, issue 35) is a kept light: one more choice of the kept
+/// The scene's infinite light (a sky or an environment map) is a kept light: one more choice of the kept
 /// group beside the tree (light_sampler.h), its direction drawn from the map's density; with every light, one
 /// sample after the lights' dimensions (d0 + 2n, d0 + 2n + 1), so scenes without it draw as before.
 #include <cstdint>
@@ -37,8 +37,8 @@ class FirstShotLighting;  // render/firstshot/lighting.h
 class LightSampler;       // render/lights/light_sampler.h
 
 /// The receiver normal with which a shading point weighs the emitters (the light tree's hemisphere): @p sideNormal,
-/// the geometric normal on the viewer's side, or 0 (every direction) for a non-delta BSDF that transmits (issue 34,
-/// rough glass: a light behind the surface shines through it). NEE and nextEventPdf must be given the same one.
+/// the geometric normal on the viewer's side, or 0 (every direction) for a non-delta BSDF that transmits
+/// (rough glass: a light behind the surface shines through it). NEE and nextEventPdf must be given the same one.
 inline Vec3 receiverNormal(const BSDF& bsdf, const Vec3& sideNormal) {
   return bsdf.hasTransmission() && !bsdf.hasDelta() ? Vec3(0.0f) : sideNormal;
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// @file sky_light.h
-/// The scene's infinite light (issue 35): its sky model baked into a lat-long EnvironmentMap, or its environment
+/// The scene's infinite light: its sky model baked into a lat-long EnvironmentMap, or its environment
 /// map file read, as the one infinitely distant, large light of the render scene (LightSet::environment). It is
 /// never replaced by a first-shot table: NEE samples it by the map's importance density, paths that escape the
 /// scene meet it (power-heuristic MIS between the two), camera rays that escape see it as the background.

@@ -1,6 +1,6 @@
 #pragma once
 /// @file falsecolor.h
-/// False-colour pictures of a scalar field (issue 15): the luminance of a rendered image (cd/m²) or
+/// False-colour pictures of a scalar field: the luminance of a rendered image (cd/m²) or
 /// the illuminance of a sensor grid (lx), mapped through a perceptually ordered colour map on a log
 /// or linear scale, with a legend bar whose ticks are labelled in the field's units, and optional
 /// iso-lines at the ticks (docs/cli.md, "Photometric outputs"; docs/photometry.md).

@@ -241,7 +241,7 @@ struct GLRaster::Impl {
   // Albedo textures, uploaded once each (kept across setMesh) and the GL texture of each batch's index.
   std::vector<std::pair<std::shared_ptr<const Texture>, GLuint>> uploaded;
   std::vector<GLuint> batchTextures;
-  // Cut-outs (issue 34): their alpha textures (0: none, alpha is the mean), by RasterMesh::cutouts' index.
+  // Cut-outs: their alpha textures (0: none, alpha is the mean), by RasterMesh::cutouts' index.
   std::vector<RasterCutout> cutouts;
   std::vector<GLuint> cutoutTextures;
   LineBuffer edges, records;

@@ -113,7 +113,7 @@ RasterMesh buildRasterMesh(const RenderScene& scene, bool useFirstShot) {
     }
     const Vec2* uvs = textured ? uv : nullptr;
     if (m.firstShot && patchBsdf.hasTransmission() && !patchBsdf.hasDelta()) {
-      // Rough glass (issue 34): a frosted surface glows on both sides with what either side receives, as a diffuser.
+      // Rough glass: a frosted surface glows on both sides with what either side receives, as a diffuser.
       const Color glow = patchBsdf.albedo() * (0.5f * kInvPiF) * (e[2 * size_t(j)] + e[2 * size_t(j) + 1]);
       addPolygon(m, p.v, p.count, p.normal, glow, glow, 0.0f, uvs, texScale);
     } else if (m.firstShot && diffusePart) {

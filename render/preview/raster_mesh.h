@@ -9,7 +9,7 @@
 /// glossy patches the raster keeps the diffuse part only). Without a table (or with it switched
 /// off) patches show their albedo under a headlight: ρ·|cos θ| to the viewing direction.
 ///
-/// Textures (issue 34): a patch of a material with an albedo (base-colour) texture carries texture
+/// Textures: a patch of a material with an albedo (base-colour) texture carries texture
 /// coordinates per vertex (the KHR transform already applied: it is affine, so interpolating the
 /// transformed corners is exact) and the factor ρ_factor / ρ̄_patch, so that the GPU shows
 ///     L(x) = flat colour · ρ_factor · texel(x) / ρ̄_patch = flat colour · ρ(x) / ρ̄_patch,
@@ -41,7 +41,7 @@ struct RasterVertex {
   Vec2 alphaUv{0.0f};             ///< alpha texture coordinates after its transform (cut-out batches)
 };
 
-/// How a cut-out batch's fragments are kept (issue 34, common/patch_cutouts.h): where alpha = factor × the alpha
+/// How a cut-out batch's fragments are kept (common/patch_cutouts.h): where alpha = factor × the alpha
 /// texture (bilinear, its wrap modes; the mean where the shape has no texture coordinates) reaches the cut-off
 /// (mask), or with probability alpha by a hash of the pixel (blend: a screen-door dither).
 struct RasterCutout {

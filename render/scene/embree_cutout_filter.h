@@ -1,6 +1,6 @@
 #pragma once
 /// @file embree_cutout_filter.h
-/// Alpha cut-outs in the renderer's Embree scene (issue 34; common/patch_cutouts.h): a geometry filter on the
+/// Alpha cut-outs in the renderer's Embree scene (common/patch_cutouts.h): a geometry filter on the
 /// patch geometry, for closest hits and occlusion alike, that rejects a candidate hit where the surface is absent.
 /// Embree calls it for candidate hits in any order, and rejecting is all it does, so the closest hit that remains
 /// is the closest existing one; the context filters (thin glass, allHits) only see the hits it accepted. Installed

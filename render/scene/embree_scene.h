@@ -55,7 +55,7 @@ class EmbreeScene {
   void intersect16(const Ray* rays, const bool* active, int count, Hit* hits, bool* found) const;
   /// True if anything lies on the ray within [ray.tmin, ray.tmax].
   bool occluded(const Ray& ray) const;
-  /// The fraction of light that crosses the segment [ray.tmin, ray.tmax] (issue 35): 0 if an opaque
+  /// The fraction of light that crosses the segment [ray.tmin, ray.tmax]: 0 if an opaque
   /// surface lies on it, else the product of T(θ) of the thin glass panes it crosses (1 for none). One
   /// occlusion traversal whose context filter multiplies each pane's T(θ) and rejects the hit (a pane
   /// met twice at the same distance, on a quad's diagonal or the edge two patches share, counts once);

@@ -47,7 +47,7 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
   patchMaterial_.reserve(mesh().size());
   for (const Patch& p : mesh().patches) patchMaterial_.push_back(p.material);
   textures_ = SurfaceTextures(desc_, mesh());
-  shading_ = ShadingNormals(desc_, mesh());  // issue 34: nothing without mesh normals or normal maps
+  shading_ = ShadingNormals(desc_, mesh());  // nothing without mesh normals or normal maps
   if (!textures_.empty()) {
     patchBsdfs_.reserve(mesh().size());
     for (uint32_t j = 0; j < mesh().size(); ++j) {
@@ -76,7 +76,7 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
     glass.paneOfPatch.reserve(patchMaterial_.size());
     for (uint32_t m : patchMaterial_) glass.paneOfPatch.push_back(paneOfMaterial[m]);
   }
-  cutouts_ = PatchCutouts::build(desc_, mesh());  // alpha cut-outs (issue 34): null for a scene without
+  cutouts_ = PatchCutouts::build(desc_, mesh());  // alpha cut-outs: null for a scene without
   embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes(), std::move(glass), cutouts_);
 }
 

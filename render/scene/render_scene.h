@@ -51,13 +51,13 @@ class RenderScene {
   /// frame (BSDF::setGeometricNormal): integrators evaluate and sample it in shadingFrame(hit).
   BSDF bsdfAt(const Hit& hit) const {
     BSDF b = texturedBsdf(hit);
-    if (!shading_.empty() && hit.onPatch() && shading_.shaded(hit.patch)) {  // issue 34
+    if (!shading_.empty() && hit.onPatch() && shading_.shaded(hit.patch)) {
       const Vec3 ns = shading_.normalAt(hit.patch, hit.p, hit.ng);
       if (ns != hit.ng) b.setGeometricNormal(Frame(ns).toLocal(hit.ng));
     }
     return b;
   }
-  // --- Shading normals (issue 34, render/scene/shading_normals.h) ---
+  // --- Shading normals (render/scene/shading_normals.h) ---
   /// The unit shading normal at @p hit, on the front side of hit.ng: the source face's corner normals
   /// interpolated, perturbed by the material's normal map; hit.ng itself (the same bits) where there are none.
   Vec3 shadingNormal(const Hit& hit) const {
@@ -105,11 +105,11 @@ class RenderScene {
   std::vector<uint32_t> patchMaterial_;  ///< by patch: a compact copy of Patch::material for the hot path
   std::vector<uint32_t> emitterMaterial_;
   SurfaceTextures textures_;
-  ShadingNormals shading_;  ///< issue 34
+  ShadingNormals shading_;  ///< per-patch shading normals
   std::vector<BSDF> patchBsdfs_;  ///< by patch, when the scene has textures
   LightSet lights_;
   LuminaireBoxes luminaires_;
-  std::shared_ptr<const PatchCutouts> cutouts_;  ///< alpha cut-outs on the traced mesh (null: none; issue 34)
+  std::shared_ptr<const PatchCutouts> cutouts_;  ///< alpha cut-outs on the traced mesh (null: none)
   std::unique_ptr<EmbreeScene> embree_;
 };
 

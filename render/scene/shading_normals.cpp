@@ -13,7 +13,7 @@ Vec3 frontNormal(const Vec3& c, const Vec3& ng) {
 }
 
 /// The tangent frame (T, B) at the point of triangle @p t of face @p f that @p n is perturbed in: the file's (glTF
-/// TANGENT, issue 34) interpolated where its corners have one, else generated from the triangle's uv (∂p/∂u and the
+/// TANGENT) interpolated where its corners have one, else generated from the triangle's uv (∂p/∂u and the
 /// image's up, −∂p/∂v). T is made orthogonal to @p n and B = ±n × T, its sign the given frame's (the file's
 /// bitangent, or −∂p/∂v: mirrored uv). @return false where neither is usable (degenerate uv, a zero tangent).
 bool tangentFrame(const ShapeDesc& s, uint32_t f, const FaceTriangle& t, const Vec3& n, Vec3& tangent, Vec3& bitangent) {

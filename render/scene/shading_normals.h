@@ -1,6 +1,6 @@
 #pragma once
 /// @file shading_normals.h
-/// Shading normals on the traced patches (issue 34): the normal a BSDF is evaluated about at a point, from the
+/// Shading normals on the traced patches: the normal a BSDF is evaluated about at a point, from the
 /// source face's corner normals (a mesh file's NORMAL / vn, a "smooth" sphere) interpolated by the point's
 /// barycentric coordinates, then perturbed by the material's tangent-space normal map.
 ///

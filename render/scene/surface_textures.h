@@ -1,6 +1,6 @@
 #pragma once
 /// @file surface_textures.h
-/// Textures on the traced patches (issue 34): which source face each patch of a textured material lies in, the
+/// Textures on the traced patches: which source face each patch of a textured material lies in, the
 /// texture coordinates of a point on it, and the surface there or averaged over the patch: the base colour
 /// (albedo texture) and a pbr material's metallic and roughness (metallic-roughness texture).
 ///

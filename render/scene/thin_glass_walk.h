@@ -1,6 +1,6 @@
 #pragma once
 /// @file thin_glass_walk.h
-/// What a random walk does at a thin glass pane (issue 35; common/thin_glass.h): every walk of render/ (the
+/// What a random walk does at a thin glass pane (common/thin_glass.h): every walk of render/ (the
 /// path tracer's, the irradiance cache's, light and camera subpaths) calls crossThinGlass at each hit on one.
 #include <limits>
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file daylight_factor.h
-/// The daylight factor at sensors (issue 35; firstshot-render --daylight-factor, docs/photometry.md):
+/// The daylight factor at sensors (firstshot-render --daylight-factor, docs/photometry.md):
 ///     DF = E_inside / E_outside · 100 %,
 /// E_inside the illuminance at a sensor under the CIE standard overcast sky alone (the sun, the electric lights and
 /// emissive surfaces switched off), E_outside the sky's illuminance on an unobstructed horizontal plane facing up.

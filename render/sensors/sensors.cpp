@@ -60,7 +60,7 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   const Ray ray(hit.spawnOrigin(wi), wi);
   Hit first;
   Color Le(0.0f);
-  Color through(1.0f);  // the thin glass panes before the first other hit: their T (issue 35)
+  Color through(1.0f);  // the thin glass panes before the first other hit: their T
   bool glass = false;
   for (Ray r = ray;;) {
     ++rays;

@@ -1,6 +1,6 @@
 #pragma once
 /// @file sensors.h
-/// Irradiance and illuminance at sensor points (issue 15): a sensor is a point x with a unit
+/// Irradiance and illuminance at sensor points: a sensor is a point x with a unit
 /// normal n, on a surface or in free space (a work plane). Its irradiance
 ///     E(x, n) = ∫_{H(n)} L_in(x, ω) cos θ dω      (W/m² per RGB channel)
 /// is estimated per sample as
@@ -12,7 +12,7 @@
 /// once by the integrator's preprocessing and shared, never a second copy),
 /// the second one cosine-distributed direction ω (pdf cos θ/π) whose radiance arriving at x is the
 /// integrator's Li() along the ray minus the emission of a light it meets first (counted by NEE), or minus the
-/// radiance of the scene's sky or environment map where the ray leaves the scene (issue 35: NEE counted that too).
+/// radiance of the scene's sky or environment map where the ray leaves the scene (NEE counted that too).
 /// The integrator is the path tracer or the irradiance cache (requireSensorIntegrator): the
 /// estimator needs Li() per ray, which the splatting and per-pass ones do not have. The irradiance
 /// cache is filled from the sensors' own rays (preprocessSensors), not from the camera's pixels.

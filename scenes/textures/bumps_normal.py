@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The normal map of scenes/normal-map.json (issue 34), made here (no third-party images): run from this folder.
+"""The normal map of scenes/normal-map.json, made here (no third-party images): run from this folder.
 
 A tangent-space normal map (glTF's convention: +x along u, +y up the image, z out of the surface; texel = (n + 1)/2,
 8-bit, linear) of a height field of rounded tiles, h(u, v) = A·sin²(πku)·sin²(πkv) over k × k tiles per image, its

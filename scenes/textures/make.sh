@@ -30,7 +30,7 @@ png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", n, n, 8, 4, 
 png += chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b"")
 open("perforated.png", "wb").write(png)
 PY
-# Emissive panel (scenes/emissive-texture.json, issue 34): 16 × 16 RGB, the left half (u < ½) white, the right half
+# Emissive panel (scenes/emissive-texture.json): 16 × 16 RGB, the left half (u < ½) white, the right half
 # black; written with Python's zlib.
 python3 - <<'PY'
 import struct, zlib

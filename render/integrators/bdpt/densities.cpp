@@ -38,7 +38,7 @@ float BdptDensities::pdf(const SubpathVertex* prev, const SubpathVertex& cur, co
     }
     case Kind::Surface: {
       if (cur.delta || !prev) return 0.0f;
-      const Frame frame = scene_.shadingFrame(cur.hit);  // issue 34: as the BSDF was sampled
+      const Frame frame = scene_.shadingFrame(cur.hit);  // as the BSDF was sampled
       const BSDFQuery q(frame.toLocal(w), frame.toLocal(directionTo(cur, *prev)));
       const float pdfDir = scene_.bsdfAt(cur.hit).pdf(q);
       return toDirectional ? pdfDir : pdfDir * cosNext / dist2;

@@ -74,7 +74,7 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
       default: incident = light.intensity / (es.pdfLight * dist2); break;
     }
   }
-  const Frame frame = densities.scene().shadingFrame(pt.hit);  // issue 34: cos θ about the shading normal
+  const Frame frame = densities.scene().shadingFrame(pt.hit);  // cos θ about the shading normal
   const BSDFQuery q(frame.toLocal(wi), frame.toLocal(pt.wi));
   const Color L = pt.beta * densities.scene().bsdfAt(pt.hit).eval(q) * incident * std::abs(glm::dot(frame.n, wi));
   if (!(maxComponent(L) > 0.0f)) return Color(0.0f);
@@ -92,10 +92,10 @@ Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, c
   const float distance = std::sqrt(dist2);
   const Vec3 w = d / distance;  // from pt to qs
   const RenderScene& scene = densities.scene();
-  const Frame fp = scene.shadingFrame(pt.hit), fq = scene.shadingFrame(qs.hit);  // issue 34
+  const Frame fp = scene.shadingFrame(pt.hit), fq = scene.shadingFrame(qs.hit);
   const Color fCamera = scene.bsdfAt(pt.hit).eval(BSDFQuery(fp.toLocal(w), fp.toLocal(pt.wi)));
   const BSDF bsdfLight = scene.bsdfAt(qs.hit);
-  // f(light side → camera side) with wi towards the light: the radiance BSDF (issue 34, rough glass's η²).
+  // f(light side → camera side) with wi towards the light: the radiance BSDF (rough glass's η²).
   const Color fLight = bsdfLight.eval(BSDFQuery(fq.toLocal(qs.wi), fq.toLocal(-w), TransportMode::Radiance));
   // The camera side's cosine about its shading normal; the light side's f·|cos| with the adjoint factor
   // (render/scene/shading_normals.h) is f·|w·n_g|·|ω_prev·n_s|/|ω_prev·n_g|.

@@ -85,7 +85,7 @@ Color BundleIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* i
     if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
     const Frame frame = scene.shadingFrame(hit);  // not flipped: the dielectric needs the outward normal
     const Vec3 woLocal = frame.toLocal(wo);
-    if (!bsdf.hasDelta() && !bsdf.hasTransmission()) {  // rough glass (issue 34) is followed as glass is
+    if (!bsdf.hasDelta() && !bsdf.hasTransmission()) {  // rough glass is followed as glass is
       L += beta * surface(hit, frame, woLocal, bsdf, depth, sampler, rays);
       break;
     }

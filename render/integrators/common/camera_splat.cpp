@@ -17,8 +17,8 @@ bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camer
     if (!(cosX > 0.0f)) return false;
     L = v.beta * (cosX * c.importance);
   } else {
-    const Frame frame = scene.shadingFrame(v.hit);  // issue 34
-    // f(light side → camera): the radiance BSDF with wi towards the light (issue 34: it differs from the adjoint by
+    const Frame frame = scene.shadingFrame(v.hit);
+    // f(light side → camera): the radiance BSDF with wi towards the light (it differs from the adjoint by
     // η² through rough glass; Importance mode means wo is the light side, as in sample()).
     const BSDFQuery q(frame.toLocal(v.wi), frame.toLocal(c.wi), TransportMode::Radiance);
     const BSDF bsdf = scene.bsdfAt(v.hit);

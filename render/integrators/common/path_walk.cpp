@@ -141,7 +141,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     }
     if (depth >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;
 
-    // No flip: the BSDFs are two-sided and the dielectric needs the outward normal; issue 34: the shading normal.
+    // No flip: the BSDFs are two-sided and the dielectric needs the outward normal; the frame is the shading normal's.
     const Frame frame = scene.shadingFrame(hit);
     const Vec3 woLocal = frame.toLocal(wo);
     const bool useTable = haveTable && !(options_.primary == PrimaryMode::Exact && specularChain) &&
@@ -199,7 +199,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
 
     // Russian roulette on the throughput: survival √max(β) (as Cycles), not max(β). After three
     // bounces in a white room β ≈ 0.35, and a survivor weighted 1/0.35 was the largest part of the
-    // path tracer's error on Cornell (issue 37: rel. MSE at 256 spp −23%, for ≈ 8% more time).
+    // path tracer's error on Cornell (the square root: rel. MSE at 256 spp −23%, for ≈ 8% more time).
     if (depth + 1 >= options_.rrDepth) {
       const float survive = std::min(0.95f, std::sqrt(maxComponent(beta)));
       if (!(sampler.next1D() < survive)) break;

@@ -32,7 +32,7 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
     float weight = 1.0f;
     if (i > m && gathers(camera, i - 1, m, polishedUpTo)) {  // a BSDF sample against its vertex's NEE
       const SubpathVertex& x = camera[i - 1];
-      const Frame frame = scene_->shadingFrame(x.hit);  // issue 34
+      const Frame frame = scene_->shadingFrame(x.hit);
       const Vec3 wi = glm::normalize(v.hit.p - x.hit.p);
       const BSDF bsdfX = scene_->bsdfAt(x.hit);
       const float pdfBsdf = bsdfX.pdf(BSDFQuery(frame.toLocal(wi), frame.toLocal(x.wi)));

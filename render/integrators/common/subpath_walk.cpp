@@ -19,7 +19,7 @@ bool SubpathWalk::next(uint64_t& rays, Sampler& sampler) {
 bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {
   pdf_ = 0.0f;
   if (depth_ >= settings_.maxHits || maxComponent(bsdf_.albedo()) <= 0.0f) return false;
-  const Frame frame = scene_->shadingFrame(hit_);  // issue 34
+  const Frame frame = scene_->shadingFrame(hit_);
   BSDFQuery q(frame.toLocal(wi), settings_.mode);
   const Color weight = bsdf_.sample(q, sampler.next2D());
   if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) return false;

@@ -23,7 +23,7 @@ struct SubpathWalkSettings {
   float start = 1.0f;
   TransportMode mode = TransportMode::Radiance;  ///< Importance on a light subpath
   /// √ survival (as the path walk: longer walks, less noise per walk; light tracing), or max(beta)/start
-  /// (BDPT, whose cost grows with both subpaths' lengths: docs/measurements.md, issue 37).
+  /// (BDPT, whose cost grows with both subpaths' lengths: docs/measurements.md).
   bool sqrtSurvival = true;
 };
 

@@ -142,7 +142,7 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
       info->normal = glm::dot(hit.ng, wo) >= 0.0f ? hit.ng : -hit.ng;
     }
     if (vertex >= options_.maxDepth || maxComponent(bsdf.albedo()) <= 0.0f) break;  // emission only there
-    const Frame frame = scene.shadingFrame(hit);  // issue 34: a shaded point is path-traced (not isDiffuse)
+    const Frame frame = scene.shadingFrame(hit);  // a shaded point is path-traced (not isDiffuse)
     const Vec3 woLocal = frame.toLocal(wo);
 
     if (bsdf.hasDelta()) {  // mirror or glass: follow the sampled lobe

@@ -94,7 +94,7 @@ Color LightTracingIntegrator::smallLightsAt(const Ray& ray, const Hit& x, Sample
   if (options_.maxDepth < 1) return small.estimate(path, path.size(), sampler, rays);  // x's own emission only
   const BSDF bsdf = scene_->bsdfAt(path[1].hit);
   if (smallAreaLights_ && maxComponent(bsdf.albedo()) > 0.0f) {
-    const Frame frame = scene_->shadingFrame(x);  // issue 34
+    const Frame frame = scene_->shadingFrame(x);
     BSDFQuery q(frame.toLocal(path[1].wi));
     const Color weight = bsdf.sample(q, sampler.next2D());
     const Vec3 wi = frame.toWorld(q.wi);
