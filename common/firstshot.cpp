@@ -1,13 +1,11 @@
 // The .fsd file: writer and verifying reader (layout in docs/firstshot-format.md).
 #include "common/firstshot.h"
 
-#include <bit>
-#include <cstring>
-#include <fstream>
+#include <cmath>
+#include <limits>
 #include <sstream>
 
-#include "common/atomic_file.h"
-#include "common/error.h"
+#include "common/binary_file.h"
 #include "common/firstshot_groups.h"
 #include "common/firstshot_patches.h"
 #include "common/hash.h"
@@ -15,106 +13,26 @@
 namespace fs {
 namespace {
 
-constexpr char kMagic[8] = {'F', 'S', 'H', 'O', 'T', 'F', 'S', 'D'};
-constexpr char kEnd[8] = {'F', 'S', 'H', 'O', 'T', 'E', 'N', 'D'};
 /// 2: the analytic estimator's factors are exact per patch (visible fraction from exact occlusion
 /// tests, over the exposed part of a patch); version-1 tables carried the biases fixed then.
 /// 3: settings for adaptive patches and light tessellation; grouped factors (common/firstshot_groups.h).
 /// 4: packed patches (common/firstshot_patches.h).
 /// 5: the luminaires' exit distributions (common/luminaire.h), section LUMN.
-constexpr uint32_t kVersion = 5;
+constexpr BinaryFormat kFormat{.magic = {"FSHOTFSD", 8},
+                               .endMarker = {"FSHOTEND", 8},
+                               .version = 5,
+                               .headerBytes = 48,  // magic, version, flags, scene, settings and patch hashes
+                               .noun = "first-shot file",
+                               .identity = "a first-shot (.fsd) file",
+                               .remedy = "run firstshot-preprocess again"};
 
 /// The most exit patches along one edge of a box face the reader accepts (the preprocessor makes at most 8).
 constexpr uint32_t kMaxExitCells = 64;
 
-/// Appends plain values to a byte buffer (little-endian host assumed, checked at compile time).
-class Out {
- public:
-  template <typename T>
-  void put(const T& v) {
-    static_assert(std::is_trivially_copyable_v<T>);
-    const auto* p = reinterpret_cast<const char*>(&v);
-    buf.insert(buf.end(), p, p + sizeof(T));
-  }
-  void str(const std::string& s) {
-    put<uint32_t>(static_cast<uint32_t>(s.size()));
-    buf.insert(buf.end(), s.begin(), s.end());
-  }
-  template <typename T>
-  void array(const std::vector<T>& v) {
-    if (!v.empty()) {
-      const auto* p = reinterpret_cast<const char*>(v.data());
-      buf.insert(buf.end(), p, p + v.size() * sizeof(T));
-    }
-  }
-  /// Starts a tagged section; returns the offset of its length field.
-  size_t begin(const char (&tag)[5]) {
-    buf.insert(buf.end(), tag, tag + 4);
-    put<uint64_t>(0);
-    return buf.size();
-  }
-  void end(size_t start) {
-    const uint64_t len = buf.size() - start;
-    std::memcpy(buf.data() + start - 8, &len, 8);
-  }
-  std::vector<char> buf;
-};
-
-/// Reads plain values with bounds checks; every failure names the file and the section.
-class In {
- public:
-  In(const std::string& path, const char* data, size_t size) : path_(path), p_(data), end_(data + size) {}
-  template <typename T>
-  T get(const char* what) {
-    T v;
-    need(sizeof(T), what);
-    std::memcpy(&v, p_, sizeof(T));
-    p_ += sizeof(T);
-    return v;
-  }
-  std::string str(const char* what) {
-    const uint32_t n = get<uint32_t>(what);
-    need(n, what);
-    std::string s(p_, n);
-    p_ += n;
-    return s;
-  }
-  template <typename T>
-  void array(std::vector<T>& v, uint64_t count, const char* what) {
-    if (count > uint64_t(end_ - p_) / sizeof(T)) fail(what, "truncated or corrupt: the section is shorter than its count");
-    v.resize(count);
-    if (count) std::memcpy(v.data(), p_, count * sizeof(T));
-    p_ += count * sizeof(T);
-  }
-  /// Enters a tagged section and returns its end.
-  const char* section(const char (&tag)[5]) {
-    need(12, tag);
-    if (std::memcmp(p_, tag, 4) != 0) fail(tag, "section missing or out of order (corrupt file)");
-    p_ += 4;
-    const uint64_t len = get<uint64_t>(tag);
-    need(len, tag);
-    return p_ + len;
-  }
-  /// Bytes left before the end of the data.
-  uint64_t remaining() const { return uint64_t(end_ - p_); }
-  void leave(const char* sectionEnd, const char* tag) {
-    if (p_ != sectionEnd) fail(tag, "section length does not match its contents (corrupt file)");
-  }
-  [[noreturn]] void fail(const char* what, const std::string& msg) const { throw InputError(path_, what, msg); }
-
- private:
-  void need(uint64_t n, const char* what) const {
-    if (n > uint64_t(end_ - p_)) fail(what, "truncated file");
-  }
-  std::string path_;
-  const char* p_;
-  const char* end_;
-};
-
 /// The LUMN section: every luminaire, checked (counts, sizes, finite non-negative values, lights ascending and
 /// not replaced by factors).
-void readLuminaires(In& in, FirstShotTable& t) {
-  const char* e = in.section("LUMN");
+void readLuminaires(BinaryReader& in, FirstShotTable& t) {
+  in.enter("LUMN");
   const uint64_t count = in.get<uint64_t>("LUMN");
   // The smallest luminaire takes 4 + 24 + 8 + 48 + 8 + 28 + 8 bytes and its radiance (6 patches at least).
   if (count > in.remaining() / 128) in.fail("LUMN", "truncated or corrupt: fewer luminaires than counted");
@@ -151,7 +69,7 @@ void readLuminaires(In& in, FirstShotTable& t) {
     for (float v : l.radiance)
       if (!(v >= 0.0f) || !std::isfinite(v)) in.fail("LUMN", which + ": a radiance negative or not finite (corrupt file)");
   }
-  in.leave(e, "LUMN");
+  in.leave("LUMN");
 }
 
 }  // namespace
@@ -192,115 +110,83 @@ std::vector<Color> FirstShotTable::sideIrradiance() const {
 }
 
 void writeFirstShot(const std::string& path, const FirstShotTable& t) {
-  static_assert(std::endian::native == std::endian::little, "the .fsd format is little-endian");
   if (t.rowStart.size() != size_t(t.mesh.size()) + 1 || t.sampleIndex.size() != t.factor.size())
     throw std::runtime_error(path + ": inconsistent first-shot table (internal error)");
-  Out o;
-  o.buf.insert(o.buf.end(), kMagic, kMagic + 8);
-  o.put(kVersion);
-  o.put<uint32_t>(0);  // flags
-  o.put(t.sceneHash);
-  o.put(t.settings.hash());
-  o.put(hashPatches(t.mesh));
-  size_t s = o.begin("SETT");
-  o.put(t.settings.resolution);
-  o.str(t.settings.window);
-  o.str(t.settings.backend);
-  o.put(t.settings.patchSize);
-  o.put(t.settings.minPatchSize);
-  o.put(t.settings.refineTolerance);
-  o.put(t.settings.lightPatchSize);
-  o.put(t.settings.lightTolerance);
-  o.put(t.settings.smallLightMaxSolidAngle);
-  o.put(t.settings.rotationSeed);
-  o.str(t.settings.estimator);
-  o.end(s);
-  s = o.begin("PTCH");
-  o.put<uint64_t>(t.mesh.size());
-  o.put(t.mesh.patchSize);
-  const PackedPatches pp = packPatches(t.mesh);
-  o.put<uint64_t>(pp.vertices.size());
-  o.put<uint64_t>(pp.runLength.size());
-  o.put<uint64_t>(pp.index.size());
-  o.array(pp.runShape), o.array(pp.runMaterial), o.array(pp.runLength);
-  o.array(pp.corners), o.array(pp.index), o.array(pp.vertices);
-  o.array(pp.normal), o.array(pp.centroid), o.array(pp.area);
-  o.end(s);
-  s = o.begin("LSMP");
-  o.put<uint64_t>(t.samples.size());
-  for (const LightSample& l : t.samples) {
-    o.put(l.kind), o.put(l.light), o.put(l.position), o.put(l.normal), o.put(l.emission), o.put(l.weight);
-  }
-  o.put<uint64_t>(t.replacedLights.size());
-  o.array(t.replacedLights);
-  o.end(s);
-  s = o.begin("CSRR");
-  const GroupedFactors g = groupFactors(t);
-  o.put<uint64_t>(t.factor.size());
-  o.put<uint64_t>(g.singleSample.size());
-  o.put<uint64_t>(g.groupLight.size());
-  o.put(t.areaEyeOffset);
-  o.array(g.rowCount);
-  if (!g.groupLight.empty()) {  // without groups, every factor is a single
-    o.array(g.singleCount);
-    o.array(g.groupCount);
-  }
-  o.array(g.singleSample);
-  o.array(g.singleFactor);
-  o.array(g.groupLight);
-  o.array(g.groupVisible);
-  o.end(s);
-  s = o.begin("LUMN");
-  o.put<uint64_t>(t.luminaires.size());
-  for (const Luminaire& l : t.luminaires) {
+  for (const Luminaire& l : t.luminaires)
     if (l.radiance.size() != 3 * size_t(Luminaire::kBins) * l.patchCount())
       throw std::runtime_error(path + ": luminaire \"" + l.name + "\": radiance of the wrong size (internal error)");
-    o.str(l.name);
-    o.put(l.lo), o.put(l.hi);
-    o.put<uint64_t>(l.lights.size());
-    o.array(l.lights);
-    o.put(l.nu), o.put(l.nv);
-    o.put(l.particles);
-    o.put(l.power), o.put(l.exitPower), o.put(l.relError);
-    o.put<uint64_t>(l.radiance.size());
-    o.array(l.radiance);
-  }
-  o.end(s);
-  o.put(Hasher().bytes(o.buf.data(), o.buf.size()).value());
-  o.buf.insert(o.buf.end(), kEnd, kEnd + 8);
-
-  writeAtomically(path, [&](const std::string& tmp) {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    if (!f) throw std::runtime_error(path + ": cannot create file");
-    f.write(o.buf.data(), std::streamsize(o.buf.size()));
-    f.close();
-    if (!f) throw std::runtime_error(path + ": write failed (disk full?)");
+  writeBinaryFile(path, kFormat, [&](BinaryWriter& o) {
+    o.put<uint32_t>(0);  // flags
+    o.put(t.sceneHash);
+    o.put(t.settings.hash());
+    o.put(hashPatches(t.mesh));
+    o.beginSection("SETT");
+    o.put(t.settings.resolution);
+    o.str(t.settings.window);
+    o.str(t.settings.backend);
+    o.put(t.settings.patchSize);
+    o.put(t.settings.minPatchSize);
+    o.put(t.settings.refineTolerance);
+    o.put(t.settings.lightPatchSize);
+    o.put(t.settings.lightTolerance);
+    o.put(t.settings.smallLightMaxSolidAngle);
+    o.put(t.settings.rotationSeed);
+    o.str(t.settings.estimator);
+    o.endSection();
+    o.beginSection("PTCH");
+    o.put<uint64_t>(t.mesh.size());
+    o.put(t.mesh.patchSize);
+    const PackedPatches pp = packPatches(t.mesh);
+    o.put<uint64_t>(pp.vertices.size());
+    o.put<uint64_t>(pp.runLength.size());
+    o.put<uint64_t>(pp.index.size());
+    o.array(pp.runShape), o.array(pp.runMaterial), o.array(pp.runLength);
+    o.array(pp.corners), o.array(pp.index), o.array(pp.vertices);
+    o.array(pp.normal), o.array(pp.centroid), o.array(pp.area);
+    o.endSection();
+    o.beginSection("LSMP");
+    o.put<uint64_t>(t.samples.size());
+    for (const LightSample& l : t.samples) {
+      o.put(l.kind), o.put(l.light), o.put(l.position), o.put(l.normal), o.put(l.emission), o.put(l.weight);
+    }
+    o.put<uint64_t>(t.replacedLights.size());
+    o.array(t.replacedLights);
+    o.endSection();
+    o.beginSection("CSRR");
+    const GroupedFactors g = groupFactors(t);
+    o.put<uint64_t>(t.factor.size());
+    o.put<uint64_t>(g.singleSample.size());
+    o.put<uint64_t>(g.groupLight.size());
+    o.put(t.areaEyeOffset);
+    o.array(g.rowCount);
+    if (!g.groupLight.empty()) {  // without groups, every factor is a single
+      o.array(g.singleCount);
+      o.array(g.groupCount);
+    }
+    o.array(g.singleSample);
+    o.array(g.singleFactor);
+    o.array(g.groupLight);
+    o.array(g.groupVisible);
+    o.endSection();
+    o.beginSection("LUMN");
+    o.put<uint64_t>(t.luminaires.size());
+    for (const Luminaire& l : t.luminaires) {
+      o.str(l.name);
+      o.put(l.lo), o.put(l.hi);
+      o.put<uint64_t>(l.lights.size());
+      o.array(l.lights);
+      o.put(l.nu), o.put(l.nv);
+      o.put(l.particles);
+      o.put(l.power), o.put(l.exitPower), o.put(l.relError);
+      o.put<uint64_t>(l.radiance.size());
+      o.array(l.radiance);
+    }
+    o.endSection();
   });
 }
 
 FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash) {
-  std::ifstream f(path, std::ios::binary | std::ios::ate);
-  if (!f) throw InputError(path, "", "cannot open first-shot file");
-  const std::streamoff size = f.tellg();
-  if (size < 0) throw InputError(path, "", "cannot read first-shot file");
-  std::vector<char> data(static_cast<size_t>(size));  // the whole file in one read
-  f.seekg(0);
-  if (!f.read(data.data(), size)) throw InputError(path, "", "cannot read first-shot file");
-  In in(path, data.data(), data.size());
-  if (data.size() < 8 || std::memcmp(data.data(), kMagic, 8) != 0)
-    in.fail("header", "not a first-shot (.fsd) file: wrong magic");
-  in.get<uint64_t>("header");
-  const uint32_t version = in.get<uint32_t>("header");
-  if (version != kVersion)
-    in.fail("header", "format version " + std::to_string(version) + ", this build reads version " +
-                          std::to_string(kVersion) + ": run firstshot-preprocess again");
-  if (data.size() < 48 + 16 || std::memcmp(data.data() + data.size() - 8, kEnd, 8) != 0)
-    in.fail("trailer", "truncated file (end marker missing)");
-  uint64_t stored;
-  std::memcpy(&stored, data.data() + data.size() - 16, 8);
-  if (Hasher().bytes(data.data(), data.size() - 16).value() != stored)
-    in.fail("trailer", "checksum mismatch: the file is corrupt");
-
+  BinaryReader in(path, kFormat);
   FirstShotTable t;
   in.get<uint32_t>("header");  // flags
   t.sceneHash = in.get<uint64_t>("header");
@@ -312,7 +198,7 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
         << "): run firstshot-preprocess on this scene again";
     in.fail("header", msg.str());
   }
-  const char* e = in.section("SETT");
+  in.enter("SETT");
   t.settings.resolution = in.get<uint32_t>("SETT");
   t.settings.window = in.str("SETT");
   t.settings.backend = in.str("SETT");
@@ -324,10 +210,10 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
   t.settings.smallLightMaxSolidAngle = in.get<double>("SETT");
   t.settings.rotationSeed = in.get<uint64_t>("SETT");
   t.settings.estimator = in.str("SETT");
-  in.leave(e, "SETT");
+  in.leave("SETT");
   if (t.settings.hash() != settingsHash) in.fail("SETT", "settings do not match their hash (corrupt file)");
 
-  e = in.section("PTCH");
+  in.enter("PTCH");
   const uint64_t n = in.get<uint64_t>("PTCH");
   if (n > std::numeric_limits<uint32_t>::max()) in.fail("PTCH", "patch count above 2^32-1 (corrupt file)");
   t.mesh.patchSize = in.get<double>("PTCH");
@@ -337,14 +223,14 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
     in.array(pp.runShape, runs, "PTCH"), in.array(pp.runMaterial, runs, "PTCH"), in.array(pp.runLength, runs, "PTCH");
     in.array(pp.corners, n, "PTCH"), in.array(pp.index, ni, "PTCH"), in.array(pp.vertices, nv, "PTCH");
     in.array(pp.normal, n, "PTCH"), in.array(pp.centroid, n, "PTCH"), in.array(pp.area, n, "PTCH");
-    in.leave(e, "PTCH");
+    in.leave("PTCH");
     unpackPatches(pp, t.mesh, [&](const std::string& msg) { in.fail("PTCH", msg); });
   }
   if (hashPatches(t.mesh) != patchHash) in.fail("PTCH", "patches do not match their hash (corrupt file)");
 
-  e = in.section("LSMP");
+  in.enter("LSMP");
   const uint64_t ns = in.get<uint64_t>("LSMP");
-  if (ns > uint64_t(e - data.data()) / 48) in.fail("LSMP", "truncated or corrupt: fewer light samples than counted");
+  if (ns > in.remaining() / 48) in.fail("LSMP", "truncated or corrupt: fewer light samples than counted");
   t.samples.resize(ns);
   for (LightSample& l : t.samples) {
     l.kind = in.get<LightSampleKind>("LSMP"), l.light = in.get<uint32_t>("LSMP");
@@ -353,9 +239,9 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
     if (uint32_t(l.kind) > uint32_t(LightSampleKind::AreaVertex)) in.fail("LSMP", "unknown light sample kind");
   }
   in.array(t.replacedLights, in.get<uint64_t>("LSMP"), "LSMP");
-  in.leave(e, "LSMP");
+  in.leave("LSMP");
 
-  e = in.section("CSRR");
+  in.enter("CSRR");
   const uint64_t nnz = in.get<uint64_t>("CSRR");
   const uint64_t singles = in.get<uint64_t>("CSRR");
   const uint64_t groups = in.get<uint64_t>("CSRR");
@@ -374,9 +260,10 @@ FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash
   in.array(g.singleFactor, singles, "CSRR");
   in.array(g.groupLight, groups, "CSRR");
   in.array(g.groupVisible, groups, "CSRR");
-  in.leave(e, "CSRR");
+  in.leave("CSRR");
   expandFactors(g, nnz, t, [&](const std::string& msg) { in.fail("CSRR", msg); });
   readLuminaires(in, t);
+  in.expectEnd("LUMN");
   return t;
 }
 

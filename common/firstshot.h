@@ -76,7 +76,8 @@ struct FirstShotTable {
 /// Writes the table atomically (temp file, then rename). @throws std::runtime_error on I/O failure.
 void writeFirstShot(const std::string& path, const FirstShotTable& table);
 
-/// Reads and verifies a table: magic, version, sizes, checksum. If @p expectedSceneHash is non-zero
+/// Reads and verifies a table: magic, version, end marker, checksum (common/binary_file.h), then every section's
+/// size and contents. If @p expectedSceneHash is non-zero
 /// it must match the file's scene hash. @throws InputError naming the file and the section at fault.
 FirstShotTable readFirstShot(const std::string& path, uint64_t expectedSceneHash = 0);
 

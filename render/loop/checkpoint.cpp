@@ -4,14 +4,10 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <bit>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
-#include <stdexcept>
 
-#include "common/atomic_file.h"
+#include "common/binary_file.h"
 #include "common/error.h"
 #include "common/hash.h"
 
@@ -19,9 +15,13 @@ namespace fs {
 
 namespace {
 
-constexpr char kMagic[8] = {'F', 'S', 'R', 'E', 'S', 'U', 'M', 'E'};
-constexpr char kEnd[8] = {'F', 'S', 'C', 'K', 'E', 'N', 'D', '\0'};
-constexpr uint32_t kVersion = 1;
+constexpr BinaryFormat kFormat{.magic = {"FSRESUME", 8},
+                               .endMarker = {"FSCKEND\0", 8},
+                               .version = 1,
+                               .headerBytes = 8 + 5 * 4,  // magic, version, width, height, key length, passes
+                               .noun = "checkpoint file",
+                               .identity = "a firstshot-render checkpoint",
+                               .remedy = "render with --checkpoint first"};
 constexpr size_t kBytesPerPixel = 4 * 3 * sizeof(double) + sizeof(uint32_t);
 
 std::string keyText(const CheckpointKey& key) {
@@ -67,79 +67,33 @@ std::string keyDifference(const CheckpointKey& saved, const CheckpointKey& now) 
 }  // namespace
 
 void writeCheckpoint(const std::string& path, const CheckpointKey& key, const Film& film) {
-  static_assert(std::endian::native == std::endian::little, "the checkpoint file is little-endian");
   const Film::Sums& s = film.sums();
-  const std::string text = keyText(key);
   const uint32_t passes = s.count.empty() ? 0 : *std::min_element(s.count.begin(), s.count.end());
-  writeAtomically(
-      path,
-      [&](const std::string& tmp) {
-        std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-        if (!f) throw std::runtime_error(path + ": cannot create file");
-        Hasher h;
-        auto put = [&](const void* data, size_t n) {
-          h.bytes(data, n);
-          f.write(static_cast<const char*>(data), std::streamsize(n));
-        };
-        auto put32 = [&](uint32_t v) { put(&v, sizeof v); };
-        put(kMagic, 8);
-        put32(kVersion);
-        put32(uint32_t(film.width()));
-        put32(uint32_t(film.height()));
-        put32(uint32_t(text.size()));
-        put(text.data(), text.size());
-        put32(passes);
-        for (const std::vector<Vec3d>* v : {&s.sum, &s.sumSq, &s.albedo, &s.normal}) put(v->data(), v->size() * sizeof(Vec3d));
-        put(s.count.data(), s.count.size() * sizeof(uint32_t));
-        const uint64_t checksum = h.value();
-        f.write(reinterpret_cast<const char*>(&checksum), sizeof checksum);
-        f.write(kEnd, 8);
-        f.close();
-        if (!f) throw std::runtime_error(path + ": write failed (disk full?)");
+  writeBinaryFile(
+      path, kFormat,
+      [&](BinaryWriter& o) {
+        o.put(uint32_t(film.width()));
+        o.put(uint32_t(film.height()));
+        o.str(keyText(key));
+        o.put(passes);
+        for (const std::vector<Vec3d>* v : {&s.sum, &s.sumSq, &s.albedo, &s.normal}) o.array(*v);
+        o.array(s.count);
       },
       OnInterrupt::Keep);
 }
 
 namespace {
 
-/// A checkpoint file's bytes, checked (magic, end marker, checksum, version), read up to its key.
+/// A checkpoint file, its frame checked (common/binary_file.h), read up to its key.
 struct CheckpointReader {
-  std::string path;
-  std::vector<char> data;
-  size_t pos = 0;
+  BinaryReader in;
   uint32_t width = 0, height = 0;
   std::string keyText;
 
-  explicit CheckpointReader(const std::string& p) : path(p) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw InputError(path, "", "cannot open the checkpoint file (render with --checkpoint first)");
-    data.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-    if (data.size() < 8 || std::memcmp(data.data(), kMagic, 8) != 0)
-      throw InputError(path, "header", "not a firstshot-render checkpoint (wrong magic)");
-    if (data.size() < 8 + 5 * 4 + 16 || std::memcmp(data.data() + data.size() - 8, kEnd, 8) != 0)
-      throw InputError(path, "trailer", "truncated checkpoint file (end marker missing)");
-    uint64_t stored;
-    std::memcpy(&stored, data.data() + data.size() - 16, 8);
-    if (Hasher().bytes(data.data(), data.size() - 16).value() != stored)
-      throw InputError(path, "trailer", "checksum mismatch: the checkpoint is corrupt");
-    pos = 8;
-    const uint32_t version = get32("header");
-    if (version != kVersion)
-      throw InputError(path, "header", fmt::format("checkpoint version {}, this build reads version {}", version, kVersion));
-    width = get32("header");
-    height = get32("header");
-    keyText.resize(get32("key"));
-    get(keyText.data(), keyText.size(), "key");
-  }
-  void get(void* out, size_t n, const char* what) {
-    if (n > data.size() - 16 - pos) throw InputError(path, what, "truncated checkpoint file");
-    std::memcpy(out, data.data() + pos, n);
-    pos += n;
-  }
-  uint32_t get32(const char* what) {
-    uint32_t v;
-    get(&v, sizeof v, what);
-    return v;
+  explicit CheckpointReader(const std::string& path) : in(path, kFormat) {
+    width = in.get<uint32_t>("header");
+    height = in.get<uint32_t>("header");
+    keyText = in.str("key");
   }
 };
 
@@ -148,25 +102,26 @@ struct CheckpointReader {
 CheckpointKey readCheckpointKey(const std::string& path) { return parseKey(CheckpointReader(path).keyText); }
 
 int readCheckpoint(const std::string& path, const CheckpointKey& key, Film& film) {
-  CheckpointReader in(path);
-  const uint32_t width = in.width, height = in.height;
-  if (const std::string diff = keyDifference(parseKey(in.keyText), key); !diff.empty())
+  CheckpointReader r(path);
+  BinaryReader& in = r.in;
+  const uint32_t width = r.width, height = r.height;
+  if (const std::string diff = keyDifference(parseKey(r.keyText), key); !diff.empty())
     throw InputError(path, "key", "made for a different render: " + diff);
   if (int(width) != film.width() || int(height) != film.height())
     throw InputError(path, "header", fmt::format("made for a {}x{} image, this render is {}x{}", width, height,
                                                  film.width(), film.height()));
-  const uint32_t passes = in.get32("header");
+  const uint32_t passes = in.get<uint32_t>("header");
   const size_t n = size_t(width) * size_t(height);
-  if (in.data.size() - 16 - in.pos != n * kBytesPerPixel) throw InputError(path, "sums", "truncated or corrupt: wrong size");
+  if (in.remaining() != n * kBytesPerPixel)
+    in.fail("sums", fmt::format("truncated or corrupt: {} bytes of sums at offset {}, a {}x{} image has {}",
+                                in.remaining(), in.offset(), width, height, n * kBytesPerPixel));
   Film::Sums s;
-  for (std::vector<Vec3d>* v : {&s.sum, &s.sumSq, &s.albedo, &s.normal}) {
-    v->resize(n);
-    in.get(v->data(), n * sizeof(Vec3d), "sums");
-  }
-  s.count.resize(n);
-  in.get(s.count.data(), n * sizeof(uint32_t), "sums");
-  for (const uint32_t c : s.count)
-    if (c < passes) throw InputError(path, "sums", "inconsistent sample counts (corrupt file)");
+  for (std::vector<Vec3d>* v : {&s.sum, &s.sumSq, &s.albedo, &s.normal}) in.array(*v, n, "sums");
+  in.array(s.count, n, "sums");
+  for (size_t k = 0; k < n; ++k)
+    if (s.count[k] < passes)
+      in.fail("sums", fmt::format("pixel {}: {} samples, fewer than the {} passes of the header (corrupt file)", k,
+                                  s.count[k], passes));
   film.setSums(std::move(s));
   return int(passes);
 }

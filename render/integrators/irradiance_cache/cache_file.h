@@ -6,7 +6,8 @@
 ///   u32 length + settings text (IrradianceCacheIntegrator::settingsText, for messages),
 ///   u32 level count; per level: u64 record count, then per record 30 f32:
 ///     p[3] n[3] E[3] R Rmin Rmax gradT[c][3] (c = 0..2) gradR[c][3] (c = 0..2),
-///   u64 checksum (common/hash.h Hasher over every byte before it), "FSICEND\0".
+///   u64 checksum (common/hash.h Hasher over every byte before it), "FSICEND\0"
+///   (the frame of common/binary_file.h: header, checksum trailer, atomic write, checked reads).
 /// A file is used only if it is whole, intact, and made for the same scene and settings; anything
 /// else is refused with an InputError naming the file (exit code 2), never partly used.
 #include <cstdint>
