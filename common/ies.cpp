@@ -168,8 +168,7 @@ void integrate(IesData& d) {
   const size_t nv = d.vertical.size(), nh = d.horizontal.size();
   auto f = [&](size_t i, size_t j) { return d.candela[j * nv + i]; };
   d.flux = 0;
-  d.cellCdf.clear();
-  double sum = 0;
+  std::vector<double> cellWeights;
   for (size_t i = 0; i + 1 < nv; ++i)
     for (size_t j = 0; j + 1 < nh; ++j) {
       const double v0 = d.vertical[i] * kDeg, v1 = d.vertical[i + 1] * kDeg;
@@ -182,12 +181,9 @@ void integrate(IesData& d) {
         moments(v0, v1, d.type == IesType::C, a0, a1);
         d.flux += 0.5 * (h1 - h0) * (a0 * (f(i, j) + f(i, j + 1)) + a1 * (f(i + 1, j) + f(i + 1, j + 1)));
       }
-      sum += cellMax(d, i, j) * cellSolidAngle(d, i, j);
-      d.cellCdf.push_back(sum);
+      cellWeights.push_back(cellMax(d, i, j) * cellSolidAngle(d, i, j));
     }
-  d.cellNorm = sum;
-  for (double& c : d.cellCdf) c = sum > 0 ? c / sum : 1.0;
-  if (!d.cellCdf.empty()) d.cellCdf.back() = 1.0;
+  d.cells = Distribution1D(cellWeights);
 }
 
 }  // namespace
@@ -335,13 +331,11 @@ double IesData::valueLocal(const Vec3d& d) const {
 
 Vec3d IesData::sampleLocal(double u0, double u2, double& pdf) const {
   pdf = 0;
-  if (cellCdf.empty() || !(cellNorm > 0)) return Vec3d(0, 0, 1);
-  const size_t k = std::min(size_t(std::upper_bound(cellCdf.begin(), cellCdf.end(), u0) - cellCdf.begin()),
-                            cellCdf.size() - 1);
+  if (cells.empty() || !(cells.total() > 0)) return Vec3d(0, 0, 1);
+  double u1 = 0;  // the rest of u0 inside the cell's CDF interval
+  const size_t k = cells.sampleDiscrete(u0, &u1);
   const size_t nh = horizontal.size(), i = k / (nh - 1), j = k % (nh - 1);
-  const double lo = k > 0 ? cellCdf[k - 1] : 0.0, hi = cellCdf[k];
-  const double u1 = hi > lo ? std::clamp((u0 - lo) / (hi - lo), 0.0, 1.0) : 0.5;
-  pdf = cellMax(*this, i, j) / cellNorm;
+  pdf = cellMax(*this, i, j) / cells.total();
   const double v0 = vertical[i] * kDeg, v1 = vertical[i + 1] * kDeg;
   const double h0 = horizontal[j] * kDeg, h1 = horizontal[j + 1] * kDeg;
   switch (type) {
@@ -365,11 +359,11 @@ Vec3d IesData::sampleLocal(double u0, double u2, double& pdf) const {
 }
 
 double IesData::pdfLocal(const Vec3d& d) const {
-  if (!(cellNorm > 0)) return 0;
+  if (!(cells.total() > 0)) return 0;
   double v = 0, h = 0;
   angles(d, v, h);
   if (!(v >= vertical.front() && v <= vertical.back() && h >= horizontal.front() && h <= horizontal.back())) return 0;
-  return cellMax(*this, interval(vertical, v), interval(horizontal, h)) / cellNorm;
+  return cellMax(*this, interval(vertical, v), interval(horizontal, h)) / cells.total();
 }
 
 }  // namespace fs

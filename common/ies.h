@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "common/distribution_1d.h"
 #include "common/math.h"
 
 namespace fs {
@@ -49,8 +50,8 @@ struct IesData {
   double pdfLocal(const Vec3d& d) const;
 
   // The sampling distribution (built by parseIes).
-  std::vector<double> cellCdf;  ///< per cell [i · (nh − 1) + j], cumulative, normalised to 1
-  double cellNorm = 0;          ///< Σ cell max · cell solid angle, cd·sr
+  /// Per cell [i · (nh − 1) + j]: its largest corner value × its solid angle, cd·sr (total(): their sum).
+  Distribution1D cells;
 };
 
 /// Largest .ies file read, bytes.

@@ -40,31 +40,25 @@ inline float luminance(const Color& c) { return 0.2126f * c.x + 0.7152f * c.y + 
 inline float maxComponent(const Color& c) { return std::max(c.x, std::max(c.y, c.z)); }
 
 /// Orthonormal frame around a unit normal (z axis = n); converts between world and local space.
-struct Frame {
-  Vec3 s, t, n;
-  Frame() : s(1, 0, 0), t(0, 1, 0), n(0, 0, 1) {}
+/// @tparam T float (Frame: shading, sampling) or double (Framed: the preprocessor's cameras)
+template <typename T>
+struct BasicFrame {
+  using Vec = glm::vec<3, T, glm::defaultp>;
+  Vec s, t, n;
+  BasicFrame() : s(1, 0, 0), t(0, 1, 0), n(0, 0, 1) {}
   /// Builds a frame from a unit normal (Duff et al. 2017, branchless).
-  explicit Frame(const Vec3& normal) : n(normal) {
-    const float sign = std::copysign(1.0f, n.z);
-    const float a = -1.0f / (sign + n.z);
-    const float b = n.x * n.y * a;
-    s = Vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    t = Vec3(b, sign + n.y * n.y * a, -n.y);
+  explicit BasicFrame(const Vec& normal) : n(normal) {
+    const T sign = std::copysign(T(1), n.z);
+    const T a = T(-1) / (sign + n.z);
+    const T b = n.x * n.y * a;
+    s = Vec(T(1) + sign * n.x * n.x * a, sign * b, -sign * n.x);
+    t = Vec(b, sign + n.y * n.y * a, -n.y);
   }
-  Vec3 toLocal(const Vec3& v) const { return {glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)}; }
-  Vec3 toWorld(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
+  Vec toLocal(const Vec& v) const { return {glm::dot(v, s), glm::dot(v, t), glm::dot(v, n)}; }
+  Vec toWorld(const Vec& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
-/// Double-precision orthonormal frame (same construction), for the preprocessor's cameras.
-struct Framed {
-  Vec3d s, t, n;
-  explicit Framed(const Vec3d& normal) : n(normal) {
-    const double sign = std::copysign(1.0, n.z);
-    const double a = -1.0 / (sign + n.z);
-    const double b = n.x * n.y * a;
-    s = Vec3d(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x);
-    t = Vec3d(b, sign + n.y * n.y * a, -n.y);
-  }
-};
+using Frame = BasicFrame<float>;
+using Framed = BasicFrame<double>;
 
 }  // namespace fs

@@ -1,5 +1,6 @@
 #include "preprocess/gl_item_buffer.h"
 
+#include "common/gl_program.h"
 #include "preprocess/profile.h"
 
 #include <fmt/core.h>
@@ -57,25 +58,6 @@ flat in uint vPatch;
 layout(location = 0) out uint outPatch;
 void main() { outPatch = vPatch; }
 )";
-
-GLuint compile(GLenum type, const char* source, const char* prefix = nullptr, const char* defines = "") {
-  const GLuint s = glCreateShader(type);
-  const char* parts[3] = {prefix ? prefix : source, defines, source};
-  if (prefix)
-    glShaderSource(s, 3, parts, nullptr);
-  else
-    glShaderSource(s, 1, &source, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[2048] = {0};
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    glDeleteShader(s);
-    throw std::runtime_error(std::string("GL item buffer: shader compilation failed: ") + log);
-  }
-  return s;
-}
 
 constexpr size_t kClusterSize = 128;  // triangles per culling cluster
 
@@ -153,17 +135,9 @@ GLItemBuffer::GLItemBuffer(const ItemGeometry& geometry, const Bounds3d& sceneBo
 
   // Program.
   const bool cutouts = geometry.cutouts != nullptr;  // absent fragments discarded (gl_cutouts.h)
-  const GLuint vs = compile(GL_VERTEX_SHADER, kVertexShader, kVersion, cutouts ? GLCutouts::vertexDefines() : "");
-  const GLuint fsh = compile(GL_FRAGMENT_SHADER, cutouts ? GLCutouts::fragmentShader() : kFragmentShader);
-  program_ = glCreateProgram();
-  glAttachShader(program_, vs);
-  glAttachShader(program_, fsh);
-  glLinkProgram(program_);
-  glDeleteShader(vs);
-  glDeleteShader(fsh);
-  GLint linked = 0;
-  glGetProgramiv(program_, GL_LINK_STATUS, &linked);
-  if (!linked) throw std::runtime_error("GL item buffer: program link failed");
+  program_ = linkProgram("GL item buffer",
+                         {{GL_VERTEX_SHADER, {kVersion, cutouts ? GLCutouts::vertexDefines() : "", kVertexShader}},
+                          {GL_FRAGMENT_SHADER, {cutouts ? GLCutouts::fragmentShader() : kFragmentShader}}});
   locEyeHi_ = glGetUniformLocation(program_, "eyeHi");
   locEyeLo_ = glGetUniformLocation(program_, "eyeLo");
   locRight_ = glGetUniformLocation(program_, "axisRight");

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/gl_program.h"
 #include "preprocess/egl_devices.h"
 #include "preprocess/gl_item_buffer.h"
 #include "preprocess/profile.h"
@@ -212,24 +213,7 @@ constexpr uint32_t kMaxGroups = 65535;   // the guaranteed GL_MAX_COMPUTE_WORK_G
 // binds its own buffers before its dispatches.
 
 GLuint reduceProgram(const char* source, const char* what) {
-  const GLuint s = glCreateShader(GL_COMPUTE_SHADER);
-  glShaderSource(s, 1, &source, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {0};
-    glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    glDeleteShader(s);
-    throw std::runtime_error(fmt::format("GL reduction: the {} shader does not compile: {}", what, log));
-  }
-  const GLuint p = glCreateProgram();
-  glAttachShader(p, s);
-  glLinkProgram(p);
-  glDeleteShader(s);
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) throw std::runtime_error(fmt::format("GL reduction: the {} shader does not link", what));
-  return p;
+  return linkProgram(fmt::format("GL reduction, the {} program", what), {{GL_COMPUTE_SHADER, {source}}});
 }
 
 /// (Re)fills @p buffer with @p bytes bytes (at least 4: a buffer's store must not be empty).

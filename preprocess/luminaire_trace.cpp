@@ -107,7 +107,7 @@ struct ParticleSource::Emitter {
   // Area lights: the emissive faces as triangles.
   std::vector<Vec3> corners;   ///< 3 per triangle
   std::vector<Vec3> normals;   ///< per triangle, unit, front side
-  std::vector<double> cdf;     ///< by area; last = 1
+  Distribution1D triangles;    ///< by area
 };
 
 Color ParticleSource::lightPower(const SceneDesc& scene, uint32_t l) {
@@ -124,7 +124,7 @@ Color ParticleSource::lightPower(const SceneDesc& scene, uint32_t l) {
 
 ParticleSource::ParticleSource(const SceneDesc& scene, const std::vector<uint32_t>& lights, const ParticleScene& geometry)
     : geometry_(geometry) {
-  double total = 0;
+  std::vector<double> shares;
   for (uint32_t l : lights) {
     const LightDesc& light = scene.lights[l];
     if (light.type == LightType::Directional) continue;
@@ -133,7 +133,7 @@ ParticleSource::ParticleSource(const SceneDesc& scene, const std::vector<uint32_
     e.power = lightPower(scene, l);
     if (light.type == LightType::Area) {
       const ShapeDesc& s = scene.shapes[size_t(light.shape)];
-      double area = 0;
+      std::vector<double> areas;
       for (const Face& f : s.faces)
         for (int k = 1; k + 1 < int(f.count); ++k) {
           const Vec3d a = s.vertices[f.v[0]], b = s.vertices[f.v[k]], c = s.vertices[f.v[k + 1]];
@@ -141,11 +141,10 @@ ParticleSource::ParticleSource(const SceneDesc& scene, const std::vector<uint32_
           if (!(glm::length(n) > 0)) continue;
           e.corners.insert(e.corners.end(), {Vec3(a), Vec3(b), Vec3(c)});
           e.normals.push_back(Vec3(glm::normalize(n)));
-          area += 0.5 * glm::length(n);
-          e.cdf.push_back(area);
+          areas.push_back(0.5 * glm::length(n));
         }
-      if (!(area > 0)) continue;
-      for (double& c : e.cdf) c /= area;
+      e.triangles = Distribution1D(areas);
+      if (!(e.triangles.total() > 0)) continue;
     } else {
       e.profile = EmissionProfile(light);
       e.profileIntegral = e.profile.integral();
@@ -154,34 +153,22 @@ ParticleSource::ParticleSource(const SceneDesc& scene, const std::vector<uint32_
     const double share = (double(e.power.x) + e.power.y + e.power.z) / 3.0;
     if (!(share > 0)) continue;
     power_ += e.power;
-    total += share;
-    cdf_.push_back(total);
+    shares.push_back(share);
     emitters_.push_back(std::move(e));
   }
-  for (double& c : cdf_) c /= total;
-  if (!cdf_.empty()) cdf_.back() = 1.0;
+  byPower_ = Distribution1D(shares);
 }
 
 ParticleSource::~ParticleSource() = default;
-
-namespace {
-
-/// The index of the first entry of the ascending @p cdf (last 1) above @p u, and its probability.
-size_t pickFromCdf(const std::vector<double>& cdf, double u, double& probability) {
-  const size_t i = std::min(size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()), cdf.size() - 1);
-  probability = cdf[i] - (i > 0 ? cdf[i - 1] : 0.0);
-  return i;
-}
-
-}  // namespace
 
 EmittedParticle ParticleSource::sample(Sampler& sampler) const {
   EmittedParticle p;
   const double uLight = sampler.next1Dd();
   const Vec2d uDir = sampler.next2Dd();
   if (emitters_.empty()) return p;
-  double pLight = 0;
-  const Emitter& e = emitters_[pickFromCdf(cdf_, uLight, pLight)];
+  const size_t light = byPower_.sampleDiscrete(uLight);
+  const double pLight = byPower_.probability(light);
+  const Emitter& e = emitters_[light];
   if (!(pLight > 0)) return p;
   if (e.light->type != LightType::Area) {
     double pdf = 0;
@@ -194,8 +181,7 @@ EmittedParticle ParticleSource::sample(Sampler& sampler) const {
   }
   // Area: a triangle by area, a point uniform on it, a cosine-weighted direction about its front normal. The
   // densities 1/A and cos θ/π against Le·cos θ leave π·Le·A = the light's power.
-  double pTriangle = 0;
-  const size_t t = pickFromCdf(e.cdf, sampler.next1Dd(), pTriangle);
+  const size_t t = e.triangles.sampleDiscrete(sampler.next1Dd());
   const Vec3 b = squareToUniformTriangle(sampler.next2D());
   const Vec3 x = b.x * e.corners[3 * t] + b.y * e.corners[3 * t + 1] + b.z * e.corners[3 * t + 2];
   const Vec3 n = e.normals[t];

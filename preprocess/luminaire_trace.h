@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "common/bsdf.h"
+#include "common/distribution_1d.h"
 #include "common/luminaire.h"
 #include "common/math.h"
 #include "common/rng.h"
@@ -83,7 +84,7 @@ class ParticleSource {
  private:
   struct Emitter;
   std::vector<Emitter> emitters_;
-  std::vector<double> cdf_;  ///< over the emitters, by mean power; last = 1
+  Distribution1D byPower_;  ///< the emitters by mean power
   Color power_{0.0f};
   const ParticleScene& geometry_;
 };

@@ -1,8 +1,7 @@
-// Environment maps and their sampling (common/distribution_2d.h, render/lights/environment_map.h): the 1D/2D
-// piecewise-constant densities against their cell values; the map's density equals its luminance × sin θ over the
-// normalisation, integrates to 1 over the sphere (Monte Carlo, 4σ), and sample() returns what pdf() says; texel
-// frequencies pass a χ² test; a constant map is a furnace (irradiance π·L on any plane, 4σ); the mapping of
-// directions to texels (zenith at the top row, −z at the centre) and the rotation.
+// Environment maps and their sampling (common/distribution_2d.h, render/lights/environment_map.h): the map's density
+// equals its luminance × sin θ over the normalisation, integrates to 1 over the sphere (Monte Carlo, 4σ), and
+// sample() returns what pdf() says; texel frequencies pass a χ² test; a constant map is a furnace (irradiance π·L on
+// any plane, 4σ); the mapping of directions to texels (zenith at the top row, −z at the centre) and the rotation.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,22 +14,6 @@
 #include "tests/test_util.h"
 
 using namespace fs;
-
-TEST(Distribution, OneDimensionalCellsAndZeros) {
-  const Distribution1D d({1.0, 0.0, 3.0, 0.0});
-  EXPECT_DOUBLE_EQ(d.integral(), 1.0);
-  size_t cell = 9;
-  double pdf = 0;
-  for (double u : {0.0, 0.1, 0.249, 0.25, 0.6, 0.999}) {
-    const double x = d.sample(u, cell, pdf);
-    EXPECT_TRUE(cell == 0 || cell == 2) << u;  // zero cells are never drawn
-    EXPECT_EQ(size_t(x * 4), cell);
-    EXPECT_DOUBLE_EQ(pdf, d.pdf(x));
-    EXPECT_DOUBLE_EQ(pdf, cell == 0 ? 1.0 : 3.0);
-  }
-  const Distribution1D zero({0.0, 0.0});
-  EXPECT_DOUBLE_EQ(zero.pdf(0.3), 1.0);  // all zero: uniform
-}
 
 namespace {
 

@@ -127,7 +127,7 @@ TEST_F(ShootingFirstShotEmission, OverPatchesConservesPower) {
 
 // The option on the command line, for both integrators: both modes render; a value that is not
 // one of them exits 2.
-// The guide table (EmissionSampler::guide_) only narrows the search: every u picks the emitter
+// The guide table (common/distribution_1d.h) only narrows the search: every u picks the emitter
 // that inverting the whole power CDF picks, on the cornell table's 4 k patch sides, the bucket edges
 // included (u = b/n and its neighbouring doubles), where a guide one bucket off would show.
 TEST_F(ShootingFirstShotEmission, GuidedChoiceInvertsThePowerCdf) {

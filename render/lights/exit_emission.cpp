@@ -18,31 +18,24 @@ double meanOf(const float* rgb) { return (double(rgb[0]) + rgb[1] + rgb[2]) / 3.
 ExitEmission::ExitEmission(const LuminaireBoxes& boxes) : boxes_(&boxes) {
   if (boxes.empty()) return;
   patches_.reserve(boxes.exitCount());
-  binCdf_.assign(size_t(boxes.exitCount()) * kBins, 0.0);
+  bins_.reserve(boxes.exitCount());
+  std::vector<double> binPower(kBins);
   for (uint32_t i = 0; i < boxes.items().size(); ++i) {
     const Luminaire& lum = boxes.items()[i];
     for (uint32_t k = 0; k < lum.patchCount(); ++k) {
-      const uint32_t e = boxes.exitFirst(i) + k;
       patches_.push_back(lum.patch(k));
-      double sum = 0;
-      double* cdf = &binCdf_[size_t(e) * kBins];
-      for (int b = 0; b < kBins; ++b) {
-        sum += std::max(0.0, meanOf(&lum.radiance[3 * (size_t(kBins) * k + size_t(b))]));
-        cdf[b] = sum;
-      }
-      for (int b = 0; b < kBins; ++b) cdf[b] = sum > 0 ? cdf[b] / sum : 0.0;
-      if (sum > 0) cdf[kBins - 1] = 1.0;
+      for (int b = 0; b < kBins; ++b) binPower[size_t(b)] = meanOf(&lum.radiance[3 * (size_t(kBins) * k + size_t(b))]);
+      bins_.emplace_back(binPower);
       // Σ_b mean(L_b)·A·π/kBins: mean RGB of Luminaire::patchPower.
-      power_.push_back(sum * patches_.back().area * kPi / kBins);
+      power_.push_back(bins_.back().total() * patches_.back().area * kPi / kBins);
     }
   }
 }
 
 bool ExitEmission::sampleDirection(uint32_t e, double uBin, const Vec2& uDir, ExitDirection& out) const {
   if (!(power_[e] > 0)) return false;
-  const double* cdf = &binCdf_[size_t(e) * kBins];
-  const int b = int(std::min<std::ptrdiff_t>(std::upper_bound(cdf, cdf + kBins, uBin) - cdf, kBins - 1));
-  const double q = cdf[b] - (b > 0 ? cdf[b - 1] : 0.0);  // the bin's share of the patch's power
+  const int b = int(bins_[e].sampleDiscrete(uBin));
+  const double q = bins_[e].probability(size_t(b));  // the bin's share of the patch's power
   if (!(q > 0)) return false;
   const int it = b / Luminaire::kPhiBins, ip = b % Luminaire::kPhiBins;
   const float sin2 = (float(it) + uDir.x) / float(Luminaire::kThetaBins);
@@ -66,8 +59,7 @@ float ExitEmission::pdfDirection(uint32_t e, const Vec3& d) const {
   const ExitPatch& p = patches_[e];
   const int b = Luminaire::bin(p.face, d);
   if (b < 0 || !(power_[e] > 0)) return 0.0f;
-  const double* cdf = &binCdf_[size_t(e) * kBins];
-  const double q = cdf[b] - (b > 0 ? cdf[b - 1] : 0.0);
+  const double q = bins_[e].probability(size_t(b));
   return float(q * kBins * kInvPi) * std::abs(d[p.face / 2]);
 }
 

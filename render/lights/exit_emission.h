@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/distribution_1d.h"
 #include "common/luminaire.h"
 #include "common/math.h"
 #include "render/lights/luminaires.h"
@@ -49,10 +50,10 @@ class ExitEmission {
   const LuminaireBoxes* boxes_ = nullptr;
   std::vector<ExitPatch> patches_;  ///< by exit patch
   std::vector<double> power_;       ///< by exit patch, W (mean RGB)
-  /// By exit patch, kBins entries each: the bins' cumulative share of the patch's power (the last 1; all 0 for a
-  /// patch that sends nothing). Double: a faint bin's share is then exact enough that every particle's power is the
-  /// same (a float CDF's differences would be off by up to 1e-7 absolute).
-  std::vector<double> binCdf_;
+  /// By exit patch: its kBins direction bins by power (unused for a patch that sends nothing). Double: a faint bin's
+  /// share is then exact enough that every particle's power is the same (a float CDF's differences would be off by
+  /// up to 1e-7 absolute).
+  std::vector<Distribution1D> bins_;
 };
 
 }  // namespace fs

@@ -120,18 +120,7 @@ void EmissionSampler::addLights(EmitterSet set) {
   lightCount_ = uint32_t(power_.size());
 }
 
-void EmissionSampler::finish() {
-  total_ = 0;
-  for (double p : power_) total_ += p;
-  double sum = 0;
-  cdf_.clear();
-  for (double p : power_) cdf_.push_back(total_ > 0 ? (sum += p) / total_ : 1.0);
-  if (!cdf_.empty()) cdf_.back() = 1.0;
-  const size_t n = std::max<size_t>(1, cdf_.size());
-  guide_.resize(n + 1);
-  for (size_t b = 0; b <= n; ++b)
-    guide_[b] = uint32_t(std::upper_bound(cdf_.begin(), cdf_.end(), double(b) / double(n)) - cdf_.begin());
-}
+void EmissionSampler::finish() { choice_ = Distribution1D(power_); }
 
 bool EmissionSampler::isDirectional(uint32_t e) const {
   return e < lightCount_ && lights_->lights()[e].type == LightType::Directional;
@@ -155,32 +144,22 @@ Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) c
   return fs::patchRadiance(*scene_, *lighting_, patchOf(e), y, w);
 }
 
-size_t EmissionSampler::pick(double u) const {
-  // The answer of upper_bound over the whole CDF, searched between the guides around u's bucket.
-  const size_t n = guide_.size() - 1, b = std::min(size_t(std::max(u, 0.0) * double(n)), n - 1);
-  const auto lo = cdf_.begin() + guide_[b > 0 ? b - 1 : 0];
-  const auto hi = cdf_.begin() + std::min<size_t>(cdf_.size(), size_t(guide_[std::min(b + 2, n)]) + 1);
-  return std::min(size_t(std::upper_bound(lo, hi, u) - cdf_.begin()), cdf_.size() - 1);
-}
-
 bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
-  return total_ > 0 && originOf(pick(u), uPos, out);
+  return choice_.total() > 0 && originOf(choice_.sampleDiscrete(u), uPos, out);
 }
 
 bool EmissionSampler::sampleOrigin(const Vec2d& uPair, EmissionSample& out) const {
-  if (!(total_ > 0)) return false;
-  const double u = uPair.x;
-  const size_t l = pick(u);
-  const double lower = l > 0 ? cdf_[l - 1] : 0.0, width = cdf_[l] - lower;
-  const float rest = width > 0 ? std::clamp(float((u - lower) / width), 0.0f, 0x1.fffffep-1f) : 0.5f;
-  return originOf(l, Vec2(rest, float(uPair.y)), out);
+  if (!(choice_.total() > 0)) return false;
+  double rest = 0;  // the rest of uPair.x inside the emitter's CDF interval
+  const size_t l = choice_.sampleDiscrete(uPair.x, &rest);
+  return originOf(l, Vec2(std::min(float(rest), 0x1.fffffep-1f), float(uPair.y)), out);
 }
 
 bool EmissionSampler::originOf(size_t l, const Vec2& uPos, EmissionSample& out) const {
   if (!(power_[l] > 0)) return false;
   out = EmissionSample();
   out.light = static_cast<uint32_t>(l);
-  out.pdfLight = float(power_[l] / total_);
+  out.pdfLight = float(power_[l] / choice_.total());
   out.pdfPos = pdfPosition(out.light);
   if (isExit(out.light)) {
     const ExitPatch& patch = exits_.patch(out.light - exitBegin_);
@@ -273,12 +252,12 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t str
   const double u = std::min((double(stratum) + sampler.next1Dd()) / double(strata), 1.0);
   const Vec2 uPos = sampler.next2D();
   const Vec2 uDir = sampler.next2D();
-  if (!sampleOrigin(u, uPos, out)) return false;
+  if (!(choice_.total() > 0)) return false;
+  double rest = 0;
+  if (!originOf(choice_.sampleDiscrete(u, &rest), uPos, out)) return false;
   if (isExit(out.light)) {
     // The bin by the rest of u inside the patch's CDF interval (53 bits: ample for 128 bins), the direction in the
     // bin by uDir. The power is the bin's radiance·cosθ over the densities (exit_emission.h: the same for all).
-    const double lower = out.light > 0 ? cdf_[out.light - 1] : 0.0, width = cdf_[out.light] - lower;
-    const double rest = width > 0 ? std::clamp((u - lower) / width, 0.0, 0x1.fffffffffffffp-1) : 0.5;
     ExitDirection dir;
     if (!exits_.sampleDirection(out.light - exitBegin_, rest, uDir, dir)) return false;
     out.d = dir.d;

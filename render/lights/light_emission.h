@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/distribution_1d.h"
 #include "common/math.h"
 #include "common/rng.h"
 #include "common/scene_desc.h"
@@ -100,7 +101,7 @@ class EmissionSampler {
   static constexpr double kMinInnerShare = 0.05;
 
   /// Probability of choosing emitter @p e (its share of the power).
-  float pdfChoice(size_t e) const { return total_ > 0 ? float(power_[e] / total_) : 0.0f; }
+  float pdfChoice(size_t e) const { return choice_.total() > 0 ? float(power_[e] / choice_.total()) : 0.0f; }
   /// Area density of sampleOrigin()'s point on emitter @p e, 1/m² (1 for point and spot: a delta
   /// position; directional: over the disk across the beam; area light, patch: 1/area).
   float pdfPosition(uint32_t e) const;
@@ -137,13 +138,12 @@ class EmissionSampler {
   /// Power of emitter @p e (channel mean), W: what it is chosen by (addExits: a luminaire's light's inner share).
   double power(size_t e) const { return power_[e]; }
   /// Total emitted power (channel mean), W.
-  double totalPower() const { return total_; }
+  double totalPower() const { return choice_.total(); }
 
  private:
   void setBounds(const SceneDesc& scene);
   void addLights(EmitterSet set);
-  void finish();  ///< total and CDF from power_
-  size_t pick(double u) const;  ///< the emitter whose CDF interval holds u
+  void finish();  ///< choice_ from power_
   bool originOf(size_t l, const Vec2& uPos, EmissionSample& out) const;  ///< sampleOrigin()'s point part
   /// A glossy patch side @p e's direction from its point @p y (the mixture above), with its density.
   bool sampleGlossyPatch(uint32_t e, const Vec3& y, Vec2 u, Vec3& d, float& pdf) const;
@@ -159,11 +159,7 @@ class EmissionSampler {
   /// By patch emitter: the light centre of a glossy side (m), NaN for a diffuse one or one without a centre.
   std::vector<Vec3> glossyCentre_;
   std::vector<double> power_;  ///< by emitter
-  std::vector<double> cdf_;    ///< by emitter, last entry 1
-  /// guide_[b] = the first emitter whose CDF entry exceeds b/n (n = guide_.size() − 1): the
-  /// inversion at u searches only between the guides of u's bucket and its neighbours.
-  std::vector<uint32_t> guide_;
-  double total_ = 0;
+  Distribution1D choice_;      ///< the emitters by power_ (finish())
   ExitEmission exits_;         ///< addExits()
   uint32_t exitBegin_ = 0;     ///< the first exit patch's emitter number
   Vec3 centre_{0.0f};          ///< bounding sphere, m

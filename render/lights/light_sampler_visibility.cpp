@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/distribution_1d.h"
 #include "common/patches.h"
 #include "common/rng.h"
 #include "render/lights/light_sampler.h"
@@ -124,13 +125,11 @@ void LightSampler::buildVisibility() {
     const std::vector<uint32_t> cut = g.tree.cut(D);
     // The emitters under each cut node, with a power CDF to choose ray targets.
     std::vector<std::vector<uint32_t>> members(cut.size());
-    std::vector<std::vector<float>> cdf(cut.size());
+    std::vector<Distribution1Df> byPower(cut.size());
     for (size_t k = 0; k < cut.size(); ++k) {
       std::vector<float> power;
       g.tree.emittersUnder(cut[k], members[k], power);
-      double sum = 0;
-      for (float w : power) cdf[k].push_back(float(sum += w));
-      for (float& c : cdf[k]) c = sum > 0 ? float(c / sum) : 1.0f;
+      byPower[k] = Distribution1Df(std::vector<double>(power.begin(), power.end()));
     }
     const int rays = int(std::clamp(kRayBudget / double(grid_.rows * cut.size()), 2.0, double(kRaysPerNode)));
     std::vector<float> v(grid_.rows * cut.size(), 1.0f);
@@ -144,8 +143,7 @@ void LightSampler::buildVisibility() {
             const Receiver& rc = receivers[r][size_t(m) % receivers[r].size()];
             const Vec3 q = rc.p + ((m / int(receivers[r].size())) % 2 == 0 ? offset : -offset) * rc.n;
             const float u = sampler.next1D();
-            const size_t i = std::min(size_t(std::upper_bound(cdf[k].begin(), cdf[k].end(), u) - cdf[k].begin()),
-                                      members[k].size() - 1);
+            const size_t i = byPower[k].sampleDiscrete(u);
             const Vec3 y = emitterPoint(g.emitters[members[k][i]], sampler.next2D());
             const Vec3 d = y - q;
             const float dist = glm::length(d);

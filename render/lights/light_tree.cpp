@@ -73,6 +73,8 @@ uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, ui
     Node& node = nodes_[self];
     node.child = static_cast<uint32_t>(leaf_.size());
     node.count = static_cast<uint16_t>(end - begin);
+    // Not a Distribution1Df (common/distribution_1d.h): the leaves' CDFs share one array, searched linearly in the
+    // hot path, and round as float(sum / total) with a rest of 0 in an empty interval, which the choices keep.
     double sum = 0, total = 0;
     for (size_t i = begin; i < end; ++i) total += items[i].bounds.phi;
     for (size_t i = begin; i < end; ++i) {

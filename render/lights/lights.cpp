@@ -76,17 +76,13 @@ LightSet::LightSet(const SceneDesc& scene, const std::vector<uint32_t>& replaced
         meshes_.push_back(triangulate(shape));
         emitterLight_.push_back(static_cast<uint32_t>(lights_.size()));
         const EmitterMesh& m = meshes_.back();
-        double sum = 0;
+        std::vector<double> areas(m.triangleCount());
         for (uint32_t t = 0; t < m.triangleCount(); ++t) {
           const Vec3d a(m.vertices[m.indices[3 * t]]), b(m.vertices[m.indices[3 * t + 1]]), c(m.vertices[m.indices[3 * t + 2]]);
-          const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
-          l.triangleArea.push_back(static_cast<float>(area));
-          sum += area;
-          l.cdf.push_back(static_cast<float>(sum));
+          areas[t] = 0.5 * glm::length(glm::cross(b - a, c - a));
         }
-        l.area = sum;
-        for (float& c : l.cdf) c = sum > 0 ? static_cast<float>(c / sum) : 1.0f;
-        if (!l.cdf.empty()) l.cdf.back() = 1.0f;
+        l.triangles = Distribution1Df(areas);
+        l.area = l.triangles.total();
         break;
       }
     }
@@ -146,12 +142,10 @@ bool LightSet::sample(const RenderLight& l, const Vec3& x, const Vec2& u, LightR
 }
 
 bool LightSet::samplePoint(const RenderLight& l, const Vec2& u, Vec3& y, Vec3& n, Color* le) const {
-  if (l.type != LightType::Area || l.cdf.empty() || !(l.area > 0)) return false;
+  if (l.type != LightType::Area || l.triangles.empty() || !(l.area > 0)) return false;
   // Choose a triangle by area, then reuse the remainder of u.x inside it.
-  const auto it = std::upper_bound(l.cdf.begin(), l.cdf.end(), u.x);
-  const size_t t = std::min(static_cast<size_t>(it - l.cdf.begin()), l.cdf.size() - 1);
-  const float lo = t > 0 ? l.cdf[t - 1] : 0.0f, hi = l.cdf[t];
-  const float ux = hi > lo ? std::clamp((u.x - lo) / (hi - lo), 0.0f, 0x1.fffffep-1f) : 0.5f;
+  float ux = 0;
+  const size_t t = l.triangles.sampleDiscrete(u.x, &ux);
   const EmitterMesh& m = meshes_[l.emitter];
   const Vec3 a = m.vertices[m.indices[3 * t]], b = m.vertices[m.indices[3 * t + 1]], c = m.vertices[m.indices[3 * t + 2]];
   const Vec3 bary = squareToUniformTriangle(Vec2(ux, u.y));

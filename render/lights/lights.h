@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "common/distribution_1d.h"
 #include "common/emission_profile.h"
 #include "common/math.h"
 #include "common/scene_desc.h"
@@ -29,8 +30,7 @@ struct RenderLight {
   // Area lights.
   uint32_t emitter = 0;     ///< index of its EmitterMesh (Hit::emitter)
   Color radiance{0.0f};     ///< Le, emitted from the front side only (W/(m² sr))
-  std::vector<float> cdf;   ///< area CDF over the emitter's triangles (last entry 1)
-  std::vector<float> triangleArea;
+  Distribution1Df triangles;  ///< the emitter's triangles by area (their values: the areas, m²)
   double area = 0;          ///< total area, m²
   // Emission per point (common/emission_texture.h): an emitter whose material has an emission texture.
   /// Its material when it emits per point (LightSet::radianceAt looks the texel up); null: `radiance` everywhere.

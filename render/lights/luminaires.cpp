@@ -20,6 +20,8 @@ LuminaireBoxes::LuminaireBoxes(const std::vector<Luminaire>* luminaires, const L
   }
   exitFirst_.assign(items_->size() + 1, 0);
   for (size_t i = 0; i < items_->size(); ++i) exitFirst_[i + 1] = exitFirst_[i] + (*items_)[i].patchCount();
+  // Not a Distribution1Df per face (common/distribution_1d.h): the faces' CDFs share one array and keep their last
+  // entry as rounded (not 1), which the last patch's probability carries into the particles' weights.
   patchCdf_.assign(exitCount(), 0.0f);
   facePower_.assign(6 * items_->size(), 0.0f);
   for (size_t i = 0; i < items_->size(); ++i) {

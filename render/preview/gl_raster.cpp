@@ -13,6 +13,8 @@
 #include <string>
 #include <utility>
 
+#include "common/gl_program.h"
+
 namespace fs {
 
 namespace {
@@ -124,36 +126,9 @@ void main() {
   fragColor = vec4(uColor, 1.0);
 })";
 
-/// Throws with the info log when @p object's @p status is false, after deleting it.
-template <typename GetIv, typename GetLog, typename Delete>
-void requireStatus(GLuint object, GLenum status, GetIv getIv, GetLog getLog, Delete del, const char* what) {
-  GLint ok = 0;
-  getIv(object, status, &ok);
-  if (ok) return;
-  char log[2048] = {};
-  getLog(object, sizeof log, nullptr, log);
-  del(object);
-  throw std::runtime_error(std::string("preview: shader ") + what + " failed: " + log);
-}
-
-GLuint compile(GLenum type, const char* src) {
-  const GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &src, nullptr);
-  glCompileShader(s);
-  requireStatus(s, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader, "compilation");
-  return s;
-}
-
-GLuint link(const char* vs, const char* fs) {
-  const GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
-  const GLuint p = glCreateProgram();
-  glAttachShader(p, v);
-  glAttachShader(p, f);
-  glLinkProgram(p);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  requireStatus(p, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram, "linking");
-  return p;
+GLuint link(const char* what, const char* vs, const char* fs) {
+  return linkProgram(std::string("preview, the ") + what + " program",
+                     {{GL_VERTEX_SHADER, {vs}}, {GL_FRAGMENT_SHADER, {fs}}});
 }
 
 void setTextureFilter(GLuint tex, GLint filter) {
@@ -292,9 +267,9 @@ struct GLRaster::Impl {
 };
 
 GLRaster::GLRaster() : impl_(std::make_unique<Impl>()) {
-  impl_->rasterProgram = link(kRasterVS, kRasterFS);
-  impl_->displayProgram = link(kDisplayVS, kDisplayFS);
-  impl_->lineProgram = link(kLineVS, kLineFS);
+  impl_->rasterProgram = link("raster", kRasterVS, kRasterFS);
+  impl_->displayProgram = link("display", kDisplayVS, kDisplayFS);
+  impl_->lineProgram = link("line", kLineVS, kLineFS);
   glGenVertexArrays(1, &impl_->emptyVao);
 }
 
