@@ -134,6 +134,7 @@ TEST_P(LightTreeLeaves, SampleFrequenciesFollowThePmf) {
   EXPECT_NEAR(double(ok) / N, sum, 1e-3);
 }
 
+// The same random tree as the test above, built in place so that each test reads on its own.
 /// The rest of u (issue 37: NEE reuses it for the point on the chosen emitter): for stratified u,
 /// the rests of the samples that pick one emitter are themselves stratified over [0,1), so the
 /// choice and the point share one stratified dimension. Checked as a histogram of 8 bins per emitter.
