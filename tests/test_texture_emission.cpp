@@ -184,6 +184,7 @@ TEST(EmissionTexture, LightSamplesFollowTheTexture) {
   EXPECT_LT(black, 0.02 * white);  // the ramp between texels 7 and 8 reaches x = 0.019 m
 }
 
+// One TEST per integrator, as in test_shading_normals.cpp: scenes, sample counts and statistics gates differ.
 TEST(EmissionTexture, LightTracingAgreesWithPathTracing) {
   FIRSTSHOT_STATISTICS_ONLY("EmissionTexture.FloorIrradianceFollowsTheTexture");
   test::expectAgreesWithPathTracing("light", "emissive-texture", floorView(), 400, 200);
