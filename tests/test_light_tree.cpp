@@ -134,13 +134,13 @@ TEST_P(LightTreeLeaves, SampleFrequenciesFollowThePmf) {
   EXPECT_NEAR(double(ok) / N, sum, 1e-3);
 }
 
-// The same random tree as the test above, built in place so that each test reads on its own.
 /// The rest of u (issue 37: NEE reuses it for the point on the chosen emitter): for stratified u,
 /// the rests of the samples that pick one emitter are themselves stratified over [0,1), so the
 /// choice and the point share one stratified dimension. Checked as a histogram of 8 bins per emitter.
 TEST_P(LightTreeLeaves, RestIsUniformWithinEachChoice) {
   std::mt19937 rng(12);
   const auto emitters = randomEmitters(60, rng);
+  // The same random tree as the test above's, built in place so that each test reads on its own.
   const std::vector<uint32_t> groupable(emitters.size(), 1);
   const LightTree tree(emitters, &groupable, GetParam());
   const Vec3 p(0.3f, -0.2f, 0.1f), n = glm::normalize(Vec3(0.2f, 1.0f, -0.1f));
