@@ -56,6 +56,7 @@ Ray cameraRay(const Camera& camera, uint64_t seed, size_t p, int k, Sampler& s) 
   return camera.generateRay(float(p % size_t(camera.width())) + j.x, float(p / size_t(camera.width())) + j.y);
 }
 
+// Not tests/irradiance_cache_util.h's pairedReference: a bench does not use the tests, and its camera rays and per-pixel means differ.
 Reference reference(const Integrator& path, const Camera& camera, int spp, int perRay, uint64_t seed) {
   Reference r;
   r.width = camera.width(), r.height = camera.height(), r.spp = spp, r.seed = seed;

@@ -5,6 +5,7 @@
 
 namespace fs::cie {
 
+// The tables stay written out row by row as the CIE publishes them: their rows only look alike.
 /// x̄(λ)
 const double kX[kCount] = {
     0.0001299, 0.0002321, 0.0004149, 0.0007416, 0.001368, 0.002236,  // 360 nm

@@ -13,6 +13,7 @@ namespace {
 
 using Json = nlohmann::json;
 
+// The member readers of gltf_file.cpp have this shape too, for the types that file reads.
 float number(const Json& j, const char* key, float fallback) {
   const Json* v = jsonMember(j, key);
   return v && v->is_number() ? v->get<float>() : fallback;
@@ -57,6 +58,16 @@ GltfTextureRef textureRef(const Json& j, const char* key) {
 /// textures[ref.texture] of @p gltf, or nullptr.
 const Json* textureJson(const Json& gltf, const GltfTextureRef& ref) {
   return ref.texture < 0 ? nullptr : jsonArrayElement(gltf, "textures", uint64_t(ref.texture));
+}
+
+/// The index in images[] of the source of texture @p ref (named @p where in errors); InputError when the texture does
+/// not exist or, with the message @p where + @p noSource, has no source.
+size_t textureSource(const Json& gltf, const GltfTextureRef& ref, const std::string& where, const char* noSource) {
+  const Json* t = textureJson(gltf, ref);
+  const Json* source = t ? jsonMember(*t, "source") : nullptr;
+  if (!t) throw InputError("", "", where + " does not exist");
+  if (!source || !source->is_number_unsigned()) throw InputError("", "", where + noSource);
+  return source->get<size_t>();
 }
 
 TextureWrap wrapMode(const Json* sampler, const char* key) {
@@ -147,11 +158,8 @@ const TextureImage* GltfTextures::image(const GltfTextureRef& ref, bool srgb) {
   if (!inserted) return it->second ? &*it->second : nullptr;
   const std::string where = "textures[" + std::to_string(ref.texture) + "]";
   try {
-    const Json* t = textureJson(file_.json(), ref);
-    const Json* source = t ? jsonMember(*t, "source") : nullptr;
-    if (!t) throw InputError("", "", where + " does not exist");
-    if (!source || !source->is_number_unsigned()) throw InputError("", "", where + " has no PNG or JPEG source");
-    it->second = decodeTextureImage(file_.imageBytes(source->get<size_t>()), srgb);
+    const size_t source = textureSource(file_.json(), ref, where, " has no PNG or JPEG source");
+    it->second = decodeTextureImage(file_.imageBytes(source), srgb);
   } catch (const InputError& e) {
     failures_.push_back(where + ": " + e.what());
   }
@@ -164,13 +172,9 @@ std::shared_ptr<const Texture> GltfTextures::texture(const GltfTextureRef& ref, 
   if (inserted) {
     const std::string where = "textures[" + std::to_string(ref.texture) + "]";
     try {
-      const Json* t = textureJson(file_.json(), ref);
-      const Json* source = t ? jsonMember(*t, "source") : nullptr;
-      if (!t) throw InputError("", "", where + " does not exist");
-      if (!source || !source->is_number_unsigned()) throw InputError("", "", where + " has no image source");
-      const std::string name = file_.path().string() + " images[" + std::to_string(source->get<size_t>()) + "]";
-      it->second = std::make_shared<const TexelImage>(
-          decodeTexelImage(file_.imageBytes(source->get<size_t>()), name, srgb));
+      const size_t source = textureSource(file_.json(), ref, where, " has no image source");
+      const std::string name = file_.path().string() + " images[" + std::to_string(source) + "]";
+      it->second = std::make_shared<const TexelImage>(decodeTexelImage(file_.imageBytes(source), name, srgb));
     } catch (const InputError& e) {
       failures_.push_back(where + ": " + e.what());
     }

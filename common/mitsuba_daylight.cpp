@@ -14,6 +14,7 @@ namespace {
 /// The sun's elevations of the table's columns, degrees.
 constexpr double kElevations[20] = {0, 1, 2, 3, 4, 6, 8, 10, 13, 16, 20, 25, 30, 35, 40, 50, 60, 70, 80, 90};
 
+// Measured tables, kept as Mitsuba prints them: their rows are data of one shape, not logic.
 /// Y_h of Mitsuba 0.6's sky at scale 1 and albedo 0.2; rows: turbidity 1..10, columns: kElevations.
 constexpr double kSkyY[10][20] = {
     {0.03379, 0.04552, 0.05632, 0.06556, 0.07368, 0.08748, 0.09887, 0.1085, 0.1207, 0.1308, 0.1419, 0.153, 0.1619,

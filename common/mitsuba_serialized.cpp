@@ -53,6 +53,8 @@ class SerializedReader {
   }
   uint64_t readHeader();
   void openStream(uint64_t offset);
+  /// Reads the next chunk of the compressed data into the inflater's input; fail(@p truncated) when none is left.
+  void refill(const char* truncated);
   void inflateInto(void* dst, size_t n);
   bool streamEnded();
   template <typename T>
@@ -130,18 +132,20 @@ void SerializedReader::openStream(uint64_t offset) {
   zlibOpen_ = true;
 }
 
+void SerializedReader::refill(const char* truncated) {
+  if (left_ == 0) fail(truncated);
+  const size_t take = size_t(std::min<uint64_t>(left_, chunk_.size()));
+  if (!in_.read(reinterpret_cast<char*>(chunk_.data()), std::streamsize(take))) fail("cannot read the file");
+  left_ -= take;
+  z_.next_in = chunk_.data(), z_.avail_in = uInt(take);
+}
+
 void SerializedReader::inflateInto(void* dst, size_t n) {
   z_.next_out = static_cast<Bytef*>(dst);
   size_t done = 0;
   while (done < n) {
     if (ended_) fail("corrupt: the compressed stream ends before the data its header counts");
-    if (z_.avail_in == 0) {
-      if (left_ == 0) fail("truncated: the file ends inside the shape's compressed data");
-      const size_t take = size_t(std::min<uint64_t>(left_, chunk_.size()));
-      if (!in_.read(reinterpret_cast<char*>(chunk_.data()), std::streamsize(take))) fail("cannot read the file");
-      left_ -= take;
-      z_.next_in = chunk_.data(), z_.avail_in = uInt(take);
-    }
+    if (z_.avail_in == 0) refill("truncated: the file ends inside the shape's compressed data");
     const size_t want = std::min<size_t>(n - done, size_t(1) << 30);
     z_.avail_out = uInt(want);
     const int rc = inflate(&z_, Z_NO_FLUSH);
@@ -157,13 +161,7 @@ bool SerializedReader::streamEnded() {
   unsigned char extra;
   z_.next_out = &extra;
   while (!ended_) {
-    if (z_.avail_in == 0) {
-      if (left_ == 0) fail("truncated: the file ends before the shape's compressed stream does");
-      const size_t take = size_t(std::min<uint64_t>(left_, chunk_.size()));
-      if (!in_.read(reinterpret_cast<char*>(chunk_.data()), std::streamsize(take))) fail("cannot read the file");
-      left_ -= take;
-      z_.next_in = chunk_.data(), z_.avail_in = uInt(take);
-    }
+    if (z_.avail_in == 0) refill("truncated: the file ends before the shape's compressed stream does");
     z_.avail_out = 1;
     const int rc = inflate(&z_, Z_NO_FLUSH);
     if (z_.avail_out == 0) return false;  // one more byte of data

@@ -13,6 +13,7 @@
 #include "common/progress.h"
 #include "common/sampling.h"
 #include "common/texture.h"
+#include "preprocess/embree_triangles.h"
 
 namespace fs {
 
@@ -46,20 +47,8 @@ ParticleScene::ParticleScene(const SceneDesc& scene) : impl_(std::make_unique<Im
   if (!m.device) throw std::runtime_error("Embree: cannot create a device for the luminaires' particles");
   m.scene = rtcNewScene(m.device);
   rtcSetSceneFlags(m.scene, RTC_SCENE_FLAG_ROBUST);
-  const size_t n = m.material.size();
-  if (n > 0) {
-    RTCGeometry g = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
-    if (!vb || !ib) throw std::runtime_error("Embree: cannot allocate the luminaires' particle scene");
-    std::copy(m.vertices.begin(), m.vertices.end(), vb);
-    for (size_t k = 0; k < 3 * n; ++k) ib[k] = static_cast<unsigned>(k);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(m.scene, g);
-    rtcReleaseGeometry(g);
-  }
-  rtcCommitScene(m.scene);
-  if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the luminaires' particle scene failed");
+  commitTriangleSoup(m.device, m.scene, m.vertices, "Embree: cannot allocate the luminaires' particle scene",
+                     "Embree: building the luminaires' particle scene failed");
 }
 
 ParticleScene::~ParticleScene() = default;

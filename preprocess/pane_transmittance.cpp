@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "common/thin_glass.h"
+#include "preprocess/embree_triangles.h"
 
 namespace fs {
 
@@ -86,20 +87,8 @@ PaneTransmittance::PaneTransmittance(const SceneDesc& scene) {
   if (!m.device) throw std::runtime_error("Embree: cannot create a device for the glass panes");
   m.scene = rtcNewScene(m.device);
   rtcSetSceneFlags(m.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
-  const size_t n = m.paneOfTriangle.size();
-  if (n > 0) {
-    RTCGeometry g = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * n));
-    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), n));
-    if (!vb || !ib) throw std::runtime_error("Embree: cannot allocate the glass panes' buffers");
-    std::copy(vertices.begin(), vertices.end(), vb);
-    for (size_t k = 0; k < 3 * n; ++k) ib[k] = static_cast<unsigned>(k);
-    rtcCommitGeometry(g);
-    rtcAttachGeometry(m.scene, g);
-    rtcReleaseGeometry(g);
-  }
-  rtcCommitScene(m.scene);
-  if (rtcGetDeviceError(m.device) != RTC_ERROR_NONE) throw std::runtime_error("Embree: building the glass panes failed");
+  commitTriangleSoup(m.device, m.scene, vertices, "Embree: cannot allocate the glass panes' buffers",
+                     "Embree: building the glass panes failed");
 }
 
 PaneTransmittance::~PaneTransmittance() = default;

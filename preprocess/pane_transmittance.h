@@ -22,6 +22,7 @@ namespace fs {
 /// the scene has none.
 std::vector<uint8_t> seeThroughMaterials(const SceneDesc& scene);
 
+// Non-copyable over a private Impl, as ParticleScene (luminaire_trace.h): the usual shape, no shared logic.
 class PaneTransmittance {
  public:
   /// A BVH over the faces of @p scene's thin glass shapes (none: empty(), and nothing is built).

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/firstshot.h"
@@ -94,6 +95,19 @@ inline BiasMeasure measurePairedBias(const Integrator& a, const Integrator& b, c
   const double n = double(mean.size());
   r.diff /= n, r.reference /= n, r.se = std::sqrt(v) / n;
   return r;
+}
+
+/// The paired first-shot − NEE image mean of @p desc with the table @p table against NEE at the
+/// scene's patch size: path tracer, max depth 3, every light sampled, seed 11.
+inline BiasMeasure firstShotImageBias(const SceneDesc& desc, FirstShotTable table, int spp) {
+  const RenderScene nee(desc, desc.settings.patchSize), fs(desc, std::move(table));
+  IntegratorOptions io;
+  io.maxDepth = 3;
+  io.lightSampler = LightStrategy::All;  // pairing: both integrators draw the same random numbers
+  auto a = makeIntegrator("path", io), b = makeIntegrator("path", io);
+  a->preprocess(fs);
+  b->preprocess(nee);
+  return measurePairedBias(*a, *b, nee, Camera(desc.camera), spp, 11);
 }
 
 /// Irradiance that light sample @p s delivers at point @p x with unit normal @p n (front side

@@ -36,6 +36,20 @@ inline std::vector<double> filmValues(const Film& film) {
   return v;
 }
 
+/// Adds to @p blocks (row-major kBlock × kBlock blocks of @p film, the last row and column
+/// possibly partial) each block's gray mean of @p film.
+inline void addBlockMeans(const Film& film, std::vector<Moments>& blocks) {
+  const int w = film.width(), h = film.height(), bw = (w + kBlock - 1) / kBlock;
+  std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t b = size_t(y / kBlock) * bw + size_t(x / kBlock);
+      const Vec3d m = film.mean(x, y);
+      sum[b] += (m.x + m.y + m.z) / 3.0, count[b] += 1;
+    }
+  for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
+}
+
 /// Per-pass gray means of every kBlock × kBlock block of @p scene rendered by @p integrator:
 /// pass k is render() with firstSample = k and one sample, so the passes are independent samples.
 inline std::vector<Moments> blockMeans(const Integrator& integrator, const RenderScene& scene, int passes, uint64_t seed = 1) {
@@ -45,14 +59,7 @@ inline std::vector<Moments> blockMeans(const Integrator& integrator, const Rende
   for (int k = 0; k < passes; ++k) {
     Film film(w, h);
     render(integrator, camera, film, RenderOptions::pass(k, seed));
-    std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t b = size_t(y / kBlock) * bw + size_t(x / kBlock);
-        const Vec3d m = film.mean(x, y);
-        sum[b] += (m.x + m.y + m.z) / 3.0, count[b] += 1;
-      }
-    for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
+    addBlockMeans(film, blocks);
   }
   return blocks;
 }
@@ -72,14 +79,7 @@ inline std::vector<Moments> blockRepetitions(const Integrator& integrator, const
     ro.seed = 1000 + uint64_t(r);
     ro.sampler = mode;
     render(integrator, camera, film, ro);
-    std::vector<double> sum(blocks.size(), 0.0), count(blocks.size(), 0.0);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t b = size_t(y / B) * bw + size_t(x / B);
-        const Vec3d m = film.mean(x, y);
-        sum[b] += (m.x + m.y + m.z) / 3.0, count[b] += 1;
-      }
-    for (size_t b = 0; b < blocks.size(); ++b) blocks[b].add(sum[b] / count[b]);
+    addBlockMeans(film, blocks);
   }
   return blocks;
 }

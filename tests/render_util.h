@@ -33,6 +33,13 @@ inline SceneDesc sceneFromJson(const std::string& text) {
   return s;
 }
 
+/// Expects each component of @p a within @p tolerance of @p b's.
+inline void expectNear(const Vec3& a, const Vec3& b, float tolerance, const std::string& what) {
+  EXPECT_NEAR(a.x, b.x, tolerance) << what;
+  EXPECT_NEAR(a.y, b.y, tolerance) << what;
+  EXPECT_NEAR(a.z, b.z, tolerance) << what;
+}
+
 struct RenderRun {
   Film film;
   RenderStats stats;
@@ -231,6 +238,20 @@ inline std::unique_ptr<Integrator> preprocessedIntegrator(const std::string& nam
   std::unique_ptr<Integrator> integrator = makeIntegrator(name, io);
   integrator->preprocess(scene);
   return integrator;
+}
+
+/// Expects path, light, bdpt and irradiance-cache (max depth 3, 2 spp, seed 1) to render @p scene
+/// to the same image, bit for bit, on one thread and on two.
+inline void expectSameImageForOneAndTwoThreads(const RenderScene& scene) {
+  for (const char* name : {"path", "light", "bdpt", "irradiance-cache"}) {
+    IntegratorOptions io;
+    io.maxDepth = 3;
+    const auto integrator = preprocessedIntegrator(name, io, scene);
+    const auto one = renderWith(*integrator, scene, 2, 1, 1), two = renderWith(*integrator, scene, 2, 1, 2);
+    for (int y = 0; y < one.film.height(); ++y)
+      for (int x = 0; x < one.film.width(); ++x)
+        ASSERT_EQ(one.film.mean(x, y), two.film.mean(x, y)) << name << " " << x << ", " << y;
+  }
 }
 
 /// The grey image mean of renderWith(@p integrator, @p scene, @p spp, @p seed), expecting no non-finite sample.

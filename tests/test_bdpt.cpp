@@ -31,6 +31,7 @@ TEST(Bdpt, MixedLightsAgreeWithPathTracing) {
 
 // With a first-shot table and --shoot-firstshot off, BDPT shoots and samples the table's small
 // lights like all others (the table is ignored): the same image as without a table.
+// The cases mirror test_light_tracing.cpp's, one TEST each: their sample counts and reasons differ per integrator.
 TEST(Bdpt, FirstShotOffLeavesTheImageUnchanged) {
   IntegratorOptions io;
   io.shootFromPatches = false;

@@ -119,6 +119,7 @@ TEST(BundleScenes, PatchDiscretisationShrinksWithPatchSize) {
   EXPECT_LT(bias[1], 0.5 * bias[0]);
 }
 
+// Its set-up repeats the Cornell test's on purpose: the scene, its table and the iterations that follow differ.
 /// The paper's glossy Sierpinski scene (stretched Phong, four point lights) without a table: the
 /// lights send their own lines (the plain algorithm) and camera-visible points take NEE to them.
 TEST(BundleScenes, SierpinskiGlossyAgreesWithPathTracing) {

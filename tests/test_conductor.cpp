@@ -196,6 +196,7 @@ double lambdaBeckmann(const glm::dvec3& w, double alpha) {
   return 0.5 * (std::exp(-a * a) / (a * std::sqrt(kPi)) - std::erfc(a));
 }
 
+// Not test_microfacet.cpp's GGX quadrature: Beckmann's slopes (tan² = −α² ln(1 − s)) and Λ differ.
 /// The directional albedo of the white Beckmann conductor for wo by a deterministic midpoint quadrature over normals
 /// drawn as D(h) cos θ_h (tan²θ_h = −α² ln(1 − s)): ∫ G2 (wo·h)/(wo.z h.z) over that density, in double.
 double beckmannFurnace(double alpha, const Vec3& wo, int ns = 800, int nphi = 128) {

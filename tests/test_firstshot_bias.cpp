@@ -61,14 +61,7 @@ SceneDesc named(const std::string& name) {
 
 /// Paired first-shot − NEE image mean of @p desc (max depth 3) at default preprocess settings.
 test::BiasMeasure imageBias(const SceneDesc& desc, int spp) {
-  const RenderScene nee(desc, desc.settings.patchSize), fs(desc, test::preprocessDefault(desc));
-  IntegratorOptions io;
-  io.maxDepth = 3;
-  io.lightSampler = LightStrategy::All;  // pairing: both integrators draw the same random numbers
-  auto a = makeIntegrator("path", io), b = makeIntegrator("path", io);
-  a->preprocess(fs);
-  b->preprocess(nee);
-  return test::measurePairedBias(*a, *b, nee, Camera(desc.camera), spp, 11);
+  return test::firstShotImageBias(desc, test::preprocessDefault(desc), spp);
 }
 
 /// The target: the image mean within 0.3% of NEE at 3σ, |bias| + 3σ < 0.3%. (Not "no bias within

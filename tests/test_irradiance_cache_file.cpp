@@ -27,6 +27,7 @@ struct Rendered {
   std::vector<IrradianceRecord> level0;
 };
 
+// The cache settings stay written out per test (test_irradiance_cache_render.cpp too): their values differ.
 IrradianceCacheSettings twoPass(const std::string& cacheFile = "", int threads = 0) {
   IrradianceCacheSettings s;
   s.accuracy = 0.2f;

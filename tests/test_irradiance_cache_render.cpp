@@ -126,6 +126,7 @@ TEST_F(IrradianceCacheVsPath, GradientsLowerTheError) {
   EXPECT_LT(sumGradients, 0.85 * sumPlain);
 }
 
+// Each test spells out its own cache settings (accuracy, samples, bounces differ), as in test_irradiance_cache_file.cpp.
 TEST_F(IrradianceCacheVsPath, TwoBouncesMatchPathsOfThreeBounces) {
   // Gradients, footprint and neighbour clamping with B = 2 (the footprint clamp scaled to this
   // tiny image: the valid domains span at least half a pixel).

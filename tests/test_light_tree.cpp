@@ -140,6 +140,7 @@ TEST_P(LightTreeLeaves, SampleFrequenciesFollowThePmf) {
 TEST_P(LightTreeLeaves, RestIsUniformWithinEachChoice) {
   std::mt19937 rng(12);
   const auto emitters = randomEmitters(60, rng);
+  // The same random tree as the test above's, built in place so that each test reads on its own.
   const std::vector<uint32_t> groupable(emitters.size(), 1);
   const LightTree tree(emitters, &groupable, GetParam());
   const Vec3 p(0.3f, -0.2f, 0.1f), n = glm::normalize(Vec3(0.2f, 1.0f, -0.1f));

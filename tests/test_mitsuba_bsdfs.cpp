@@ -181,6 +181,7 @@ TEST(MitsubaBsdfs, PhongAndWardMatchJson) {
   EXPECT_EQ(count(err, "ward mapped to glossy"), 1u) << err;
 }
 
+// Every mapping case spells out its XML, its JSON and the notes it expects (as test_mitsuba_bitmap.cpp): data, not logic.
 TEST(MitsubaBsdfs, CoatingMatchesJson) {
   // Over a diffuse bsdf: pbr of metallic 0, ior int_ior/ext_ior, roughness √α, base = reflectance × e^(−2 σa d).
   // Over another bsdf: that bsdf, its colours tinted by the same absorption (noted).

@@ -25,6 +25,7 @@ using namespace fs;
 
 namespace {
 
+// Each statistical test file sets its own repetitions (test_max_depth.cpp too): the counts differ.
 #ifdef FIRSTSHOT_UNDER_SANITIZERS
 constexpr bool kStatistics = false;
 constexpr int kRuns = 2;
@@ -65,28 +66,25 @@ std::unique_ptr<RenderScene> tabled(bool polished) {
   return std::make_unique<RenderScene>(d, preprocessScene(d, po));
 }
 
-const RenderScene& withTable(bool polished = false) {
+/// The scene @p make(@p polished), made once per flag on first use.
+template <std::unique_ptr<RenderScene> (*make)(bool)>
+const RenderScene& madeOnce(bool polished) {
   if (polished) {
-    static const std::unique_ptr<RenderScene> sharp = tabled(true);
+    static const std::unique_ptr<RenderScene> sharp = make(true);
     return *sharp;
   }
-  static const std::unique_ptr<RenderScene> rough = tabled(false);
+  static const std::unique_ptr<RenderScene> rough = make(false);
   return *rough;
 }
+
+const RenderScene& withTable(bool polished = false) { return madeOnce<tabled>(polished); }
 
 std::unique_ptr<RenderScene> untabled(bool polished) {
   const SceneDesc d = pbrCornell(polished);
   return std::make_unique<RenderScene>(d, d.settings.patchSize);
 }
 
-const RenderScene& withoutTable(bool polished = false) {
-  if (polished) {
-    static const std::unique_ptr<RenderScene> sharp = untabled(true);
-    return *sharp;
-  }
-  static const std::unique_ptr<RenderScene> rough = untabled(false);
-  return *rough;
-}
+const RenderScene& withoutTable(bool polished = false) { return madeOnce<untabled>(polished); }
 
 /// kRuns renders of @p name (a makeIntegrator name; the cache gets a cache of its own per seed).
 Estimate estimate(const std::string& name, const RenderScene& scene, int spp) {

@@ -39,6 +39,12 @@ std::string cornell() { return test::source("scenes/cornell.json"); }
 
 bool haveXvfb() { return test::run("command -v xvfb-run").exitCode == 0; }
 
+/// Preprocesses cornell into @p fsd with the Embree back end at resolution 32 and patch size 0.1.
+void preprocessCornell(const std::string& fsd) {
+  const auto pre = test::run(kPreprocess + " " + cornell() + " -o " + fsd + " --backend embree --resolution 32 --patch-size 0.1 -q");
+  ASSERT_EQ(pre.exitCode, 0) << pre.output;
+}
+
 /// Runs the preview under a virtual X server. -a picks a free display number; two servers
 /// started at the same moment (tests in parallel) may still pick the same one, and then one fails
 /// to start: try again. In the sanitizer build, LeakSanitizer's exit-time tracer has been seen to
@@ -175,8 +181,7 @@ TEST(PreviewCli, ScriptedRunEqualsTheOfflineRender) {
   if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
   const std::string dir = test::tempDir();
   const std::string fsd = dir + "/c.fsd";
-  const auto pre = test::run(kPreprocess + " " + cornell() + " -o " + fsd + " --backend embree --resolution 32 --patch-size 0.1 -q");
-  ASSERT_EQ(pre.exitCode, 0) << pre.output;
+  ASSERT_NO_FATAL_FAILURE(preprocessCornell(fsd));
   const int n = 6;
   const std::string common = cornell() + " --firstshot " + fsd + " --width 48 --height 40 --exposure 0.5";
   const auto offline = test::run(kRender + " " + common + " --spp " + std::to_string(n) + " -q -o " + dir + "/off.exr -o " + dir + "/off.png");
@@ -261,8 +266,7 @@ TEST(PreviewCli, InstantPictureIsTheDirectFirstShotRender) {
   if (!haveXvfb()) GTEST_SKIP() << "xvfb-run is not installed";
   const std::string dir = test::tempDir();
   const std::string fsd = dir + "/c.fsd";
-  const auto pre = test::run(kPreprocess + " " + cornell() + " -o " + fsd + " --backend embree --resolution 32 --patch-size 0.1 -q");
-  ASSERT_EQ(pre.exitCode, 0) << pre.output;
+  ASSERT_NO_FATAL_FAILURE(preprocessCornell(fsd));
   const std::string common = cornell() + " --firstshot " + fsd + " --width 64 --height 64";
   // Direct light only, first-shot at the camera-visible patch. The instant picture is flat per
   // patch side (the patch-averaged irradiance, FirstShotTable::sideIrradiance); the offline render

@@ -17,6 +17,7 @@ using namespace fs;
 
 namespace {
 
+// The binaries' paths come from this target's compile definitions, as in the other CLI tests.
 const std::string kRender = FIRSTSHOT_RENDER_EXE;
 const std::string kPreprocess = FIRSTSHOT_PREPROCESS_EXE;
 

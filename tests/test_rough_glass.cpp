@@ -18,6 +18,7 @@
 #include "common/rough_dielectric.h"
 #include "common/scene_desc.h"
 #include "tests/bsdf_checks.h"
+#include "tests/quad_over_floor.h"
 #include "tests/test_util.h"
 
 namespace fs {
@@ -132,6 +133,7 @@ TEST(RoughDielectric, ReciprocityWithEtaSquared) {
   EXPECT_GT(refracting, 500);  // the refraction lobe was exercised (not only reflection and zeros)
 }
 
+// Not test::checkSampleConsistency: this one samples in a transport mode, counts transmissions and checks both sides.
 /// Per sample: weight = eval·|cos|/pdf, q.pdf = pdf(q), unit wi, q.eta the refraction's.
 void checkConsistency(const BSDF& bsdf, float ior, TransportMode mode) {
   Sampler rng(test::kBsdfCheckSeed, 2, 0);
@@ -320,15 +322,7 @@ TEST(RoughThinGlass, ReciprocalAndModeFree) {
 
 // ---- Scene keys ----
 
-SceneDesc withMaterial(const std::string& material) {
-  SceneDesc s = parseSceneJson(R"({"materials": {"floor": {"type": "diffuse", "albedo": 0.5}, "glass": )" + material +
-                                   R"(},
-    "shapes": [{"type": "quad", "material": "glass", "vertices": [[-1, 1, -1], [-1, 1, 1], [1, 1, 1], [1, 1, -1]]},
-               {"type": "quad", "material": "floor", "vertices": [[-1, 0, -1], [-1, 0, 1], [1, 0, 1], [1, 0, -1]]}]})",
-                               "frosted.json");
-  validateScene(s);
-  return s;
-}
+SceneDesc withMaterial(const std::string& material) { return test::quadOverFloor("glass", material, "frosted.json"); }
 
 TEST(RoughGlassKeys, RoughnessMakesTheRoughModels) {
   auto bsdfOf = [](const std::string& material) {

@@ -93,21 +93,17 @@ namespace {
 /// above its bottom, and a small square lamp facing down: with @p lampInside false the camera is in the glass and the
 /// lamp above it, outside; with true the lamp is in the glass (under its top) and the camera outside.
 std::string roughGlassBlock(bool lampInside) {
-  if (lampInside)
-    return R"({
-    "materials": {"glass": {"type": "dielectric", "ior": 1.5, "roughness": 0.5}, "floor": {"type": "diffuse", "albedo": 0.6},
-                  "lamp": {"type": "diffuse", "emission": 300}},
-    "shapes": [{"type": "box", "material": "glass", "min": [-1, 0, -1], "max": [1, 1, 1]},
-               {"type": "quad", "material": "floor", "vertices": [[-0.95, 0.02, -0.95], [-0.95, 0.02, 0.95], [0.95, 0.02, 0.95], [0.95, 0.02, -0.95]]},
-               {"type": "quad", "material": "lamp", "vertices": [[-0.2, 0.9, -0.2], [0.2, 0.9, -0.2], [0.2, 0.9, 0.2], [-0.2, 0.9, 0.2]]}],
-    "camera": {"position": [0.4, 1.8, 2.2], "look_at": [0, 0.3, 0], "up": [0, 1, 0], "fov_y": 50, "resolution": [12, 9]}})";
-  return R"({
-    "materials": {"glass": {"type": "dielectric", "ior": 1.5, "roughness": 0.5}, "floor": {"type": "diffuse", "albedo": 0.6},
-                  "lamp": {"type": "diffuse", "emission": 300}},
-    "shapes": [{"type": "box", "material": "glass", "min": [-1, 0, -1], "max": [1, 1, 1]},
-               {"type": "quad", "material": "floor", "vertices": [[-0.95, 0.02, -0.95], [-0.95, 0.02, 0.95], [0.95, 0.02, 0.95], [0.95, 0.02, -0.95]]},
-               {"type": "quad", "material": "lamp", "vertices": [[-0.2, 1.6, -0.2], [0.2, 1.6, -0.2], [0.2, 1.6, 0.2], [-0.2, 1.6, 0.2]]}],
-    "camera": {"position": [0.3, 0.7, 0.6], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_y": 60, "resolution": [12, 9]}})";
+  const char* lampY = lampInside ? "0.9" : "1.6";
+  const char* camera = lampInside ? R"("position": [0.4, 1.8, 2.2], "look_at": [0, 0.3, 0], "up": [0, 1, 0], "fov_y": 50)"
+                                  : R"("position": [0.3, 0.7, 0.6], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov_y": 60)";
+  return fmt::format(R"({{
+    "materials": {{"glass": {{"type": "dielectric", "ior": 1.5, "roughness": 0.5}}, "floor": {{"type": "diffuse", "albedo": 0.6}},
+                  "lamp": {{"type": "diffuse", "emission": 300}}}},
+    "shapes": [{{"type": "box", "material": "glass", "min": [-1, 0, -1], "max": [1, 1, 1]}},
+               {{"type": "quad", "material": "floor", "vertices": [[-0.95, 0.02, -0.95], [-0.95, 0.02, 0.95], [0.95, 0.02, 0.95], [0.95, 0.02, -0.95]]}},
+               {{"type": "quad", "material": "lamp", "vertices": [[-0.2, {0}, -0.2], [0.2, {0}, -0.2], [0.2, {0}, 0.2], [-0.2, {0}, 0.2]]}}],
+    "camera": {{{1}, "resolution": [12, 9]}}}})",
+                     lampY, camera);
 }
 
 /// Image means (channel 0) and standard errors of path tracing, light tracing and BDPT on @p scene at @p spp

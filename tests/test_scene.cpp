@@ -171,6 +171,7 @@ TEST(SceneBadInput, MalformedJsonGivesLineAndColumn) {
   expectBadInput(r, {"line 3, column", "malformed JSON"});
 }
 
+// The bad-input cases stay spelled out one by one: each shows the JSON it breaks and the message it expects.
 TEST(SceneBadInput, UnknownKey) {
   const auto r = runOn(variant("\"fov_y\": 45", "\"fov_y\": 45, \"fovy\": 45"));
   expectBadInput(r, {"camera", "unknown key \"fovy\""});

@@ -394,6 +394,7 @@ void expectSameImageMean(const SceneDesc& x, const SceneDesc& j) {
   }
 }
 
+// A scene of its own: sensors in XML read better written out than assembled from parts.
 const char* kXmlRoom = R"(
   <sensor type="perspective">
     <float name="fov" value="50"/>

@@ -42,12 +42,6 @@ Hit hitOn(const Vec3& p, const Vec3& ng) {
   return h;
 }
 
-void expectNear(const Vec3& a, const Vec3& b, float tolerance, const std::string& what) {
-  EXPECT_NEAR(a.x, b.x, tolerance) << what;
-  EXPECT_NEAR(a.y, b.y, tolerance) << what;
-  EXPECT_NEAR(a.z, b.z, tolerance) << what;
-}
-
 TEST(ShadingNormals, CornerNormalsInterpolatedByBarycentrics) {
   SceneDesc desc = plane();
   const std::vector<Vec3> corners = {glm::normalize(Vec3(0.3f, 1, 0)), glm::normalize(Vec3(0, 1, 0.4f)),
@@ -62,7 +56,7 @@ TEST(ShadingNormals, CornerNormalsInterpolatedByBarycentrics) {
     const Vec3 p = v(a) + beta * (v(b) - v(a)) + gamma * (v(c) - v(a));
     const Vec3 expected = glm::normalize(corners[a] + beta * (corners[b] - corners[a]) + gamma * (corners[c] - corners[a]));
     const Vec3 n = scene.shadingNormal(hitOn(p, Vec3(0, 1, 0)));
-    expectNear(n, expected, 1e-5f, fmt::format("triangle ({}, {}, {}) at ({}, {})", a, b, c, beta, gamma));
+    test::expectNear(n, expected, 1e-5f, fmt::format("triangle ({}, {}, {}) at ({}, {})", a, b, c, beta, gamma));
   }
   // Without normals: the geometric normal, the same bits.
   const RenderScene flat(plane());
@@ -84,7 +78,7 @@ TEST(ShadingNormals, GeneratedTangentFrameFollowsTheTextureCoordinates) {
     desc.materials[0].normalScale = scale;
     const RenderScene scene(desc);
     for (const Vec3& p : {Vec3(0.3f, 0, -0.5f), Vec3(-0.7f, 0, 0.6f)})  // both triangles of the quad
-      expectNear(scene.shadingNormal(hitOn(p, Vec3(0, 1, 0))), expected, 2e-3f,
+      test::expectNear(scene.shadingNormal(hitOn(p, Vec3(0, 1, 0))), expected, 2e-3f,
                  fmt::format("texel ({}, {}, {}) scale {}", texel.x, texel.y, texel.z, scale));
   }
 }
@@ -188,7 +182,7 @@ TEST(ShadingNormals, GltfNormalsRenderALowPolySphereSmooth) {
   const ShapeDesc& s = asset.shapes[0];
   ASSERT_EQ(s.normals.size(), 4 * s.faces.size());
   for (size_t f = 0; f < s.faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) expectNear(s.cornerNormal(f, k), Vec3(glm::normalize(s.vertices[s.faces[f].v[k]])), 1e-5f, "corner");
+    for (int k = 0; k < 3; ++k) test::expectNear(s.cornerNormal(f, k), Vec3(glm::normalize(s.vertices[s.faces[f].v[k]])), 1e-5f, "corner");
   SceneDesc smooth = test::sceneFromJson(fmt::format(R"({{
     "camera": {{"position": [0, 0, 3.2], "look_at": [0, 0, 0], "fov_y": 45, "resolution": [64, 64]}},
     "materials": {{"clay": {{"type": "diffuse", "albedo": 0.8}}}},
@@ -221,7 +215,7 @@ TEST(ShadingNormals, ObjNormalsAreReadAndTransformedByTheInverseTranspose) {
     const Vec3d ng = glm::cross(s.vertices[s.faces[0].v[1]] - s.vertices[s.faces[0].v[0]],
                                 s.vertices[s.faces[0].v[2]] - s.vertices[s.faces[0].v[0]]);
     for (int k = 0; k < 3; ++k) {
-      expectNear(s.cornerNormal(0, k), glm::normalize(Vec3(0, 1, 1)), 1e-5f, scale);
+      test::expectNear(s.cornerNormal(0, k), glm::normalize(Vec3(0, 1, 1)), 1e-5f, scale);
       EXPECT_GT(glm::dot(Vec3d(s.cornerNormal(0, k)), ng), 0.0) << scale;
     }
   }
@@ -254,14 +248,7 @@ const FirstShotTable& normalMapTable() {
 TEST(ShadingNormals, FirstShotAgreesWithNee) {
   FIRSTSHOT_STATISTICS_ONLY("ShadingNormals.NormalMapTiltsLambertShadingAsComputed");
   const SceneDesc desc = normalMapScene();
-  const RenderScene nee(desc, desc.settings.patchSize), fs(desc, normalMapTable());
-  IntegratorOptions io;
-  io.maxDepth = 3;
-  io.lightSampler = LightStrategy::All;  // pairing: both integrators draw the same random numbers
-  auto a = makeIntegrator("path", io), b = makeIntegrator("path", io);
-  a->preprocess(fs);
-  b->preprocess(nee);
-  const test::BiasMeasure m = test::measurePairedBias(*a, *b, nee, Camera(desc.camera), 64, 11);
+  const test::BiasMeasure m = test::firstShotImageBias(desc, normalMapTable(), 64);
   fmt::print("normal-map: first-shot − NEE = {:+.3f}% ± {:.3f}%\n", 100 * m.relative(), 100 * m.relativeSe());
   EXPECT_LT(std::abs(m.relative()), std::max(3 * m.relativeSe(), 0.003));
 }
@@ -269,16 +256,7 @@ TEST(ShadingNormals, FirstShotAgreesWithNee) {
 TEST(ShadingNormals, ImagesIdenticalForOneAndTwoThreads) {
   const SceneDesc desc = normalMapScene();
   const RenderScene fs(desc, normalMapTable());
-  for (const char* name : {"path", "light", "bdpt", "irradiance-cache"}) {
-    IntegratorOptions io;
-    io.maxDepth = 3;
-    auto integrator = makeIntegrator(name, io);
-    integrator->preprocess(fs);
-    const auto one = test::renderWith(*integrator, fs, 2, 1, 1), two = test::renderWith(*integrator, fs, 2, 1, 2);
-    for (int y = 0; y < desc.camera.height; ++y)
-      for (int x = 0; x < desc.camera.width; ++x)
-        ASSERT_EQ(one.film.mean(x, y), two.film.mean(x, y)) << name << " " << x << ", " << y;
-  }
+  test::expectSameImageForOneAndTwoThreads(fs);
 }
 
 }  // namespace

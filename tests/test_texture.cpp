@@ -173,6 +173,7 @@ TEST(Texture, PatchAverageIsTheMeanOverThePatch) {
   expectColor(textures.patchAlbedo(0), Color(0.25f), 2e-2);  // 0.5 × the image mean (8 × 8 points, bilinear)
 }
 
+// Each missing-texture case (here and below) writes its own scene and checks its own message: data, not logic.
 TEST(Texture, MissingTextureNamesFileAndMaterial) {
   const std::string dir = test::tempDir();
   test::writeText(dir + "/scene.json", R"({"materials": {"wood": {"type": "diffuse", "albedo_texture": "wood.png"}},

@@ -184,6 +184,7 @@ TEST(EmissionTexture, LightSamplesFollowTheTexture) {
   EXPECT_LT(black, 0.02 * white);  // the ramp between texels 7 and 8 reaches x = 0.019 m
 }
 
+// One TEST per integrator, as in test_shading_normals.cpp: scenes, sample counts and statistics gates differ.
 TEST(EmissionTexture, LightTracingAgreesWithPathTracing) {
   FIRSTSHOT_STATISTICS_ONLY("EmissionTexture.FloorIrradianceFollowsTheTexture");
   test::expectAgreesWithPathTracing("light", "emissive-texture", floorView(), 400, 200);
@@ -228,16 +229,7 @@ TEST(EmissionTexture, ImagesIdenticalForOneAndTwoThreads) {
   PreprocessOptions po = defaultOptions(desc);
   po.settings.backend = "embree", po.settings.resolution = 64, po.quiet = true;
   const RenderScene tabled(desc, preprocessScene(desc, po));
-  for (const char* name : {"path", "light", "bdpt", "irradiance-cache"}) {
-    IntegratorOptions io;
-    io.maxDepth = 3;
-    auto integrator = makeIntegrator(name, io);
-    integrator->preprocess(tabled);
-    const auto one = test::renderWith(*integrator, tabled, 2, 1, 1), two = test::renderWith(*integrator, tabled, 2, 1, 2);
-    for (int y = 0; y < desc.camera.height; ++y)
-      for (int x = 0; x < desc.camera.width; ++x)
-        ASSERT_EQ(one.film.mean(x, y), two.film.mean(x, y)) << name << " " << x << ", " << y;
-  }
+  test::expectSameImageForOneAndTwoThreads(tabled);
 }
 
 }  // namespace

@@ -82,12 +82,6 @@ std::vector<Vec3> mappedNormals(SceneDesc desc, const Vec3& texel) {
   return out;
 }
 
-void expectNear(const Vec3& a, const Vec3& b, float tolerance, const std::string& what) {
-  EXPECT_NEAR(a.x, b.x, tolerance) << what;
-  EXPECT_NEAR(a.y, b.y, tolerance) << what;
-  EXPECT_NEAR(a.z, b.z, tolerance) << what;
-}
-
 TEST(GltfTangents, NormalMapTiltsInTheFilesTangentFrame) {
   // A texel tilted 40° towards +x tilts the normal towards the file's tangent +x (the generated frame's ∂p/∂u is
   // +z), one towards +y towards its bitangent w·N×T = (0, 0, −w) (the generated frame's image up is +x).
@@ -100,11 +94,11 @@ TEST(GltfTangents, NormalMapTiltsInTheFilesTangentFrame) {
     ASSERT_EQ(shape.tangents.size(), 4 * shape.faces.size());
     for (size_t f = 0; f < shape.faces.size(); ++f)
       for (int k = 0; k < 3; ++k) {
-        expectNear(shape.tangents[4 * f + size_t(k)], Vec3(1, 0, 0), 1e-6f, "tangent");
-        expectNear(shape.bitangents[4 * f + size_t(k)], Vec3(0, 0, -w), 1e-6f, "bitangent");
+        test::expectNear(shape.tangents[4 * f + size_t(k)], Vec3(1, 0, 0), 1e-6f, "tangent");
+        test::expectNear(shape.bitangents[4 * f + size_t(k)], Vec3(0, 0, -w), 1e-6f, "bitangent");
       }
-    for (const Vec3& n : mappedNormals(desc, tilted(40, false))) expectNear(n, Vec3(s, c, 0), 2e-3f, fmt::format("+x, w {}", w));
-    for (const Vec3& n : mappedNormals(desc, tilted(40, true))) expectNear(n, Vec3(0, c, -w * s), 2e-3f, fmt::format("+y, w {}", w));
+    for (const Vec3& n : mappedNormals(desc, tilted(40, false))) test::expectNear(n, Vec3(s, c, 0), 2e-3f, fmt::format("+x, w {}", w));
+    for (const Vec3& n : mappedNormals(desc, tilted(40, true))) test::expectNear(n, Vec3(0, c, -w * s), 2e-3f, fmt::format("+y, w {}", w));
   }
 }
 
@@ -119,8 +113,8 @@ TEST(GltfTangents, MirroredMeshShapeKeepsTheFilesFrame) {
     "shapes": [{{"type": "mesh", "material": "floor", "file": "{}", "transform": {{"scale": [-1, 1, 1]}}}}],
     "lights": [{{"type": "directional", "direction": [0, -1, 0], "irradiance": 1}}]}})", gltf));
   ASSERT_TRUE(desc.shapes.at(0).hasTangents());
-  for (const Vec3& n : mappedNormals(desc, tilted(40, false))) expectNear(n, Vec3(-s, c, 0), 2e-3f, "+x");
-  for (const Vec3& n : mappedNormals(desc, tilted(40, true))) expectNear(n, Vec3(0, c, -s), 2e-3f, "+y");
+  for (const Vec3& n : mappedNormals(desc, tilted(40, false))) test::expectNear(n, Vec3(-s, c, 0), 2e-3f, "+x");
+  for (const Vec3& n : mappedNormals(desc, tilted(40, true))) test::expectNear(n, Vec3(0, c, -s), 2e-3f, "+y");
 }
 
 TEST(GltfTangents, TangentsChangeTheSceneHashOnlyUnderANormalMap) {
@@ -133,17 +127,23 @@ TEST(GltfTangents, TangentsChangeTheSceneHashOnlyUnderANormalMap) {
   EXPECT_NE(hashScene(desc), hashScene(without));
 }
 
+/// Writes @p dir/quad.obj, a 2 × 2 quad at y = 0 with texture coordinates over [0,1]², and its
+/// quad.mtl: material "m" of Kd 0.5 and the lines @p mtl. @return the .obj's path.
+std::string writeQuadObj(const std::string& dir, const std::string& mtl) {
+  test::writeText(dir + "/quad.mtl", "newmtl m\nKd 0.5 0.5 0.5\n" + mtl);
+  test::writeText(dir + "/quad.obj",
+                  "mtllib quad.mtl\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
+                  "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n");
+  return dir + "/quad.obj";
+}
+
 /// Writes, in a fresh directory, the quad of writeTangentQuad as an OBJ (vt giving the same u, v) whose material
 /// "m" has `norm n.png` (a 1 × 1 PNG of @p rgb) and whose MTL adds @p extra lines (bump maps, a second material).
 /// @return the .obj's path.
 std::string writeNormObj(const std::array<uint8_t, 3>& rgb, const std::string& extra) {
   const std::string dir = test::tempDir();
   image::writePng(dir + "/n.png", 1, 1, rgb.data());
-  test::writeText(dir + "/quad.mtl", "newmtl m\nKd 0.5 0.5 0.5\nnorm n.png\n" + extra);
-  test::writeText(dir + "/quad.obj",
-                  "mtllib quad.mtl\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
-                  "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n");
-  return dir + "/quad.obj";
+  return writeQuadObj(dir, "norm n.png\n" + extra);
 }
 
 TEST(ObjNormalMaps, NormIsTheMaterialsNormalMap) {
@@ -163,7 +163,7 @@ TEST(ObjNormalMaps, NormIsTheMaterialsNormalMap) {
     for (int k = 0; k < s.faces[f].count; ++k) c += s.vertices[s.faces[f].v[k]] / double(s.faces[f].count);
     Hit h;
     h.p = Vec3(c), h.ng = Vec3(0, 1, 0), h.patch = uint32_t(f);
-    expectNear(scene.shadingNormal(h), expected, 1e-4f, fmt::format("face {}", f));
+    test::expectNear(scene.shadingNormal(h), expected, 1e-4f, fmt::format("face {}", f));
   }
 }
 
@@ -175,11 +175,7 @@ std::string writeBumpObj(const std::string& mtl, bool alongV) {
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x) grey.insert(grey.end(), 3, uint8_t(16 * (alongV ? y : x)));
   image::writePng(dir + "/h.png", 8, 8, grey.data());
-  test::writeText(dir + "/quad.mtl", "newmtl m\nKd 0.5 0.5 0.5\n" + mtl);
-  test::writeText(dir + "/quad.obj",
-                  "mtllib quad.mtl\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
-                  "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3 4/4\n");
-  return dir + "/quad.obj";
+  return writeQuadObj(dir, mtl);
 }
 
 /// The shading normal at the quad's centre (uv (½, ½)) of the OBJ at @p obj.
@@ -200,10 +196,10 @@ TEST(ObjNormalMaps, BumpHeightMapsBecomeNormalMaps) {
   const float step = 16.0f / 255.0f;
   std::string err;
   const Vec3 alongU = centreShadingNormal(writeBumpObj("bump h.png\n", false), &err);
-  expectNear(alongU, glm::normalize(Vec3(0.0f, 1.0f, -step)), 1e-4f, "ramp along u");
+  test::expectNear(alongU, glm::normalize(Vec3(0.0f, 1.0f, -step)), 1e-4f, "ramp along u");
   EXPECT_NE(err.find("quad.obj: 1 bump (height) map turned into normal maps"), std::string::npos) << err;
   const Vec3 alongV = centreShadingNormal(writeBumpObj("map_bump h.png\n", true));
-  expectNear(alongV, glm::normalize(Vec3(-step, 1.0f, 0.0f)), 1e-4f, "ramp along v");
+  test::expectNear(alongV, glm::normalize(Vec3(-step, 1.0f, 0.0f)), 1e-4f, "ramp along v");
 }
 
 TEST(ObjNormalMaps, BumpSlotHoldingANormalMapIsUsedAsIt) {
@@ -212,7 +208,7 @@ TEST(ObjNormalMaps, BumpSlotHoldingANormalMapIsUsedAsIt) {
   const std::string obj = writeNormObj(rgb, "");
   test::writeText(obj.substr(0, obj.size() - 3) + "mtl", "newmtl m\nKd 0.5 0.5 0.5\nmap_Bump -bm 1.0 n.png\n");
   const Vec3 t = 2.0f * Vec3(rgb[0], rgb[1], rgb[2]) / 255.0f - Vec3(1.0f);
-  expectNear(centreShadingNormal(obj), glm::normalize(Vec3(t.y, t.z, t.x)), 1e-4f, "map_Bump normal map");
+  test::expectNear(centreShadingNormal(obj), glm::normalize(Vec3(t.y, t.z, t.x)), 1e-4f, "map_Bump normal map");
 }
 
 }  // namespace

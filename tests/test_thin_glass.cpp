@@ -10,6 +10,7 @@
 #include "common/rng.h"
 #include "common/scene_desc.h"
 #include "common/thin_glass.h"
+#include "tests/quad_over_floor.h"
 
 using namespace fs;
 
@@ -106,15 +107,7 @@ TEST(ThinGlass, SampleChoosesTheLobesByTheirWeights) {
 
 namespace {
 
-SceneDesc pane(const std::string& material) {
-  SceneDesc s = parseSceneJson(R"({"materials": {"floor": {"type": "diffuse", "albedo": 0.5}, "pane": )" + material +
-                                   R"(},
-    "shapes": [{"type": "quad", "material": "pane", "vertices": [[-1, 1, -1], [-1, 1, 1], [1, 1, 1], [1, 1, -1]]},
-               {"type": "quad", "material": "floor", "vertices": [[-1, 0, -1], [-1, 0, 1], [1, 0, 1], [1, 0, -1]]}]})",
-                               "pane.json");
-  validateScene(s);
-  return s;
-}
+SceneDesc pane(const std::string& material) { return test::quadOverFloor("pane", material, "pane.json"); }
 
 }  // namespace
 

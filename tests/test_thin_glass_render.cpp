@@ -138,6 +138,7 @@ TEST(ThinGlassRender, BackEndsAgreeAndTheTableHoldsTau) {
 
 // The floor seen from under the pane, direct light only (max depth 1): L = ρ/π·τ·E in every pixel, by NEE,
 // by the first-shot table at the camera's hits (PrimaryMode::Patch), by light tracing and by BDPT.
+// Like test_cutout.cpp's screen test, its cases listed here: the scenes and integrators differ per test.
 TEST(ThinGlassRender, ImagesOfTheFloorUnderThePane) {
   const double tau = 0.7, rho = 0.5, expected = rho / kPi * tau * kE;
   const SceneDesc desc = test::sceneFromJson(paneOverFloor(tau, rho));

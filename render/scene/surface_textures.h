@@ -24,6 +24,7 @@ struct SurfacePoint {
   float roughness = 0.0f; ///< pbr: the factor × its G, clamped to [0, 1]
 };
 
+// Laid out as ShadingNormals (shading_normals.h), a map of patches to faces, but of other data and lookups.
 class SurfaceTextures {
  public:
   SurfaceTextures() = default;

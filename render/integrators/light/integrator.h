@@ -54,6 +54,7 @@
 
 namespace fs {
 
+// Declared like BdptIntegrator (bdpt/integrator.h), the shooting integrators' interface; their particles differ.
 class LightTracingIntegrator : public ShootingIntegrator {
  public:
   using ShootingIntegrator::ShootingIntegrator;
