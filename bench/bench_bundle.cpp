@@ -17,13 +17,15 @@
 #include <map>
 #include <memory>
 
-#include "common/scene_desc.h"
+#include "common/formats/json/scene_json.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
 #include "render/integrators/bundle/integrator.h"
 #include "render/scene/render_scene.h"
 
 namespace {
 
-using namespace fs;
+using namespace firstshot;
 
 SceneDesc room() {
   return parseSceneJson(R"({

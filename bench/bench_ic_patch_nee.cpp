@@ -22,13 +22,14 @@
 #include <string>
 #include <vector>
 
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
-#include "render/scene/camera.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "render/integrators/irradiance_cache/integrator.h"
+#include "render/scene/camera.h"
 #include "render/scene/render_scene.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

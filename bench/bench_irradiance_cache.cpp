@@ -28,13 +28,14 @@
 #include <thread>
 #include <vector>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/scene/camera.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "render/integrators/path/integrator.h"
 #include "render/loop/renderer.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

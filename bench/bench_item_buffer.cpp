@@ -8,13 +8,14 @@
 #include <memory>
 #include <string>
 
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/embree_item_buffer.h"
-#include "preprocess/gl_item_buffer.h"
+#include "preprocess/gl/gl_item_buffer.h"
 #include "preprocess/window.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// The shipped Cornell box (scenes/cornell.json) split into patches of at most @p size.
@@ -97,13 +98,13 @@ void registerAll() {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot
 
 int main(int argc, char** argv) {
-  fs::registerAll();
+  firstshot::registerAll();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  std::printf("mesh: %u patches\n", fs::fixture().mesh.size());
+  std::printf("mesh: %u patches\n", firstshot::fixture().mesh.size());
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
   return 0;

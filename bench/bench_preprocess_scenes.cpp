@@ -7,11 +7,12 @@
 #include <filesystem>
 #include <string>
 
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "preprocess/preprocessor.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 void BM_PreprocessScene(benchmark::State& state, const std::string& name) {
@@ -37,6 +38,6 @@ BENCHMARK_CAPTURE(BM_PreprocessScene, cornell, std::string("cornell"))->Unit(ben
 BENCHMARK_CAPTURE(BM_PreprocessScene, many-lights, std::string("many-lights"))->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot
 
 BENCHMARK_MAIN();

@@ -17,19 +17,20 @@
 #include <memory>
 #include <vector>
 
-#include "common/rng.h"
-#include "common/sampling.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
+#include "common/scene/scene_desc.h"
+#include "render/integrators/integrator.h"
+#include "render/loop/renderer.h"
+#include "render/output/film.h"
 #include "render/scene/camera.h"
 #include "render/scene/embree_scene.h"
-#include "render/output/film.h"
-#include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
-#include "render/loop/renderer.h"
 
 namespace {
 
-using namespace fs;
+using namespace firstshot;
 
 struct Fixture {
   SceneDesc desc;

@@ -10,12 +10,12 @@
 #include <vector>
 
 #include "bench/image_metrics.h"
-#include "common/cli.h"
-#include "common/error.h"
+#include "common/util/cli.h"
+#include "common/util/error.h"
 
 namespace {
 
-using namespace fs;
+using namespace firstshot;
 
 struct RGBImage {
   int width = 0, height = 0;

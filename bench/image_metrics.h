@@ -15,7 +15,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace fs::bench {
+namespace firstshot::bench {
 
 struct ImageErrors {
   double relRmse = 0;   ///< per-value relative RMSE (see the file comment)
@@ -70,4 +70,4 @@ inline std::vector<float> meanImage(std::span<const float> a, std::span<const fl
   return m;
 }
 
-}  // namespace fs::bench
+}  // namespace firstshot::bench

@@ -24,16 +24,17 @@
 #include <string>
 #include <vector>
 
-#include "common/analytic.h"
-#include "common/cli.h"
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/form_factors.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "common/util/cli.h"
 #include "preprocess/light_tessellation.h"
 #include "preprocess/preprocessor.h"
 
 namespace {
 
-using namespace fs;
+using namespace firstshot;
 
 struct Run {
   FirstShotTable table;

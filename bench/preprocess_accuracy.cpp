@@ -14,15 +14,16 @@
 #include <string>
 #include <vector>
 
-#include "common/analytic.h"
-#include "common/cli.h"
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/formats/json/scene_json.h"
+#include "common/lights/form_factors.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "common/util/cli.h"
 #include "preprocess/preprocessor.h"
 
 namespace {
 
-using namespace fs;
+using namespace firstshot;
 
 const char* kSceneJson = R"({"materials": {"m": {"type": "diffuse", "albedo": 0.5}},
   "shapes": [{"type": "quad", "material": "m", "vertices": [[-1,0,-1],[-1,0,1],[1,0,1],[1,0,-1]]}],

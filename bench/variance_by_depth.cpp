@@ -15,11 +15,12 @@
 #include <string>
 
 #include "bench/variance_report.h"
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "render/integrators/integrator.h"
 
-using namespace fs;
+using namespace firstshot;
 
 int main(int argc, char** argv) {
   CLI::App app("firstshot-variance: an image's mean and variance split by path length and by what brought the light "

@@ -13,7 +13,7 @@
 
 #include "render/scene/embree_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -246,4 +246,4 @@ std::string varianceReportCsv(const VarianceReport& r) {
   return out;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -15,13 +15,13 @@
 #include <string>
 #include <vector>
 
-#include "common/rng.h"
+#include "common/sampling/rng.h"
 #include "render/integrators/common/path_recorder.h"
 #include "render/integrators/integrator.h"
 #include "render/scene/camera.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// How the report renders.
 struct VarianceReportOptions {
@@ -77,4 +77,4 @@ std::string formatVarianceReport(const VarianceReport& report, int top);
 /// sample / image mean, fraction of samples non-zero).
 std::string varianceReportCsv(const VarianceReport& report);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -5,10 +5,10 @@
 #include <limits>
 #include <string>
 
-#include "common/error.h"
-#include "common/memory_limit.h"
+#include "common/util/error.h"
+#include "common/util/memory_limit.h"
 
-namespace fs {
+namespace firstshot {
 
 AdaptiveMesh::AdaptiveMesh(const SceneDesc& scene, double patchSize) : file_(scene.file) {
   mesh_.patchSize = patchSize;
@@ -122,4 +122,4 @@ std::vector<uint32_t> AdaptiveMesh::split(const std::vector<uint8_t>& flags) {
   return first;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -9,11 +9,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 class AdaptiveMesh {
  public:
@@ -65,4 +65,4 @@ class AdaptiveMesh {
   std::string file_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <limits>
 
-#include "common/analytic.h"
+#include "common/lights/form_factors.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using analytic::clipPolygonToPlane;
@@ -291,7 +291,7 @@ double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int co
   return analytic::polygonProjectedArea(direction, poly, count);
 }
 
-// ---- For the GPU reduction (preprocess/gl_reduce.h) ----
+// ---- For the GPU reduction (preprocess/gl/gl_reduce.h) ----
 
 bool coverageSetup(const View& view, const Patch& patch, double near, CoverageSetup& out) {
   Vec3d poly[4];
@@ -309,4 +309,4 @@ bool coverageSetup(const View& view, const Patch& patch, double near, CoverageSe
 
 Vec3d exactNormal(const Patch& patch) { return ExactPolygon(patch).n; }
 
-}  // namespace fs
+}  // namespace firstshot

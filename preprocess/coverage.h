@@ -10,13 +10,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patches.h"
+#include "common/patches/patches.h"
+#include "common/util/math.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
 #include "preprocess/view.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Σ of @p weights over the pixel centres of @p view that fall inside the convex planar polygon
 /// @p poly (3 or 4 vertices), ignoring occlusion; the polygon is clipped to depth ≥ @p near first.
@@ -66,12 +66,12 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
 void markProjection(const View& view, const Patch& patch, double near, int margin, std::vector<uint8_t>& mask);
 
 // The solid angle and cosine-weighted solid angle of a patch (points, area vertices) are
-// fs::analyticIntegral (common/firstshot_groups.h), shared with the .fsd reader.
+// firstshot::analyticIntegral (common/table/firstshot_groups.h), shared with the .fsd reader.
 
 /// Projected area of the polygon perpendicular to @p direction, m².
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count);
 
-// ---- What patchCoverage() sets up per (patch, view), for the GPU reduction (preprocess/gl_reduce.h) ----
+// ---- What patchCoverage() sets up per (patch, view), for the GPU reduction (preprocess/gl/gl_reduce.h) ----
 
 /// Patch @p patch in @p view as patchCoverage() tests it: its projection clipped to depth ≥ @p near
 /// (q[0..n), image-plane units), the orientation that makes "inside" the same side of every edge, the
@@ -88,4 +88,4 @@ bool coverageSetup(const View& view, const Patch& patch, double near, CoverageSe
 /// The Newell normal (not unit) of a patch's double vertices, the plane its exact ray tests use.
 Vec3d exactNormal(const Patch& patch);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -247,4 +247,4 @@ void EmbreeItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
   }
 }
 
-}  // namespace fs
+}  // namespace firstshot

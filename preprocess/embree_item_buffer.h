@@ -15,7 +15,7 @@
 struct RTCDeviceTy;
 struct RTCSceneTy;
 
-namespace fs {
+namespace firstshot {
 
 /// How rays are traced (for benchmarking; all give identical results).
 enum class EmbreeRayMode { Single, Packet8, Packet16, Stream };
@@ -64,4 +64,4 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   const PatchCutouts* cutouts() const { return cutouts_.get(); }
 };
 
-}  // namespace fs
+}  // namespace firstshot

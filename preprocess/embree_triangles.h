@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace fs {
+namespace firstshot {
 
 /// Attaches the triangles of @p vertices (x, y, z of three corners per triangle; triangle k is primID k) to
 /// @p scene of @p device as one geometry, when there are any, and commits @p scene. Throws std::runtime_error
@@ -31,4 +31,4 @@ inline void commitTriangleSoup(RTCDevice device, RTCScene scene, const std::vect
   if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw std::runtime_error(buildFailed);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <limits>
 
-#include "common/patch_neighbours.h"
+#include "common/patches/patch_neighbours.h"
 
-namespace fs {
+namespace firstshot {
 
 bool ExposureQuery::buried(const Vec3d& x) const {
   if (!mask || !mask->partial) return false;
@@ -152,4 +152,4 @@ bool ExposureCache::probe(uint32_t patch, int side, const Vec3d& x) const {
   return 2 * back > total;
 }
 
-}  // namespace fs
+}  // namespace firstshot

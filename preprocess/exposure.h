@@ -14,7 +14,7 @@
 ///
 /// Only another surface that meets or crosses a patch can bury part of it (a closed object's faces
 /// bound what it buries; a patch buried whole keeps no mask). A patch that touches nothing but
-/// coplanar patches (common/patch_neighbours.h), which its hemisphere rays never hit, is therefore
+/// coplanar patches (common/patches/patch_neighbours.h), which its hemisphere rays never hit, is therefore
 /// decided without probes: its mask is not partial.
 ///
 /// A point is decided at the centre of its cell of a lattice in the patch's plane (kLatticePerStep
@@ -28,11 +28,11 @@
 #include <mutex>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patches.h"
+#include "common/patches/patches.h"
+#include "common/util/math.h"
 #include "preprocess/embree_item_buffer.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Probe points of one side of a patch and which of them are buried.
 struct ExposureMask {
@@ -100,4 +100,4 @@ class ExposureCache {
   double offset_ = 0;                ///< ray origins off the patch, m
 };
 
-}  // namespace fs
+}  // namespace firstshot

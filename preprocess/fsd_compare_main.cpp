@@ -4,13 +4,13 @@
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
-#include "common/cli.h"
-#include "common/error.h"
-#include "common/firstshot.h"
+#include "common/table/firstshot.h"
+#include "common/util/cli.h"
+#include "common/util/error.h"
 #include "preprocess/table_compare.h"
 
 int main(int argc, char** argv) {
-  return fs::runTool("firstshot-fsd-compare", [&] {
+  return firstshot::runTool("firstshot-fsd-compare", [&] {
     CLI::App app{"firstshot-fsd-compare: compares a first-shot table (.fsd) with a reference table of the same scene"};
     std::string refPath, testPath;
     double tolerance = 1e-3;
@@ -22,10 +22,10 @@ int main(int argc, char** argv) {
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-      return app.exit(e) == 0 ? 0 : fs::kExitBadInput;
+      return app.exit(e) == 0 ? 0 : firstshot::kExitBadInput;
     }
-    const fs::FirstShotTable ref = fs::readFirstShot(refPath), test = fs::readFirstShot(testPath);
-    const fs::TableDifference d = fs::compareTables(ref, test);
+    const firstshot::FirstShotTable ref = firstshot::readFirstShot(refPath), test = firstshot::readFirstShot(testPath);
+    const firstshot::TableDifference d = firstshot::compareTables(ref, test);
     const bool agree = d.sameSamples && d.maxSampleFlux <= tolerance;
     fmt::print("{}: patches {} / {}, factors {} / {}, {}; sample flux max rel. diff {:.3g}, total {:.3g}", agree ? "agree" : "DIFFER",
                ref.mesh.size(), test.mesh.size(), ref.nonZeros(), test.nonZeros(),

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-namespace fs {
+namespace firstshot {
 
 void ItemGeometry::addTriangle(const Vec3& a, const Vec3& b, const Vec3& c, uint32_t patchId) {
   if (patchId == kNoPatch) throw std::invalid_argument("ItemGeometry: patch ID 0xFFFFFFFF is reserved for background");
@@ -33,4 +33,4 @@ double itemBufferNear(const Bounds3d& sceneBounds, double relative) {
   return relative * (d > 0 ? d : 1.0);
 }
 
-}  // namespace fs
+}  // namespace firstshot

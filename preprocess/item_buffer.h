@@ -7,12 +7,12 @@
 #include <memory>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patch_cutouts.h"
-#include "common/patches.h"
+#include "common/patches/patch_cutouts.h"
+#include "common/patches/patches.h"
+#include "common/util/math.h"
 #include "preprocess/view.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Background: no patch seen through the pixel.
 inline constexpr uint32_t kNoPatch = 0xFFFFFFFFu;
@@ -61,4 +61,4 @@ class ItemBufferRenderer {
   virtual double nearPlane() const = 0;
 };
 
-}  // namespace fs
+}  // namespace firstshot

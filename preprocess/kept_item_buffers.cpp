@@ -7,7 +7,7 @@
 #include "preprocess/adaptive_mesh.h"
 #include "preprocess/item_buffer.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -143,4 +143,4 @@ void KeptItemBuffers::clear() {
   level_ = 0;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,10 +10,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/patches.h"
+#include "common/patches/patches.h"
 #include "preprocess/view.h"
 
-namespace fs {
+namespace firstshot {
 
 class KeptItemBuffers {
  public:
@@ -73,4 +73,4 @@ class KeptItemBuffers {
   int level_ = 0;
 };
 
-}  // namespace fs
+}  // namespace firstshot

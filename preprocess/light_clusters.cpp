@@ -8,9 +8,9 @@
 #include <numeric>
 #include <vector>
 
-#include "common/analytic.h"
+#include "common/lights/form_factors.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -136,4 +136,4 @@ LightTessellation clusterLightSamples(const SceneDesc& scene, LightTessellation 
   return out;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -21,10 +21,10 @@
 /// Otherwise it is split at the median of its widest spread: of the normals while they disagree,
 /// else of the positions. Receivers are the faces of every non-emissive shape, clipped to the
 /// half-space in front of the plane through the cluster's rearmost sample across its mean normal.
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/light_tessellation.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Merges the samples of @p fine (the tessellation of an emissive shape of @p scene) into clusters
 /// for relative accuracy @p tolerance (see the file comment). Deterministic: same input, same
@@ -34,4 +34,4 @@ namespace fs {
 /// tessellation's floor, raised to keep the samples within kLightSampleBudget.
 LightTessellation clusterLightSamples(const SceneDesc& scene, LightTessellation fine, double tolerance, double floor = 0);
 
-}  // namespace fs
+}  // namespace firstshot

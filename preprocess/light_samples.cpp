@@ -1,9 +1,9 @@
 #include "preprocess/light_samples.h"
 
-#include "common/progress.h"
+#include "common/util/progress.h"
 #include "preprocess/light_tessellation.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -61,4 +61,4 @@ std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vec
   return out;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,15 +1,15 @@
 #pragma once
 /// @file light_samples.h
-/// The light samples the small lights (common/small_lights.h) become: one per point, spot or
+/// The light samples the small lights (common/lights/small_light_rule.h) become: one per point, spot or
 /// directional light, one per vertex of an area light's tessellation.
 #include <cstdint>
 #include <vector>
 
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
-#include "common/small_lights.h"
+#include "common/lights/small_light_rule.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 
-namespace fs {
+namespace firstshot {
 
 /// The light samples of the given lights, in light order. An area light's emissive faces are split
 /// into triangles (preprocess/light_tessellation.h): with edges at most @p lightPatchSize long (m) if
@@ -21,4 +21,4 @@ namespace fs {
 std::vector<LightSample> makeLightSamples(const SceneDesc& scene, const std::vector<uint32_t>& lights,
                                           double lightPatchSize, double lightTolerance, bool quiet = true);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -7,15 +7,15 @@
 
 #include <fmt/core.h>
 
-#include "common/analytic.h"
-#include "common/emission_texture.h"
-#include "common/error.h"
-#include "common/firstshot.h"
-#include "common/memory_limit.h"
-#include "common/patches.h"
+#include "common/lights/form_factors.h"
+#include "common/materials/emission_texture.h"
+#include "common/patches/patches.h"
+#include "common/table/firstshot.h"
+#include "common/util/error.h"
+#include "common/util/memory_limit.h"
 #include "preprocess/light_clusters.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -83,7 +83,7 @@ double radiusAbout(const Vec3d& c, const Vec3d* v, int n) {
 class SampleBuilder {
  public:
   /// The cells added next lie in face @p f of shape @p s of material @p m; when it emits per point
-  /// (common/emission_texture.h), each vertex accumulates ∫ Le φ_i dA over its triangles.
+  /// (common/materials/emission_texture.h), each vertex accumulates ∫ Le φ_i dA over its triangles.
   void setFace(const MaterialDesc& m, const ShapeDesc& s, size_t f) {
     textured_ = emitsPerPoint(m, s) ? &m : nullptr;
     shape_ = &s, face_ = f;
@@ -337,4 +337,4 @@ VertexRuleError vertexRuleError(const ShapeDesc& light, const LightTessellation&
   return worst;
 }
 
-}  // namespace fs
+}  // namespace firstshot

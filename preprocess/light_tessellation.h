@@ -21,10 +21,10 @@
 #include <utility>
 #include <vector>
 
-#include "common/math.h"
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 /// C of the vertex rule's per-triangle bound |error| ≤ C·(h/d)²·E (see the file comment).
 inline constexpr double kVertexRuleErrorConstant = 1.0;
@@ -58,7 +58,7 @@ struct LightTessellation {
   std::vector<double> weights;               ///< S_i/3, m² (S_i: area of the triangles around vertex i)
   std::vector<Vec3d> normals;                ///< unit, area-weighted normal of the triangles around it
   std::vector<std::array<Vec3d, 3>> triangles;  ///< the leaf triangles, m (counter-clockwise from the front)
-  /// An emitter with an emission texture (common/emission_texture.h): each sample's radiance
+  /// An emitter with an emission texture (common/materials/emission_texture.h): each sample's radiance
   /// ∫ Le φ_i dA / ∫ φ_i dA, W/(m² sr) (φ_i its hat function over the leaf triangles around it, ∫ φ_i dA its
   /// weight), so that Σ weight·emission is the light's ∫ Le dA and a sample under a bright part of the texture
   /// emits more.
@@ -122,4 +122,4 @@ struct VertexRuleError {
 VertexRuleError vertexRuleError(const ShapeDesc& light, const LightTessellation& t,
                                 const std::vector<std::pair<Vec3d, Vec3d>>& points);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -9,13 +9,13 @@
 #include <limits>
 #include <stdexcept>
 
-#include "common/emission_profile.h"
-#include "common/progress.h"
-#include "common/sampling.h"
-#include "common/texture.h"
+#include "common/lights/emission_profile.h"
+#include "common/materials/texture.h"
+#include "common/sampling/sampling.h"
+#include "common/util/progress.h"
 #include "preprocess/embree_triangles.h"
 
-namespace fs {
+namespace firstshot {
 
 struct ParticleScene::Impl {
   RTCDevice device = nullptr;
@@ -34,7 +34,7 @@ ParticleScene::ParticleScene(const SceneDesc& scene) : impl_(std::make_unique<Im
   Impl& m = *impl_;
   for (const ShapeDesc& s : scene.shapes)
     for (const Face& f : s.faces)
-      for (int k = 1; k + 1 < int(f.count); ++k) {  // a fan: quads are planar and convex (common/scene_desc.h)
+      for (int k = 1; k + 1 < int(f.count); ++k) {  // a fan: quads are planar and convex (common/scene/scene_desc.h)
         const Vec3d a = s.vertices[f.v[0]], b = s.vertices[f.v[k]], c = s.vertices[f.v[k + 1]];
         const Vec3d n = glm::cross(b - a, c - a);
         const double len = glm::length(n);
@@ -314,4 +314,4 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
   lum.relError = mean > 0 ? float(std::sqrt(std::max(0.0, variance)) / mean) : 0.0f;
 }
 
-}  // namespace fs
+}  // namespace firstshot

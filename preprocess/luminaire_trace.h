@@ -4,7 +4,7 @@
 /// particles a set of lights emits, and the exit distribution of a luminaire traced from them.
 ///
 /// Physics, as the renderer's light tracing does it (render/integrators/common/subpath_walk.cpp) but on its own
-/// code: a particle carries power (W); at a hit the material's BSDF (common/bsdf.h, makeBSDF) is sampled in the frame
+/// code: a particle carries power (W); at a hit the material's BSDF (common/materials/bsdf.h, makeBSDF) is sampled in the frame
 /// of the face's geometric normal (its winding: the front side, the outside of glass) in importance mode, so a
 /// refraction's weight is the transmittance without the 1/η² of radiance, and the weight multiplies the power.
 /// Simplifications, for the walk inside a luminaire's box: shading normals and normal maps are ignored (the
@@ -14,16 +14,16 @@
 #include <memory>
 #include <vector>
 
-#include "common/bsdf.h"
-#include "common/distribution_1d.h"
-#include "common/luminaire.h"
-#include "common/math.h"
-#include "common/rng.h"
-#include "common/scene_desc.h"
+#include "common/materials/bsdf.h"
+#include "common/sampling/distribution_1d.h"
+#include "common/sampling/rng.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/luminaire.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
-class Progress;  // common/progress.h
+class Progress;  // common/util/progress.h
 
 /// Every face of every shape of a scene, as triangles in one Embree BVH (the robust flag: no leaks between
 /// neighbouring triangles), with each triangle's material and unit geometric normal.
@@ -66,7 +66,7 @@ struct EmittedParticle {
 };
 
 /// Particles from a set of lights: a light chosen by its share of the power (mean of RGB), then
-/// - point, spot, IES: a direction from the light's emission profile (common/emission_profile.h);
+/// - point, spot, IES: a direction from the light's emission profile (common/lights/emission_profile.h);
 /// - area: a point uniform by area over the emissive shape's faces and a cosine-weighted direction on their front
 ///   side, the light's power π·Le·A (Le the material's emission: an emission texture's mean radiance).
 /// Directional lights emit nothing here (they belong to no luminaire).
@@ -119,4 +119,4 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
 /// Particles per chunk of traceExitDistribution (each chunk its own random numbers).
 inline constexpr uint64_t kLuminaireChunk = 4096;
 
-}  // namespace fs
+}  // namespace firstshot

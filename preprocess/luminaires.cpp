@@ -12,12 +12,12 @@
 #include <memory>
 #include <optional>
 
-#include "common/progress.h"
-#include "common/rng.h"
-#include "common/sampling.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
+#include "common/util/progress.h"
 #include "preprocess/luminaire_trace.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// An axis-aligned box being built up; empty until extended.
@@ -272,4 +272,4 @@ std::string luminaireSummary(const Luminaire& lum, double seconds) {
                      lum.particles, ratio, lum.relError, seconds);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,6 +1,6 @@
 #pragma once
 /// @file luminaires.h
-/// The preprocessor's luminaires (common/luminaire.h): which small lights form one, with which box, and the exit
+/// The preprocessor's luminaires (common/table/luminaire.h): which small lights form one, with which box, and the exit
 /// distribution traced from their particles (preprocess/luminaire_trace.h).
 ///
 /// Finding them (findLuminaires):
@@ -26,10 +26,10 @@
 #include <string>
 #include <vector>
 
-#include "common/luminaire.h"
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/luminaire.h"
 
-namespace fs {
+namespace firstshot {
 
 class ParticleScene;
 
@@ -53,7 +53,7 @@ inline constexpr double kFixtureScale = 0.25;
 inline constexpr uint64_t kProbeStream = 0x70726f6265ull;  ///< the probes' "pixel" key: apart from the walks'
 
 /// The luminaires of @p scene among @p smallLights (indices into scene.lights, ascending: the small-light rule,
-/// common/small_lights.h): boxes, lights, exit patches and names, without exit distributions. Named ones first, in
+/// common/lights/small_light_rule.h): boxes, lights, exit patches and names, without exit distributions. Named ones first, in
 /// the order their names first appear (shapes, then lights), then detected ones by light index. @p geometry: the
 /// scene's particle BVH, built here when null and needed.
 std::vector<Luminaire> findLuminaires(const SceneDesc& scene, const std::vector<uint32_t>& smallLights,
@@ -72,4 +72,4 @@ std::vector<Luminaire> makeLuminaires(const SceneDesc& scene, const std::vector<
 /// power, relative error and @p seconds.
 std::string luminaireSummary(const Luminaire& lum, double seconds);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,7 +6,7 @@
 
 #include "preprocess/view.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// Spreads the low 21 bits of @p x three apart (for 63-bit Morton codes).
@@ -34,7 +34,7 @@ OcclusionCull::OcclusionCull(const SceneDesc& scene, const PatchMesh& mesh, uint
         scene.materials[shape.material].type == MaterialType::ThinGlass ||  // a pane hides nothing
         scene.materials[shape.material].isCutout())  // nor does a face with holes (a cut-out)
       continue;
-    for (const fs::Face& f : shape.faces) {
+    for (const firstshot::Face& f : shape.faces) {
       Face F;
       F.count = f.count;
       for (int k = 0; k < f.count; ++k) F.v[k] = shape.vertices[f.v[k]], F.centroid += F.v[k] / double(f.count);
@@ -130,4 +130,4 @@ void OcclusionCull::visible(const Vec3d& eye, const std::vector<uint32_t>& shown
   }
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -17,11 +17,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 class OcclusionCull {
  public:
@@ -52,4 +52,4 @@ class OcclusionCull {
   double margin_ = 0;            ///< absolute part of the margin, m
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -9,10 +9,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "common/thin_glass.h"
+#include "common/materials/thin_glass.h"
 #include "preprocess/embree_triangles.h"
 
-namespace fs {
+namespace firstshot {
 
 std::vector<uint8_t> seeThroughMaterials(const SceneDesc& scene) {
   std::vector<uint8_t> flags(scene.materials.size(), 0);
@@ -134,4 +134,4 @@ double PaneTransmittance::toward(const Vec3d& a, const Vec3d& d) const {
   return along(a, d, std::numeric_limits<double>::infinity());
 }
 
-}  // namespace fs
+}  // namespace firstshot

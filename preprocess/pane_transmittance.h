@@ -13,10 +13,10 @@
 #include <memory>
 #include <vector>
 
-#include "common/math.h"
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Per material: 1 for a thin glass pane (the item buffers leave its patches out), else 0; empty when
 /// the scene has none.
@@ -43,4 +43,4 @@ class PaneTransmittance {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

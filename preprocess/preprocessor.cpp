@@ -13,33 +13,33 @@
 #include <fmt/core.h>
 #include <tbb/parallel_for.h>
 
-#include "common/error.h"
-#include "common/firstshot_groups.h"
-#include "common/interrupt.h"
-#include "common/emission_profile.h"
-#include "common/memory_limit.h"
-#include "common/patch_size.h"
-#include "common/patches.h"
-#include "common/progress.h"
-#include "common/rng.h"
+#include "common/lights/emission_profile.h"
+#include "common/patches/patch_size.h"
+#include "common/patches/patches.h"
+#include "common/sampling/rng.h"
+#include "common/table/firstshot_groups.h"
+#include "common/util/error.h"
+#include "common/util/interrupt.h"
+#include "common/util/memory_limit.h"
+#include "common/util/progress.h"
 #include "preprocess/adaptive_mesh.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
-#include "preprocess/pane_transmittance.h"
-#include "preprocess/gl_item_buffer.h"
+#include "preprocess/gl/gl_item_buffer.h"
 #include "preprocess/kept_item_buffers.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/occlusion_cull.h"
+#include "preprocess/pane_transmittance.h"
 #include "preprocess/profile.h"
 #include "preprocess/sample_shot.h"
 #include "preprocess/window.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
 /// Alpha cut-outs: both back ends see through their holes (the GL one discards fragments,
-/// preprocess/gl_cutouts.h), but on llvmpipe the GL one is the slower (the shipped cut-out screen on one core:
+/// preprocess/gl/gl_cutouts.h), but on llvmpipe the GL one is the slower (the shipped cut-out screen on one core:
 /// 4.4 s against Embree's 2.9 s), so the default and "auto" take Embree; "gl" on the command line is honoured.
 void resolveCutoutBackend(const SceneDesc& scene, const SettingsOverrides& cli, FirstShotSettings& s) {
   const auto m = std::find_if(scene.materials.begin(), scene.materials.end(), [](const MaterialDesc& d) { return d.isCutout(); });
@@ -110,7 +110,7 @@ const char* autoBackend(size_t triangles, const Window& w, bool glOnGpu) {
 }
 
 /// Whether OpenGL back end @p gl ("osmesa" | "egl") runs on a GPU: its GL_RENDERER (of a probe context on
-/// the device EGL chooses, preprocess/egl_devices.h) is not one of Mesa's CPU rasterisers. OSMesa never does.
+/// the device EGL chooses, preprocess/gl/egl_devices.h) is not one of Mesa's CPU rasterisers. OSMesa never does.
 bool glRunsOnGpu(const std::string& gl) {
   if (parseGLBackend(gl) != GLBackend::EGL) return false;
   try {
@@ -546,4 +546,4 @@ FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& 
   return t;
 }
 
-}  // namespace fs
+}  // namespace firstshot

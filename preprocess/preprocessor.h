@@ -1,21 +1,21 @@
 #pragma once
 /// @file preprocessor.h
 /// The preprocessing stage as a library: scene → patches → light samples → item buffers →
-/// first-shot table (common/firstshot.h).
+/// first-shot table (common/table/firstshot.h).
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "common/comm.h"
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "common/util/comm.h"
 #include "preprocess/luminaires.h"
 
-namespace fs {
+namespace firstshot {
 
 /// The settings a command line gives (firstshot-preprocess's options); each one not given leaves the
-/// scene's. Fields as in FirstShotSettings (common/scene_desc.h), of the same meaning.
+/// scene's. Fields as in FirstShotSettings (common/scene/scene_desc.h), of the same meaning.
 struct SettingsOverrides {
   std::optional<int> resolution;                     ///< --resolution
   std::optional<std::string> window;                 ///< --window
@@ -31,7 +31,7 @@ struct SettingsOverrides {
 
 /// The preprocessor's settings, the one place they are put together: the scene's (scene.settings, a
 /// FirstShotSettings: the file's values or the documented defaults), each one @p cli gives replaced by
-/// it, then the automatic patch sizes resolved (common/patch_size.h, resolvePatchSizes: patchSize 0 from
+/// it, then the automatic patch sizes resolved (common/patches/patch_size.h, resolvePatchSizes: patchSize 0 from
 /// the scene's faces, minPatchSize 0 = patchSize/kDefaultRefineRatio, at most patchSize).
 /// @throws InputError if the resolution is odd (the hemicube's side faces are R/2 high).
 FirstShotSettings resolveSettings(const SceneDesc& scene, const SettingsOverrides& cli = {});
@@ -42,9 +42,9 @@ struct PreprocessOptions {
   FirstShotSettings settings;
   std::string gl = "osmesa";      ///< OpenGL back end for backend "gl": osmesa | egl
   int threads = 0;                ///< workers (0 = one per core); each has its own GL context
-  bool quiet = true;              ///< no progress on stderr (common/progress.h; the tool: unless --quiet)
+  bool quiet = true;              ///< no progress on stderr (common/util/progress.h; the tool: unless --quiet)
   double timeLimit = 0;           ///< seconds; 0 = none. Past it the run fails (nothing is written).
-  /// The ranks sharing the work (common/comm.h; null: this process alone). Each rank shoots the
+  /// The ranks sharing the work (common/util/comm.h; null: this process alone). Each rank shoots the
   /// light-sample tasks dealt to it; the factors are exchanged after every shooting pass, so every
   /// rank ends with the same table, byte for byte the one a single process makes.
   Comm* comm = nullptr;
@@ -52,7 +52,7 @@ struct PreprocessOptions {
   /// (preprocess/kept_item_buffers.h), instead of re-tracing the pixels around split patches.
   /// Off: always re-trace (to compare the two).
   bool keepItemBuffers = true;
-  /// GL back end: where the item buffers are reduced (preprocess/gl_reduce.h): "cpu" (read back),
+  /// GL back end: where the item buffers are reduced (preprocess/gl/gl_reduce.h): "cpu" (read back),
   /// "gpu" (compute shaders), "auto" (gpu unless GL_RENDERER is a software rasteriser: llvmpipe, softpipe).
   std::string glReduce = "auto";
   /// Luminaires (preprocess/luminaires.h): how they are found and how many particles each gets. Their lights leave
@@ -80,4 +80,4 @@ PreprocessOptions defaultOptions(const SceneDesc& scene);
 /// @throws std::runtime_error if the item-buffer back end cannot start.
 FirstShotTable preprocessScene(const SceneDesc& scene, const PreprocessOptions& options, PreprocessStats* stats = nullptr);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -3,7 +3,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace fs::profile {
+namespace firstshot::profile {
 namespace {
 std::atomic<int64_t> counters[Count];
 }
@@ -30,4 +30,4 @@ void report(std::FILE* out) {
   std::fprintf(out, "  %-42s %8.4f s\n", "sum", sum * 1e-9);
 }
 
-}  // namespace fs::profile
+}  // namespace firstshot::profile

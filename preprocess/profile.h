@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 
-namespace fs::profile {
+namespace firstshot::profile {
 
 enum Phase : int {
   Windows,         ///< window geometry and weight tables
@@ -72,4 +72,4 @@ class Scope {
   std::chrono::steady_clock::time_point t0_;
 };
 
-}  // namespace fs::profile
+}  // namespace firstshot::profile

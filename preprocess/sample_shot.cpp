@@ -5,14 +5,14 @@
 #include <cmath>
 #include <functional>
 
-#include "common/firstshot_groups.h"
-#include "common/spot_integral.h"
+#include "common/lights/spot_integral.h"
+#include "common/table/firstshot_groups.h"
 #include "preprocess/coverage.h"
 #include "preprocess/embree_item_buffer.h"
-#include "preprocess/gl_reduce.h"
+#include "preprocess/gl/gl_reduce.h"
 #include "preprocess/profile.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -27,7 +27,7 @@ int litSide(const SampleSetup& s, const Patch& p) {
 }
 
 /// The closed-form integral of the window weight over the whole patch (no occlusion); for points and
-/// area vertices the one the reader recomputes grouped factors from (common/firstshot_groups.h).
+/// area vertices the one the reader recomputes grouped factors from (common/table/firstshot_groups.h).
 double unoccludedIntegral(const SampleSetup& s, const Patch& p) {
   switch (s.kind) {
     case LightSampleKind::Point:
@@ -327,4 +327,4 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
   return out;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "common/firstshot.h"
-#include "common/emission_profile.h"
-#include "common/math.h"
-#include "common/patches.h"
+#include "common/lights/emission_profile.h"
+#include "common/patches/patches.h"
+#include "common/table/firstshot.h"
+#include "common/util/math.h"
 #include "preprocess/coverage.h"
 #include "preprocess/exposure.h"
 #include "preprocess/item_buffer.h"
@@ -20,7 +20,7 @@
 #include "preprocess/occlusion_cull.h"
 #include "preprocess/window.h"
 
-namespace fs {
+namespace firstshot {
 
 class GLReduce;
 
@@ -34,7 +34,7 @@ struct SampleSetup {
   double rotation = 0;  ///< radians about the axis (settings.rotationSeed)
   double eyeOffset = 0;
   double scale = 1;
-  EmissionProfile profile;  ///< a spot's profile (cone or IES table), for its numerical U_ij (common/spot_integral.h)
+  EmissionProfile profile;  ///< a spot's profile (cone or IES table), for its numerical U_ij (common/lights/spot_integral.h)
   LightSampleKind kind = LightSampleKind::Point;
   bool analytic = true;  ///< closed form × visible fraction (preprocess/coverage.h)
 };
@@ -64,7 +64,7 @@ struct ShotScratch {
   std::vector<std::vector<uint32_t>> ids;      ///< item buffer per view
   std::vector<uint32_t> candidates;            ///< patches the occlusion cull leaves
   std::vector<uint8_t> inTask;                 ///< per patch: in the task (all zero between calls)
-  // ---- GPU reduction (preprocess/gl_reduce.h) ----
+  // ---- GPU reduction (preprocess/gl/gl_reduce.h) ----
   std::string glReduce = "cpu";                ///< cpu | gpu | auto (PreprocessOptions::glReduce)
   std::shared_ptr<GLReduce> gpu;               ///< the GL renderer's reducer, made on first use
   std::vector<PatchCoverage> coverage;         ///< from the GPU: per touched patch (sorted)
@@ -88,4 +88,4 @@ std::vector<Entry> renderSample(ItemBufferRenderer* renderer, const SampleSetup&
                                 bool needVisible, ShotScratch& scratch, ExposureCache* exposure,
                                 const OcclusionCull* cull, const Keeping& keeping);
 
-}  // namespace fs
+}  // namespace firstshot

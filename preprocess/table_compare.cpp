@@ -4,9 +4,9 @@
 #include <cmath>
 #include <vector>
 
-#include "common/patches.h"
+#include "common/patches/patches.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -67,4 +67,4 @@ TableDifference compareTables(const FirstShotTable& ref, const FirstShotTable& t
   return d;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -7,9 +7,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "common/firstshot.h"
+#include "common/table/firstshot.h"
 
-namespace fs {
+namespace firstshot {
 
 struct TableDifference {
   bool sameSamples = false;  ///< the same number of light samples at the same positions
@@ -27,4 +27,4 @@ struct TableDifference {
 /// Compares @p test against @p ref (see TableDifference).
 TableDifference compareTables(const FirstShotTable& ref, const FirstShotTable& test);
 
-}  // namespace fs
+}  // namespace firstshot

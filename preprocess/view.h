@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <limits>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Axis-aligned box in double precision.
 struct Bounds3d {
@@ -81,4 +81,4 @@ inline double farDepth(const View& view, const Bounds3d& bounds) {
   return far + 1e-3 * bounds.diagonal();
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -232,4 +232,4 @@ WindowKind parseWindowKind(const std::string& name) {
   throw std::invalid_argument("unknown window '" + name + "' (cube | hemicube | tetra | ortho)");
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 #include "preprocess/view.h"
 
-namespace fs {
+namespace firstshot {
 
 enum class WindowKind : uint8_t { Cube, Hemicube, Tetrahedron, Ortho };
 
@@ -79,4 +79,4 @@ double areaLightEyeOffset(const Bounds3d& sceneBounds, double relative = 1e-5);
 /// Parses "cube" | "hemicube" | "tetra" (for settings); @throws std::invalid_argument otherwise.
 WindowKind parseWindowKind(const std::string& name);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Reduces measured spectral η(λ), k(λ) of conductors to the RGB η, k of common/conductor_presets.cpp.
+"""Reduces measured spectral η(λ), k(λ) of conductors to the RGB η, k of common/materials/conductor_presets.cpp.
 
 Usage: scripts/conductor_presets.py IOR_DIR CIE_CSV > rows.txt
   IOR_DIR  a folder of NAME.eta.spd and NAME.k.spd files (two columns, wavelength in nm and value; lines starting

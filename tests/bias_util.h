@@ -12,16 +12,17 @@
 #include <utility>
 #include <vector>
 
-#include "common/firstshot.h"
-#include "common/emission_profile.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/emission_profile.h"
+#include "common/table/firstshot.h"
 #include "preprocess/preprocessor.h"
-#include "render/scene/camera.h"
 #include "render/firstshot/lighting.h"
 #include "render/integrators/integrator.h"
+#include "render/scene/camera.h"
 #include "render/scene/render_scene.h"
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// The shipped scenes/cornell.json scaled ×10 (scenes/cornell-metre.json: a 5.56 m room, its light
 /// 1 cm under the ceiling) at its own settings; the light tessellated at @p lightPatchSize, m, if given.
@@ -203,4 +204,4 @@ inline void patchIrradianceMC(const RenderScene& scene, uint32_t j, int n, uint6
   se = std::sqrt(std::max(0.0, (sum2 / n - mean * mean) / (n - 1)));
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

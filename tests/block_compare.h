@@ -12,16 +12,17 @@
 #include <string>
 #include <vector>
 
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/preprocessor.h"
-#include "render/output/film.h"
 #include "render/integrators/integrator.h"
 #include "render/loop/renderer.h"
+#include "render/output/film.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 inline constexpr int kBlock = 8;
 
@@ -231,4 +232,4 @@ inline SceneDesc mixedLightsScene() {
       "camera": {"position": [-1.2, 3.2, -2.2], "look_at": [0.2, 0, 0.3], "fov_y": 55, "resolution": [32, 24]},
       "settings": {"patch_size": 0.5, "max_depth": 6}})");
 }
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -7,13 +7,13 @@
 #include <cmath>
 #include <cstdio>
 
-#include "common/bsdf.h"
-#include "common/rng.h"
-#include "common/sampling.h"
+#include "common/materials/bsdf.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
 #include "tests/direction_histogram.h"
 #include "tests/stats.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// The fixed seed of the checks below.
 inline constexpr uint64_t kBsdfCheckSeed = 777;
@@ -70,4 +70,4 @@ inline void checkSampleConsistency(const BSDF& bsdf, int count = 20000) {
   EXPECT_GT(ok, count / 2);
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

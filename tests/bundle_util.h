@@ -13,7 +13,7 @@
 #include "render/integrators/bundle/integrator.h"
 #include "render/loop/renderer.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// Mean of a series and its standard error by @p batches batch means.
 struct BatchMean {
@@ -93,4 +93,4 @@ inline std::vector<double> blockSeries(const std::vector<std::vector<double>>& i
   return s;
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

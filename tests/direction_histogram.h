@@ -8,9 +8,9 @@
 #include <cmath>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 class SphereHistogram {
  public:
@@ -86,4 +86,4 @@ class SphereHistogram {
   double total_ = 0.0;
 };
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -11,13 +11,14 @@
 #include <cmath>
 #include <string>
 
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "preprocess/preprocessor.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// Path of hard case @p file (e.g. "point_near_wall.json") in the source tree.
 inline std::string hardCasePath(const std::string& file) { return source("tests/hard_cases/" + file); }
@@ -83,4 +84,4 @@ inline MeanSe channelMean(const Film& film, int c) {
   return m;
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -5,13 +5,13 @@
 /// table with the luminaires found.
 #include <string>
 
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/preprocessor.h"
 #include "render/scene/render_scene.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// A 2 m × 1.5 m × 2 m room with a table (32×24, max depth 6); @p materials and @p shapes add the lamp's (JSON members).
 inline SceneDesc hiddenLightsRoom(const std::string& materials, const std::string& shapes) {
@@ -72,4 +72,4 @@ inline RenderScene withLuminaireTable(const SceneDesc& d) {
   return RenderScene(d, preprocessScene(d, po));
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -9,7 +9,7 @@
 
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// Angles lo, lo + step, …, hi (degrees).
 inline std::vector<double> angleRange(double lo, double hi, double step) {
@@ -56,4 +56,4 @@ inline std::string iesRoom(const std::string& light, int maxDepth = 4) {
                      light, maxDepth);
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -16,12 +16,13 @@
 #include <string>
 #include <vector>
 
+#include "common/formats/load_scene.h"
 #include "render/scene/camera.h"
 #include "render/integrators/integrator.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// scenes/cornell.json at @p size² pixels with its area light replaced by a 3 W point light
 /// (the light quad stays as a black patch).
@@ -147,4 +148,4 @@ inline LineFit fitLine(const std::vector<double>& x, const std::vector<double>& 
   return f;
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -12,7 +12,7 @@
 #include "render/integrators/common/light_path.h"
 #include "render/integrators/light/integrator.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// Sample mean and standard error of a stream of values.
 struct Moments {
@@ -48,4 +48,4 @@ inline void forEachLightPath(const RenderScene& scene, const LightTracingIntegra
   });
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

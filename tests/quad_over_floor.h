@@ -4,9 +4,10 @@
 /// material over a diffuse floor, parsed and validated as a file of a given name.
 #include <string>
 
-#include "common/scene_desc.h"
+#include "common/formats/json/scene_json.h"
+#include "common/scene/scene_desc.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// A 2 × 2 quad at y = 1 of the material @p name, given as JSON @p material, over a 2 × 2 floor of
 /// albedo 0.5 at y = 0; parsed as the file @p file (the name errors quote).
@@ -20,4 +21,4 @@ inline SceneDesc quadOverFloor(const std::string& name, const std::string& mater
   return s;
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -14,17 +14,18 @@
 #include <string>
 #include <vector>
 
-#include "common/analytic.h"
-#include "common/firstshot.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
-#include "render/scene/camera.h"
-#include "render/output/film.h"
+#include "common/formats/json/scene_json.h"
+#include "common/lights/form_factors.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "render/integrators/integrator.h"
-#include "render/scene/render_scene.h"
 #include "render/loop/renderer.h"
+#include "render/output/film.h"
+#include "render/scene/camera.h"
+#include "render/scene/render_scene.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// Parses and validates a scene given as JSON text.
 inline SceneDesc sceneFromJson(const std::string& text) {
@@ -267,4 +268,4 @@ struct Estimate {
   double mean = 0, se = 0;
 };
 
-}  // namespace fs::test
+}  // namespace firstshot::test

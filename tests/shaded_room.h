@@ -7,11 +7,11 @@
 /// those tests use.
 #include <string>
 
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/preprocessor.h"
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// The shaded-light room with a square camera of @p resolution pixels.
 inline SceneDesc shadedLightRoom(int resolution) {
@@ -46,4 +46,4 @@ inline FirstShotTable quickTable(const SceneDesc& desc, double patchSize = 0) {
   return preprocessScene(desc, po);
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -11,12 +11,13 @@
 #include <cmath>
 #include <string>
 
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/preprocessor.h"
 #include "render_util.h"
 #include "test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 inline void expectShippedSceneFirstShotAgreesWithNee(const std::string& name, const std::string& backend = "embree") {
   SceneDesc desc = loadScene(source("scenes/" + name + ".json"));
@@ -70,4 +71,4 @@ inline void expectTableIntegratorsAgreeWithNee(const std::string& name, SceneDes
   }
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

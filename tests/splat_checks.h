@@ -7,17 +7,18 @@
 #include <string>
 #include <vector>
 
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/preprocessor.h"
-#include "render/scene/camera.h"
-#include "render/output/film.h"
 #include "render/integrators/integrator.h"
-#include "render/scene/render_scene.h"
 #include "render/loop/renderer.h"
+#include "render/output/film.h"
+#include "render/scene/camera.h"
+#include "render/scene/render_scene.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// Renders the Cornell box at 40×30 (1200 samples a pass: two splat chunks) with @p integrator
 /// (a makeIntegrator name) at 3 spp on 1 and on 2 threads, and pass by pass: every pixel's mean and
@@ -73,4 +74,4 @@ inline void expectCommandLine(const std::string& integrator, const std::string& 
   }
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -10,7 +10,7 @@
 #include <numeric>
 #include <vector>
 
-namespace fs::test {
+namespace firstshot::test {
 
 /// Welford's running mean and variance.
 struct RunningStats {
@@ -127,4 +127,4 @@ inline ChiSquareResult chiSquareTest(const std::vector<double>& observed, const 
   return r;
 }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

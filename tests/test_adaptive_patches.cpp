@@ -10,14 +10,15 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "preprocess/adaptive_mesh.h"
 #include "preprocess/preprocessor.h"
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

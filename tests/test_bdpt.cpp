@@ -2,12 +2,13 @@
 // the shipped scenes and on a mirror-and-glass scene (σ from the per-pass block means).
 #include <gtest/gtest.h>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/bdpt/integrator.h"
 #include "tests/block_compare.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 TEST(Bdpt, CornellImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("bdpt", "cornell", 200, 300); }
 TEST(Bdpt, ManyLightsImageAgreesWithPathTracing) {

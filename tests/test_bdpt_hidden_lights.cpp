@@ -12,7 +12,7 @@
 #include <cmath>
 #include <vector>
 
-#include "common/sampling.h"
+#include "common/sampling/sampling.h"
 #include "preprocess/preprocessor.h"
 #include "render/firstshot/lighting.h"
 #include "render/lights/light_emission.h"
@@ -23,9 +23,9 @@
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
-using fs::test::bowlLamp;
-using fs::test::glassBulb;
+using namespace firstshot;
+using firstshot::test::bowlLamp;
+using firstshot::test::glassBulb;
 
 namespace {
 

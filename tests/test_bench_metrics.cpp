@@ -9,8 +9,8 @@
 
 #include "bench/image_metrics.h"
 
-using fs::bench::compareImages;
-using fs::bench::meanImage;
+using firstshot::bench::compareImages;
+using firstshot::bench::meanImage;
 
 TEST(BenchMetrics, UniformTenPercentError) {
   const std::vector<float> ref(300, 1.0f), test(300, 1.1f);

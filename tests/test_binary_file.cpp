@@ -1,7 +1,7 @@
-// The binary files' frame (common/binary_file.h) on a format of its own: the bytes it writes, and every
+// The binary files' frame (common/util/binary_file.h) on a format of its own: the bytes it writes, and every
 // refusal naming the file and the place at fault; then the same refusals through the readers of the
 // three formats that use it (.fsd, .fsic, checkpoints).
-#include "common/binary_file.h"
+#include "common/util/binary_file.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -12,15 +12,15 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/firstshot.h"
+#include "common/table/firstshot.h"
+#include "common/util/error.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
 #include "render/loop/checkpoint.h"
 #include "render/output/film.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

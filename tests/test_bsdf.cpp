@@ -1,4 +1,4 @@
-// BSDFs (common/bsdf.h): analytic values, reciprocity, energy bounds, and statistical agreement of
+// BSDFs (common/materials/bsdf.h): analytic values, reciprocity, energy bounds, and statistical agreement of
 // sample() with eval()/pdf().
 //
 // Thresholds: Monte Carlo means within 3 standard errors (computed from the samples) of the analytic
@@ -9,16 +9,16 @@
 
 #include <cstdio>
 
-#include "common/bsdf.h"
-#include "common/fresnel.h"
-#include "common/rng.h"
-#include "common/sampling.h"
-#include "common/scene_desc.h"
+#include "common/materials/bsdf.h"
+#include "common/materials/fresnel.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
+#include "common/scene/scene_desc.h"
 #include "tests/bsdf_checks.h"
 #include "tests/direction_histogram.h"
 #include "tests/stats.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using test::RunningStats;
@@ -370,4 +370,4 @@ TEST(MakeBSDF, MapsMaterials) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -8,14 +8,15 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "common/patch_size.h"
+#include "common/formats/load_scene.h"
+#include "common/patches/patch_size.h"
 #include "tests/bundle_util.h"
 #include "tests/render_util.h"
 #include "tests/stats.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -5,12 +5,13 @@
 
 #include <fmt/core.h>
 
+#include "common/formats/load_scene.h"
+#include "common/table/firstshot.h"
 #include "tests/bundle_util.h"
 #include "tests/render_util.h"
-#include "common/firstshot.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

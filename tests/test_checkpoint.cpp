@@ -9,15 +9,16 @@
 #include <filesystem>
 #include <fstream>
 
-#include "common/error.h"
-#include "render/loop/checkpoint.h"
+#include "common/formats/load_scene.h"
+#include "common/util/error.h"
 #include "render/integrators/irradiance_cache/integrator.h"
+#include "render/loop/checkpoint.h"
 #include "render/loop/splat_renderer.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

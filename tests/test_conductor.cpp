@@ -1,7 +1,7 @@
-// A conductor's Fresnel (common/conductor_fresnel.h) against the complex-amplitude formulae evaluated independently
+// A conductor's Fresnel (common/materials/conductor_fresnel.h) against the complex-amplitude formulae evaluated independently
 // in double, its limits (normal incidence, grazing, k = 0 = the dielectric, η = 0 and k = 1 = the ideal mirror) and
-// hemispherical mean; the named presets; the Beckmann lobe (common/beckmann.h); and the mirror and the rough metal
-// with a conductor's Fresnel (common/bsdf.h): the tint scales the whole Fresnel, white furnace with Fresnel 1,
+// hemispherical mean; the named presets; the Beckmann lobe (common/materials/beckmann.h); and the mirror and the rough metal
+// with a conductor's Fresnel (common/materials/bsdf.h): the tint scales the whole Fresnel, white furnace with Fresnel 1,
 // reciprocity, sampling against pdf.
 //
 // Thresholds: float against double within 2e-6 absolute (F ∈ [0, 1]); Monte Carlo means within 4 standard errors
@@ -11,14 +11,14 @@
 #include <complex>
 #include <cstdio>
 
-#include "common/bsdf.h"
-#include "common/conductor_fresnel.h"
-#include "common/conductor_presets.h"
-#include "common/fresnel.h"
-#include "common/scene_desc.h"
+#include "common/materials/bsdf.h"
+#include "common/materials/conductor_fresnel.h"
+#include "common/materials/conductor_presets.h"
+#include "common/materials/fresnel.h"
+#include "common/scene/scene_desc.h"
 #include "tests/bsdf_checks.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using test::dirFromAngles;
@@ -292,4 +292,4 @@ TEST(ConductorBsdf, MaterialCarriesTheFresnelToTheBsdf) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -8,18 +8,20 @@
 
 #include <cmath>
 
-#include "common/error.h"
-#include "common/patch_cutouts.h"
-#include "common/texture.h"
+#include "common/formats/json/scene_json.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
+#include "common/patches/patch_cutouts.h"
+#include "common/util/error.h"
 #include "preprocess/embree_item_buffer.h"
-#include "preprocess/gl_item_buffer.h"
+#include "preprocess/gl/gl_item_buffer.h"
 #include "preprocess/preprocessor.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "shipped_first_shot.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -13,18 +13,18 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/sky_desc.h"
+#include "common/scene/sky_desc.h"
+#include "common/util/error.h"
+#include "preprocess/preprocessor.h"
 #include "render/output/falsecolor.h"
 #include "render/output/film.h"
-#include "preprocess/preprocessor.h"
 #include "render/sensors/daylight_factor.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "shipped_first_shot.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The tabulated distribution (common/distribution_1d.h) against the hand-written CDFs it replaces: the discrete view
+// The tabulated distribution (common/sampling/distribution_1d.h) against the hand-written CDFs it replaces: the discrete view
 // picks the cell that a binary search over the whole CDF picks (the guide table only narrows the search, bucket edges
 // included), its rest is u's position in the cell's interval, in [0, 1), probability() is the interval's width; a
 // float table rounds as a float CDF summed in double; zero cells are never drawn and an all-zero table is uniform;
@@ -9,10 +9,10 @@
 #include <cmath>
 #include <vector>
 
-#include "common/distribution_1d.h"
-#include "common/rng.h"
+#include "common/sampling/distribution_1d.h"
+#include "common/sampling/rng.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Environment maps and their sampling (common/distribution_2d.h, render/lights/environment_map.h): the map's density
+// Environment maps and their sampling (common/sampling/distribution_2d.h, render/scene/environment_map.h): the map's density
 // equals its luminance × sin θ over the normalisation, integrates to 1 over the sphere (Monte Carlo, 4σ), and
 // sample() returns what pdf() says; texel frequencies pass a χ² test; a constant map is a furnace (irradiance π·L on
 // any plane, 4σ); the mapping of directions to texels (zenith at the top row, −z at the centre) and the rotation.
@@ -6,14 +6,14 @@
 
 #include <cmath>
 
-#include "common/distribution_2d.h"
-#include "common/error.h"
-#include "common/rng.h"
-#include "common/sampling.h"
-#include "render/lights/environment_map.h"
+#include "common/sampling/distribution_2d.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
+#include "common/util/error.h"
+#include "render/scene/environment_map.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

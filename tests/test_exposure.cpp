@@ -4,14 +4,14 @@
 
 #include <thread>
 
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/exposure.h"
 #include "preprocess/item_buffer.h"
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -6,8 +6,8 @@
 
 #include "render/output/falsecolor.h"
 
-using namespace fs;
-using namespace fs::falsecolor;
+using namespace firstshot;
+using namespace firstshot::falsecolor;
 
 namespace {
 

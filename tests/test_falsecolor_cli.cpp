@@ -9,13 +9,13 @@
 #include <fstream>
 #include <sstream>
 
-#include "common/math.h"
-#include "common/photometry.h"
+#include "common/lights/photometry.h"
+#include "common/util/math.h"
 #include "render/output/falsecolor.h"
 #include "render/output/film.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

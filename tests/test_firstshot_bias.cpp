@@ -10,13 +10,14 @@
 #include <chrono>
 #include <cstdlib>
 
-#include "common/analytic.h"
-#include "common/sampling.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/form_factors.h"
+#include "common/sampling/sampling.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 
@@ -128,7 +129,7 @@ TEST(FirstShotBias, ManyLightsImageMeanAgreesWithNee) {
   expectUnbiased("many-lights", imageBias(desc, 8));
 }
 
-// The shipped scenes as a user's scene would come, with no patch size: the automatic size (common/patch_size.h)
+// The shipped scenes as a user's scene would come, with no patch size: the automatic size (common/patches/patch_size.h)
 // and its refinement keep the image within 0.3% of NEE (measured at 64×64 × 128 spp: cornell −0.077% ± 0.029%,
 // many-lights −0.009% ± 0.001%, sierpinski-glossy −0.039% ± 0.002%, fixture-room −0.046% ± 0.009%, office-floor
 // −0.015% ± 0.013%; FSBIAS_PS=0 FSBIAS_MPS=0 with FirstShotBias.DISABLED_Measure).

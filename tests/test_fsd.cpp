@@ -10,13 +10,14 @@
 #include <limits>
 #include <tuple>
 
-#include "common/error.h"
-#include "common/firstshot.h"
-#include "common/hash.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "common/util/error.h"
+#include "common/util/hash.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {

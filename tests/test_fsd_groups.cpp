@@ -1,4 +1,4 @@
-// Grouped factors in the .fsd file (common/firstshot_groups.h): the table read back is the
+// Grouped factors in the .fsd file (common/table/firstshot_groups.h): the table read back is the
 // preprocessor's bit for bit, the file shrinks by about the light's vertex count where the light
 // is fully visible, and a compact table renders the same image as the table it was written from.
 #include <gtest/gtest.h>
@@ -6,15 +6,16 @@
 #include <bit>
 #include <filesystem>
 
-#include "common/firstshot.h"
-#include "common/firstshot_groups.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "common/table/firstshot_groups.h"
 #include "preprocess/preprocessor.h"
 #include "render/scene/render_scene.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

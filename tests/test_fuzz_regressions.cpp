@@ -1,6 +1,6 @@
 // The fuzz targets' inputs replayed in the normal build, through the same entry points
 // (tests/fuzz/entry_points.h; docs/robustness.md, "Fuzzing"):
-//  - every saved finding (tests/fuzz/regressions/<target>/*) ends in a clean fs::InputError, not a crash,
+//  - every saved finding (tests/fuzz/regressions/<target>/*) ends in a clean firstshot::InputError, not a crash,
 //    or loads if its name says ".loads." (a file the reader cannot tell from a valid one: the crash was
 //    in how it was read; e.g. a light index that only the scene can refute);
 //  - every seed (tests/fuzz/corpus/<target>/*) still loads, so the corpora keep starting from valid files.
@@ -11,11 +11,11 @@
 #include <fstream>
 #include <iterator>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "tests/fuzz/entry_points.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 struct FuzzInput {
@@ -65,4 +65,4 @@ INSTANTIATE_TEST_SUITE_P(Regressions, FuzzFinding, testing::ValuesIn(inputsUnder
 INSTANTIATE_TEST_SUITE_P(Corpus, FuzzSeed, testing::ValuesIn(inputsUnder("tests/fuzz/corpus")), testName);
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -1,4 +1,4 @@
-// EGL device selection (preprocess/egl_devices.h, --gl-device): EGL lists at least one device here
+// EGL device selection (preprocess/gl/egl_devices.h, --gl-device): EGL lists at least one device here
 // (Mesa's software device; on a GPU machine the GPU too), each opens an OpenGL 4.5 context, a device number out of
 // range is an input error naming the count, the summary line names the GL_RENDERER the item buffers ran on, and
 // --backend auto takes GL on a GPU only. And firstshot-fsd-compare's measure (preprocess/table_compare.h).
@@ -6,14 +6,15 @@
 
 #include <regex>
 
-#include "common/error.h"
-#include "common/scene_desc.h"
-#include "preprocess/gl_context.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
+#include "preprocess/gl/gl_context.h"
 #include "preprocess/preprocessor.h"
 #include "preprocess/table_compare.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 const std::string kPreprocess = FIRSTSHOT_PREPROCESS_EXE;
@@ -140,4 +141,4 @@ TEST(TableCompare, FindsAChangedFactorAndNothingElse) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -1,4 +1,4 @@
-// Shader programs compiled and linked once for every GL user (common/gl_program.h), on a headless OSMesa context:
+// Shader programs compiled and linked once for every GL user (common/gl/gl_program.h), on a headless OSMesa context:
 // a program that compiles and links is returned; a shader that does not compile throws a message naming the
 // program, the stage and the compiler's log; a program that does not link names the program and carries the
 // linker's log.
@@ -10,10 +10,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "common/gl_program.h"
-#include "preprocess/gl_context.h"
+#include "common/gl/gl_program.h"
+#include "preprocess/gl/gl_context.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Item buffers reduced on the GPU (preprocess/gl_reduce.h) against the CPU reduction: the same
+// Item buffers reduced on the GPU (preprocess/gl/gl_reduce.h) against the CPU reduction: the same
 // scene preprocessed with glReduce "cpu" and "gpu" gives the same table within float rounding.
 //
 // Tolerance: the GPU sums fixed-point weights (w · 2^k, k such that a window's total stays below 2^61) where
@@ -10,15 +10,16 @@
 #include <cstdlib>
 #include <string>
 
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
-#include "preprocess/gl_context.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "preprocess/gl/gl_context.h"
 #include "preprocess/preprocessor.h"
 #include "preprocess/profile.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// glTF textures folded into material factors (common/gltf_materials.h, common/texture_image.h): a quad with
+// glTF textures folded into material factors (common/formats/assets/gltf_materials.h, common/materials/texture_image.h): a quad with
 // texture coordinates, its .bin buffer and PNG (libpng) / JPEG (libjpeg) images written here.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -7,14 +7,15 @@
 #include <cstdio>
 #include <jpeglib.h>
 
-#include "common/error.h"
-#include "common/mesh_import.h"
-#include "common/scene_desc.h"
-#include "common/texture.h"
-#include "common/texture_image.h"
+#include "common/formats/assets/mesh_import.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
+#include "common/materials/texture_image.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using ::testing::HasSubstr;
@@ -265,4 +266,4 @@ TEST(TextureImage, DecodesPngAndRefusesOtherBytes) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -1,4 +1,4 @@
-// KHR_materials_transmission (and _volume) as glass (common/gltf_materials.h): a thin-walled transmitting
+// KHR_materials_transmission (and _volume) as glass (common/formats/assets/gltf_materials.h): a thin-walled transmitting
 // material is a thin glass pane whose transmittance is base colour × transmission × a lossless pane's; with a volume
 // it is a solid dielectric; a metal ignores transmission; a rough one is rough glass, with nothing on stderr;
 // and the extension is not reported as unsupported.
@@ -7,12 +7,12 @@
 
 #include <string>
 
-#include "common/mesh_import.h"
-#include "common/scene_desc.h"
-#include "common/thin_glass.h"
+#include "common/formats/assets/mesh_import.h"
+#include "common/materials/thin_glass.h"
+#include "common/scene/scene_desc.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// Writes a one-triangle glTF (positions in a data URI) whose material is @p material (JSON); @return its path.
@@ -80,4 +80,4 @@ TEST(GltfTransmission, MetalIgnoresItAndRoughIsRoughGlass) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

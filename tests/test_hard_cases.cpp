@@ -12,11 +12,11 @@
 #include <cmath>
 #include <vector>
 
-#include "common/analytic.h"
+#include "common/lights/form_factors.h"
 #include "tests/bundle_util.h"
 #include "tests/hard_cases.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -11,13 +11,13 @@
 #include <filesystem>
 #include <string>
 
-#include "common/error.h"
-#include "common/memory_limit.h"
+#include "common/util/error.h"
+#include "common/util/memory_limit.h"
 #include "render/output/film.h"
 #include "tests/hard_cases.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// IES LM-63 files and light units (common/ies.h, common/emission_profile.h, scene keys power /
+// IES LM-63 files and light units (common/lights/ies.h, common/lights/emission_profile.h, scene keys power /
 // lumens / candela): exact flux of the interpolated table, symmetries, the sampling distribution
 // against its pdf, orientation of the table in the scene, and the unit keys.
 #include <fmt/core.h>
@@ -6,17 +6,17 @@
 
 #include <cmath>
 
-#include "common/emission_profile.h"
-#include "common/error.h"
-#include "common/ies.h"
-#include "common/photometry.h"
-#include "common/rng.h"
-#include "common/sampling.h"
+#include "common/lights/emission_profile.h"
+#include "common/lights/ies.h"
+#include "common/lights/photometry.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
+#include "common/util/error.h"
 #include "tests/ies_util.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

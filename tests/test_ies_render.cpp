@@ -7,9 +7,10 @@
 
 #include <cmath>
 
-#include "common/ies.h"
-#include "common/photometry.h"
-#include "common/rng.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/ies.h"
+#include "common/lights/photometry.h"
+#include "common/sampling/rng.h"
 #include "preprocess/preprocessor.h"
 #include "render/firstshot/lighting.h"
 #include "render/sensors/sensors.h"
@@ -19,7 +20,7 @@
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

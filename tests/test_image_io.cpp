@@ -4,11 +4,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "render/output/image_io.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 // Float EXR with AOV channels: every value back exactly, colour channels first whatever EXR's sorted order.
 TEST(ImageIo, ExrRoundTripKeepsValuesAndPutsColourFirst) {

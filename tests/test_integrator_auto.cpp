@@ -40,12 +40,12 @@ std::string choice(const std::string& output) {
 }  // namespace
 
 TEST(IntegratorPilot, StaysWithinFivePercentOfTheCameraSamples) {
-  fs::CameraDesc cam;
+  firstshot::CameraDesc cam;
   for (const auto& [w, h, spp, k] : std::vector<std::tuple<int, int, int, size_t>>{
            {512, 512, 64, 8}, {160, 120, 256, 4}, {128, 128, 1024, 8}, {1920, 1080, 16, 8}, {100, 300, 512, 4}}) {
     cam.width = w;
     cam.height = h;
-    const fs::PilotPlan plan = fs::planPilot(cam, spp, k);
+    const firstshot::PilotPlan plan = firstshot::planPilot(cam, spp, k);
     SCOPED_TRACE(testing::Message() << w << "x" << h << " " << spp << " spp, " << k << " candidates");
     ASSERT_TRUE(plan.run);
     EXPECT_LE(double(plan.samples() * k), 0.05 * w * h * spp);
@@ -56,70 +56,70 @@ TEST(IntegratorPilot, StaysWithinFivePercentOfTheCameraSamples) {
 }
 
 TEST(IntegratorPilot, NoPilotWhereTheBudgetIsTooSmall) {
-  fs::CameraDesc cam;
+  firstshot::CameraDesc cam;
   cam.width = 32;
   cam.height = 32;
-  EXPECT_FALSE(fs::planPilot(cam, 16, 8).run);   // 16 k camera samples: 5% is 51 per image
-  EXPECT_FALSE(fs::planPilot(cam, 4096, 1).run); // one candidate: nothing to choose
+  EXPECT_FALSE(firstshot::planPilot(cam, 16, 8).run);   // 16 k camera samples: 5% is 51 per image
+  EXPECT_FALSE(firstshot::planPilot(cam, 4096, 1).run); // one candidate: nothing to choose
   cam.width = cam.height = 256;
-  EXPECT_TRUE(fs::planPilot(cam, 64, 4).run);
+  EXPECT_TRUE(firstshot::planPilot(cam, 64, 4).run);
 }
 
 TEST(IntegratorPilot, NoiseIsTheRelativeRmsOfOneImage) {
   // Two images 1 + e and 1 − e per channel, mean 1: RMS((a − b)/√2) = 2e/√2 = e√2.
   const double e = 0.03;
   const std::vector<double> a(300, 1.0 + e), b(300, 1.0 - e);
-  EXPECT_NEAR(fs::pilotNoise(a, b), e * std::sqrt(2.0), 1e-12);
+  EXPECT_NEAR(firstshot::pilotNoise(a, b), e * std::sqrt(2.0), 1e-12);
   // Scale-free: ten times the light, the same relative noise.
   std::vector<double> a10(a), b10(b);
   for (double& v : a10) v *= 10.0;
   for (double& v : b10) v *= 10.0;
-  EXPECT_NEAR(fs::pilotNoise(a10, b10), fs::pilotNoise(a, b), 1e-12);
-  EXPECT_EQ(fs::pilotNoise(std::vector<double>(3, 0.0), std::vector<double>(3, 0.0)), 0.0);  // black: no figure
+  EXPECT_NEAR(firstshot::pilotNoise(a10, b10), firstshot::pilotNoise(a, b), 1e-12);
+  EXPECT_EQ(firstshot::pilotNoise(std::vector<double>(3, 0.0), std::vector<double>(3, 0.0)), 0.0);  // black: no figure
   // A lamp pixel 1000 and 2000 among 99 pixels of 1: both count as 5 m, m = (3000 + 198)/200 = 15.99.
   std::vector<double> lampA(100, 1.0), lampB(100, 1.0);
   lampA[0] = 1000.0;
   lampB[0] = 2000.0;
-  EXPECT_EQ(fs::pilotNoise(lampA, lampB), 0.0);
+  EXPECT_EQ(firstshot::pilotNoise(lampA, lampB), 0.0);
   lampB[1] = 1.5;  // and one ordinary pixel's difference of 0.5 is what remains
-  EXPECT_NEAR(fs::pilotNoise(lampA, lampB), std::sqrt(0.25 / 200.0) / ((3000.0 + 196.0 + 2.5) / 200.0), 1e-12);
+  EXPECT_NEAR(firstshot::pilotNoise(lampA, lampB), std::sqrt(0.25 / 200.0) / ((3000.0 + 196.0 + 2.5) / 200.0), 1e-12);
 }
 
 TEST(IntegratorPilot, TheMostEfficientWins) {
-  std::vector<fs::PilotFigure> f(3);
+  std::vector<firstshot::PilotFigure> f(3);
   f[0].efficiency = 1.0;
   f[1].efficiency = 3.0;
   f[2].efficiency = 3.0;
-  EXPECT_EQ(fs::bestPilotFigure(f), 1u);  // the first of equals
+  EXPECT_EQ(firstshot::bestPilotFigure(f), 1u);  // the first of equals
 }
 
 TEST(IntegratorAuto, TheChoiceIsTheSameForOneAndTwoThreads) {
-  const std::string dir = fs::test::tempDir(), scene = fs::test::source("scenes/cornell.json");
+  const std::string dir = firstshot::test::tempDir(), scene = firstshot::test::source("scenes/cornell.json");
   // --time: the pilot takes its size from the scene's 64 spp, the render itself one pass.
   const std::string base = kRender + " " + scene + " --width 64 --height 64 --time 0.001 --seed 7 -o " + dir + "/a.exr";
-  const auto one = fs::test::run(base + " --threads 1");
-  const auto two = fs::test::run(base + " --threads 2");
+  const auto one = firstshot::test::run(base + " --threads 1");
+  const auto two = firstshot::test::run(base + " --threads 2");
   ASSERT_EQ(one.exitCode, 0) << one.output;
   ASSERT_EQ(two.exitCode, 0) << two.output;
   ASSERT_FALSE(pilotTable(one.output).empty()) << one.output;
   EXPECT_EQ(pilotTable(one.output), pilotTable(two.output));  // every figure, digit for digit, and the choice
   for (const char* name : {"path", "irradiance-cache", "light", "bdpt"}) EXPECT_THAT(one.output, HasSubstr(name));
   // Another seed measures other noise.
-  const auto other = fs::test::run(kRender + " " + scene + " --width 64 --height 64 --time 0.001 --seed 8 -o " + dir +
+  const auto other = firstshot::test::run(kRender + " " + scene + " --width 64 --height 64 --time 0.001 --seed 8 -o " + dir +
                                    "/b.exr");
   ASSERT_EQ(other.exitCode, 0) << other.output;
   EXPECT_NE(pilotTable(one.output), pilotTable(other.output));
 }
 
 TEST(IntegratorAuto, OptionsGivenNarrowTheChoice) {
-  const std::string dir = fs::test::tempDir(), scene = fs::test::source("scenes/cornell.json");
-  const auto r = fs::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 --light-paths 2 -o " + dir + "/a.exr");
+  const std::string dir = firstshot::test::tempDir(), scene = firstshot::test::source("scenes/cornell.json");
+  const auto r = firstshot::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 --light-paths 2 -o " + dir + "/a.exr");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_THAT(r.output, HasSubstr("--integrator auto: light (the only integrator that reads the options given)"));
-  const auto small = fs::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 -o " + dir + "/b.exr");
+  const auto small = firstshot::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 -o " + dir + "/b.exr");
   ASSERT_EQ(small.exitCode, 0) << small.output;
   EXPECT_THAT(small.output, HasSubstr("--integrator auto: path (16 x 16 at 2 spp leaves no room for a pilot)"));
-  const auto none = fs::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 --light-paths 2 "
+  const auto none = firstshot::test::run(kRender + " " + scene + " --width 16 --height 16 --spp 2 --light-paths 2 "
                                   "--accuracy 0.3 -o " + dir + "/c.exr");
   EXPECT_EQ(none.exitCode, 2) << none.output;
   EXPECT_THAT(none.output, HasSubstr("auto: no integrator reads all of"));
@@ -129,22 +129,22 @@ TEST(IntegratorAuto, ABulbBehindGlassGoesToLightTracing) {
   // No shadow ray passes the envelope: the path tracer and the cache find the filament only through BSDF samples
   // that refract into it, light tracing shoots from it (over 100x in the pilot). --time: the pilot takes its size
   // from the scene's 64 spp, the render one pass.
-  const std::string dir = fs::test::tempDir(), scene = fs::test::source("scenes/glass-bulb-room.json");
-  const auto r = fs::test::run(kRender + " " + scene + " --width 80 --height 60 --time 0.01 -o " + dir + "/a.exr");
+  const std::string dir = firstshot::test::tempDir(), scene = firstshot::test::source("scenes/glass-bulb-room.json");
+  const auto r = firstshot::test::run(kRender + " " + scene + " --width 80 --height 60 --time 0.01 -o " + dir + "/a.exr");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(choice(r.output), "light") << r.output;
 }
 
 TEST(IntegratorAuto, ResumeTakesTheCheckpointsChoice) {
   // The first render's --time sizes a pilot; the resumed one's would not: it takes the choice the checkpoint holds.
-  const std::string dir = fs::test::tempDir(), scene = fs::test::source("scenes/cornell.json");
+  const std::string dir = firstshot::test::tempDir(), scene = firstshot::test::source("scenes/cornell.json");
   const std::string base = kRender + " " + scene + " --width 64 --height 48 --threads 2";
-  const auto stopped = fs::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base +
+  const auto stopped = firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base +
                                      " --time 100 --checkpoint 1000 -o " + dir + "/a.exr");
   ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
   const std::string chosen = choice(stopped.output);
   ASSERT_FALSE(chosen.empty()) << stopped.output;
-  const auto resumed = fs::test::run(base + " --time 0.2 --resume -o " + dir + "/a.exr");
+  const auto resumed = firstshot::test::run(base + " --time 0.2 --resume -o " + dir + "/a.exr");
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
   EXPECT_THAT(resumed.output, HasSubstr("--integrator auto: " + chosen + " (the choice of the render in the checkpoint)"));
 }
@@ -153,7 +153,7 @@ TEST(IntegratorAuto, ATableOfLuminairesAloneIsNotTriedTwice) {
   // A point light in a clear glass sphere is a luminaire: the table replaces no light, so --patch-nee and
   // --shoot-firstshot would change nothing, and the pilot tries each integrator once. Without the glass the table
   // replaces the light: the variants are tried.
-  const std::string dir = fs::test::tempDir(), pre = FIRSTSHOT_PREPROCESS_EXE;
+  const std::string dir = firstshot::test::tempDir(), pre = FIRSTSHOT_PREPROCESS_EXE;
   for (const bool glass : {true, false}) {
     const std::string scene = dir + (glass ? "/bulb.json" : "/bare.json"), fsd = scene + ".fsd";
     std::ofstream(scene) << R"({"materials": {"floor": {"type": "diffuse", "albedo": 0.5},
@@ -164,9 +164,9 @@ TEST(IntegratorAuto, ATableOfLuminairesAloneIsNotTriedTwice) {
       "lights": [{"type": "point", "position": [0, 1, 0], "power": 100}],
       "camera": {"position": [0, 1.5, 3], "look_at": [0, 0.5, 0], "fov_y": 50, "resolution": [64, 64]},
       "settings": {"patch_size": 0.5, "spp": 256}})";
-    const auto p = fs::test::run(pre + " " + scene + " --luminaire-particles 65536 --quiet -o " + fsd);
+    const auto p = firstshot::test::run(pre + " " + scene + " --luminaire-particles 65536 --quiet -o " + fsd);
     ASSERT_EQ(p.exitCode, 0) << p.output;
-    const auto r = fs::test::run(kRender + " " + scene + " --firstshot " + fsd + " --time 0.001 -o " + dir + "/a.exr");
+    const auto r = firstshot::test::run(kRender + " " + scene + " --firstshot " + fsd + " --time 0.001 -o " + dir + "/a.exr");
     ASSERT_EQ(r.exitCode, 0) << r.output;
     const std::string table = pilotTable(r.output);
     ASSERT_FALSE(table.empty()) << r.output;

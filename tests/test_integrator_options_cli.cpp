@@ -51,7 +51,7 @@ bool uses(const std::string& integrator, const std::string& option) {
 /// The command line of @p integrator with @p option, writing into @p dir.
 std::string command(const std::string& integrator, const std::string& option, std::string value, const std::string& dir) {
   if (const auto at = value.find("DIR"); at != std::string::npos) value.replace(at, 3, dir);
-  std::string cmd = kRender + " " + fs::test::source("scenes/cornell.json") + " --integrator " + integrator +
+  std::string cmd = kRender + " " + firstshot::test::source("scenes/cornell.json") + " --integrator " + integrator +
                     " --width 8 --height 6 -q -o " + dir + "/out.exr " + option + " " + value;
   if (option != "--iterations") cmd += " --spp 1";
   if (integrator == "bundle" && option != "--bundle-resolution") cmd += " --bundle-resolution 8";
@@ -61,36 +61,36 @@ std::string command(const std::string& integrator, const std::string& option, st
 }  // namespace
 
 TEST(IntegratorOptionsCli, TheTableNamesEveryIntegrator) {
-  for (const std::string& name : fs::integratorNames()) EXPECT_TRUE(kUses.count(name)) << name;
-  EXPECT_EQ(kUses.size(), fs::integratorNames().size());
+  for (const std::string& name : firstshot::integratorNames()) EXPECT_TRUE(kUses.count(name)) << name;
+  EXPECT_EQ(kUses.size(), firstshot::integratorNames().size());
 }
 
 TEST(IntegratorOptionsCli, EachIntegratorRefusesTheOptionsItDoesNotRead) {
-  const std::string dir = fs::test::tempDir();
+  const std::string dir = firstshot::test::tempDir();
   for (const auto& [integrator, used] : kUses)
     for (const auto& [option, value] : kOptions) {
       if (uses(integrator, option)) continue;
       SCOPED_TRACE(integrator + " " + option);
-      const auto r = fs::test::run(command(integrator, option, value, dir));
+      const auto r = firstshot::test::run(command(integrator, option, value, dir));
       EXPECT_EQ(r.exitCode, 2) << r.output;
       EXPECT_THAT(r.output, HasSubstr("error: " + option + ": not used by --integrator " + integrator + " (used by: "));
     }
 }
 
 TEST(IntegratorOptionsCli, TheMessageListsTheIntegratorsThatReadIt) {
-  const std::string dir = fs::test::tempDir();
-  const auto r = fs::test::run(command("path", "--shoot-firstshot", "off", dir));
+  const std::string dir = firstshot::test::tempDir();
+  const auto r = firstshot::test::run(command("path", "--shoot-firstshot", "off", dir));
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("error: --shoot-firstshot: not used by --integrator path (used by: light, bdpt)"));
 }
 
 TEST(IntegratorOptionsCli, EachIntegratorAcceptsTheOptionsItReads) {
-  const std::string dir = fs::test::tempDir();
+  const std::string dir = firstshot::test::tempDir();
   for (const auto& [integrator, used] : kUses)
     for (const auto& [option, value] : kOptions) {
       if (!uses(integrator, option)) continue;
       SCOPED_TRACE(integrator + " " + option);
-      const auto r = fs::test::run(command(integrator, option, value, dir));
+      const auto r = firstshot::test::run(command(integrator, option, value, dir));
       EXPECT_EQ(r.exitCode, 0) << r.output;
     }
 }

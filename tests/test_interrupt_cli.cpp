@@ -1,4 +1,4 @@
-// SIGINT and SIGTERM on the real binaries (common/interrupt.h): firstshot-render and
+// SIGINT and SIGTERM on the real binaries (common/util/interrupt.h): firstshot-render and
 // firstshot-preprocess stop with exit code 130 / 143 and a message, and leave no output and no
 // temporary file, also when the signal comes while an output or the irradiance cache file is being
 // written; firstshot-render --checkpoint / --resume continues an interrupted render to the same
@@ -15,7 +15,7 @@
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -13,7 +13,7 @@
 
 #include "render/integrators/irradiance_cache/cache.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

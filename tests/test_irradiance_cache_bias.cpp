@@ -14,12 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "common/formats/load_scene.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -10,12 +10,12 @@
 #include <filesystem>
 #include <fstream>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/irradiance_cache_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

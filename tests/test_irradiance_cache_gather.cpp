@@ -10,12 +10,12 @@
 
 #include <cmath>
 
-#include "common/analytic.h"
+#include "common/lights/form_factors.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/render_util.h"
 #include "tests/stats.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -9,6 +9,7 @@
 
 #include <chrono>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/render_util.h"
@@ -16,7 +17,7 @@
 #include "tests/stats.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

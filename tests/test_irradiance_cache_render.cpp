@@ -11,12 +11,13 @@
 
 #include <fmt/core.h>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "render/integrators/path/integrator.h"
 #include "tests/irradiance_cache_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 
@@ -155,7 +156,7 @@ TEST_F(IrradianceCacheVsPath, AmbientPastTheLastBounce) {
     Film film(kSize, kSize);
     RenderOptions ro;
     ro.spp = 2;
-    fs::render(ic, *camera_, film, ro);
+    firstshot::render(ic, *camera_, film, ro);
     EXPECT_EQ(ic.cache().size(), 0u);
     return film;
   };
@@ -206,7 +207,7 @@ TEST(IrradianceCacheFirstShot, AgreesWithNeeAndGathersFirstShotLight) {
     IrradianceCacheIntegrator ic(io, s);
     ic.preprocess(scene);
     Result r;
-    r.stats = fs::render(ic, camera, r.film, ro);
+    r.stats = firstshot::render(ic, camera, r.film, ro);
     r.records = ic.cache().size();
     return r;
   };

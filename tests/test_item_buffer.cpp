@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "preprocess/embree_item_buffer.h"
-#include "preprocess/gl_item_buffer.h"
+#include "preprocess/gl/gl_item_buffer.h"
 #include "preprocess/window.h"
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -18,7 +18,7 @@
 extern "C" const char* __lsan_default_suppressions() { return "leak:libOSMesa.so\n"; }
 #endif
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 // ---------------------------------------------------------------------------------------------
@@ -557,4 +557,4 @@ INSTANTIATE_TEST_SUITE_P(Backends, ItemBuffer, ::testing::ValuesIn(kBackends),
                          [](const auto& param) { return std::string(param.param); });
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

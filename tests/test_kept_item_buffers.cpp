@@ -3,7 +3,7 @@
 // along the children's shared edges (where the two decide a pixel centre's side in different precision).
 #include <gtest/gtest.h>
 
-#include "common/patches.h"
+#include "common/patches/patches.h"
 #include "preprocess/adaptive_mesh.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/item_buffer.h"
@@ -11,7 +11,7 @@
 #include "preprocess/window.h"
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -6,15 +6,16 @@
 
 #include <fmt/core.h>
 
-#include "common/analytic.h"
-#include "common/sampling.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/form_factors.h"
+#include "common/sampling/sampling.h"
 #include "preprocess/light_samples.h"
 #include "render/lights/next_event.h"
 #include "render/scene/render_scene.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// The shipped bulb room; @p light is set to its emissive sphere's light, @p shape to its shape.
@@ -139,4 +140,4 @@ TEST(LightShadowRays, NeeToAnEmissiveSphereMatchesTheExactIrradiance) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

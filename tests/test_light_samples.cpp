@@ -8,15 +8,16 @@
 #include <string>
 #include <vector>
 
-#include "common/analytic.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/form_factors.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/light_tessellation.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

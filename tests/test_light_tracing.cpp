@@ -4,7 +4,8 @@
 
 #include <fmt/core.h>
 
-#include "common/sampling.h"
+#include "common/formats/load_scene.h"
+#include "common/sampling/sampling.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/common/camera_splat.h"
 #include "tests/block_compare.h"
@@ -13,7 +14,7 @@
 #include "tests/splat_checks.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 using test::blockMeans;
 using test::expectBlocksAgree;

@@ -5,15 +5,16 @@
 
 #include <fmt/core.h>
 
-#include "common/analytic.h"
-#include "common/sampling.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/form_factors.h"
+#include "common/sampling/sampling.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/path/integrator.h"
 #include "tests/bias_util.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -8,7 +8,7 @@
 
 #include "render/lights/light_tree.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

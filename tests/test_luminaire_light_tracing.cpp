@@ -15,7 +15,7 @@
 #include "tests/hidden_lights_scenes.h"
 #include "tests/light_tracing_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

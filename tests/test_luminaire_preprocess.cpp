@@ -12,16 +12,17 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/firstshot.h"
-#include "common/hash.h"
-#include "common/scene_desc.h"
-#include "common/small_lights.h"
+#include "common/formats/json/scene_json.h"
+#include "common/lights/small_light_rule.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "common/util/error.h"
+#include "common/util/hash.h"
 #include "preprocess/luminaires.h"
 #include "preprocess/preprocessor.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {

@@ -1,4 +1,4 @@
-// Luminaires in the path tracer and in light tracing (render/lights/luminaires.h): the exit patches sampled from
+// Luminaires in the path tracer and in light tracing (render/scene/luminaire_boxes.h): the exit patches sampled from
 // outside a luminaire's box and seen through, its lights suppressed past a counted entry; exit particles, and inner
 // particles that end where they leave the box. The images must be the one the same table gives with the luminaires'
 // lights as ordinary lights (--luminaires off), per 8×8 block within 3σ (σ from the per-pass block means), on a bulb in an open metal bowl, a filament in a clear glass envelope, and a point light in a box
@@ -10,12 +10,13 @@
 
 #include <cmath>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "tests/block_compare.h"
 #include "tests/hidden_lights_scenes.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

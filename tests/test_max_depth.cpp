@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/bundle/integrator.h"
 #include "render/integrators/irradiance_cache/integrator.h"
@@ -35,7 +36,7 @@
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

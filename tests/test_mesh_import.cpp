@@ -8,12 +8,13 @@
 #include <sstream>
 #include <utility>
 
-#include "common/error.h"
-#include "common/mesh_import.h"
-#include "common/scene_desc.h"
+#include "common/formats/assets/mesh_import.h"
+#include "common/formats/json/scene_json.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using ::testing::HasSubstr;
@@ -455,4 +456,4 @@ TEST(MeshImport, ObjPhongHighlightIsGlossy) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -1,4 +1,4 @@
-// The GGX microfacet functions (common/microfacet.h) and the glTF metallic-roughness BRDF (common/bsdf.h,
+// The GGX microfacet functions (common/materials/microfacet.h) and the glTF metallic-roughness BRDF (common/materials/bsdf.h,
 // MetallicRoughnessBRDF): normalisation, the white furnace against a deterministic quadrature, reciprocity,
 // energy ≤ 1, sampling against pdf (chi-square), eval/pdf/sample consistency from roughness 0 to 1, and
 // the metallic / dielectric limits.
@@ -10,13 +10,13 @@
 
 #include <cstdio>
 
-#include "common/bsdf.h"
-#include "common/fresnel.h"
-#include "common/microfacet.h"
-#include "common/scene_desc.h"
+#include "common/materials/bsdf.h"
+#include "common/materials/fresnel.h"
+#include "common/materials/microfacet.h"
+#include "common/scene/scene_desc.h"
 #include "tests/bsdf_checks.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using test::dirFromAngles;
@@ -130,7 +130,7 @@ TEST(MetallicRoughness, Reciprocity) {
 TEST(MetallicRoughness, EnergyAtMostOneAtEveryAngle) {
   // White base colour (the most reflective case), every mix: ∫ f cos dω ≤ 1 within 4σ at every incidence angle.
   // (Appendix B's diffuse weight 1 − F(wo·h) gave 1.31 at 80° and 1.52 at 89° for roughness 0.2, metallic 0:
-  // common/bsdf.h.)
+  // common/materials/bsdf.h.)
   for (float r : {0.0f, 0.2f, 0.6f, 1.0f})
     for (float m : {0.0f, 0.5f, 1.0f})
       for (float theta : {0.0f, 30.0f, 60.0f, 80.0f, 89.0f}) {
@@ -253,4 +253,4 @@ TEST(MetallicRoughness, PerPointBaseColourReachesTheModel) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

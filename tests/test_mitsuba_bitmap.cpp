@@ -1,4 +1,4 @@
-// Mitsuba bitmap and checkerboard textures (common/mitsuba_texture.cpp): the same textures as JSON ones, value by value
+// Mitsuba bitmap and checkerboard textures (common/formats/mitsuba/mitsuba_texture.cpp): the same textures as JSON ones, value by value
 // (image, decoding, filter, wrap modes, uv transform) in Mitsuba 3 and 0.6 spelling, nested and by reference; a bitmap
 // with uscale on a rectangle rendered against the JSON quad within 3σ per 8 × 8 block; a bitmap where a constant is
 // taken is its image's mean; bad textures named with element and line.
@@ -9,13 +9,14 @@
 
 #include <cmath>
 
-#include "common/error.h"
-#include "common/texture.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
+#include "common/util/error.h"
 #include "render/output/image_io.h"
 #include "tests/block_compare.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 using ::testing::Not;
 

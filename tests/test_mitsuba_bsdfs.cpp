@@ -1,4 +1,4 @@
-// Mitsuba 0.6's and 3's bsdfs without a model of their own here (common/mitsuba_bsdf.cpp, mitsuba_bsdf_mix.cpp,
+// Mitsuba 0.6's and 3's bsdfs without a model of their own here (common/formats/mitsuba/mitsuba_bsdf.cpp, mitsuba_bsdf_mix.cpp,
 // mitsuba_lobes.cpp): roughdiffuse's albedo against a Monte Carlo estimate of Oren–Nayar's white-sky albedo (3σ);
 // ward's albedo against its closed form; phong, ward, coating, roughcoating, blendbsdf and mask against the JSON
 // materials their documented mappings give, value by value; each approximation noted once; errors with their line.
@@ -10,14 +10,15 @@
 #include <cmath>
 #include <random>
 
-#include "common/error.h"
-#include "common/mitsuba_lobes.h"
-#include "common/scene_desc.h"
-#include "common/texture.h"
+#include "common/formats/load_scene.h"
+#include "common/formats/mitsuba/mitsuba_lobes.h"
+#include "common/materials/texture.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "render/output/image_io.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {
@@ -111,7 +112,7 @@ double orenNayarPi(double rho, double sigma, double ti, double to, double dphi) 
 
 TEST(MitsubaBsdfs, RoughDiffuseHasOrenNayarsWhiteSkyAlbedo) {
   // The white-sky albedo (1/π)∫∫ f cosθi cosθo dωi dωo is the mean of π f over cosine-distributed directions in and
-  // out: a Monte Carlo estimate with its σ, against the material's albedo (the quadrature of common/mitsuba_lobes.h).
+  // out: a Monte Carlo estimate with its σ, against the material's albedo (the quadrature of common/formats/mitsuba/mitsuba_lobes.h).
   const Folder f;
   const double alpha = 0.45, sigma = alpha / std::sqrt(2.0);
   const Color rho(0.2f, 0.5f, 0.9f);

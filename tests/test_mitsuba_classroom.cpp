@@ -6,12 +6,13 @@
 
 #include <filesystem>
 
-#include "common/scene_desc.h"
-#include "common/sky_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/scene/sky_desc.h"
 #include "render/output/image_io.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 const std::string kScene = "../shared/scenes/classroom/scene.xml";

@@ -1,6 +1,6 @@
 // Mitsuba's conductor and roughconductor read as a mirror or the pbr material with a conductor's Fresnel
-// (common/mitsuba_bsdf.cpp): presets, eta/k over ext_eta, Mitsuba 0.x defaults, the microfacet distribution, the JSON
-// keys that say the same (common/scene_json.cpp) and their errors; a mirror of material "none" rendered, reflecting
+// (common/formats/mitsuba/mitsuba_bsdf.cpp): presets, eta/k over ext_eta, Mitsuba 0.x defaults, the microfacet distribution, the JSON
+// keys that say the same (common/formats/json/scene_json.cpp) and their errors; a mirror of material "none" rendered, reflecting
 // an emitter exactly, and a tinted copper mirror reflecting tint × F0; the Veach MIS scene's plates as the file says.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -9,12 +9,13 @@
 
 #include <filesystem>
 
-#include "common/conductor_presets.h"
-#include "common/error.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/conductor_presets.h"
+#include "common/util/error.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {

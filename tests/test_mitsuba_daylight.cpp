@@ -1,4 +1,4 @@
-// Mitsuba's daylight and environment emitters (common/mitsuba_emitters.cpp): sunsky against the JSON Preetham sky
+// Mitsuba's daylight and environment emitters (common/formats/mitsuba/mitsuba_emitters.cpp): sunsky against the JSON Preetham sky
 // with the same parameters (the same SceneDesc), the sky's and the sun's brightness at scale 1 against values measured
 // from Mitsuba 0.6's own model, its sun position, envmap's lat-long convention against Mitsuba's lookup formula, the
 // constant environment, and the errors.
@@ -9,16 +9,17 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "common/error.h"
-#include "common/mitsuba_daylight.h"
-#include "common/photometry.h"
-#include "common/sky_desc.h"
-#include "render/lights/environment_map.h"
-#include "render/lights/sky_light.h"
+#include "common/formats/load_scene.h"
+#include "common/formats/mitsuba/mitsuba_daylight.h"
+#include "common/lights/photometry.h"
+#include "common/scene/sky_desc.h"
+#include "common/util/error.h"
 #include "render/output/image_io.h"
+#include "render/scene/environment_map.h"
+#include "render/scene/sky_light.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {

@@ -1,4 +1,4 @@
-// Mitsuba shapes and cameras (common/mitsuba_shapes.cpp, common/mitsuba_serialized.cpp, common/camera_fov.h):
+// Mitsuba shapes and cameras (common/formats/mitsuba/mitsuba_shapes.cpp, common/formats/mitsuba/mitsuba_serialized.cpp, common/scene/camera_fov.h):
 // a serialized file written here in the format's layout against the same mesh as OBJ (the same SceneDesc and the
 // same image), corrupt and truncated serialized files named precisely, the cylinder's area and normals, shape groups'
 // instances as transformed copies, and the field of view kept on a sensor's fov_axis when the resolution changes.
@@ -11,21 +11,22 @@
 #include <cstring>
 #include <random>
 
-#include "common/camera_fov.h"
-#include "common/error.h"
-#include "common/mitsuba_serialized.h"
-#include "common/mitsuba_shapes.h"
-#include "common/scene_shapes.h"
+#include "common/formats/load_scene.h"
+#include "common/formats/mitsuba/mitsuba_serialized.h"
+#include "common/formats/mitsuba/mitsuba_shapes.h"
+#include "common/scene/camera_fov.h"
+#include "common/scene/scene_shapes.h"
+#include "common/util/error.h"
 #include "tests/block_compare.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {
 
-// --- A writer of Mitsuba's serialized format (common/mitsuba_serialized.h has the layout) ---------------------------
+// --- A writer of Mitsuba's serialized format (common/formats/mitsuba/mitsuba_serialized.h has the layout) ---------------------------
 
 /// One shape to write: reals per vertex as the flags say, 3 indices per triangle.
 struct SerialShape {

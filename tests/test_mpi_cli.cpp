@@ -9,7 +9,7 @@
 #include "render/output/film.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 // Root in a container: Open MPI refuses to start without these (harmless otherwise).
@@ -127,4 +127,4 @@ TEST_F(MpiCli, SensorsGiveTheSameResultsForOneTwoAndThreeRanks) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -1,4 +1,4 @@
-// The integrators' rank-split preprocessing (common/comm.h), simulated by threads: with 2 and 3
+// The integrators' rank-split preprocessing (common/util/comm.h), simulated by threads: with 2 and 3
 // ranks every rank ends with exactly the state of one process, bit for bit.
 // - Irradiance cache: the two-pass fill's records, every level, in order, with their radii.
 // - Ray bundles: I_k, P_k, D_k and the outgoing radiance of every element side after each
@@ -9,15 +9,16 @@
 #include <csignal>
 #include <mutex>
 
-#include "common/error.h"
-#include "common/interrupt.h"
-#include "render/scene/camera.h"
+#include "common/formats/load_scene.h"
+#include "common/util/error.h"
+#include "common/util/interrupt.h"
 #include "render/integrators/bundle/integrator.h"
 #include "render/integrators/irradiance_cache/integrator.h"
+#include "render/scene/camera.h"
 #include "tests/irradiance_cache_util.h"
 #include "tests/thread_comm.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// The raw bytes of @p values (exact comparison, NaN payloads and signed zeros included).
@@ -271,4 +272,4 @@ TEST(MpiBundle, InterruptStopsEveryRankBeforeTheIteration) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

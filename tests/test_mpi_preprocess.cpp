@@ -1,16 +1,17 @@
-// The preprocessor split over ranks (common/comm.h), simulated by threads: the table every rank
+// The preprocessor split over ranks (common/util/comm.h), simulated by threads: the table every rank
 // ends with equals one process's, byte for byte.
 #include <gtest/gtest.h>
 
 #include <mutex>
 
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "preprocess/preprocessor.h"
 #include "tests/test_util.h"
 #include "tests/thread_comm.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 std::string tableBytes(const FirstShotTable& t) {
@@ -53,4 +54,4 @@ TEST(MpiPreprocess, TableIsTheSameForOneTwoAndThreeRanks) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

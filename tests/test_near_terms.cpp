@@ -8,7 +8,7 @@
 
 #include "render/firstshot/near_terms.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -6,16 +6,16 @@
 #include <cstdio>
 #include <set>
 
-#include "common/patches.h"
-#include "common/rng.h"
-#include "common/scene_desc.h"
+#include "common/patches/patches.h"
+#include "common/sampling/rng.h"
+#include "common/scene/scene_desc.h"
 #include "preprocess/embree_item_buffer.h"
 #include "preprocess/item_buffer.h"
 #include "preprocess/occlusion_cull.h"
 #include "preprocess/view.h"
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

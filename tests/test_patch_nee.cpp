@@ -6,13 +6,14 @@
 
 #include <fmt/core.h>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/render_util.h"
 #include "tests/shaded_room.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

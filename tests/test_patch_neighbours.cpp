@@ -1,4 +1,4 @@
-// Patch neighbours (common/patch_neighbours.h): the lists must be exactly the pairs of patches whose
+// Patch neighbours (common/patches/patch_neighbours.h): the lists must be exactly the pairs of patches whose
 // bounding boxes, grown by 10⁻⁵ of the mesh's diagonal, overlap (ascending, the patch itself left
 // out), as an O(n²) test of every pair finds them: on random meshes of mixed sizes, on adaptive
 // meshes with T-junctions, and on meshes whose patches crowd one cell.
@@ -9,12 +9,12 @@
 #include <random>
 #include <vector>
 
-#include "common/patch_neighbours.h"
-#include "common/patches.h"
+#include "common/patches/patch_neighbours.h"
+#include "common/patches/patches.h"
 #include "preprocess/adaptive_mesh.h"
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -3,11 +3,12 @@
 
 #include <cstring>
 
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -15,13 +15,14 @@
 #include <memory>
 #include <string>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "tests/light_tracing_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

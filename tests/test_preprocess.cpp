@@ -6,14 +6,15 @@
 #include <cstdio>
 #include <map>
 
-#include "common/analytic.h"
-#include "common/firstshot.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/form_factors.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "preprocess/preprocessor.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -18,6 +18,7 @@
 #include <optional>
 #include <utility>
 
+#include "common/formats/load_scene.h"
 #include "render/scene/camera.h"
 #include "render/output/film.h"
 #include "render/output/image_io.h"
@@ -28,7 +29,7 @@
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

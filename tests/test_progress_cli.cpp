@@ -1,4 +1,4 @@
-// Progress on the real binaries (common/progress.h): with stderr a pipe, plain lines (a start line,
+// Progress on the real binaries (common/util/progress.h): with stderr a pipe, plain lines (a start line,
 // lines with percentage, done/total, elapsed time and ETA every FIRSTSHOT_PROGRESS_INTERVAL seconds,
 // a closing line with the total time), never a carriage return or an escape code; --quiet: nothing
 // on stderr. And a scene whose table has no patch at all (every surface emissive) preprocesses on
@@ -9,13 +9,13 @@
 #include <regex>
 #include <sstream>
 
-#include "common/firstshot.h"
-#include "preprocess/gl_context.h"
+#include "common/table/firstshot.h"
+#include "preprocess/gl/gl_context.h"
 #include "render/output/film.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

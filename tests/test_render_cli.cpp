@@ -8,12 +8,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "render/output/film.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -5,11 +5,12 @@
 
 #include <fmt/core.h>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

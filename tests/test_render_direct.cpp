@@ -6,10 +6,10 @@
 
 #include <fmt/core.h>
 
-#include "common/lights.h"
+#include "common/lights/spot_cone.h"
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -7,7 +7,7 @@
 
 #include "tests/render_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

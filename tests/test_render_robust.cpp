@@ -9,13 +9,14 @@
 #include <map>
 #include <memory>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/scene/embree_scene.h"
 #include "tests/bundle_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Rough glass (common/rough_dielectric.h): the GGX dielectric and the rough thin pane. White furnace
+// Rough glass (common/materials/rough_dielectric.h): the GGX dielectric and the rough thin pane. White furnace
 // (R + T = 1 minus the multiple-scattering loss, by roughness), generalised reciprocity with η², the adjoint of
 // Importance mode, eval/pdf/sample consistency and chi-square from roughness 0.05 to 1, the smooth (delta) limit,
 // energy ≤ 1, and the JSON keys.
@@ -11,17 +11,18 @@
 #include <cmath>
 #include <cstdio>
 
-#include "common/bsdf.h"
-#include "common/error.h"
-#include "common/fresnel.h"
-#include "common/microfacet.h"
-#include "common/rough_dielectric.h"
-#include "common/scene_desc.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/bsdf.h"
+#include "common/materials/fresnel.h"
+#include "common/materials/microfacet.h"
+#include "common/materials/rough_dielectric.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "tests/bsdf_checks.h"
 #include "tests/quad_over_floor.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using test::dirFromAngles;
@@ -365,4 +366,4 @@ TEST(RoughGlassKeys, MitsubaRoughDielectricIsRoughGlass) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -8,15 +8,16 @@
 
 #include <cmath>
 
-#include "common/bsdf.h"
-#include "common/rng.h"
-#include "common/thin_glass.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/bsdf.h"
+#include "common/materials/thin_glass.h"
+#include "common/sampling/rng.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "shipped_first_shot.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

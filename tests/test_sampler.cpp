@@ -1,4 +1,4 @@
-// The Sobol' mode of fs::Sampler (common/rng.h, firstshot-render --sampler sobol): the first 2^k
+// The Sobol' mode of firstshot::Sampler (common/sampling/rng.h, firstshot-render --sampler sobol): the first 2^k
 // samples of a pixel are (0,2)-stratified in every pair of dimensions, scrambles differ per pixel,
 // values lie in [0, 1), every number is a function of (seed, pixel, sample, dimension) alone; the
 // path tracer's image agrees with the independent sampler's, and its direct light is measurably
@@ -12,12 +12,13 @@
 #include <set>
 #include <vector>
 
-#include "common/rng.h"
+#include "common/formats/load_scene.h"
+#include "common/sampling/rng.h"
 #include "tests/block_compare.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

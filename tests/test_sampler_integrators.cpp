@@ -12,14 +12,15 @@
 #include <string>
 #include <vector>
 
-#include "common/rng.h"
+#include "common/formats/load_scene.h"
+#include "common/sampling/rng.h"
 #include "render/integrators/light/integrator.h"
 #include "render/sensors/sensors.h"
 #include "tests/block_compare.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

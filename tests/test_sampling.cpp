@@ -1,4 +1,4 @@
-// Warps (common/sampling.h) and the deterministic sampler (common/rng.h).
+// Warps (common/sampling/sampling.h) and the deterministic sampler (common/sampling/rng.h).
 //
 // Thresholds: each chi-square test uses a fixed seed and requires p > kAlpha, the Šidák-corrected
 // level for a family-wise false-rejection probability of 1% over the 15 acceptance tests of this
@@ -11,12 +11,12 @@
 #include <cstdio>
 #include <functional>
 
-#include "common/rng.h"
-#include "common/sampling.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
 #include "tests/direction_histogram.h"
 #include "tests/stats.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using test::chiSquareTest;
@@ -343,4 +343,4 @@ TEST(Stats, GammaQMatchesKnownValues) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

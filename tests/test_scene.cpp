@@ -5,13 +5,15 @@
 
 #include <filesystem>
 
-#include "common/error.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/formats/json/scene_json.h"
+#include "common/formats/load_scene.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -8,13 +8,14 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/scene_desc.h"
-#include "common/texture.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "tests/shipped_first_shot.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using ::testing::HasSubstr;
@@ -119,4 +120,4 @@ TEST(SceneAssets, SceneWithoutLightsSaysSo) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -1,22 +1,23 @@
 // Scenes nobody here wrote, at the defaults: the patch size from the scene's own geometry (the same
 // patches in millimetres and kilometres), an emissive mesh sampled as its receivers need, whatever
 // its triangle count.
-#include "common/analytic.h"
-#include "common/error.h"
-#include "common/patch_size.h"
-#include "common/patches.h"
-#include "common/scene_shapes.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/form_factors.h"
+#include "common/patches/patch_size.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_shapes.h"
+#include "common/util/error.h"
 #include "preprocess/light_samples.h"
 #include "preprocess/light_tessellation.h"
 #include "preprocess/preprocessor.h"
-#include "render/scene/camera.h"
 #include "render/integrators/integrator.h"
+#include "render/scene/camera.h"
 #include "render/scene/render_scene.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// @p d with every length multiplied by @p s (vertices, light positions, the camera).
@@ -249,4 +250,4 @@ TEST(PreprocessSettings, TableHoldsTheResolvedSizes) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

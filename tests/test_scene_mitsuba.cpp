@@ -1,4 +1,4 @@
-// Mitsuba 3 XML scenes (common/scene_mitsuba.cpp): each plugin family against the same scene written
+// Mitsuba 3 XML scenes (common/formats/mitsuba/scene_mitsuba.cpp): each plugin family against the same scene written
 // by hand in the JSON format (docs/scene-format.md), value by value; two families also rendered, the
 // image means of the XML and the JSON scene agreeing within 3σ; errors named with element and line.
 #include <gmock/gmock.h>
@@ -8,13 +8,14 @@
 
 #include <array>
 
-#include "common/error.h"
-#include "common/lights.h"
-#include "common/scene_shapes.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/spot_cone.h"
+#include "common/scene/scene_shapes.h"
+#include "common/util/error.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {

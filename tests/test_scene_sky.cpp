@@ -1,4 +1,4 @@
-// The JSON scene format's daylight keys (common/scene_sky.h): the sky's scale by horizontal illuminance or zenith
+// The JSON scene format's daylight keys (common/formats/json/scene_sky.h): the sky's scale by horizontal illuminance or zenith
 // luminance, the sun as a directional light from a direction or from place, date and time (Meeus), the Perez sky's
 // sun from its direct part, the hash, and bad input naming the key.
 #include <fmt/core.h>
@@ -7,14 +7,15 @@
 #include <cmath>
 #include <string>
 
-#include "common/error.h"
-#include "common/perez_sky.h"
-#include "common/photometry.h"
-#include "common/scene_desc.h"
-#include "common/sky_desc.h"
-#include "common/sun_position.h"
+#include "common/formats/json/scene_json.h"
+#include "common/lights/perez_sky.h"
+#include "common/lights/photometry.h"
+#include "common/lights/sun_position.h"
+#include "common/scene/scene_desc.h"
+#include "common/scene/sky_desc.h"
+#include "common/util/error.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -11,14 +11,15 @@
 #include <sstream>
 #include <tuple>
 
-#include "common/patch_size.h"
-#include "common/photometry.h"
-#include "common/sampling.h"
+#include "common/formats/load_scene.h"
+#include "common/lights/photometry.h"
+#include "common/patches/patch_size.h"
+#include "common/sampling/sampling.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -10,12 +10,13 @@
 #include <cmath>
 #include <vector>
 
+#include "common/formats/load_scene.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -6,14 +6,15 @@
 
 #include <fmt/core.h>
 
-#include "common/scene_shapes.h"
-#include "common/texture.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
+#include "common/scene/scene_shapes.h"
 #include "tests/bias_util.h"
 #include "tests/block_compare.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -15,8 +15,8 @@
 #include <cmath>
 #include <string>
 
-#include "common/rng.h"
-#include "common/sampling.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
 #include "preprocess/preprocessor.h"
 #include "render/firstshot/patch_emitters.h"
 #include "render/loop/renderer.h"
@@ -24,7 +24,7 @@
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <vector>
 
+#include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/bdpt/integrator.h"
 #include "render/lights/light_emission.h"
@@ -17,7 +18,7 @@
 #include "tests/splat_checks.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 
@@ -127,7 +128,7 @@ TEST_F(ShootingFirstShotEmission, OverPatchesConservesPower) {
 
 // The option on the command line, for both integrators: both modes render; a value that is not
 // one of them exits 2.
-// The guide table (common/distribution_1d.h) only narrows the search: every u picks the emitter
+// The guide table (common/sampling/distribution_1d.h) only narrows the search: every u picks the emitter
 // that inverting the whole power CDF picks, on the cornell table's 4 k patch sides, the bucket edges
 // included (u = b/n and its neighbouring doubles), where a guide one bucket off would show.
 TEST_F(ShootingFirstShotEmission, GuidedChoiceInvertsThePowerCdf) {

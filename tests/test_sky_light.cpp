@@ -1,4 +1,4 @@
-// The sky, the sun and environment maps as lights of the render scene (render/lights/sky_light.h): the
+// The sky, the sun and environment maps as lights of the render scene (render/scene/sky_light.h): the
 // baked map keeps each model's horizontal illuminance (0.5%); an upward sensor on an unobstructed plane reads the
 // sky's horizontal illuminance plus the sun's (DF = 100%) within 3σ for the CIE overcast, CIE clear and Perez skies;
 // NEE only, BSDF sampling only and their MIS agree within 3σ under a clear sky with an area light beside it; a
@@ -11,21 +11,21 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/perez_sky.h"
-#include "common/photometry.h"
-#include "common/sky_desc.h"
-#include "common/sun_position.h"
+#include "common/lights/perez_sky.h"
+#include "common/lights/photometry.h"
+#include "common/lights/sun_position.h"
+#include "common/scene/sky_desc.h"
+#include "common/util/error.h"
 #include "render/firstshot/lighting.h"
 #include "render/lights/light_sampler.h"
 #include "render/lights/next_event.h"
-#include "render/lights/sky_light.h"
 #include "render/output/image_io.h"
+#include "render/scene/sky_light.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

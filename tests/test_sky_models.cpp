@@ -1,4 +1,4 @@
-// Sky luminance models (common/sky_models.h): the horizontal illuminance each sky was scaled to, checked by an
+// Sky luminance models (common/lights/sky_models.h): the horizontal illuminance each sky was scaled to, checked by an
 // independent Monte Carlo integral (cosine-weighted directions, E = π · mean L, bound 4σ from the samples), the
 // overcast sky's closed form 7π/9 · Lz and its zenith-to-horizon ratio 3, the clear sky's normalisation (relative 1
 // at the zenith), symmetry about the sun's vertical plane, brightest towards the sun and darkest about 90° from it.
@@ -8,12 +8,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/rng.h"
-#include "common/sampling.h"
-#include "common/perez_sky.h"
-#include "common/sky_models.h"
+#include "common/lights/perez_sky.h"
+#include "common/lights/sky_models.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,16 +1,17 @@
-// Spectra → linear sRGB (common/spectrum_rgb.h) against tabulated colorimetry: flat reflectances are grey, D65 and
+// Spectra → linear sRGB (common/color/spectrum_rgb.h) against tabulated colorimetry: flat reflectances are grey, D65 and
 // black bodies land on their published chromaticities, the sRGB transfer function; and the Mitsuba reader's
-// <spectrum>, <blackbody> and <srgb> values (common/mitsuba_xml.cpp).
+// <spectrum>, <blackbody> and <srgb> values (common/formats/mitsuba/mitsuba_xml.cpp).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "common/cie_tables.h"
-#include "common/error.h"
-#include "common/scene_desc.h"
-#include "common/spectrum_rgb.h"
+#include "common/color/cie_tables.h"
+#include "common/color/spectrum_rgb.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 using ::testing::HasSubstr;
 
 namespace {

@@ -1,4 +1,4 @@
-// The sun's position (common/sun_position.h) against published worked examples: Meeus, "Astronomical Algorithms"
+// The sun's position (common/lights/sun_position.h) against published worked examples: Meeus, "Astronomical Algorithms"
 // (2nd ed.) examples 7.a (Julian Day), 12.a (sidereal time) and 25.a (solar coordinates, with the VSOP87 values
 // the example quotes as the truth), and NREL's SPA test case (Reda & Andreas 2004, the topocentric zenith and
 // azimuth at Golden, Colorado). The stated accuracy is 0.01° in the sun's direction; invalid dates are refused.
@@ -6,9 +6,9 @@
 
 #include <cmath>
 
-#include "common/sun_position.h"
+#include "common/lights/sun_position.h"
 
-using namespace fs;
+using namespace firstshot;
 
 TEST(SunPosition, JulianDayOfMeeusExample7a) {
   // 1957 October 4.81 (Sputnik's launch) = JD 2436116.31; J2000.0 = JD 2451545.0.

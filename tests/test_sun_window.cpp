@@ -6,12 +6,12 @@
 
 #include <cmath>
 
-#include "common/firstshot.h"
+#include "common/table/firstshot.h"
 #include "preprocess/preprocessor.h"
 #include "render_util.h"
 #include "test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 constexpr double kE = 5.0;  // the sun's irradiance on a plane facing it, W/m²
@@ -66,4 +66,4 @@ TEST(SunThroughAWindow, TheFloorReceivesThePowerThroughTheOpening) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -1,13 +1,13 @@
-// TableRows (render/firstshot/table_rows.h): the rows of a first-shot table's CSR arrays, factor by
+// TableRows (render/scene/table_rows.h): the rows of a first-shot table's CSR arrays, factor by
 // factor, and the check of their shape.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <vector>
 
-#include "render/firstshot/table_rows.h"
+#include "render/scene/table_rows.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

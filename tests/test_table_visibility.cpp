@@ -10,17 +10,18 @@
 #include <memory>
 #include <string>
 
-#include "common/scene_desc.h"
-#include "render/lights/next_event.h"
+#include "common/formats/load_scene.h"
+#include "common/scene/scene_desc.h"
 #include "render/firstshot/lighting.h"
-#include "render/integrators/irradiance_cache/integrator.h"
 #include "render/integrators/integrator.h"
+#include "render/integrators/irradiance_cache/integrator.h"
+#include "render/lights/next_event.h"
 #include "render/scene/render_scene.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

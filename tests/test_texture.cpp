@@ -4,16 +4,17 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "common/error.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
-#include "common/texture.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "render/output/image_io.h"
 #include "render/scene/surface_textures.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 using ::testing::HasSubstr;
@@ -271,4 +272,4 @@ TEST(Texture, PbrMetallicRoughnessTextureKey) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

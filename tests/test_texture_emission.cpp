@@ -8,9 +8,10 @@
 
 #include <fmt/core.h>
 
-#include "common/emission_texture.h"
-#include "common/error.h"
-#include "common/sampling.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/emission_texture.h"
+#include "common/sampling/sampling.h"
+#include "common/util/error.h"
 #include "preprocess/light_tessellation.h"
 #include "render/output/image_io.h"
 #include "render/sensors/sensors.h"
@@ -20,7 +21,7 @@
 #include "tests/shipped_first_shot.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Texture filters and wrap modes (common/texture.h): a nearest 2 × 2 checker keeps its texels sharp where the bilinear
+// Texture filters and wrap modes (common/materials/texture.h): a nearest 2 × 2 checker keeps its texels sharp where the bilinear
 // lookup blends them; every wrap mode at u = −0.25 and 1.25 against values worked out by hand, for both filters; the
 // glTF sampler's magFilter / minFilter and wrapS / wrapT read from a file, down to the renderer's per-point albedo;
 // the JSON texture's "filter" and per-axis "wrap"; both item-buffer back ends cut a nearest alpha texture as the CPU does.
@@ -7,19 +7,20 @@
 
 #include <cstring>
 
-#include "common/error.h"
-#include "common/patch_cutouts.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
-#include "common/texture.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
+#include "common/patches/patch_cutouts.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "preprocess/embree_item_buffer.h"
-#include "preprocess/gl_item_buffer.h"
+#include "preprocess/gl/gl_item_buffer.h"
 #include "render/output/image_io.h"
 #include "render/scene/surface_textures.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 const Color kBlack(0.0f), kWhite(1.0f);
@@ -260,4 +261,4 @@ TEST(TextureFilter, ItemBuffersCutANearestAlphaTextureAsTheCpu) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot

@@ -9,12 +9,13 @@
 
 #include <fmt/core.h>
 
-#include "common/texture.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/texture.h"
 #include "render/output/image_io.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 
@@ -192,7 +193,7 @@ Vec3 centreShadingNormal(const std::string& obj, std::string* err = nullptr) {
 
 TEST(ObjNormalMaps, BumpHeightMapsBecomeNormalMaps) {
   // A height ramp of 16/255 per texel tilts the normal by atan(16/255) away from where the surface rises
-  // (common/bump_map.h), in the generated frame T = +z (u), B = +x (v), N = +y; one stderr line counts them.
+  // (common/materials/bump_map.h), in the generated frame T = +z (u), B = +x (v), N = +y; one stderr line counts them.
   const float step = 16.0f / 255.0f;
   std::string err;
   const Vec3 alongU = centreShadingNormal(writeBumpObj("bump h.png\n", false), &err);

@@ -6,12 +6,12 @@
 
 #include <fmt/core.h>
 
-#include "common/texture.h"
+#include "common/materials/texture.h"
 #include "tests/bias_util.h"
 #include "tests/render_util.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

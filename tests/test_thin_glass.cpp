@@ -5,14 +5,14 @@
 
 #include <cmath>
 
-#include "common/bsdf.h"
-#include "common/error.h"
-#include "common/rng.h"
-#include "common/scene_desc.h"
-#include "common/thin_glass.h"
+#include "common/materials/bsdf.h"
+#include "common/materials/thin_glass.h"
+#include "common/sampling/rng.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
 #include "tests/quad_over_floor.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -8,21 +8,22 @@
 #include <chrono>
 #include <cmath>
 
-#include "common/thin_glass.h"
+#include "common/formats/load_scene.h"
+#include "common/materials/thin_glass.h"
 #include "preprocess/preprocessor.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "shipped_first_shot.h"
 #include "test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 
 constexpr double kE = 100.0;  // W/m² on a plane facing the light
 
 /// T(θ) of a pane of normal transmittance @p tau and index @p n at incidence cos @p ci, in double, from the
-/// formulas of docs/scene-format.md (an independent evaluation of common/thin_glass.h's).
+/// formulas of docs/scene-format.md (an independent evaluation of common/materials/thin_glass.h's).
 double paneT(double tau, double n, double ci) {
   const double r0 = std::pow((n - 1) / (n + 1), 2), q = (1 - r0) * (1 - r0);
   const double a0 = (-q + std::sqrt(q * q + 4 * tau * tau * r0 * r0)) / (2 * tau * r0 * r0);

@@ -10,7 +10,7 @@
 #include <iterator>
 #include <random>
 
-namespace fs::test {
+namespace firstshot::test {
 
 CommandResult run(const std::string& command) {
   CommandResult r;
@@ -47,4 +47,4 @@ void writeText(const std::string& path, const std::string& text) {
 
 std::string source(const std::string& relative) { return std::string(FIRSTSHOT_SOURCE_DIR) + "/" + relative; }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

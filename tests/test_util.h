@@ -22,7 +22,7 @@
 #define FIRSTSHOT_STATISTICS_ONLY(coveredBy) static_cast<void>(0)
 #endif
 
-namespace fs::test {
+namespace firstshot::test {
 
 struct CommandResult {
   int exitCode = -1;
@@ -44,4 +44,4 @@ void writeText(const std::string& path, const std::string& text);
 /// Path of a file in the source tree, e.g. source("scenes/cornell.json").
 std::string source(const std::string& relative);
 
-}  // namespace fs::test
+}  // namespace firstshot::test

@@ -11,7 +11,7 @@
 #include "tests/shaded_room.h"
 #include "tests/test_util.h"
 
-using namespace fs;
+using namespace firstshot;
 
 namespace {
 

@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <functional>
 
-#include "common/lights.h"
+#include "common/lights/spot_cone.h"
 #include "preprocess/window.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// Σ weight · g(unit pixel direction in the local frame).
@@ -210,9 +210,9 @@ TEST(Window, PixelOrder) {
 }
 
 }  // namespace
-}  // namespace fs
+}  // namespace firstshot
 
-namespace fs {
+namespace firstshot {
 
 // A spot's cube window cropped to its cone: the pixels kept have the same centres and weights, the
 // sum is unchanged, views outside the cone are dropped, and far fewer pixels remain to render.
@@ -253,4 +253,4 @@ TEST(Window, CropToWeightsKeepsEveryWeightedPixel) {
   EXPECT_EQ(matched, cropped.pixelCount());
 }
 
-}  // namespace fs
+}  // namespace firstshot

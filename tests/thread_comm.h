@@ -1,6 +1,6 @@
 #pragma once
 /// @file thread_comm.h
-/// N ranks simulated by N threads of one process (common/comm.h), for tests of the rank-split code
+/// N ranks simulated by N threads of one process (common/util/comm.h), for tests of the rank-split code
 /// paths without mpirun (so they also run under the sanitizers): runRanks(n, f) calls f(comm) on n
 /// threads, each with the Comm of its rank; the exchanges meet at a barrier in call order.
 #include <condition_variable>
@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
-#include "common/comm.h"
+#include "common/util/comm.h"
 
-namespace fs::test {
+namespace firstshot::test {
 
 class ThreadRanks {
  public:
@@ -118,4 +118,4 @@ class ThreadRanks {
 /// Calls @p body(comm) on @p ranks simulated ranks (threads) and waits for all.
 inline void runRanks(int ranks, const std::function<void(Comm&)>& body) { ThreadRanks(ranks).run(body); }
 
-}  // namespace fs::test
+}  // namespace firstshot::test

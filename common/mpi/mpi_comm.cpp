@@ -10,7 +10,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -128,4 +128,4 @@ MpiSession::~MpiSession() {
 
 Comm& MpiSession::comm() { return *comm_; }
 
-}  // namespace fs
+}  // namespace firstshot

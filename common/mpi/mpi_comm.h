@@ -4,9 +4,9 @@
 /// is mpi_comm.cpp. Built only with -DFIRSTSHOT_MPI=ON (docs/mpi.md).
 #include <memory>
 
-#include "common/comm.h"
+#include "common/util/comm.h"
 
-namespace fs {
+namespace firstshot {
 
 /// MPI_Init_thread on construction (MPI_THREAD_SERIALIZED: exchanges may come from any thread, one
 /// at a time), MPI_Finalize on destruction. One per process, made first thing in main().
@@ -24,4 +24,4 @@ class MpiSession {
   std::unique_ptr<Comm> comm_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,4 +1,4 @@
-// The OpenImageIO module: one function, loaded on demand by common/texture.cpp (common/oiio/read_image.h).
+// The OpenImageIO module: one function, loaded on demand by common/materials/texture.cpp (common/oiio/read_image.h).
 #include "common/oiio/read_image.h"
 
 #include <OpenImageIO/filesystem.h>
@@ -7,7 +7,7 @@
 #include <memory>
 
 extern "C" __attribute__((visibility("default"))) void firstshot_read_image(const char* name, const void* bytes,
-                                                                            size_t size, fs::ModuleImage* out) {
+                                                                            size_t size, firstshot::ModuleImage* out) {
   using namespace OIIO;
   std::unique_ptr<Filesystem::IOMemReader> memory;
   if (bytes) memory = std::make_unique<Filesystem::IOMemReader>(bytes, size);

@@ -1,6 +1,6 @@
 #pragma once
 /// @file read_image.h
-/// The interface between common/texture.cpp and the OpenImageIO module (libfirstshot_oiio.so, read_image.cpp),
+/// The interface between common/materials/texture.cpp and the OpenImageIO module (libfirstshot_oiio.so, read_image.cpp),
 /// which texture.cpp loads with dlopen the first time a scene has a texture: Debian's OpenImageIO brings 267
 /// shared libraries and 0.2–0.4 s of start-up (docs/architecture.md, "Image files"), which only scenes with
 /// textures should pay.
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace fs {
+namespace firstshot {
 
 /// An image as the module returns it: float pixels, rows from the top, channels interleaved.
 struct ModuleImage {
@@ -23,4 +23,4 @@ struct ModuleImage {
 using ReadImageFn = void (*)(const char* name, const void* bytes, size_t size, ModuleImage* out);
 inline constexpr const char* kReadImageSymbol = "firstshot_read_image";
 
-}  // namespace fs
+}  // namespace firstshot

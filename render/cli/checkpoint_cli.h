@@ -12,14 +12,14 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/interrupt.h"
-#include "common/scene_desc.h"
-#include "render/loop/checkpoint.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/error.h"
+#include "common/util/interrupt.h"
 #include "render/integrators/integrator.h"
+#include "render/loop/checkpoint.h"
 #include "render/loop/renderer.h"
 
-namespace fs {
+namespace firstshot {
 
 struct CheckpointCli {
   double every = 0;  ///< seconds between checkpoints; 0 = none
@@ -88,7 +88,7 @@ struct CheckpointCli {
   /// total; the returned RenderStats::spp counts the passes of the restored film too.
   RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, RenderOptions ro) {
     ro.cancel = &interruptFlag();
-    if (!active()) return fs::render(integrator, camera, film, ro);
+    if (!active()) return firstshot::render(integrator, camera, film, ro);
     if (resume) {
       passes = readCheckpoint(file, key, film);
       const uint32_t most = *std::max_element(film.sums().count.begin(), film.sums().count.end());
@@ -112,7 +112,7 @@ struct CheckpointCli {
         last = now;
       }
     };
-    RenderStats st = fs::render(integrator, camera, film, ro);
+    RenderStats st = firstshot::render(integrator, camera, film, ro);
     st.spp += ro.firstSample;
     return st;
   }
@@ -135,4 +135,4 @@ struct CheckpointCli {
   }
 };
 
-}  // namespace fs
+}  // namespace firstshot

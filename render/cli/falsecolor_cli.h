@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "render/output/falsecolor.h"
 #include "render/output/film.h"
 #include "render/sensors/sensors.h"
 
-namespace fs {
+namespace firstshot {
 
 struct FalseColorCli {
   std::string units = "radiance";
@@ -126,4 +126,4 @@ struct FalseColorCli {
   }
 };
 
-}  // namespace fs
+}  // namespace firstshot

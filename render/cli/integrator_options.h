@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "render/integrators/integrator.h"
-#include "render/loop/integrator_pilot.h"
 #include "render/integrators/integrator_cli.h"
+#include "render/loop/integrator_pilot.h"
 
-namespace fs {
+namespace firstshot {
 
 struct IntegratorOptionsCli {
   static constexpr const char* kAuto = "auto";  ///< --integrator auto
@@ -189,4 +189,4 @@ struct IntegratorOptionsCli {
   }
 };
 
-}  // namespace fs
+}  // namespace firstshot

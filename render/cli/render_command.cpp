@@ -6,17 +6,18 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "common/camera_fov.h"
-#include "common/cli.h"
-#include "common/firstshot.h"
-#include "common/interrupt.h"
-#include "common/patch_size.h"
-#include "render/scene/camera.h"
+#include "common/formats/load_scene.h"
+#include "common/patches/patch_size.h"
+#include "common/scene/camera_fov.h"
+#include "common/table/firstshot.h"
+#include "common/util/cli.h"
+#include "common/util/interrupt.h"
+#include "render/loop/renderer.h"
 #include "render/output/film.h"
 #include "render/preview/preview_app.h"
-#include "render/loop/renderer.h"
+#include "render/scene/camera.h"
 
-namespace fs {
+namespace firstshot {
 
 RenderCommand::RenderCommand(Comm& comm)
     : comm_(comm),
@@ -111,7 +112,7 @@ void RenderCommand::checkOptions() {
 }
 
 void RenderCommand::loadScene() {
-  scene_ = fs::loadScene(scenePath_);
+  scene_ = firstshot::loadScene(scenePath_);
   if (sensors_.daylightFactor) switchToDaylightFactorScene();
   sensors_.addQuadGrids(scene_, sensorSets_);  // --grid-quad: on the scene's quads
   if (width_ > 0 || height_ > 0)  // the field of view on the scene's axis is kept (a Mitsuba fov_axis x: the horizontal)
@@ -225,7 +226,7 @@ int RenderCommand::runPreview() {
   po.windowGrab = windowGrab_;
   po.exposure = exposure_;
   po.quiet = quiet_;
-  return fs::runPreview(*renderScene_, po);
+  return firstshot::runPreview(*renderScene_, po);
 }
 
 int RenderCommand::renderImage() {
@@ -276,4 +277,4 @@ int RenderCommand::renderImage() {
   return 0;
 }
 
-}  // namespace fs
+}  // namespace firstshot

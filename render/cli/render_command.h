@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "common/comm.h"
-#include "common/rng.h"
-#include "common/scene_desc.h"
+#include "common/sampling/rng.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/comm.h"
 #include "render/cli/checkpoint_cli.h"
 #include "render/cli/falsecolor_cli.h"
 #include "render/cli/integrator_options.h"
@@ -22,7 +22,7 @@
 #include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 class RenderCommand {
  public:
@@ -81,4 +81,4 @@ class RenderCommand {
   std::optional<RenderScene> renderScene_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

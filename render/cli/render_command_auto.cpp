@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <chrono>
 
-#include "common/progress.h"
-#include "render/loop/checkpoint.h"
+#include "common/util/progress.h"
 #include "render/cli/render_command.h"
+#include "render/loop/checkpoint.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -123,4 +123,4 @@ void RenderCommand::resolveIntegrator() {
              candidates[best].label());
 }
 
-}  // namespace fs
+}  // namespace firstshot

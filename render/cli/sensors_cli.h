@@ -16,13 +16,13 @@
 #include <string>
 #include <vector>
 
-#include "common/atomic_file.h"
-#include "common/error.h"
-#include "common/photometry.h"
+#include "common/lights/photometry.h"
+#include "common/util/atomic_file.h"
+#include "common/util/error.h"
 #include "render/sensors/daylight_factor.h"
 #include "render/sensors/sensors.h"
 
-namespace fs {
+namespace firstshot {
 
 struct SensorsCli {
   std::string pointsFile;
@@ -209,4 +209,4 @@ struct SensorsCli {
   }
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/firstshot_groups.h"
-#include "common/sampling.h"
-#include "common/spot_integral.h"
+#include "common/lights/spot_integral.h"
+#include "common/sampling/sampling.h"
+#include "common/table/firstshot_groups.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -218,4 +218,4 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
                                FirstShotProduct::EmissionLast, Color(0.0f), weight);
 }
 
-}  // namespace fs
+}  // namespace firstshot

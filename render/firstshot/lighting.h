@@ -3,7 +3,7 @@
 /// The first-shot term of a first-shot table, evaluated at a hit point: what the renderer makes of
 /// the factors (docs/firstshot-format.md, "How the renderer uses the factors").
 ///
-/// First-shot term on patch j (see common/firstshot.h): Σ_i emission_i · r_ij · f_r(ω'_i, x, ω),
+/// First-shot term on patch j (see common/table/firstshot.h): Σ_i emission_i · r_ij · f_r(ω'_i, x, ω),
 /// with ω'_i the direction from x to light sample i (against the travel direction for
 /// directional lights). The BSDF's side test makes a sample on the other side of the patch than
 /// the viewer contribute nothing. The sum over a patch's factors is render/firstshot/reflected.h's,
@@ -11,21 +11,21 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/bsdf.h"
-#include "common/emission_profile.h"
-#include "common/lights.h"
-#include "common/math.h"
+#include "common/lights/emission_profile.h"
+#include "common/lights/spot_cone.h"
+#include "common/materials/bsdf.h"
+#include "common/util/math.h"
 #include "render/firstshot/near_terms.h"
 #include "render/firstshot/reflected.h"
-#include "render/firstshot/table_rows.h"
 #include "render/firstshot/table_visibility.h"
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
+#include "render/scene/table_rows.h"
 
-namespace fs {
+namespace firstshot {
 
 /// A spot sample's normalised intensity profile I(ω)/Φ = profile(ω)/∫profile, in 1/sr, for the
-/// world direction ω emitted (cone or IES table, common/emission_profile.h).
+/// world direction ω emitted (cone or IES table, common/lights/emission_profile.h).
 struct SpotKernel {
   EmissionProfile profile;
   float invIntegral = 0.0f;  ///< 1/∫profile dω, 1/sr
@@ -85,4 +85,4 @@ class FirstShotLighting {
   TableVisibilityMap visibilityMap_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

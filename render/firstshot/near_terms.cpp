@@ -8,7 +8,7 @@
 #include <emmintrin.h>
 #endif
 
-namespace fs {
+namespace firstshot {
 
 void NearTerms::clear() {
   blockStart_.assign(1, 0);
@@ -90,4 +90,4 @@ Color NearTerms::sumPortable(uint32_t patch, const Vec3& x, const Vec3& n) const
   return e;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,9 +6,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 class NearTerms {
  public:
@@ -40,4 +40,4 @@ class NearTerms {
   std::vector<float> px_, py_, pz_, nx_, ny_, nz_, point_, cr_, cg_, cb_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/sampling.h"
+#include "common/sampling/sampling.h"
 
-namespace fs {
+namespace firstshot {
 
 Vec3 samplePatchPoint(const Patch& p, Vec2 u) {
   // Quads are split along v0–v2 and one of the two triangles chosen by area.
@@ -70,4 +70,4 @@ Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting,
   return lighting.eval(hit, frame, frame.toLocal(w), bsdf);
 }
 
-}  // namespace fs
+}  // namespace firstshot

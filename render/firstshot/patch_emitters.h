@@ -15,11 +15,11 @@
 /// lights themselves (the path walk's NEE to every light, the shooting integrators' polished-first particles
 /// and camera-side NEE: docs/light-tracing.md, docs/bdpt.md). A patch whose material is polished everywhere
 /// has no power.
-#include "common/patches.h"
+#include "common/patches/patches.h"
 #include "render/firstshot/lighting.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// A uniform point (by area) of a planar triangle or convex quad patch, from @p u ∈ [0,1)².
 Vec3 samplePatchPoint(const Patch& p, Vec2 u);
@@ -66,4 +66,4 @@ inline float sampledPatchPointWeight(const RenderScene& scene, uint32_t j, const
 Color patchRadiance(const RenderScene& scene, const FirstShotLighting& lighting, uint32_t j, const Vec3& y,
                     const Vec3& w);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,12 +6,12 @@
 /// patch at its centroid (the bundle transfer: w_i = r_ij, the patch average).
 #include <cstdint>
 
-#include "common/bsdf.h"
-#include "common/firstshot.h"
-#include "common/math.h"
-#include "render/firstshot/table_rows.h"
+#include "common/materials/bsdf.h"
+#include "common/table/firstshot.h"
+#include "common/util/math.h"
+#include "render/scene/table_rows.h"
 
-namespace fs {
+namespace firstshot {
 
 /// ω'_i of the first-shot term: the unit direction from @p x towards light sample @p s (against the
 /// travel direction for a directional light).
@@ -49,4 +49,4 @@ Color sumReflectedFirstShot(const std::vector<LightSample>& samples, TableRow ro
   return sum;
 }
 
-}  // namespace fs
+}  // namespace firstshot

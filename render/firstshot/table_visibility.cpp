@@ -9,11 +9,11 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/patch_neighbours.h"
-#include "render/firstshot/table_rows.h"
+#include "common/patches/patch_neighbours.h"
 #include "render/scene/ray.h"
+#include "render/scene/table_rows.h"
 
-namespace fs {
+namespace firstshot {
 
 void TableVisibilityMap::build(const FirstShotTable& t, const std::vector<float>& visible, size_t sceneLights) {
   const uint32_t n = t.mesh.size();
@@ -106,4 +106,4 @@ TableVisibility TableVisibilityMap::Cursor::next(uint32_t light) {
   return (*at_ & kWhole) ? TableVisibility::Visible : TableVisibility::Unknown;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -13,14 +13,14 @@
 /// What stays uncertain: shadows that fit between pixel centres of every patch they touch (an
 /// occluder thinner than the item buffers' pixel spacing seen from the light).
 /// Neighbours are the patches whose bounding boxes, grown by 10⁻⁵ of the scene's diagonal, overlap
-/// (common/patch_neighbours.h: T-junctions of adaptive meshes included; patches of another surface
+/// (common/patches/patch_neighbours.h: T-junctions of adaptive meshes included; patches of another surface
 /// that touch count too, which only leaves more to rays).
 #include <cstdint>
 #include <vector>
 
-#include "common/firstshot.h"
+#include "common/table/firstshot.h"
 
-namespace fs {
+namespace firstshot {
 
 /// What the table says about a small light's visibility from a patch.
 enum class TableVisibility : uint8_t {
@@ -64,4 +64,4 @@ class TableVisibilityMap {
   std::vector<uint32_t> entries_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

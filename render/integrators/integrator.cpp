@@ -3,15 +3,15 @@
 
 #include <fmt/core.h>
 
-#include "common/error.h"
-#include "render/integrators/integrator_cli.h"
+#include "common/util/error.h"
 #include "render/integrators/bdpt/cli.h"
 #include "render/integrators/bundle/cli.h"
+#include "render/integrators/integrator_cli.h"
 #include "render/integrators/irradiance_cache/cli.h"
 #include "render/integrators/light/cli.h"
 #include "render/integrators/path/cli.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -52,4 +52,4 @@ std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const Integr
   return integratorEntry(name).cli()->make(options);
 }
 
-}  // namespace fs
+}  // namespace firstshot

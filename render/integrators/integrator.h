@@ -9,15 +9,15 @@
 #include <string>
 #include <vector>
 
-#include "common/comm.h"
-#include "common/math.h"
-#include "common/rng.h"
-#include "render/scene/camera.h"
+#include "common/sampling/rng.h"
+#include "common/util/comm.h"
+#include "common/util/math.h"
 #include "render/lights/light_sampler.h"
+#include "render/scene/camera.h"
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Extras an integrator reports for one camera sample.
 struct SampleInfo {
@@ -51,8 +51,8 @@ struct IntegratorOptions {
   PatchNee patchNee = PatchNee::Off;
   /// Weight the light trees by the visibility of their emitters, estimated per grid cell.
   bool lightVisibility = true;
-  /// With a table that has luminaires (common/luminaire.h): sample their exit patches and see through their boxes
-  /// (render/lights/luminaires.h). The path tracer's walk takes them; false: their lights are ordinary lights.
+  /// With a table that has luminaires (common/table/luminaire.h): sample their exit patches and see through their boxes
+  /// (render/scene/luminaire_boxes.h). The path tracer's walk takes them; false: their lights are ordinary lights.
   bool luminaires = true;
   /// With a first-shot table, where the small lights are sampled with shadow rays (PrimaryMode::Exact):
   /// no shadow ray to a point or spot light the table finds visible from the whole patch or from
@@ -67,7 +67,7 @@ struct IntegratorOptions {
   /// with them). 0 = automatic: 8, or 1 when the scene has mirrors or glass (the camera samples then
   /// carry what is seen through them).
   int lightPathsPerPixel = 0;
-  /// The ranks of an MPI run sharing the work (common/comm.h; null: this process alone). Integrators
+  /// The ranks of an MPI run sharing the work (common/util/comm.h; null: this process alone). Integrators
   /// with a global state (the irradiance cache's two-pass fill, the bundle's transfer) split its
   /// computation over the ranks and exchange the results, so that every rank holds the state one
   /// process would make, bit for bit.
@@ -197,4 +197,4 @@ std::vector<std::string> integratorNames();
 /// render/integrators/integrator_cli.h). @throws InputError for an unknown name.
 std::unique_ptr<Integrator> makeIntegrator(const std::string& name, const IntegratorOptions& options);
 
-}  // namespace fs
+}  // namespace firstshot

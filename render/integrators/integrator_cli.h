@@ -14,14 +14,14 @@
 #include <utility>
 #include <vector>
 
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 #include "render/integrators/integrator.h"
 
 namespace CLI {
 class App;
 }
 
-namespace fs {
+namespace firstshot {
 
 class Film;
 
@@ -43,7 +43,7 @@ struct IntegratorSetup {
   uint64_t seed = 0;                 ///< --seed, or the scene's settings.seed
   int threads = 0;                   ///< --threads (0: one per core)
   int spp = 0;                       ///< --spp (0: the scene's); an integrator may set it (--iterations)
-  SamplerMode sampler = SamplerMode::Independent;  ///< --sampler (common/rng.h)
+  SamplerMode sampler = SamplerMode::Independent;  ///< --sampler (common/sampling/rng.h)
   bool quiet = false;                ///< --quiet (or a pilot render, render/loop/integrator_pilot.h): no progress
 };
 
@@ -114,4 +114,4 @@ const std::vector<IntegratorEntry>& integratorTable();
 /// The entry named @p name. @throws InputError (--integrator) for an unknown name.
 const IntegratorEntry& integratorEntry(const std::string& name);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -63,4 +63,4 @@ float ExitEmission::pdfDirection(uint32_t e, const Vec3& d) const {
   return float(q * kBins * kInvPi) * std::abs(d[p.face / 2]);
 }
 
-}  // namespace fs
+}  // namespace firstshot

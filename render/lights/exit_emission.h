@@ -1,6 +1,6 @@
 #pragma once
 /// @file exit_emission.h
-/// Particles leaving the luminaires' exit patches with their exit distribution (common/luminaire.h), for light
+/// Particles leaving the luminaires' exit patches with their exit distribution (common/table/luminaire.h), for light
 /// tracing (render/integrators/light/integrator.h): the light of a luminaire's lights from where it leaves the box
 /// for the first time. Exit patches are numbered as LuminaireBoxes numbers them across all luminaires.
 ///
@@ -13,12 +13,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/distribution_1d.h"
-#include "common/luminaire.h"
-#include "common/math.h"
-#include "render/lights/luminaires.h"
+#include "common/sampling/distribution_1d.h"
+#include "common/table/luminaire.h"
+#include "common/util/math.h"
+#include "render/scene/luminaire_boxes.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One direction leaving an exit patch: ExitEmission::sampleDirection.
 struct ExitDirection {
@@ -56,4 +56,4 @@ class ExitEmission {
   std::vector<Distribution1D> bins_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -71,4 +71,4 @@ float orientationMeasure(const LightBounds& b) {
   return 2.0f * kPiF * (1.0f - b.cosO) + 0.5f * kPiF * (b.cosO - std::cos(2.0f * tw - to)) + kPiF * (tw - to) * sinO;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,9 +10,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace detail {
 inline float safeSqrt(float x) { return std::sqrt(std::max(0.0f, x)); }
@@ -87,4 +87,4 @@ LightBounds unite(const LightBounds& a, const LightBounds& b);
 /// heuristic): 2π(1 − cos θo) + π/2·(cos θo − cos(2θw − θo)) + π(θw − θo) sin θo, θw = min(θo + θe, π).
 float orientationMeasure(const LightBounds& b);
 
-}  // namespace fs
+}  // namespace firstshot

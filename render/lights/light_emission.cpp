@@ -5,13 +5,13 @@
 #include <cmath>
 #include <limits>
 
-#include "common/firstshot.h"
-#include "common/lights.h"
-#include "common/sampling.h"
+#include "common/lights/spot_cone.h"
+#include "common/sampling/sampling.h"
+#include "common/table/firstshot.h"
 #include "render/firstshot/patch_emitters.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -141,7 +141,7 @@ float EmissionSampler::coverage(uint32_t e, const Vec3& y, const Vec3& w) const 
 
 Color EmissionSampler::patchRadiance(uint32_t e, const Vec3& y, const Vec3& w) const {
   if (!(glm::dot(patchNormal(e), w) > 0.0f)) return Color(0.0f);
-  return fs::patchRadiance(*scene_, *lighting_, patchOf(e), y, w);
+  return firstshot::patchRadiance(*scene_, *lighting_, patchOf(e), y, w);
 }
 
 bool EmissionSampler::sampleOrigin(double u, const Vec2& uPos, EmissionSample& out) const {
@@ -290,7 +290,7 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t str
       out.power = light.intensity / (out.pdfLight * out.pdfDir);
       break;
     }
-    case LightType::Spot: {  // the profile's own distribution (cone or IES table), common/emission_profile.h
+    case LightType::Spot: {  // the profile's own distribution (cone or IES table), common/lights/emission_profile.h
       double pdf = 0;
       const Vec3d d = light.profile.sample(uDir.x, uDir.y, pdf);
       if (!(pdf > 0)) return false;
@@ -316,4 +316,4 @@ bool EmissionSampler::sample(Sampler& sampler, EmissionSample& out, uint64_t str
   return maxComponent(out.power) > 0.0f;
 }
 
-}  // namespace fs
+}  // namespace firstshot

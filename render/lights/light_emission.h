@@ -25,14 +25,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/distribution_1d.h"
-#include "common/math.h"
-#include "common/rng.h"
-#include "common/scene_desc.h"
+#include "common/sampling/distribution_1d.h"
+#include "common/sampling/rng.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/math.h"
 #include "render/lights/exit_emission.h"
-#include "render/lights/lights.h"
+#include "render/scene/light_set.h"
 
-namespace fs {
+namespace firstshot {
 
 class FirstShotLighting;
 class RenderScene;
@@ -166,4 +166,4 @@ class EmissionSampler {
   float radius_ = 0;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/sampling.h"
+#include "common/sampling/sampling.h"
 #include "render/firstshot/patch_emitters.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -273,4 +273,4 @@ bool LightSampler::sample(LightGroup group, const Vec3& x, const Vec3& n, float 
   return true;
 }
 
-}  // namespace fs
+}  // namespace firstshot

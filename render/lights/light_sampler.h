@@ -31,12 +31,12 @@
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 enum class LightStrategy : uint8_t { All, Tree };
 
 /// The groups a LightSampler chooses one emitter in (NeeRequest::kept, replaced, patches, inner). With luminaires
-/// (build()'s @c luminaires, render/lights/luminaires.h) their exit patches are kept emitters and their lights the
+/// (build()'s @c luminaires, render/scene/luminaire_boxes.h) their exit patches are kept emitters and their lights the
 /// Inner group, for vertices inside a luminaire that see it as it is.
 enum class LightGroup : uint8_t { Kept = 0, Replaced = 1, Patches = 2, Inner = 3 };
 
@@ -159,4 +159,4 @@ class LightSampler {
   std::vector<uint32_t> exitEmitter_;  ///< per luminaire: its emitter in the kept group, or kNoId
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -13,12 +13,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/distribution_1d.h"
-#include "common/patches.h"
-#include "common/rng.h"
+#include "common/patches/patches.h"
+#include "common/sampling/distribution_1d.h"
+#include "common/sampling/rng.h"
 #include "render/lights/light_sampler.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -161,4 +161,4 @@ void LightSampler::buildVisibility() {
   }
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -5,7 +5,7 @@
 #include <array>
 #include <limits>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -73,7 +73,7 @@ uint32_t LightTree::build(std::vector<Item>& items, size_t begin, size_t end, ui
     Node& node = nodes_[self];
     node.child = static_cast<uint32_t>(leaf_.size());
     node.count = static_cast<uint16_t>(end - begin);
-    // Not a Distribution1Df (common/distribution_1d.h): the leaves' CDFs share one array, searched linearly in the
+    // Not a Distribution1Df (common/sampling/distribution_1d.h): the leaves' CDFs share one array, searched linearly in the
     // hot path, and round as float(sum / total) with a rest of 0 in an empty interval, which the choices keep.
     double sum = 0, total = 0;
     for (size_t i = begin; i < end; ++i) total += items[i].bounds.phi;
@@ -265,4 +265,4 @@ float LightTree::pmf(const Vec3& p, const Vec3& n, uint32_t index) const {
   return pmf * inLeaf_[index];
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -14,10 +14,10 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 #include "render/lights/light_bounds.h"
 
-namespace fs {
+namespace firstshot {
 
 /// A regular grid over the scene whose cells may carry visibility factors for a light tree's top
 /// nodes: the share of rays from surfaces in the cell that reach the emitters under each node.
@@ -116,4 +116,4 @@ class LightTree {
   int depth_ = 0;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -9,7 +9,7 @@
 #include "render/firstshot/patch_emitters.h"
 #include "render/lights/light_sampler.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -303,4 +303,4 @@ bool samplePatchEmitter(const LightSampler& lights, const Vec3& x, const Vec3& n
   return true;
 }
 
-}  // namespace fs
+}  // namespace firstshot

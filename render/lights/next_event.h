@@ -25,13 +25,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/bsdf.h"
-#include "common/math.h"
-#include "common/rng.h"
+#include "common/materials/bsdf.h"
+#include "common/sampling/rng.h"
+#include "common/util/math.h"
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 class FirstShotLighting;  // render/firstshot/lighting.h
 class LightSampler;       // render/lights/light_sampler.h
@@ -60,7 +60,7 @@ struct NeeRequest {
   bool replaced = false;  ///< the table's small lights (a vertex that does not use the table)
   bool patches = false;   ///< the first-shot patches (a LightSampler built with patch emitters)
   /// The lights of luminaire @c luminaire, for a vertex inside its box that sees it as it is (a LightSampler built
-  /// with luminaires, render/lights/luminaires.h); their exit patches are kept emitters.
+  /// with luminaires, render/scene/luminaire_boxes.h); their exit patches are kept emitters.
   bool inner = false;
   int luminaire = -1;
   /// Weight area emitters against BSDF sampling (power heuristic); false: weight 1, for callers
@@ -106,7 +106,7 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
 float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request, const Hit& y);
 
 /// Solid-angle density with which nextEvent() at @p x, receiving side normal @p n, under @p request, samples the point
-/// @p y of exit patch number @p exit (render/lights/luminaires.h), met by a segment that crosses its face; 0 where
+/// @p y of exit patch number @p exit (render/scene/luminaire_boxes.h), met by a segment that crosses its face; 0 where
 /// the sampler has no luminaires or @p request does not take the kept emitters.
 float nextEventExitPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, const NeeRequest& request,
                        uint32_t exit, const Vec3& y);
@@ -130,4 +130,4 @@ struct PatchSample {
 /// otherwise @p s.pdf equals nextEventPdf(lights, x, n, {patches}, hit at the point).
 bool samplePatchEmitter(const LightSampler& lights, const Vec3& x, const Vec3& n, const Vec3& u, PatchSample& s);
 
-}  // namespace fs
+}  // namespace firstshot

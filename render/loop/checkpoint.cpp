@@ -7,11 +7,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "common/binary_file.h"
-#include "common/error.h"
-#include "common/hash.h"
+#include "common/util/binary_file.h"
+#include "common/util/error.h"
+#include "common/util/hash.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -84,7 +84,7 @@ void writeCheckpoint(const std::string& path, const CheckpointKey& key, const Fi
 
 namespace {
 
-/// A checkpoint file, its frame checked (common/binary_file.h), read up to its key.
+/// A checkpoint file, its frame checked (common/util/binary_file.h), read up to its key.
 struct CheckpointReader {
   BinaryReader in;
   uint32_t width = 0, height = 0;
@@ -140,4 +140,4 @@ std::string fileContentHash(const std::string& path) {
   return fmt::format("{:016x}", h.value());
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,8 +6,8 @@
 ///   "FSRESUME", u32 version (1), u32 width, u32 height, u32 length + key text (one "name=value"
 ///   line per entry of the CheckpointKey), u32 passes (the sample indices every pixel holds),
 ///   per pixel (row-major) f64 Σ L[3], then Σ L²[3], Σ albedo[3], Σ normal[3] (four arrays),
-///   u32 samples per pixel, u64 checksum (common/hash.h Hasher over every byte before it), "FSCKEND\0"
-///   (the frame of common/binary_file.h: header, checksum trailer, atomic write, checked reads).
+///   u32 samples per pixel, u64 checksum (common/util/hash.h Hasher over every byte before it), "FSCKEND\0"
+///   (the frame of common/util/binary_file.h: header, checksum trailer, atomic write, checked reads).
 /// A pixel may hold more samples than `passes` (a render interrupted in the middle of a pass);
 /// resuming with RenderOptions::skipTaken takes exactly the samples each pixel lacks.
 #include <cstdint>
@@ -17,7 +17,7 @@
 
 #include "render/output/film.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Everything that decides a render's image, as (name, value) pairs, e.g. ("integrator", "path"),
 /// ("seed", "1"), ("scene-file", content hash). A checkpoint is used only with an equal key.
@@ -39,4 +39,4 @@ CheckpointKey readCheckpointKey(const std::string& path);
 /// A file's content hash as 16 hex digits, for keys; "none" if @p path is empty or does not exist.
 std::string fileContentHash(const std::string& path);
 
-}  // namespace fs
+}  // namespace firstshot

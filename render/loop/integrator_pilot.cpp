@@ -6,12 +6,12 @@
 #include <cmath>
 #include <string>
 
-#include "common/interrupt.h"
+#include "common/util/interrupt.h"
 #include "render/loop/renderer.h"
 #include "render/output/film.h"
 #include "render/scene/camera.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -193,4 +193,4 @@ size_t bestPilotFigure(const std::vector<PilotFigure>& figures) {
   return best;
 }
 
-}  // namespace fs
+}  // namespace firstshot

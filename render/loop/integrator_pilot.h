@@ -27,12 +27,12 @@
 #include <string>
 #include <vector>
 
-#include "common/rng.h"
-#include "common/scene_desc.h"
+#include "common/sampling/rng.h"
+#include "common/scene/scene_desc.h"
 #include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One setting the pilot tries: an integrator of integratorTable() and the shared options it is tried with.
 struct PilotCandidate {
@@ -94,4 +94,4 @@ double pilotNoise(const std::vector<double>& a, const std::vector<double>& b);
 /// Index of the most efficient figure (the first of equals; 0 if none has light).
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,13 +10,13 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "common/progress.h"
-#include "common/rng.h"
-#include "render/scene/embree_scene.h"
-#include "render/output/film_exchange.h"
+#include "common/sampling/rng.h"
+#include "common/util/progress.h"
 #include "render/loop/splat_renderer.h"
+#include "render/output/film_exchange.h"
+#include "render/scene/embree_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -199,4 +199,4 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
   return stats;
 }
 
-}  // namespace fs
+}  // namespace firstshot

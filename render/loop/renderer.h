@@ -7,19 +7,19 @@
 #include <cstdint>
 #include <functional>
 
-#include "common/comm.h"
-#include "common/rng.h"
-#include "render/scene/camera.h"
-#include "render/output/film.h"
+#include "common/sampling/rng.h"
+#include "common/util/comm.h"
 #include "render/integrators/integrator.h"
+#include "render/output/film.h"
+#include "render/scene/camera.h"
 
-namespace fs {
+namespace firstshot {
 
 struct RenderOptions {
   int spp = 16;            ///< samples per pixel (ignored when timeLimit > 0)
   double timeLimit = 0;    ///< seconds; > 0: whole passes of 1 spp until the time is up (at least one)
   uint64_t seed = 1;
-  /// How the camera samples' numbers are drawn (common/rng.h; --sampler): independent hashes, or
+  /// How the camera samples' numbers are drawn (common/sampling/rng.h; --sampler): independent hashes, or
   /// per pixel stratified Sobol' points over the sample index. The image stays a function of
   /// (seed, pixel, sample index) in both.
   SamplerMode sampler = SamplerMode::Independent;
@@ -50,7 +50,7 @@ struct RenderOptions {
   /// so far); the film then holds whole passes (for checkpoints). The render then goes pass by
   /// pass (one sample index over the whole image at a time), which gives the same image.
   std::function<void(int samplesDone)> afterPass;
-  /// The ranks of an MPI run (common/comm.h; null: this process alone): each renders the image
+  /// The ranks of an MPI run (common/util/comm.h; null: this process alone): each renders the image
   /// tiles dealt to it (splatting integrators: its share of each pass's particles, whose splats are
   /// exchanged), and rank 0's film receives the other ranks' pixels before afterPass and at the
   /// end, so that it is bit-identical for any number of ranks. With a time limit rank 0's clock
@@ -73,4 +73,4 @@ struct RenderStats {
 /// a per-pass one (PassIntegrator) gets beginPass(s, seed) before the camera samples of each sample index s.
 RenderStats render(const Integrator& integrator, const Camera& camera, Film& film, const RenderOptions& options);
 
-}  // namespace fs
+}  // namespace firstshot

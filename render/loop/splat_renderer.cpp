@@ -10,12 +10,12 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "common/progress.h"
-#include "common/rng.h"
-#include "render/scene/embree_scene.h"
+#include "common/sampling/rng.h"
+#include "common/util/progress.h"
 #include "render/output/film_exchange.h"
+#include "render/scene/embree_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -147,4 +147,4 @@ RenderStats renderSplatting(const SplattingIntegrator& integrator, const Camera&
   return stats;
 }
 
-}  // namespace fs
+}  // namespace firstshot

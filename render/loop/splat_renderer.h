@@ -9,7 +9,7 @@
 /// one at a time give the same film as one render of n samples.
 #include "render/loop/renderer.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Particles per parallel work item; part of the output contract only through the merge order
 /// (any value gives the same image, since the merge is in particle order).
@@ -20,4 +20,4 @@ inline constexpr uint64_t kSplatChunk = 1024;
 RenderStats renderSplatting(const SplattingIntegrator& integrator, const Camera& camera, Film& film,
                             const RenderOptions& options);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace fs::falsecolor {
+namespace firstshot::falsecolor {
 
 namespace {
 
@@ -115,4 +115,4 @@ std::string label(double value) {
   return fmt::format("{:.6g}", value);  // 0.5, 200, 20000
 }
 
-}  // namespace fs::falsecolor
+}  // namespace firstshot::falsecolor

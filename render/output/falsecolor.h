@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs::falsecolor {
+namespace firstshot::falsecolor {
 
 enum class Scale { Log, Linear };
 
@@ -105,4 +105,4 @@ void writePng(const std::string& path, const Picture& picture);
 /// @throws InputError naming the option @p option if it is not installed.
 std::string requireFont(const std::string& option = "--falsecolor");
 
-}  // namespace fs::falsecolor
+}  // namespace firstshot::falsecolor

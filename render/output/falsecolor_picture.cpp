@@ -7,11 +7,11 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "render/output/falsecolor.h"
 #include "render/output/image_io.h"
 
-namespace fs::falsecolor {
+namespace firstshot::falsecolor {
 
 namespace {
 
@@ -165,4 +165,4 @@ void writePng(const std::string& path, const Picture& picture) {
   image::writePng(path, picture.width, picture.height, picture.rgb.data());
 }
 
-}  // namespace fs::falsecolor
+}  // namespace firstshot::falsecolor

@@ -6,13 +6,13 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "common/atomic_file.h"
-#include "common/error.h"
-#include "common/memory_limit.h"
-#include "common/photometry.h"
+#include "common/lights/photometry.h"
+#include "common/util/atomic_file.h"
+#include "common/util/error.h"
+#include "common/util/memory_limit.h"
 #include "render/output/image_io.h"
 
-namespace fs {
+namespace firstshot {
 
 void Film::requireFits(int width, int height, const std::string& file) {
   const std::string size = std::to_string(width) + "×" + std::to_string(height) + " pixels";
@@ -140,4 +140,4 @@ std::vector<float> Film::read(const std::string& path, int& width, int& height, 
   return std::move(im.data);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -7,14 +7,14 @@
 #include <string>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 class Film {
  public:
   /// @throws InputError if a size is below 1 or the film (100 bytes a pixel) cannot fit in physical
-  /// memory (common/memory_limit.h), before anything is allocated.
+  /// memory (common/util/memory_limit.h), before anything is allocated.
   Film(int width, int height);
 
   /// @throws InputError naming @p file (the scene) and "image size" if a film of @p width × @p height
@@ -78,7 +78,7 @@ class Film {
   void write(const std::string& path, bool aov, float exposure = 0.0f, double efficacy = 0.0) const;
 
   /// Luminance of every pixel in cd/m²: @p efficacy (lm/W) · Y(mean radiance), Y with the Rec. 709
-  /// weights (common/photometry.h); row-major, width·height values.
+  /// weights (common/lights/photometry.h); row-major, width·height values.
   std::vector<double> luminance(double efficacy) const;
 
   /// Reads an image written by write() (OpenEXR or PNG; render/output/image_io.h) into floats, width·height·channels
@@ -97,4 +97,4 @@ class Film {
 /// sRGB transfer curve (IEC 61966-2-1) of a linear value in [0, 1].
 float linearToSrgb(float v);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -3,7 +3,7 @@
 
 #include <stdexcept>
 
-namespace fs {
+namespace firstshot {
 
 void collectFilm(Comm& comm, Film& film, const std::vector<PixelRect>& mine) {
   if (comm.size() == 1) return;
@@ -29,4 +29,4 @@ void collectFilm(Comm& comm, Film& film, const std::vector<PixelRect>& mine) {
   }
 }
 
-}  // namespace fs
+}  // namespace firstshot

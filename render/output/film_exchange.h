@@ -1,14 +1,14 @@
 #pragma once
 /// @file film_exchange.h
-/// Bringing the pixels the MPI ranks rendered into rank 0's film (common/comm.h): each rank renders
+/// Bringing the pixels the MPI ranks rendered into rank 0's film (common/util/comm.h): each rank renders
 /// whole pixels (every sample of a pixel on one rank, in sample order), so copying its pixels'
 /// accumulators gives rank 0 the film one process makes, bit for bit.
 #include <vector>
 
-#include "common/comm.h"
+#include "common/util/comm.h"
 #include "render/output/film.h"
 
-namespace fs {
+namespace firstshot {
 
 /// A rectangle of pixels [x0, x1) × [y0, y1).
 struct PixelRect {
@@ -20,4 +20,4 @@ struct PixelRect {
 /// @throws std::runtime_error if a received rectangle lies outside the film.
 void collectFilm(Comm& comm, Film& film, const std::vector<PixelRect>& mine);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -16,10 +16,10 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "common/atomic_file.h"
-#include "common/error.h"
+#include "common/util/atomic_file.h"
+#include "common/util/error.h"
 
-namespace fs::image {
+namespace firstshot::image {
 
 namespace {
 
@@ -135,4 +135,4 @@ Image read(const std::string& path) {
   }
 }
 
-}  // namespace fs::image
+}  // namespace firstshot::image

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace fs::image {
+namespace firstshot::image {
 
 /// Writes a ZIP-compressed float OpenEXR image through a temporary file.
 /// @param data  width × height × channels.size() floats, interleaved, top row first.
@@ -31,4 +31,4 @@ struct Image {
 /// @throws InputError naming @p path when it is missing, not one of the two formats, or truncated.
 Image read(const std::string& path);
 
-}  // namespace fs::image
+}  // namespace firstshot::image

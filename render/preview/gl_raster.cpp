@@ -13,9 +13,9 @@
 #include <string>
 #include <utility>
 
-#include "common/gl_program.h"
+#include "common/gl/gl_program.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -468,4 +468,4 @@ std::vector<uint8_t> GLRaster::readDisplay(int& width, int& height) const {
   return rgb;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -11,10 +11,10 @@
 #include <memory>
 #include <vector>
 
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 #include "render/preview/raster_mesh.h"
 
-namespace fs {
+namespace firstshot {
 
 struct DisplaySettings {
   bool showFilm = false;     ///< the film (uploadFilm) instead of the instant picture
@@ -53,4 +53,4 @@ class GLRaster {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,7 +10,7 @@
 #include <deque>
 #include <mutex>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -157,4 +157,4 @@ std::string GLWindow::description() const {
   return str(GL_RENDERER) + ", OpenGL " + str(GL_VERSION);
 }
 
-}  // namespace fs
+}  // namespace firstshot

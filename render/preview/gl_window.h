@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace fs {
+namespace firstshot {
 
 /// No display: glfwInit or window creation failed. The message carries GLFW's reason.
 class DisplayError : public std::runtime_error {
@@ -62,4 +62,4 @@ class GLWindow {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 
-namespace fs {
+namespace firstshot {
 
 class OrbitCamera {
  public:
@@ -68,4 +68,4 @@ class OrbitCamera {
   CameraDesc desc_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

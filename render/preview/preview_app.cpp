@@ -19,7 +19,7 @@
 #include "render/preview/progressive.h"
 #include "render/preview/raster_mesh.h"
 
-namespace fs {
+namespace firstshot {
 
 std::string previewKeyHelp() {
   std::string s =
@@ -363,4 +363,4 @@ int runPreview(const RenderScene& scene, const PreviewOptions& options) {
   return app.run();
 }
 
-}  // namespace fs
+}  // namespace firstshot

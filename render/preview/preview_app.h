@@ -13,7 +13,7 @@
 #include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 struct PreviewOptions {
   std::string integrator = "path";
@@ -48,4 +48,4 @@ std::string previewKeyHelp();
 /// The camera as a scene-file "camera" JSON object (exact: shortest round-trip decimals).
 std::string cameraJson(const CameraDesc& camera);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,7 +6,7 @@
 #include "render/scene/camera.h"
 #include "render/loop/renderer.h"
 
-namespace fs {
+namespace firstshot {
 
 ProgressiveRenderer::ProgressiveRenderer(IntegratorFactory factory, uint64_t seed, int threads, int maxSpp,
                                          SamplerMode sampler)
@@ -153,4 +153,4 @@ void ProgressiveRenderer::run() {
   }
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -15,12 +15,12 @@
 #include <thread>
 #include <vector>
 
-#include "common/scene_desc.h"
-#include "render/output/film.h"
+#include "common/scene/scene_desc.h"
 #include "render/integrators/integrator.h"
+#include "render/output/film.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Makes a configured integrator by name (preprocess() is left to the caller).
 using IntegratorFactory = std::function<std::unique_ptr<Integrator>(const std::string& name)>;
@@ -93,4 +93,4 @@ class ProgressiveRenderer {
   std::thread worker_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

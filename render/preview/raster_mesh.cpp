@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/emission_texture.h"
-#include "common/patch_cutouts.h"
+#include "common/materials/emission_texture.h"
+#include "common/patches/patch_cutouts.h"
 
-namespace fs {
+namespace firstshot {
 
 std::vector<Color> sideIrradiance(const RenderScene& scene) {
   const FirstShotTable* t = scene.firstShot();
@@ -183,4 +183,4 @@ std::vector<Vec3> recordCircles(const std::vector<IntegratorRecord>& records, in
   return lines;
 }
 
-}  // namespace fs
+}  // namespace firstshot

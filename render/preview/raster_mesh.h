@@ -22,12 +22,12 @@
 #include <memory>
 #include <vector>
 
-#include "common/math.h"
-#include "common/texture.h"
+#include "common/materials/texture.h"
+#include "common/util/math.h"
 #include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One vertex of a raster triangle.
 struct RasterVertex {
@@ -41,7 +41,7 @@ struct RasterVertex {
   Vec2 alphaUv{0.0f};             ///< alpha texture coordinates after its transform (cut-out batches)
 };
 
-/// How a cut-out batch's fragments are kept (common/patch_cutouts.h): where alpha = factor × the alpha
+/// How a cut-out batch's fragments are kept (common/patches/patch_cutouts.h): where alpha = factor × the alpha
 /// texture (bilinear, its wrap modes; the mean where the shape has no texture coordinates) reaches the cut-off
 /// (mask), or with probability alpha by a hash of the pixel (blend: a screen-door dither).
 struct RasterCutout {
@@ -82,4 +82,4 @@ std::vector<Color> sideIrradiance(const RenderScene& scene);
 /// tangent plane, with @p segments segments per circle.
 std::vector<Vec3> recordCircles(const std::vector<IntegratorRecord>& records, int segments = 16);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,10 +4,10 @@
 /// corner of the image; pixel (x, y) covers [x, x+1) × [y, y+1).
 #include <cmath>
 
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 #include "render/scene/ray.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Where a scene point lands on the film of a pinhole camera, and the importance it receives
 /// (the camera side of a light-tracing connection).
@@ -74,4 +74,4 @@ class Camera {
   Vec3 origin_, forward_{0, 0, -1}, right_{1, 0, 0}, up_{0, 1, 0};
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,7 +1,7 @@
 // The renderer's Embree filter for alpha cut-outs (render/scene/embree_cutout_filter.h).
 #include "render/scene/embree_cutout_filter.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// Rejects each valid candidate hit on a cut-out patch where the surface is absent.
@@ -27,4 +27,4 @@ void installCutoutFilter(RTCGeometry g, const PatchCutouts& cutouts) {
   rtcSetGeometryOccludedFilterFunction(g, rejectCutoutHoles);
 }
 
-}  // namespace fs
+}  // namespace firstshot

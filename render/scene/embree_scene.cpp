@@ -17,7 +17,7 @@
 #define FS_HAVE_SSE 1
 #endif
 
-namespace fs {
+namespace firstshot {
 
 void enableFlushToZero() {
 #ifdef FS_HAVE_SSE
@@ -361,4 +361,4 @@ size_t EmbreeScene::intersectRawStream(const Ray* rays, size_t count) const {
   return hits;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -7,13 +7,13 @@
 #include <memory>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patch_cutouts.h"
-#include "common/patches.h"
-#include "common/thin_glass.h"
+#include "common/materials/thin_glass.h"
+#include "common/patches/patch_cutouts.h"
+#include "common/patches/patches.h"
+#include "common/util/math.h"
 #include "render/scene/ray.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One area light's triangles in world space, counter-clockwise seen from the emitting side.
 struct EmitterMesh {
@@ -22,7 +22,7 @@ struct EmitterMesh {
   uint32_t triangleCount() const { return static_cast<uint32_t>(indices.size() / 3); }
 };
 
-/// The thin glass panes (common/thin_glass.h) that transmittance() sees through: their optics, and which
+/// The thin glass panes (common/materials/thin_glass.h) that transmittance() sees through: their optics, and which
 /// pane each patch is. Empty: the scene has none, and transmittance() is occluded() (no filter, no cost).
 struct GlassPatches {
   std::vector<ThinGlassBSDF> panes;
@@ -86,4 +86,4 @@ class EmbreeScene {
 /// call it at the start of every worker task). No-op on CPUs without SSE.
 void enableFlushToZero();
 
-}  // namespace fs
+}  // namespace firstshot

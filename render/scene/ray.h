@@ -4,9 +4,9 @@
 #include <cstdint>
 #include <limits>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Ray o + t·d for t in [tmin, tmax]; d need not be normalised (t is then in units of |d|).
 struct Ray {
@@ -39,4 +39,4 @@ struct Hit {
   Vec3 spawnOrigin(const Vec3& w) const { return p + (glm::dot(w, ng) >= 0.0f ? eps : -eps) * ng; }
 };
 
-}  // namespace fs
+}  // namespace firstshot

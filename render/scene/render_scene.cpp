@@ -4,10 +4,10 @@
 
 #include <string>
 
-#include "common/error.h"
-#include "render/firstshot/table_rows.h"
+#include "common/util/error.h"
+#include "render/scene/table_rows.h"
 
-namespace fs {
+namespace firstshot {
 
 RenderScene::RenderScene(SceneDesc scene, double patchSize) : desc_(std::move(scene)) {
   // Without a table nothing needs patches smaller than the faces (the bundle integrator's elements
@@ -80,4 +80,4 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
   embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes(), std::move(glass), cutouts_);
 }
 
-}  // namespace fs
+}  // namespace firstshot

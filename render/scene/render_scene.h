@@ -8,18 +8,18 @@
 #include <string>
 #include <vector>
 
-#include "common/bsdf.h"
-#include "common/firstshot.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
+#include "common/materials/bsdf.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
 #include "render/scene/embree_scene.h"
-#include "render/lights/lights.h"
-#include "render/lights/luminaires.h"
+#include "render/scene/light_set.h"
+#include "render/scene/luminaire_boxes.h"
 #include "render/scene/ray.h"
 #include "render/scene/shading_normals.h"
 #include "render/scene/surface_textures.h"
 
-namespace fs {
+namespace firstshot {
 
 class RenderScene {
  public:
@@ -39,7 +39,7 @@ class RenderScene {
   const SceneDesc& desc() const { return desc_; }
   const PatchMesh& mesh() const { return table_ ? table_->mesh : mesh_; }
   const LightSet& lights() const { return lights_; }
-  /// The table's luminaires (render/lights/luminaires.h); empty without a table or without luminaires in it.
+  /// The table's luminaires (render/scene/luminaire_boxes.h); empty without a table or without luminaires in it.
   const LuminaireBoxes& luminaires() const { return luminaires_; }
   /// The first-shot table, or nullptr.
   const FirstShotTable* firstShot() const { return table_ ? &*table_ : nullptr; }
@@ -85,7 +85,7 @@ class RenderScene {
   /// ray of render/ asks this.
   Color transmittance(const Ray& ray) const { return embree_->transmittance(ray); }
   const EmbreeScene& embree() const { return *embree_; }
-  /// The alpha cut-outs on the traced mesh, or nullptr when the scene has none (common/patch_cutouts.h).
+  /// The alpha cut-outs on the traced mesh, or nullptr when the scene has none (common/patches/patch_cutouts.h).
   const PatchCutouts* cutouts() const { return cutouts_.get(); }
 
  private:
@@ -113,4 +113,4 @@ class RenderScene {
   std::unique_ptr<EmbreeScene> embree_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

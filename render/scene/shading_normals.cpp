@@ -1,9 +1,9 @@
 // Shading normals on the traced patches: interpolated corner normals and normal maps (render/scene/shading_normals.h).
 #include "render/scene/shading_normals.h"
 
-#include "common/texture.h"
+#include "common/materials/texture.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// A shape's corner normal @p c turned to the front side of @p ng; ng itself where the file gave none (0).
@@ -85,4 +85,4 @@ Vec3 ShadingNormals::normalAt(uint32_t patch, const Vec3& p, const Vec3& ng) con
   return n;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -28,12 +28,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
-#include "common/patch_faces.h"
+#include "common/patches/patch_faces.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 class ShadingNormals {
  public:
@@ -63,4 +63,4 @@ inline float adjointCorrection(const Vec3& wPrev, const Vec3& wNext, const Vec3&
   return den > 0.0f ? std::abs(glm::dot(wPrev, ns)) * std::abs(glm::dot(wNext, ng)) / den : 0.0f;
 }
 
-}  // namespace fs
+}  // namespace firstshot

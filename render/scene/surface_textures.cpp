@@ -6,9 +6,9 @@
 
 #include <algorithm>
 
-#include "common/texture.h"
+#include "common/materials/texture.h"
 
-namespace fs {
+namespace firstshot {
 namespace {
 
 /// Points and area weights of an n × n stratified set over patch @p p: a quad's bilinear grid (weighted by the
@@ -79,4 +79,4 @@ SurfacePoint SurfaceTextures::at(uint32_t patch, const Vec3& p) const {
   return s;
 }
 
-}  // namespace fs
+}  // namespace firstshot

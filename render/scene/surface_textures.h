@@ -4,18 +4,18 @@
 /// texture coordinates of a point on it, and the surface there or averaged over the patch: the base colour
 /// (albedo texture) and a pbr material's metallic and roughness (metallic-roughness texture).
 ///
-/// Design: the renderer maps patches to source faces when it loads (common/patch_faces.h), and the
+/// Design: the renderer maps patches to source faces when it loads (common/patches/patch_faces.h), and the
 /// first-shot table (.fsd) does not change. Only patches of textured materials are mapped: a scene without textures builds nothing and pays one branch
 /// per hit (RenderScene::bsdfAt).
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
-#include "common/patches.h"
-#include "common/scene_desc.h"
-#include "common/patch_faces.h"
+#include "common/patches/patch_faces.h"
+#include "common/patches/patches.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 /// What the textures make of a surface at one point (or averaged over a patch).
 struct SurfacePoint {
@@ -57,4 +57,4 @@ class SurfaceTextures {
   std::vector<SurfacePoint> patchSurface_;  ///< by patch: the mean surface (textured patches only)
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,15 +1,15 @@
 #pragma once
 /// @file thin_glass_walk.h
-/// What a random walk does at a thin glass pane (common/thin_glass.h): every walk of render/ (the
+/// What a random walk does at a thin glass pane (common/materials/thin_glass.h): every walk of render/ (the
 /// path tracer's, the irradiance cache's, light and camera subpaths) calls crossThinGlass at each hit on one.
 #include <limits>
 
-#include "common/bsdf.h"
-#include "common/rng.h"
+#include "common/materials/bsdf.h"
+#include "common/sampling/rng.h"
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// At a walk's hit on the pane @p glass, with @p u ∈ [0, 1): with probability P_T = mean(T)/mean(R + T)
 /// (T, R the pane's at the hit's angle) the walk crosses it: @p beta *= T/P_T, @p ray starts again just
@@ -40,7 +40,7 @@ inline bool crossThinGlass(const ThinGlassBSDF& glass, const Hit& hit, float u, 
 /// @p bsdf (RenderScene::bsdfAt, or a pane's reflection). @return false if nothing is hit.
 /// @p onPiece(ray, tEnd, beta), if given, is told each piece of the walk's segment before the pane at its end is
 /// crossed: the ray from its tmin to @p tEnd (infinity past the last hit), and the throughput along it (what a
-/// luminaire's exit light entered there is weighted with, render/lights/luminaires.h).
+/// luminaire's exit light entered there is weighted with, render/scene/luminaire_boxes.h).
 template <typename OnPiece>
 inline bool nextHitPastPanes(const RenderScene& scene, Ray& ray, const Hit*& known, Sampler& sampler, Color& beta,
                              uint64_t& rays, Hit& hit, BSDF& bsdf, OnPiece&& onPiece) {
@@ -67,4 +67,4 @@ inline bool nextHitPastPanes(const RenderScene& scene, Ray& ray, const Hit*& kno
   return nextHitPastPanes(scene, ray, known, sampler, beta, rays, hit, bsdf, [](const Ray&, float, const Color&) {});
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,10 +4,10 @@
 #include <algorithm>
 #include <memory>
 
-#include "common/error.h"
-#include "common/sky_desc.h"
+#include "common/scene/sky_desc.h"
+#include "common/util/error.h"
 
-namespace fs {
+namespace firstshot {
 
 DaylightFactorSetup daylightFactorScene(SceneDesc& scene) {
   if (!scene.sky || scene.sky->dome.type() != SkyType::CieOvercast)
@@ -49,4 +49,4 @@ DaylightFactorSummary summarizeDaylightFactor(const std::vector<SensorResult>& r
   return s;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,17 +4,17 @@
 ///     DF = E_inside / E_outside · 100 %,
 /// E_inside the illuminance at a sensor under the CIE standard overcast sky alone (the sun, the electric lights and
 /// emissive surfaces switched off), E_outside the sky's illuminance on an unobstructed horizontal plane facing up.
-/// For the CIE overcast sky L(θ) = Lz (1 + 2 cos θ)/3 (common/sky_models.h) the closed form is
+/// For the CIE overcast sky L(θ) = Lz (1 + 2 cos θ)/3 (common/lights/sky_models.h) the closed form is
 ///     E_outside = ∫₀^{2π} ∫₀^{π/2} L(θ) cos θ sin θ dθ dφ = 2π Lz (1/2 + 2/9) = 7π/9 · Lz,
 /// the dome alone: an upward plane does not see the ground below the horizon, so the ground's reflectance does not
 /// enter E_outside (it does light a room through its windows, as ρ E_sky/π below the horizon).
 #include <string>
 #include <vector>
 
-#include "common/scene_desc.h"
+#include "common/scene/scene_desc.h"
 #include "render/sensors/sensors.h"
 
-namespace fs {
+namespace firstshot {
 
 /// What daylightFactorScene() did to a scene.
 struct DaylightFactorSetup {
@@ -38,4 +38,4 @@ struct DaylightFactorSummary {
 /// even count is the mean of the two middle values.
 DaylightFactorSummary summarizeDaylightFactor(const std::vector<SensorResult>& results, double outsideLux);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -7,10 +7,10 @@
 #include <sstream>
 #include <string>
 
-#include "common/error.h"
+#include "common/util/error.h"
 #include "render/sensors/sensors.h"
 
-namespace fs {
+namespace firstshot {
 
 SensorSet readSensorFile(const std::string& path) {
   std::ifstream in(path);
@@ -136,4 +136,4 @@ SensorSet gridOnQuad(const SceneDesc& scene, const std::string& spec) {
   return set;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -13,17 +13,17 @@
 #include <limits>
 #include <stdexcept>
 
-#include "common/bsdf.h"
-#include "common/interrupt.h"
-#include "common/photometry.h"
-#include "common/progress.h"
-#include "common/rng.h"
-#include "common/sampling.h"
+#include "common/lights/photometry.h"
+#include "common/materials/bsdf.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
+#include "common/util/interrupt.h"
+#include "common/util/progress.h"
+#include "render/lights/light_sampler.h"
 #include "render/lights/next_event.h"
 #include "render/scene/embree_scene.h"
-#include "render/lights/light_sampler.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -231,4 +231,4 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
   return results;
 }
 
-}  // namespace fs
+}  // namespace firstshot

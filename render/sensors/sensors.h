@@ -24,14 +24,14 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "common/math.h"
-#include "common/scene_desc.h"
-#include "common/comm.h"
+#include "common/scene/scene_desc.h"
+#include "common/util/comm.h"
+#include "common/util/error.h"
+#include "common/util/math.h"
 #include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One sensor: position (m) and unit normal of the receiving side.
 struct Sensor {
@@ -90,19 +90,19 @@ struct SensorOptions {
   double timeLimit = 0;     ///< seconds; > 0: passes of `batch` samples per sensor until the time is up
   int batch = 16;           ///< samples per sensor per pass with timeLimit
   uint64_t seed = 1;
-  /// How the samples' numbers are drawn (common/rng.h; --sampler): in Sobol' mode the samples
+  /// How the samples' numbers are drawn (common/sampling/rng.h; --sampler): in Sobol' mode the samples
   /// s = 0, 1, ... of one sensor are the indices of its own stratified sequence.
   SamplerMode sampler = SamplerMode::Independent;
   int threads = 0;          ///< 0 = one per core; results do not depend on it
   bool quiet = true;        ///< no progress bar
-  double efficacy = 179.0;  ///< lm/W (common/photometry.h)
+  double efficacy = 179.0;  ///< lm/W (common/lights/photometry.h)
   /// preprocessSensors: samples per sensor whose rays fill a caching integrator's records
   /// (the estimate's own first samples, so they find their records).
   int fillSamples = 4;
   /// preprocessSensors: the angular footprint of a sensor ray (rad), for a caching integrator's
   /// footprint clamp (as the camera's pixel angle for camera rays).
   double rayAngle = 0.05;
-  /// The ranks of an MPI run (common/comm.h; null: this process alone): each estimates the sensors
+  /// The ranks of an MPI run (common/util/comm.h; null: this process alone): each estimates the sensors
   /// dealt to it and rank 0 receives every sensor's sums (the other ranks' results hold only their
   /// own sensors). With a time limit rank 0's clock decides. The results do not depend on the ranks.
   Comm* comm = nullptr;
@@ -132,4 +132,4 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
                                           const std::vector<Sensor>& sensors, const SensorOptions& options,
                                           SensorStats* stats = nullptr);
 
-}  // namespace fs
+}  // namespace firstshot

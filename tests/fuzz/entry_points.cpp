@@ -11,20 +11,21 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "common/error.h"
-#include "common/firstshot.h"
-#include "common/hash.h"
-#include "common/ies.h"
-#include "common/mesh_import.h"
-#include "common/scene_desc.h"
-#include "common/scene_mitsuba.h"
+#include "common/formats/assets/mesh_import.h"
+#include "common/formats/json/scene_json.h"
+#include "common/formats/mitsuba/scene_mitsuba.h"
+#include "common/lights/ies.h"
+#include "common/scene/scene_desc.h"
+#include "common/table/firstshot.h"
+#include "common/util/error.h"
+#include "common/util/hash.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
 
 #ifndef FIRSTSHOT_SOURCE_DIR
 #error "FIRSTSHOT_SOURCE_DIR must name the source tree"
 #endif
 
-namespace fs::fuzz {
+namespace firstshot::fuzz {
 namespace {
 
 /// A per-process scratch folder (removed at exit) holding one file per name, rewritten for every input.
@@ -45,7 +46,7 @@ std::string scratchFile(const std::string& name, std::string_view bytes) {
   return path;
 }
 
-/// @p bytes with the u64 checksum (common/hash.h over every byte before it) that precedes the 8-byte
+/// @p bytes with the u64 checksum (common/util/hash.h over every byte before it) that precedes the 8-byte
 /// end marker recomputed, when the bytes end with @p endMarker; otherwise unchanged.
 std::string withChecksum(std::string_view bytes, std::string_view endMarker) {
   std::string s(bytes);
@@ -128,4 +129,4 @@ EntryPoint entryPoint(std::string_view target) {
   return nullptr;
 }
 
-}  // namespace fs::fuzz
+}  // namespace firstshot::fuzz

@@ -2,5 +2,5 @@
 #include "tests/fuzz/entry_points.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  return fs::fuzz::runOne(fs::fuzz::sceneJson, data, size);
+  return firstshot::fuzz::runOne(firstshot::fuzz::sceneJson, data, size);
 }

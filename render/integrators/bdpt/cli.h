@@ -7,7 +7,7 @@
 #include "render/integrators/integrator_cli.h"
 #include "render/integrators/bdpt/integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 struct BdptCli : SharedOptionsCli<BdptIntegrator> {
   BdptCli()
@@ -15,4 +15,4 @@ struct BdptCli : SharedOptionsCli<BdptIntegrator> {
                           integrator_option::kTableVisibility, integrator_option::kShootFirstShot}) {}
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -67,4 +67,4 @@ void BdptDensities::setDensities(std::vector<SubpathVertex>& path) const {
   for (size_t k = 0; k + 2 < n; ++k) path[k].pdfRev = pdf(&path[k + 2], path[k + 1], path[k]);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,7 +10,7 @@
 #include "render/lights/light_emission.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 class BdptDensities {
  public:
@@ -44,4 +44,4 @@ class BdptDensities {
   const Camera& camera_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

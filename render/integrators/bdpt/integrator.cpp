@@ -8,7 +8,7 @@
 #include "render/integrators/bdpt/subpaths.h"
 #include "render/integrators/common/camera_splat.h"
 
-namespace fs {
+namespace firstshot {
 
 void BdptIntegrator::preprocess(const RenderScene& scene) {
   ShootingIntegrator::preprocess(scene);
@@ -155,4 +155,4 @@ Color BdptIntegrator::deltaFirstStrategies(const BdptDensities& deltaDensities, 
   return L;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -22,7 +22,7 @@
 /// emitters are the kept lights and the lit patch sides (common/shooting_emitters.h): light
 /// subpaths leave them, s = 1 samples them, and a camera vertex after x_m (the first non-delta one)
 /// on a lit patch meets its first-shot radiance (s = 0). The small lights themselves add their
-/// direct light at x_m and what no table can hold (SmallLightsExact, common/small_lights.h). A small
+/// direct light at x_m and what no table can hold (SmallLightsExact, common/lights/small_light_rule.h). A small
 /// area light's light whose first bounce is a mirror or glass (no table holds it: the bulb inside a
 /// glass envelope, a caustic) has its own light subpaths as well, as in light tracing: a second light
 /// subpath per sample leaves the small area lights and is kept only if its first hit is delta; its
@@ -36,7 +36,7 @@
 #include "render/integrators/common/light_path.h"
 #include "render/integrators/common/shooting_integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 /// A shooting integrator (common/shooting_integrator.h): its preprocess() is all BDPT needs.
 class BdptIntegrator : public ShootingIntegrator {
@@ -84,4 +84,4 @@ class BdptIntegrator : public ShootingIntegrator {
   EmissionSampler deltaFirst_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,7 +1,7 @@
 // MIS weights of bidirectional path tracing (power heuristic), from forward and reverse densities.
 #include "render/integrators/bdpt/mis.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -54,4 +54,4 @@ float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> l
   return 1.0f / (1.0f + sum);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,7 +6,7 @@
 
 #include "render/integrators/bdpt/densities.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Power-heuristic weight of strategy (s, t): the path light[0..s−1] + camera[t−1..0] (light
 /// vertices s and on, camera vertices t and on, are not read). For s = 1, light[0] is the light
@@ -18,4 +18,4 @@ namespace fs {
 float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> light,
                 std::span<const SubpathVertex> camera, int s, int t);
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,10 +4,10 @@
 #include <cmath>
 #include <limits>
 
-#include "common/lights.h"
+#include "common/lights/spot_cone.h"
 #include "render/lights/next_event.h"
 
-namespace fs {
+namespace firstshot {
 
 Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, bool patchEmits) {
   if (pt.kind != SubpathVertex::Kind::Surface) return Color(0.0f);
@@ -109,4 +109,4 @@ Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, c
   return maxComponent(through) > 0.0f ? L * through : Color(0.0f);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -8,10 +8,10 @@
 /// radiance).
 #include <span>
 
-#include "common/rng.h"
+#include "common/sampling/rng.h"
 #include "render/integrators/bdpt/densities.h"
 
-namespace fs {
+namespace firstshot {
 
 /// s = 0: the emitted radiance of camera vertex t−1 towards vertex t−2, times its throughput: an
 /// area light's front side that the emission sampler emits from, or (table mode, if @p patchEmits)
@@ -29,4 +29,4 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
 Color connectVertices(const BdptDensities& densities, const SubpathVertex& qs, const SubpathVertex& pt,
                       uint64_t& rays);
 
-}  // namespace fs
+}  // namespace firstshot

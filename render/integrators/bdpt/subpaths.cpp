@@ -3,7 +3,7 @@
 
 #include "render/integrators/common/subpath_walk.h"
 
-namespace fs {
+namespace firstshot {
 
 void traceCameraPath(const BdptDensities& densities, const Ray& cameraRay, int maxHits, int rrDepth, Sampler& sampler,
                      std::vector<SubpathVertex>& path, uint64_t& rays) {
@@ -56,4 +56,4 @@ void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVert
   densities.setDensities(out);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,11 +6,11 @@
 /// area densities.
 #include <vector>
 
-#include "common/rng.h"
+#include "common/sampling/rng.h"
 #include "render/integrators/bdpt/densities.h"
 #include "render/integrators/common/light_path.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Traces the camera subpath of @p ray (from the pinhole, unit direction) into @p path (cleared):
 /// vertex 0 the pinhole, then up to @p maxHits surface hits; Russian roulette on the throughput
@@ -24,4 +24,4 @@ void traceCameraPath(const BdptDensities& densities, const Ray& ray, int maxHits
 void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVertex>& in,
                      std::vector<SubpathVertex>& out);
 
-}  // namespace fs
+}  // namespace firstshot

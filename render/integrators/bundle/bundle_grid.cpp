@@ -1,10 +1,10 @@
 // Bundle directions and line grids.
 #include "render/integrators/bundle/bundle_grid.h"
 
-#include "common/rng.h"
-#include "common/sampling.h"
+#include "common/sampling/rng.h"
+#include "common/sampling/sampling.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -42,4 +42,4 @@ bool BundleGrid::line(int a, int b, Ray& ray) const {
   return true;
 }
 
-}  // namespace fs
+}  // namespace firstshot

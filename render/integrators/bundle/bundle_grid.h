@@ -9,10 +9,10 @@
 /// Also: the iteration's global direction, uniform on the sphere, random or low-discrepancy.
 #include <cstdint>
 
-#include "common/math.h"
+#include "common/util/math.h"
 #include "render/scene/ray.h"
 
-namespace fs {
+namespace firstshot {
 
 /// How the global directions ω_k are drawn.
 enum class BundleDirections : uint8_t {
@@ -46,4 +46,4 @@ class BundleGrid {
   Vec2 offset_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

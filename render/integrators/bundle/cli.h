@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "render/integrators/integrator_cli.h"
+#include "common/util/error.h"
 #include "render/integrators/bundle/integrator.h"
+#include "render/integrators/integrator_cli.h"
 
-namespace fs {
+namespace firstshot {
 
 class BundleCli : public IntegratorCli {
  public:
@@ -78,4 +78,4 @@ class BundleCli : public IntegratorCli {
   }
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <limits>
 
-namespace fs {
+namespace firstshot {
 
 void BundleElements::build(const RenderScene& scene) {
   elements_.clear();
@@ -46,4 +46,4 @@ void BundleElements::build(const RenderScene& scene) {
   radius_ = float(std::max(r * (1.0 + 1e-4), 1e-6));
 }
 
-}  // namespace fs
+}  // namespace firstshot

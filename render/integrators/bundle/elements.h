@@ -6,11 +6,11 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One planar element of the bundle's state.
 struct BundleElement {
@@ -42,4 +42,4 @@ class BundleElements {
   float radius_ = 1.0f;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -1,9 +1,9 @@
 // Ray-bundle stochastic iteration: the image estimate per camera sample.
 #include "render/integrators/bundle/integrator.h"
 
-#include "common/interrupt.h"
+#include "common/util/interrupt.h"
 
-namespace fs {
+namespace firstshot {
 
 void BundleIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
@@ -100,4 +100,4 @@ Color BundleIntegrator::Li(const Ray& cameraRay, Sampler& sampler, SampleInfo* i
   return L;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -27,7 +27,7 @@
 #include "render/integrators/integrator.h"
 #include "render/integrators/bundle/transfer.h"
 
-namespace fs {
+namespace firstshot {
 
 class BundleIntegrator : public PassIntegrator {
  public:
@@ -64,4 +64,4 @@ class BundleIntegrator : public PassIntegrator {
   mutable uint64_t seed_ = 0;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -8,12 +8,12 @@
 #include <chrono>
 #include <stdexcept>
 
-#include "common/lights.h"
-#include "common/rng.h"
+#include "common/lights/spot_cone.h"
+#include "common/sampling/rng.h"
 #include "render/firstshot/reflected.h"
-#include "render/firstshot/table_rows.h"
+#include "render/scene/table_rows.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -316,4 +316,4 @@ void BundleTransfer::gatherLinks(float scale) {
   });
 }
 
-}  // namespace fs
+}  // namespace firstshot

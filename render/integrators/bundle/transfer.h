@@ -46,14 +46,14 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/comm.h"
-#include "common/math.h"
-#include "render/lights/next_event.h"
+#include "common/util/comm.h"
+#include "common/util/math.h"
 #include "render/integrators/bundle/bundle_grid.h"
 #include "render/integrators/bundle/elements.h"
+#include "render/lights/next_event.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 struct BundleSettings {
   int resolution = 256;  ///< B: lines per side of the grid (B² lines per bundle); docs/bundle.md for the default
@@ -176,4 +176,4 @@ class BundleTransfer {
   std::vector<Deposit> pointDeposits_;        ///< the point lights' lines
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -5,7 +5,7 @@
 
 #include "render/lights/next_event.h"
 
-namespace fs {
+namespace firstshot {
 
 bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L,
                      uint64_t& rays, bool throughPanes) {
@@ -41,4 +41,4 @@ bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camer
   return true;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -8,7 +8,7 @@
 #include "render/integrators/common/light_path.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// The splat of light-path vertex @p v to @p camera, unscaled by 1/N (W/(m² sr) times N):
 ///     beta · f(ω_light, ω_camera) · |cosθ_x| · W_e·cosθ_c/d²
@@ -21,4 +21,4 @@ namespace fs {
 bool connectToCamera(const RenderScene& scene, const LightVertex& v, const Camera& camera, uint32_t& pixel, Color& L,
                      uint64_t& rays, bool throughPanes);
 
-}  // namespace fs
+}  // namespace firstshot

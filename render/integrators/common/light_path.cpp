@@ -5,7 +5,7 @@
 
 #include "render/integrators/common/subpath_walk.h"
 
-namespace fs {
+namespace firstshot {
 
 bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, const LightPathOptions& options,
                     Sampler& sampler, std::vector<LightVertex>& path, uint64_t& rays, uint64_t stratum,
@@ -61,4 +61,4 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   return true;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,12 +6,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "common/rng.h"
+#include "common/sampling/rng.h"
 #include "render/lights/light_emission.h"
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One vertex of a light subpath. Vertex 0 lies on the light; vertex k ≥ 1 is the particle's k-th
 /// surface hit, reached after k − 1 reflections.
@@ -63,4 +63,4 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
                     Sampler& sampler, std::vector<LightVertex>& path, uint64_t& rays, uint64_t stratum = 0,
                     uint64_t strata = 1);
 
-}  // namespace fs
+}  // namespace firstshot

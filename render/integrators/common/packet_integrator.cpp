@@ -3,7 +3,7 @@
 
 #include "render/scene/embree_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 Color PacketIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* info) const {
   uint64_t rays = 0;
@@ -29,4 +29,4 @@ Color PacketIntegrator::background(const Vec3& dir) const {
   return scene_->lights().background(glm::normalize(dir));
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,7 +10,7 @@
 #include "render/integrators/integrator.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 class PacketIntegrator : public Integrator {
  public:
@@ -33,4 +33,4 @@ class PacketIntegrator : public Integrator {
   const RenderScene* scene_ = nullptr;  ///< the scene, kept by the integrator's preprocess()
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -5,9 +5,9 @@
 /// (bench/variance_by_depth.cpp) can split an image's mean and variance by those. The walk reads the calling
 /// thread's recorder once per trace() and records nothing when it is null, the default: rendering without a
 /// recorder does the same arithmetic as before and makes the same images.
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 /// What one contribution to a path's radiance came from.
 enum class PathTerm : int {
@@ -76,4 +76,4 @@ inline PathRecorder*& threadPathRecorder() {
   return recorder;
 }
 
-}  // namespace fs
+}  // namespace firstshot

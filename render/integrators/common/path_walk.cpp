@@ -8,7 +8,7 @@
 #include "render/integrators/common/path_recorder.h"
 #include "render/scene/thin_glass_walk.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -86,7 +86,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
   PathRecorder* const recorder = threadPathRecorder();
   bool pastNonDelta = false;
   PathVia via = PathVia::Direct;
-  // Luminaires (render/lights/luminaires.h): the box the path is in, and whether its light was counted on entry.
+  // Luminaires (render/scene/luminaire_boxes.h): the box the path is in, and whether its light was counted on entry.
   const bool useLuminaires = lights_.hasLuminaires();
   const LuminaireBoxes& boxes = scene.luminaires();
   LuminaireState lum;
@@ -209,4 +209,4 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
   return L;
 }
 
-}  // namespace fs
+}  // namespace firstshot

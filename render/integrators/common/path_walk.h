@@ -20,7 +20,7 @@
 /// A small area light met by a path is counted only where the first-shot term could not have counted it: seen by the camera, after a delta bounce (mirror,
 /// glass), or from a vertex that sampled it by NEE (PrimaryMode::Exact).
 ///
-/// With luminaires in the table (render/lights/luminaires.h, IntegratorOptions::luminaires), their exit patches are
+/// With luminaires in the table (render/scene/luminaire_boxes.h, IntegratorOptions::luminaires), their exit patches are
 /// kept emitters, a segment from a non-delta vertex that enters a box adds the exit light where it crosses
 /// (enterLuminaires, MIS against NEE), and the luminaire's lights are suppressed past that entry until the path
 /// leaves the box; from the camera and delta bounces a box is entered as it is.
@@ -37,7 +37,7 @@
 #include "render/integrators/integrator.h"
 #include "render/lights/light_sampler.h"
 
-namespace fs {
+namespace firstshot {
 
 /// The vertex a path segment leaves from: what decides the weight of emission met at its end.
 struct PathVertex {
@@ -78,7 +78,7 @@ class PathWalk {
   /// Weight of emission met at @p hit (an area light or, for the first-shot term, a patch) by a
   /// segment from @p prev.
   float emissionWeight(const PathVertex& prev, const Hit& hit) const;
-  /// Where a path is with respect to the luminaires (render/lights/luminaires.h).
+  /// Where a path is with respect to the luminaires (render/scene/luminaire_boxes.h).
   struct LuminaireState {
     int inside = -1;          ///< the luminaire whose box holds the current vertex, or −1
     bool suppressed = false;  ///< its light was counted where the path entered it: its lights emit nothing
@@ -99,4 +99,4 @@ class PathWalk {
   LightSampler lights_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

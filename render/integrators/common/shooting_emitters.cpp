@@ -1,7 +1,7 @@
 // The shooting integrators' emitters: every light, or in table mode the kept lights and lit patches.
 #include "render/integrators/common/shooting_emitters.h"
 
-namespace fs {
+namespace firstshot {
 
 void ShootingEmitters::build(const RenderScene& scene, const FirstShotLighting& lighting,
                              const IntegratorOptions& options) {
@@ -14,4 +14,4 @@ void ShootingEmitters::build(const RenderScene& scene, const FirstShotLighting& 
   small_.build(scene, lighting, options);
 }
 
-}  // namespace fs
+}  // namespace firstshot

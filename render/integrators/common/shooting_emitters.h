@@ -11,7 +11,7 @@
 #include "render/lights/light_emission.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 class ShootingEmitters {
  public:
@@ -32,4 +32,4 @@ class ShootingEmitters {
   SmallLightsExact small_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

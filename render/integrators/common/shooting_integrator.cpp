@@ -1,7 +1,7 @@
 // The shooting integrators' common preprocessing: the scene's first-shot lighting and the emitters.
 #include "render/integrators/common/shooting_integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 void ShootingIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
@@ -9,4 +9,4 @@ void ShootingIntegrator::preprocess(const RenderScene& scene) {
   shooting_.build(scene, lighting_, options_);  // in table mode: the kept lights and the lit patch sides
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -8,7 +8,7 @@
 #include "render/integrators/common/shooting_emitters.h"
 #include "render/integrators/integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 class ShootingIntegrator : public SplattingIntegrator {
  public:
@@ -26,4 +26,4 @@ class ShootingIntegrator : public SplattingIntegrator {
   ShootingEmitters shooting_;   ///< the emitters; in table mode also the small lights' own part
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -4,7 +4,7 @@
 #include "render/firstshot/patch_emitters.h"
 #include "render/lights/next_event.h"
 
-namespace fs {
+namespace firstshot {
 
 void SmallLightsExact::build(const RenderScene& scene, const FirstShotLighting& lighting,
                              const IntegratorOptions& options) {
@@ -55,4 +55,4 @@ Color SmallLightsExact::estimate(std::span<const SubpathVertex> camera, size_t m
   return L;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -24,13 +24,13 @@
 /// mirrors and glass before x_m, or by a polished surface, comes from its first-hit particles.
 #include <span>
 
-#include "common/rng.h"
-#include "render/integrators/integrator.h"
+#include "common/sampling/rng.h"
 #include "render/integrators/common/subpath_vertex.h"
+#include "render/integrators/integrator.h"
 #include "render/lights/light_sampler.h"
 #include "render/lights/next_event.h"
 
-namespace fs {
+namespace firstshot {
 
 class SmallLightsExact {
  public:
@@ -62,4 +62,4 @@ class SmallLightsExact {
   bool polished_ = false;  ///< the scene may have polished points (mayBePolished)
 };
 
-}  // namespace fs
+}  // namespace firstshot

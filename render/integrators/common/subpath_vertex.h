@@ -5,10 +5,10 @@
 /// camera-side small lights (small_lights.h) read camera subpaths of it, for BDPT and light tracing.
 #include <cstdint>
 
-#include "common/math.h"
+#include "common/util/math.h"
 #include "render/scene/ray.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One vertex of a camera or light subpath (docs/bdpt.md). Subpaths are ordered from their
 /// endpoint: vertex 0 is the pinhole (camera subpath) or the point on the light (light subpath).
@@ -37,4 +37,4 @@ struct SubpathVertex {
   bool onSurface() const { return kind == Kind::Surface || (kind == Kind::Light && !deltaLight); }
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,7 +6,7 @@
 
 #include "render/scene/thin_glass_walk.h"
 
-namespace fs {
+namespace firstshot {
 
 bool SubpathWalk::next(uint64_t& rays, Sampler& sampler) {
   if (++depth_ > settings_.maxHits) return false;
@@ -38,4 +38,4 @@ bool SubpathWalk::scatter(const Vec3& wi, Sampler& sampler) {
   return true;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -7,12 +7,12 @@
 /// plays Russian roulette. Each walk keeps what its vertices need apart (densities, light indices).
 #include <cstdint>
 
-#include "common/bsdf.h"
-#include "common/rng.h"
+#include "common/materials/bsdf.h"
+#include "common/sampling/rng.h"
 #include "render/scene/ray.h"
 #include "render/scene/render_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 /// How a subpath walks.
 struct SubpathWalkSettings {
@@ -65,4 +65,4 @@ class SubpathWalk {
   float pdf_ = 0.0f;
 };
 
-}  // namespace fs
+}  // namespace firstshot

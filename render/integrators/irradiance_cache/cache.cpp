@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -218,4 +218,4 @@ std::vector<int> IrradianceCache::nodeDepths(int level) const {
   return out;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -16,9 +16,9 @@
 #include <mutex>
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 
-namespace fs {
+namespace firstshot {
 
 /// One irradiance value E_i computed at P_i by the primary method.
 struct IrradianceRecord {
@@ -118,4 +118,4 @@ class IrradianceCache {
   std::vector<std::unique_ptr<Level>> levels_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -3,10 +3,10 @@
 
 #include <sstream>
 
-#include "common/binary_file.h"
-#include "common/hash.h"
+#include "common/util/binary_file.h"
+#include "common/util/hash.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -83,4 +83,4 @@ CacheFileData readCacheFile(const std::string& path, uint64_t sceneHash, const s
   return d;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,8 +6,8 @@
 ///   u32 length + settings text (IrradianceCacheIntegrator::settingsText, for messages),
 ///   u32 level count; per level: u64 record count, then per record 30 f32:
 ///     p[3] n[3] E[3] R Rmin Rmax gradT[c][3] (c = 0..2) gradR[c][3] (c = 0..2),
-///   u64 checksum (common/hash.h Hasher over every byte before it), "FSICEND\0"
-///   (the frame of common/binary_file.h: header, checksum trailer, atomic write, checked reads).
+///   u64 checksum (common/util/hash.h Hasher over every byte before it), "FSICEND\0"
+///   (the frame of common/util/binary_file.h: header, checksum trailer, atomic write, checked reads).
 /// A file is used only if it is whole, intact, and made for the same scene and settings; anything
 /// else is refused with an InputError naming the file (exit code 2), never partly used.
 #include <cstdint>
@@ -16,7 +16,7 @@
 
 #include "render/integrators/irradiance_cache/cache.h"
 
-namespace fs {
+namespace firstshot {
 
 struct CacheFileData {
   uint64_t sceneHash = 0;
@@ -31,4 +31,4 @@ void writeCacheFile(const std::string& path, const CacheFileData& data);
 /// against @p sceneHash and @p settings. @throws InputError naming @p path and what is wrong.
 CacheFileData readCacheFile(const std::string& path, uint64_t sceneHash, const std::string& settings);
 
-}  // namespace fs
+}  // namespace firstshot

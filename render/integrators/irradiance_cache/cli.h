@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "common/error.h"
-#include "render/output/film.h"
+#include "common/util/error.h"
 #include "render/integrators/integrator_cli.h"
 #include "render/integrators/irradiance_cache/integrator.h"
+#include "render/output/film.h"
 
-namespace fs {
+namespace firstshot {
 
 class IrradianceCacheCli : public IntegratorCli {
  public:
@@ -165,4 +165,4 @@ class IrradianceCacheCli : public IntegratorCli {
   }
 };
 
-}  // namespace fs
+}  // namespace firstshot

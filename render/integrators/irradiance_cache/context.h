@@ -7,7 +7,7 @@
 
 #include "render/integrators/irradiance_cache/integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 struct IrradianceCacheIntegrator::Context {
   /// Shared: new records go into the shared cache. Private: into @c overlay, seen only by this
@@ -33,4 +33,4 @@ struct IrradianceCacheIntegrator::FirstVertex {
   Color firstShot{0.0f};   ///< first-shot term of the first hit, included in the radiance (W/(m² sr))
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-namespace fs {
+namespace firstshot {
 
 void HemisphereSamples::estimate(const Frame& frame, bool gradients, IrradianceRecord& rec) const {
   const int M = M_, N = N_;
@@ -62,4 +62,4 @@ void HemisphereSamples::estimate(const Frame& frame, bool gradients, IrradianceR
   }
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -18,10 +18,10 @@
 ///               the boundary held by the nearer of the two surfaces seen.
 #include <vector>
 
-#include "common/math.h"
+#include "common/util/math.h"
 #include "render/integrators/irradiance_cache/cache.h"
 
-namespace fs {
+namespace firstshot {
 
 class HemisphereSamples {
  public:
@@ -46,4 +46,4 @@ class HemisphereSamples {
   std::vector<float> r_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -6,15 +6,15 @@
 #include <algorithm>
 #include <cmath>
 
-#include "common/interrupt.h"
-#include "common/sampling.h"
-#include "render/scene/embree_scene.h"
-#include "render/scene/thin_glass_walk.h"
-#include "render/firstshot/table_rows.h"
-#include "render/integrators/irradiance_cache/hemisphere_samples.h"
+#include "common/sampling/sampling.h"
+#include "common/util/interrupt.h"
 #include "render/integrators/irradiance_cache/context.h"
+#include "render/integrators/irradiance_cache/hemisphere_samples.h"
+#include "render/scene/embree_scene.h"
+#include "render/scene/table_rows.h"
+#include "render/scene/thin_glass_walk.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -322,4 +322,4 @@ IrradianceRecord IrradianceCacheIntegrator::gather(const Hit& hit, const Vec3& n
   return rec;
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -55,7 +55,7 @@
 #include "render/integrators/irradiance_cache/cache.h"
 #include "render/integrators/common/path_walk.h"
 
-namespace fs {
+namespace firstshot {
 
 /// Settings of the irradiance cache integrator (command-line names in brackets).
 struct IrradianceCacheSettings {
@@ -230,4 +230,4 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   mutable std::atomic<uint64_t> missPaths_{0};
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -11,18 +11,18 @@
 #include <functional>
 #include <stdexcept>
 
-#include "common/comm.h"
-#include "common/error.h"
-#include "common/interrupt.h"
-#include "common/progress.h"
-#include "common/small_lights.h"
+#include "common/lights/small_light_rule.h"
+#include "common/util/comm.h"
+#include "common/util/error.h"
+#include "common/util/interrupt.h"
+#include "common/util/progress.h"
 #include "render/integrators/irradiance_cache/cache_file.h"
-#include "render/scene/camera.h"
-#include "render/scene/embree_scene.h"
 #include "render/integrators/irradiance_cache/context.h"
 #include "render/integrators/irradiance_cache/integrator.h"
+#include "render/scene/camera.h"
+#include "render/scene/embree_scene.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -159,7 +159,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
     size_t added = 0;
     size_t batch = 1;
     for (size_t pos = 0; pos < tasks; pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
-      // SIGINT/SIGTERM: the fill stops between batches (common/interrupt.h). With several ranks
+      // SIGINT/SIGTERM: the fill stops between batches (common/util/interrupt.h). With several ranks
       // only at the exchange, where every rank learns of it, so that none waits for the others.
       if (comm.size() == 1) throwIfInterrupted();
       const size_t count = std::min(batch, tasks - pos);
@@ -301,4 +301,4 @@ void IrradianceCacheIntegrator::writeRecordImage(const Film& film, const std::st
   out.write(path, false, exposure);
 }
 
-}  // namespace fs
+}  // namespace firstshot

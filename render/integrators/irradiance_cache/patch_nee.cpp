@@ -16,7 +16,7 @@
 #include "render/integrators/irradiance_cache/context.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 namespace {
 
@@ -67,4 +67,4 @@ Color IrradianceCacheIntegrator::patchNeeIrradiance(const Hit& hit, const Vec3& 
   return Color(sum / double(K));
 }
 
-}  // namespace fs
+}  // namespace firstshot

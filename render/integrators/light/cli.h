@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "common/memory_limit.h"
+#include "common/util/memory_limit.h"
 #include "render/integrators/integrator_cli.h"
 #include "render/integrators/light/integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 class LightCli : public IntegratorCli {
  public:
@@ -52,4 +52,4 @@ class LightCli : public IntegratorCli {
   int lightPaths_ = 0;  ///< IntegratorOptions::lightPathsPerPixel
 };
 
-}  // namespace fs
+}  // namespace firstshot

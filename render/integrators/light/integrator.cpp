@@ -7,7 +7,7 @@
 #include "render/firstshot/patch_emitters.h"
 #include "render/integrators/common/camera_splat.h"
 
-namespace fs {
+namespace firstshot {
 
 void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   ShootingIntegrator::preprocess(scene);
@@ -163,4 +163,4 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
   }
 }
 
-}  // namespace fs
+}  // namespace firstshot

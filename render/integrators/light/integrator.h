@@ -26,7 +26,7 @@
 /// particle's vertex 0 is not splatted, and its vertex k makes a path of k + 1 bounces. What the
 /// small lights give the camera directly — their direct light at the first hit x (next-event
 /// estimation, exact shadows, MIS with x's BSDF sample for area lights) and their emission seen at
-/// x — comes from Li() per pixel (SmallLightsExact, common/small_lights.h, shared with BDPT). A
+/// x — comes from Li() per pixel (SmallLightsExact, common/lights/small_light_rule.h, shared with BDPT). A
 /// small area light's light whose first bounce is a mirror or glass (no table holds it) comes from
 /// a second particle per particle index when the scene has both: shot from the small area lights,
 /// stopped at a first hit that is not delta. In a scene with polished surfaces (whose lit patches
@@ -52,7 +52,7 @@
 #include "render/integrators/common/shooting_integrator.h"
 #include "render/lights/light_emission.h"
 
-namespace fs {
+namespace firstshot {
 
 // Declared like BdptIntegrator (bdpt/integrator.h), the shooting integrators' interface; their particles differ.
 class LightTracingIntegrator : public ShootingIntegrator {
@@ -133,4 +133,4 @@ class LightTracingIntegrator : public ShootingIntegrator {
   EmissionSampler withExits_;  ///< emission() and the luminaires' exit patches
 };
 
-}  // namespace fs
+}  // namespace firstshot

@@ -5,7 +5,7 @@
 #include "render/integrators/integrator_cli.h"
 #include "render/integrators/path/integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 struct PathCli : SharedOptionsCli<PathIntegrator> {
   PathCli()
@@ -14,4 +14,4 @@ struct PathCli : SharedOptionsCli<PathIntegrator> {
                           integrator_option::kLuminaires}) {}
 };
 
-}  // namespace fs
+}  // namespace firstshot

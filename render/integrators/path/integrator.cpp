@@ -1,7 +1,7 @@
 // Path tracing: each camera ray's path walk.
 #include "render/integrators/path/integrator.h"
 
-namespace fs {
+namespace firstshot {
 
 void PathIntegrator::preprocess(const RenderScene& scene) {
   scene_ = &scene;
@@ -14,4 +14,4 @@ Color PathIntegrator::LiFrom(const Ray& ray, const Hit* first, Sampler& sampler,
   return walk_.trace(ray, Color(1.0f), 0, PathVertex(), true, sampler, rays, info, first);
 }
 
-}  // namespace fs
+}  // namespace firstshot

@@ -10,7 +10,7 @@
 #include "render/integrators/common/packet_integrator.h"
 #include "render/integrators/common/path_walk.h"
 
-namespace fs {
+namespace firstshot {
 
 class PathIntegrator : public PacketIntegrator {
  public:
@@ -36,4 +36,4 @@ class PathIntegrator : public PacketIntegrator {
   PathWalk walk_;
 };
 
-}  // namespace fs
+}  // namespace firstshot

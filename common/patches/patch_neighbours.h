@@ -1,0 +1,25 @@
+#pragma once
+/// @file patch_neighbours.h
+/// Which patches touch which: the pairs whose axis-aligned bounding boxes overlap once grown by
+/// 10⁻⁵ of the mesh's diagonal (shared edges and corners, T-junctions of adaptive meshes, and
+/// surfaces that meet or cross each other). A superset of the patches that share a point, never
+/// fewer; the first-shot renderer's table visibility and the preprocessor's burial test rely on that.
+#include <cstdint>
+#include <vector>
+
+#include "common/patches/patches.h"
+
+namespace firstshot {
+
+/// CSR over the patches of @p mesh: the neighbours of patch j are adjacent[start[j]..start[j+1]),
+/// ascending, j itself left out.
+struct PatchNeighbours {
+  std::vector<uint64_t> start;
+  std::vector<uint32_t> adjacent;
+};
+
+/// The neighbours of every patch of @p mesh (a uniform grid of cells three times the median patch
+/// size proposes the pairs, each cell's patches tested pair by pair once; built in parallel).
+PatchNeighbours patchNeighbours(const PatchMesh& mesh);
+
+}  // namespace firstshot

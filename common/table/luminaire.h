@@ -1,0 +1,84 @@
+#pragma once
+/// @file luminaire.h
+/// A luminaire: one or more small lights and what surrounds them (a bowl, a shade, a glass envelope), inside an
+/// axis-aligned box whose six faces are its exit surfaces (Radiance's mkillum, one step further than first-shot).
+///
+/// The preprocessor traces the lights' particles inside the box, through every surface there, until they leave it,
+/// and tabulates the radiance leaving each exit patch per outgoing direction: the exit distribution. Light that
+/// leaves the box again after entering it from the room is not in it (the renderer finds that by tracing).
+///
+/// Exit patches: face f = 2·axis + (1 on the box's high side, 0 on its low side), outward normal ±e_axis; its
+/// tangent axes are u = (axis + 1) mod 3 and v = (axis + 2) mod 3, cut into nu[f] × nv[f] equal rectangles,
+/// patch (i, j) of face f numbered firstPatch(f) + i + nu[f]·j. Directions: kThetaBins bins uniform in sin²θ (θ from
+/// the outward normal) × kPhiBins uniform in φ = atan2(ω_v, ω_u): every bin covers π/kBins of projected solid
+/// angle, so a particle of power Φ leaving patch k in bin b adds Φ·kBins/(π·A_k) to its radiance.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/util/math.h"
+
+namespace firstshot {
+
+/// One exit patch: a rectangle on a face of a luminaire's box.
+struct ExitPatch {
+  Vec3 corner{0.0f};  ///< its corner of least u and v, m
+  Vec3 eu{0.0f};      ///< edge along u, m
+  Vec3 ev{0.0f};      ///< edge along v, m
+  Vec3 normal{0.0f};  ///< outward unit normal
+  float area = 0.0f;  ///< m²
+  int face = 0;
+  /// The point at (s, t) ∈ [0,1)² of the rectangle.
+  Vec3 point(const Vec2& st) const { return corner + st.x * eu + st.y * ev; }
+};
+
+struct Luminaire {
+  static constexpr int kThetaBins = 8;
+  static constexpr int kPhiBins = 16;
+  static constexpr int kBins = kThetaBins * kPhiBins;
+
+  std::string name;            ///< the scene's name for it, or "auto:<first light's name>" when detected
+  Vec3 lo{0.0f}, hi{0.0f};     ///< the box, m (world space)
+  std::vector<uint32_t> lights;       ///< its lights, indices into SceneDesc::lights, ascending
+  std::array<uint32_t, 6> nu{{1, 1, 1, 1, 1, 1}};  ///< exit patches along each face's u axis
+  std::array<uint32_t, 6> nv{{1, 1, 1, 1, 1, 1}};  ///< exit patches along each face's v axis
+  /// Per exit patch, per direction bin, RGB: the radiance leaving the patch, W/(m² sr);
+  /// radiance[3·(kBins·k + b) + c]. Size 3·kBins·patchCount().
+  std::vector<float> radiance;
+  uint64_t particles = 0;      ///< particles traced for it
+  Color power{0.0f};           ///< emitted by its lights, W
+  Color exitPower{0.0f};       ///< leaving the box (the exit distribution's integral), W
+  /// Relative standard error of the exit power's luminance, from the particles (the table's own noise per patch and
+  /// bin is larger: see docs/luminaires.md).
+  float relError = 0.0f;
+
+  uint32_t patchCount() const;
+  /// The number of the first exit patch of face @p f (f = 6: patchCount()).
+  uint32_t firstPatch(int f) const;
+  /// Exit patch @p k's rectangle.
+  ExitPatch patch(uint32_t k) const;
+  /// The exit patch of face @p f holding point @p p (on that face; clamped to it).
+  uint32_t patchAt(int f, const Vec3& p) const;
+  /// The direction bin of the unit direction @p w leaving face @p f, or −1 when it points into the box.
+  static int bin(int f, const Vec3& w);
+  /// The radiance leaving exit patch @p k along the unit direction @p w (0 into the box), W/(m² sr).
+  Color radianceAt(uint32_t k, const Vec3& w) const;
+  /// Power leaving exit patch @p k (its radiance integrated over area and projected solid angle), W.
+  Color patchPower(uint32_t k) const;
+
+  /// True if @p p lies inside the box (its boundary counts as inside).
+  bool contains(const Vec3& p) const;
+  /// Where the ray from @p o (outside the box) along @p d (not necessarily unit) first enters the box with parameter
+  /// t ∈ (0, tmax): @p t and the face @p f crossed. False if it misses the box within tmax or starts inside it.
+  bool entry(const Vec3& o, const Vec3& d, float tmax, float& t, int& f) const;
+};
+
+/// The outward unit normal of face @p f.
+inline Vec3 exitFaceNormal(int f) {
+  Vec3 n(0.0f);
+  n[f / 2] = (f & 1) ? 1.0f : -1.0f;
+  return n;
+}
+
+}  // namespace firstshot

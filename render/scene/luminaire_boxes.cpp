@@ -1,0 +1,118 @@
+// The table's luminaires seen by the renderer (luminaires.h).
+#include "render/scene/luminaire_boxes.h"
+
+#include <algorithm>
+
+#include "render/scene/light_set.h"
+
+namespace firstshot {
+
+LuminaireBoxes::LuminaireBoxes(const std::vector<Luminaire>* luminaires, const LightSet& lights)
+    : items_(luminaires) {
+  if (empty()) return;
+  lightLuminaire_.assign(lights.lights().size(), -1);
+  for (size_t l = 0; l < lights.lights().size(); ++l) {
+    const uint32_t s = lights.lights()[l].sceneIndex;
+    for (size_t i = 0; i < items_->size(); ++i) {
+      const std::vector<uint32_t>& ls = (*items_)[i].lights;
+      if (std::binary_search(ls.begin(), ls.end(), s)) lightLuminaire_[l] = int(i);
+    }
+  }
+  exitFirst_.assign(items_->size() + 1, 0);
+  for (size_t i = 0; i < items_->size(); ++i) exitFirst_[i + 1] = exitFirst_[i] + (*items_)[i].patchCount();
+  // Not a Distribution1Df per face (common/sampling/distribution_1d.h): the faces' CDFs share one array and keep their last
+  // entry as rounded (not 1), which the last patch's probability carries into the particles' weights.
+  patchCdf_.assign(exitCount(), 0.0f);
+  facePower_.assign(6 * items_->size(), 0.0f);
+  for (size_t i = 0; i < items_->size(); ++i) {
+    const Luminaire& lum = (*items_)[i];
+    for (int f = 0; f < 6; ++f) {
+      double sum = 0;
+      for (uint32_t k = lum.firstPatch(f); k < lum.firstPatch(f + 1); ++k) {
+        const Color c = lum.patchPower(k);
+        sum += (double(c.x) + c.y + c.z) / 3.0;
+        patchCdf_[exitFirst_[i] + k] = float(sum);
+      }
+      for (uint32_t k = lum.firstPatch(f); k < lum.firstPatch(f + 1); ++k)
+        patchCdf_[exitFirst_[i] + k] = sum > 0 ? float(patchCdf_[exitFirst_[i] + k] / sum) : 0.0f;
+      facePower_[6 * i + size_t(f)] = float(sum);
+    }
+  }
+}
+
+float LuminaireBoxes::facingPower(uint32_t i, const Vec3& x, bool facing[6]) const {
+  const Luminaire& lum = (*items_)[i];
+  float total = 0.0f;
+  for (int f = 0; f < 6; ++f) {
+    const int a = f / 2;
+    facing[f] = (f & 1) ? x[a] > lum.hi[a] : x[a] < lum.lo[a];
+    if (facing[f]) total += facePower_[6 * i + size_t(f)];
+  }
+  return total;
+}
+
+bool LuminaireBoxes::choosePatch(uint32_t i, const Vec3& x, float& u, uint32_t& patch, float& p) const {
+  bool facing[6];
+  const float total = facingPower(i, x, facing);
+  if (!(total > 0.0f)) return false;
+  const Luminaire& lum = (*items_)[i];
+  float target = u * total;
+  int f = 0, last = -1;
+  for (; f < 6; ++f) {
+    if (!facing[f] || !(facePower_[6 * i + size_t(f)] > 0.0f)) continue;
+    last = f;
+    if (target < facePower_[6 * i + size_t(f)]) break;
+    target -= facePower_[6 * i + size_t(f)];
+  }
+  if (f == 6) f = last, target = facePower_[6 * i + size_t(f)] * 0x1.fffffep-1f;  // rounding at the top
+  const float pFace = facePower_[6 * i + size_t(f)] / total;
+  const float v = std::clamp(target / facePower_[6 * i + size_t(f)], 0.0f, 0x1.fffffep-1f);
+  const float* cdf = &patchCdf_[exitFirst_[i]];
+  const uint32_t begin = lum.firstPatch(f), end = lum.firstPatch(f + 1);
+  const uint32_t k = uint32_t(std::upper_bound(cdf + begin, cdf + end - 1, v) - cdf);
+  const float lo = k > begin ? cdf[k - 1] : 0.0f, width = cdf[k] - lo;
+  if (!(width > 0.0f)) return false;
+  patch = k;
+  p = pFace * width;
+  u = std::clamp((v - lo) / width, 0.0f, 0x1.fffffep-1f);
+  return true;
+}
+
+float LuminaireBoxes::patchProbability(uint32_t i, const Vec3& x, uint32_t patch) const {
+  bool facing[6];
+  const float total = facingPower(i, x, facing);
+  const Luminaire& lum = (*items_)[i];
+  const int f = lum.patch(patch).face;
+  if (!(total > 0.0f) || !facing[f]) return 0.0f;
+  const float* cdf = &patchCdf_[exitFirst_[i]];
+  const float width = cdf[patch] - (patch > lum.firstPatch(f) ? cdf[patch - 1] : 0.0f);
+  return facePower_[6 * i + size_t(f)] / total * width;
+}
+
+int LuminaireBoxes::containing(const Vec3& p) const {
+  if (empty()) return -1;
+  for (size_t i = 0; i < items_->size(); ++i)
+    if ((*items_)[i].contains(p)) return int(i);
+  return -1;
+}
+
+int LuminaireBoxes::entries(const Vec3& o, const Vec3& d, float tmax, Entry* out) const {
+  if (empty()) return 0;
+  int n = 0;
+  for (size_t i = 0; i < items_->size(); ++i) {
+    Entry e;
+    if (!(*items_)[i].entry(o, d, tmax, e.t, e.face)) continue;
+    e.luminaire = uint32_t(i);
+    if (n == kMaxEntries && !(e.t < out[n - 1].t)) continue;  // full: keep the nearest
+    int k = n < kMaxEntries ? n++ : n - 1;
+    for (; k > 0 && out[k - 1].t > e.t; --k) out[k] = out[k - 1];  // nearest first
+    out[k] = e;
+  }
+  return n;
+}
+
+uint32_t LuminaireBoxes::exitLuminaire(uint32_t e) const {
+  return uint32_t(std::upper_bound(exitFirst_.begin(), exitFirst_.end(), e) - exitFirst_.begin()) - 1;
+}
+
+}  // namespace firstshot

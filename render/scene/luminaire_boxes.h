@@ -1,0 +1,76 @@
+#pragma once
+/// @file luminaire_boxes.h
+/// The first-shot table's luminaires (common/table/luminaire.h) as the renderer meets them: which light belongs to which
+/// luminaire, which box holds a point, which boxes a path segment enters, and the exit patches numbered across all
+/// luminaires (the light sampler's Exit emitters, render/lights/light_sampler.h).
+///
+/// How a path uses them without counting a luminaire's light twice (render/integrators/common/path_walk.cpp, after
+/// Radiance's illum): from outside a box its lights are not sampled; the exit patches are, and a segment from a
+/// non-delta vertex that enters the box adds the exit radiance where it crosses the face (MIS against that NEE).
+/// Past such a crossing the path is inside the box with the luminaire's light already counted: its lights then emit
+/// nothing, directly or by NEE, until the path leaves the box. A segment from the camera or a delta bounce enters
+/// without counting anything, and inside the path sees the luminaire as it is: its lights emit and are sampled.
+/// What the exit distribution holds (light that left the box for the first time) and what the path adds by
+/// tracing (light that entered it from the room, and the lights' light along segments from delta vertices) are
+/// disjoint, and together they are all the light.
+#include <cstdint>
+#include <vector>
+
+#include "common/table/luminaire.h"
+#include "common/util/math.h"
+
+namespace firstshot {
+
+class LightSet;
+
+class LuminaireBoxes {
+ public:
+  /// A segment enters at most this many boxes (the nearest of them; more would need a row of lamps along one ray).
+  static constexpr int kMaxEntries = 64;
+  /// A box a segment enters: where and through which face.
+  struct Entry {
+    uint32_t luminaire = 0;
+    int face = 0;
+    float t = 0.0f;  ///< ray parameter of the crossing
+  };
+
+  LuminaireBoxes() = default;
+  /// @p luminaires: the table's (they must outlive this object); @p lights: the scene's lights, whose sceneIndex
+  /// maps them onto the luminaires' light lists.
+  LuminaireBoxes(const std::vector<Luminaire>* luminaires, const LightSet& lights);
+
+  bool empty() const { return items_ == nullptr || items_->empty(); }
+  const std::vector<Luminaire>& items() const { return *items_; }
+  /// The luminaire light @p l (a LightSet index) belongs to, or −1.
+  int ofLight(uint32_t l) const { return l < lightLuminaire_.size() ? lightLuminaire_[l] : -1; }
+  /// The luminaire whose box holds @p p, or −1.
+  int containing(const Vec3& p) const;
+  /// The boxes the segment o + t·d, t ∈ (0, tmax), enters from outside, nearest first; returns their number.
+  int entries(const Vec3& o, const Vec3& d, float tmax, Entry* out) const;
+
+  /// Exit patches of all luminaires: luminaire i's patch k is number exitFirst(i) + k.
+  uint32_t exitCount() const { return exitFirst_.empty() ? 0 : exitFirst_.back(); }
+  uint32_t exitFirst(uint32_t luminaire) const { return exitFirst_[luminaire]; }
+  /// The luminaire of exit patch number @p e.
+  uint32_t exitLuminaire(uint32_t e) const;
+
+  /// Next-event estimation's choice of an exit patch of luminaire @p luminaire (already chosen) for a receiver at
+  /// @p x: one of the faces whose outer side holds @p x, by its power, then one of its patches by power. @p u ∈ [0,1)
+  /// makes the choice and comes back rescaled within the chosen patch's share. @return the patch (its number within
+  /// the luminaire) and in @p p the probability of the choice; false where no face facing @p x emits.
+  bool choosePatch(uint32_t luminaire, const Vec3& x, float& u, uint32_t& patch, float& p) const;
+  /// The probability with which choosePatch() at @p x chooses patch @p patch of luminaire @p luminaire.
+  float patchProbability(uint32_t luminaire, const Vec3& x, uint32_t patch) const;
+
+ private:
+  const std::vector<Luminaire>* items_ = nullptr;
+  std::vector<int> lightLuminaire_;
+  std::vector<uint32_t> exitFirst_;  ///< per luminaire, and the total last
+  /// Per exit patch (numbered across luminaires): the CDF of its face's patches by power up to and including it.
+  std::vector<float> patchCdf_;
+  std::vector<float> facePower_;  ///< per luminaire, 6 per face: the face's power (mean RGB), W
+  /// The faces of luminaire @p i whose outer side holds @p x, and their total power.
+  float facingPower(uint32_t i, const Vec3& x, bool facing[6]) const;
+};
+
+}  // namespace firstshot
