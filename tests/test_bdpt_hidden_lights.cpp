@@ -70,6 +70,7 @@ TEST(BdptHiddenLights, GlassBulbAgreesWithPathTracingOnTheSameTable) {
 // table within 3σ of, or below, the one without (the same sample count; a table mode that lit the room
 // only by camera paths meeting the filament was ≈ 20× as noisy).
 TEST(BdptHiddenLights, GlassBulbNoNoisierWithTheTable) {
+  FIRSTSHOT_STATISTICS_ONLY("BdptHiddenLights.GlassBulbAgreesWithPathTracingOnTheSameTable");
   const SceneDesc d = glassBulb();
   const RenderScene table = withTable(d), plain(d, d.settings.patchSize);
   auto a = makeIntegrator("bdpt", tableMode(d)), b = makeIntegrator("bdpt", tableMode(d));

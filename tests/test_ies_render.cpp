@@ -158,6 +158,7 @@ TEST(IesRender, LightTracingAgreesWithPathTracing) {
   test::expectAgreesWithPathTracing("light", "IES room, type B", iesRoomScene(flood), 400, 200);
 }
 TEST(IesRender, BdptAgreesWithPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("IesRender.LightTracingAgreesWithPathTracing (the same emission sampling) and BdptHiddenLights.*");
   test::expectAgreesWithPathTracing("bdpt", "IES room", iesRoomScene(test::writeIes("room.ies", roomTable())), 150, 200);
 }
 

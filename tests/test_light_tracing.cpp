@@ -26,7 +26,10 @@ TEST(LightTracing, ManyLightsImageAgreesWithPathTracing) {
   FIRSTSHOT_STATISTICS_ONLY("LightTracing.CornellImageAgreesWithPathTracing");
   test::expectAgreesWithPathTracing("light", "many-lights", 600, 300);
 }
-TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "sierpinski-glossy", 600, 300); }
+TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("LightTracing.CornellImageAgreesWithPathTracing and MirrorAndGlassAgreeWithPathTracing");
+  test::expectAgreesWithPathTracing("light", "sierpinski-glossy", 600, 300);
+}
 
 // Delta surfaces: a mirror and a glass block seen by the camera (their pixels are path traced)
 // and the glass's caustic on the floor (light tracing carries it through the adjoint refraction;

@@ -68,6 +68,7 @@ TEST(LuminaireRender, OpenBoxSeenInsideAsItIs) {
 // Where no shadow ray reaches the light (behind glass) the exit patches are what the path tracer samples: the mean
 // pixel variance per pass with the luminaire must be below the one without (3σ apart).
 TEST(LuminaireRender, GlassBulbLessNoisy) {
+  FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.GlassBulbAsWithItsLightsAsLights");
   const SceneDesc d = test::glassBulb();
   const RenderScene scene = test::withLuminaireTable(d);
   ASSERT_FALSE(scene.firstShot()->luminaires.empty());
@@ -84,6 +85,7 @@ TEST(LuminaireRender, GlassBulbLessNoisy) {
 // in shades open at top and bottom, each found as a luminaire at the defaults. At 32 × 24, path tracing with them
 // against light tracing without (σ from the passes).
 TEST(LuminaireRender, FixtureRoomCovesAndShades) {
+  FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.BowlLampAsWithItsLightsAsLights and OpenBoxSeenInsideAsItIs");
   SceneDesc d = loadScene(test::source("scenes/fixture-room.json"));
   d.camera.width = 32, d.camera.height = 24;
   const RenderScene scene = test::withLuminaireTable(d);

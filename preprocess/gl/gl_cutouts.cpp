@@ -159,6 +159,8 @@ void GLCutouts::destroy() {
   vbo_ = params_ = texels_ = 0;
 }
 
+// The item buffer sets up its own two attributes with the same calls on binding 0 (gl_item_buffer.cpp); each
+// side names its own buffer, attributes and types, so the near-copy stays.
 void GLCutouts::attach(unsigned int vao) const {
   glVertexArrayVertexBuffer(vao, 1, vbo_, 0, sizeof(CutoutVertex));
   glEnableVertexArrayAttrib(vao, 2);
