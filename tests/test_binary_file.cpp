@@ -245,6 +245,18 @@ TEST_F(BinaryFile, CountsLargerThanTheFileAndBytesLeftOverAreRefused) {
               HasSubstr("unexpected bytes after the contents: 3 bytes at offset " + std::to_string(bytes_.size() - 16)));
 }
 
+// A string's length is checked against the bytes left before its characters are allocated (found by the fuzzer:
+// a length of 3 GB asked for 3 GB).
+TEST_F(BinaryFile, AStringLongerThanTheFileIsRefusedBeforeItIsAllocated) {
+  const size_t lengthAt = 12 + 4;  // after the magic, the version and the flags
+  std::string b = bytes_;
+  const uint32_t length = 0xC0000000u;
+  std::memcpy(b.data() + lengthAt, &length, 4);
+  const Refusal r = read(file("string.bin", resealed(b)));
+  EXPECT_EQ(r.element, "name");
+  EXPECT_THAT(r.message, HasSubstr("truncated or corrupt: a string of 3221225472 bytes at offset " + std::to_string(lengthAt + 4)));
+}
+
 TEST_F(BinaryFile, MissingFile) {
   const Refusal r = read(dir_ + "/none.bin");
   EXPECT_EQ(r.file, dir_ + "/none.bin");

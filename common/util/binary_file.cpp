@@ -45,7 +45,11 @@ BinaryWriter::BinaryWriter(std::ostream& out, const BinaryFormat& format)
 void BinaryWriter::bytes(const void* data, size_t size) {
   const auto* p = static_cast<const char*>(data);
   if (inSection_ || size < kBlockBytes / 16) {
-    buf_.insert(buf_.end(), p, p + size);
+    if (size) {  // resize + copy: GCC 12 warns falsely (-Wstringop-overflow) on vector<char>::insert here
+      const size_t at = buf_.size();
+      buf_.resize(at + size);
+      std::memcpy(buf_.data() + at, p, size);
+    }
     if (!inSection_ && buf_.size() >= kBlockBytes) flush();
     return;
   }
@@ -59,7 +63,7 @@ void BinaryWriter::beginSection(std::string_view tag) {
     throw std::logic_error("BinaryWriter: a section inside a section, or a tag not of 4 characters");
   flush();
   inSection_ = true;
-  buf_.insert(buf_.end(), tag.begin(), tag.end());
+  bytes(tag.data(), tag.size());
   const uint64_t placeholder = 0;
   bytes(&placeholder, sizeof placeholder);
 }
@@ -138,7 +142,11 @@ BinaryReader::BinaryReader(const std::string& path, const BinaryFormat& format) 
 }
 
 std::string BinaryReader::str(const char* what) {
-  std::string s(get<uint32_t>(what), '\0');
+  const uint32_t size = get<uint32_t>(what);
+  if (size > remaining())  // before allocating: a corrupt length must not ask for gigabytes
+    fail(what, "truncated or corrupt: a string of " + bytesText(size) + " at offset " + n(pos_) + ", " + n(remaining()) +
+                   (inSection_ ? " left in the section" : " left before the trailer"));
+  std::string s(size, '\0');
   bytes(s.data(), s.size(), what);
   return s;
 }
