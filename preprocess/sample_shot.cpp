@@ -80,46 +80,45 @@ void patchPoints(const Patch& p, bool spread, int strata, std::vector<PatchPoint
 double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s, const EmbreeItemBuffer& rays,
                             double near, const PatchMesh& mesh, uint32_t patch, bool spread,
                             const ExposureQuery* exposure, bool stratified = false) {
+  const Patch& p = mesh.patches[patch];
+  // 1 visible, 0 hidden, −1 not tested (buried, in a mask's hole, or outside every view).
+  const auto visibleAt = [&](const Vec3d& x) {
+    if (exposure && exposure->buried(x)) return -1;
+    if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) return -1;
+    return pointVisibility(views, *s.weights, rays, x, near);
+  };
   thread_local std::vector<PatchPoint> points;
   const auto fraction = [&](int strata) {
-    patchPoints(mesh.patches[patch], spread, strata, points);
+    patchPoints(p, spread, strata, points);
     double seen = 0, visible = 0;
     for (const PatchPoint& q : points) {
-      if (exposure && exposure->buried(q.x)) continue;
-      if (rays.cutouts() && rays.cutouts()->coverage(patch, q.x) == 0.0f) continue;  // a mask's hole
-      const int v = pointVisibility(views, *s.weights, rays, q.x, near);
+      const int v = visibleAt(q.x);
       if (v >= 0) seen += q.share, visible += v * q.share;
     }
     return seen > 0 ? visible / seen : -1.0;
   };
   const double f = fraction(stratified ? kStrata : 0);
   if (!stratified || f < 0) return f;
-  if (f == 0 || f == 1) {
-    // A lit sliver along an edge, or a shadow's, can fall between the grid's points: a ring just
-    // inside the boundary is walked too (kEdgePoints along each edge), and any point that disagrees
-    // calls the fine grid.
-    const Patch& p = mesh.patches[patch];
-    bool differs = false;
-    for (uint32_t k = 0; k < p.count && !differs; ++k) {
-      const Vec3d a(p.v[k]), b(p.v[(k + 1) % p.count]), c(p.centroid);
-      for (int i = 0; i < kEdgePoints && !differs; ++i) {
-        const double t = (i + 0.5) / kEdgePoints;
-        // A sixteenth of the way in: the exact rays of a window over a whole scene skip its last
-        // 10⁻⁵ (2 mm of a 200 m one), and a point on the edge would see past the wall it meets.
-        const Vec3d x = a + t * (b - a) + (c - (a + t * (b - a))) / 16.0;
-        if (exposure && exposure->buried(x)) continue;
-        if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) continue;
-        const int v = pointVisibility(views, *s.weights, rays, x, near);
-        differs = v >= 0 && v != int(f);
-      }
+  if (f > 0 && f < 1) return fraction(kFineStrata);
+  // All lit or all dark: a lit sliver along an edge, or a shadow's, can fall between the grid's
+  // points, so a ring just inside the boundary is walked too (kEdgePoints along each edge), a
+  // sixteenth of the way in: the exact rays of a window over a whole scene skip their last 10⁻⁵
+  // (2 mm of a 200 m one), and a point on the edge would see past the wall it meets.
+  const Vec3d c(p.centroid);
+  for (uint32_t k = 0; k < p.count; ++k) {
+    const Vec3d a(p.v[k]), b(p.v[(k + 1) % p.count]);
+    for (int i = 0; i < kEdgePoints; ++i) {
+      const Vec3d e = a + (i + 0.5) / kEdgePoints * (b - a);
+      const int v = visibleAt(e + (c - e) / 16.0);
+      if (v < 0 || v == int(f)) continue;
+      // The patch is partly lit: a sliver the fine grid misses too is less than one of its points'
+      // share, so it takes half of one.
+      const double fine = fraction(kFineStrata);
+      const double half = 0.5 / (kFineStrata * kFineStrata * (p.count - 2));
+      return fine == 0 ? half : fine == 1 ? 1 - half : fine;
     }
-    if (!differs) return f;
-    // A sliver the fine grid misses too is less than one of its points' share: take half of one.
-    const double fine = fraction(kFineStrata);
-    const double half = 0.5 / (kFineStrata * kFineStrata * (p.count - 2));
-    return fine == 0 ? half : fine == 1 ? 1 - half : fine;
   }
-  return fraction(kFineStrata);
+  return f;
 }
 
 /// The analytic estimator's visible fraction (preprocess/coverage.h; the factor is closed form × fraction), the fraction
