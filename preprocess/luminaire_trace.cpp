@@ -223,6 +223,7 @@ bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const s
       if (b < 0) return false;  // grazing the face it leaves by (a direction within it): no projected solid angle
       out.cell = uint32_t(Luminaire::kBins) * box.patchAt(face, p.origin + tExit * p.direction) + uint32_t(b);
       out.power = p.weight * throughput;
+      out.direct = bounce == 0;
       return true;
     }
     if (bounce >= kLuminaireMaxBounces) return false;
@@ -258,6 +259,7 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
   const uint64_t chunks = (particles + kLuminaireChunk - 1) / kLuminaireChunk;
   std::vector<double> chunkY(chunks, 0.0), chunkN(chunks, 0.0);  // per chunk: Σ luminance leaving, particles
   std::vector<double> squares(chunks, 0.0);                       // per chunk: Σ luminance² (one chunk's fallback)
+  Vec3d direct(0.0);  // W, Σ over the particles that left straight from a light (not in the table)
   // Chunks in blocks: each chunk keeps its exits, then the block is added up in chunk order.
   const uint64_t block = 64;
   std::vector<std::vector<ParticleExit>> exits(block);
@@ -277,6 +279,10 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
     });
     for (uint64_t c = first; c < last; ++c)
       for (const ParticleExit& e : exits[c - first]) {
+        if (e.direct) {
+          for (int k = 0; k < 3; ++k) direct[k] += double(e.power[k]);
+          continue;
+        }
         for (int k = 0; k < 3; ++k) sum[3 * size_t(e.cell) + size_t(k)] += double(e.power[k]);
         const double y = luminance(e.power);
         chunkY[c] += y;
@@ -298,6 +304,7 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
       }
   }
   lum.exitPower = Color(exitPower);
+  lum.directPower = Color(direct / n);
   // Relative standard error of the mean luminance leaving: from the chunks' sums (a ratio estimator, so a shorter last
   // chunk counts for its size), or from the particles themselves when there is one chunk.
   double total = 0, squaresTotal = 0;

@@ -93,6 +93,7 @@ class ParticleSource {
 struct ParticleExit {
   uint32_t cell = 0;   ///< kBins·(exit patch) + (direction bin)
   Color power{0.0f};   ///< W (a particle's power estimate, as EmittedParticle::weight)
+  bool direct = false; ///< it left straight from its light, met by nothing inside the box (Luminaire::directPower)
 };
 
 /// The walk's limits: Russian roulette from this many bounces on (survival min(0.95, largest component of the
@@ -110,7 +111,9 @@ bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const s
 std::vector<BSDF> makeLuminaireBSDFs(const SceneDesc& scene);
 
 /// Traces @p particles particles (kLuminaireChunk per chunk, chunk c's numbers from Sampler(seed, index, c)) from
-/// the lights of @p lum through its box, and fills its radiance, power, exitPower, particles and relError. The
+/// the lights of @p lum through its box, and fills its radiance, power, exitPower, directPower, particles and
+/// relError: the radiance and exitPower hold the particles that met something inside the box, directPower the rest
+/// (the renderer samples the lights themselves for that light). The
 /// chunks run in parallel (TBB) and are summed in double in chunk order: the result does not depend on the number of
 /// threads. @p progress, when not null, advances by one per chunk.
 void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry, Luminaire& lum, uint32_t index,

@@ -265,11 +265,14 @@ std::vector<Luminaire> makeLuminaires(const SceneDesc& scene, const std::vector<
 
 std::string luminaireSummary(const Luminaire& lum, double seconds) {
   const Vec3 e = lum.hi - lum.lo;
-  const double ratio = luminance(lum.power) > 0 ? double(luminance(lum.exitPower) / luminance(lum.power)) : 0.0;
+  const double emitted = double(luminance(lum.power));
+  const double ratio = emitted > 0 ? double(luminance(lum.exitPower)) / emitted : 0.0;
+  const double direct = emitted > 0 ? double(luminance(lum.directPower)) / emitted : 0.0;
   return fmt::format("luminaire {}: {} light{}, box {:.4g} × {:.4g} × {:.4g} m, {} exit patches, {} particles, "
-                     "exit/emitted power {:.4f}, relative error {:.2e}, {:.2f} s",
+                     "exit/emitted power {:.4f} (and {:.4f} straight from the lights, sampled as lights), "
+                     "relative error {:.2e}, {:.2f} s",
                      lum.name, lum.lights.size(), lum.lights.size() == 1 ? "" : "s", e.x, e.y, e.z, lum.patchCount(),
-                     lum.particles, ratio, lum.relError, seconds);
+                     lum.particles, ratio, direct, lum.relError, seconds);
 }
 
 }  // namespace firstshot

@@ -51,6 +51,7 @@ IntegratorOptions tableMode(const SceneDesc& d) {
 // blocks have a heavy tail here (the hot spot found by BSDF samples): 3000 passes (at 300 one block fell at
 // 4.1σ, its σ 10%).
 TEST(BdptHiddenLights, BowlLampAgreesWithPathTracingOnTheSameTable) {
+  FIRSTSHOT_STATISTICS_ONLY("BdptHiddenLights.GlassBulbAgreesWithPathTracingOnTheSameTable and GlossyPatchEmissionKeepsThePower");
   const SceneDesc d = bowlLamp();
   const RenderScene scene = withTable(d);
   ASSERT_FALSE(scene.firstShot()->replacedLights.empty());

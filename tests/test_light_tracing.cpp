@@ -41,6 +41,7 @@ TEST(LightTracing, MirrorAndGlassAgreeWithPathTracing) {
 // With a first-shot table the small lights stay lights for shooting: the same image as without.
 // With --shoot-firstshot off the table's small lights are shot like all others.
 TEST(LightTracing, FirstShotTableLeavesTheImageUnchanged) {
+  FIRSTSHOT_STATISTICS_ONLY("Integrators/ShootingFirstShot.CornellAgreesWithPathTracingOnTheSameTable/light");
   IntegratorOptions io;
   io.shootFromPatches = false;
   test::expectTableLeavesImageUnchanged("light", 300, io);

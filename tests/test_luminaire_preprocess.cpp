@@ -100,32 +100,38 @@ double facePower(const Luminaire& lum, int f) {
 }  // namespace
 
 // A point light at the centre of a closed black cube with its bottom face missing: each face subtends 1/6 of the
-// sphere, so Φ/6 leaves, all through the opening; with grey walls more leaves (interreflections) but not all.
+// sphere, so Φ/6 leaves, all through the opening and straight from the light (the direct power, not in the table:
+// the renderer samples the light for it); with black walls nothing else leaves. With grey walls the interreflections
+// add the table's light, all through the opening, but not all the rest.
 TEST(LuminairePreprocess, OpenBlackCubeLetsOutOneSixth) {
   const SceneDesc s = load(scene(0.0));
-  const std::vector<Luminaire> lums = make(s, 65536);
+  const uint64_t n = 65536;
+  const std::vector<Luminaire> lums = make(s, n);
   ASSERT_EQ(lums.size(), 1u);
   const Luminaire& lum = lums[0];
   EXPECT_EQ(lum.lights, std::vector<uint32_t>{0});
   EXPECT_EQ(lum.name, "auto:" + s.lights[0].name);
   EXPECT_NEAR(lum.lo.y, 0.9, 0.01);  // rule (b): the near hits, the walls' bounds
   EXPECT_NEAR(lum.hi.x, 0.1, 0.01);
-  EXPECT_EQ(lum.particles, 65536u);
+  EXPECT_EQ(lum.particles, n);
   EXPECT_FLOAT_EQ(luminance(lum.power), float(kPower));
-  const double expected = kPower / 6, exit = luminance(lum.exitPower);
-  const double sigma = lum.relError * exit;
-  EXPECT_GT(sigma, 0.0);
-  EXPECT_LT(lum.relError, 0.02);  // sharp enough to mean something
-  EXPECT_NEAR(exit, expected, 3 * sigma) << "σ " << sigma;
-  // Face 2 is the low side of y: the opening. The patches' powers add up to the exit power.
-  EXPECT_NEAR(facePower(lum, 2), exit, 1e-3 * exit);
-  for (int f : {0, 1, 3, 4, 5}) EXPECT_LT(facePower(lum, f), 1e-3 * exit) << "face " << f;
+  // Each particle leaves with probability 1/6 (binomial σ), carrying Φ.
+  const double expected = kPower / 6, sigma = kPower * std::sqrt((1.0 / 6) * (5.0 / 6) / double(n));
+  const double direct = luminance(lum.directPower);
+  EXPECT_NEAR(direct, expected, 3 * sigma) << "σ " << sigma;
+  EXPECT_EQ(luminance(lum.exitPower), 0.0f) << "black walls: nothing leaves after a bounce";
+  for (int f = 0; f < 6; ++f) EXPECT_EQ(facePower(lum, f), 0.0) << "face " << f;
 
-  const std::vector<Luminaire> grey = make(load(scene(0.5)), 65536);
+  const std::vector<Luminaire> grey = make(load(scene(0.5)), n);
   ASSERT_EQ(grey.size(), 1u);
-  const double greyExit = luminance(grey[0].exitPower);
-  EXPECT_GT(greyExit, expected + 3 * (sigma + grey[0].relError * greyExit));
-  EXPECT_LT(greyExit, kPower * (1 - 3 * grey[0].relError));
+  const double greyExit = luminance(grey[0].exitPower), greyDirect = luminance(grey[0].directPower);
+  EXPECT_NEAR(greyDirect, expected, 3 * sigma);
+  EXPECT_GT(greyExit, 3 * grey[0].relError * greyExit);
+  EXPECT_LT(grey[0].relError, 0.02);  // sharp enough to mean something
+  // Face 2 is the low side of y: the opening. The patches' powers add up to the exit power.
+  EXPECT_NEAR(facePower(grey[0], 2), greyExit, 1e-3 * greyExit);
+  for (int f : {0, 1, 3, 4, 5}) EXPECT_LT(facePower(grey[0], f), 1e-3 * greyExit) << "face " << f;
+  EXPECT_LT(greyExit + greyDirect, kPower * (1 - 3 * grey[0].relError));
 }
 
 // A point light inside a clear glass ball (a closed sphere mesh, lossless): rule (a), and everything leaves (particles

@@ -49,6 +49,7 @@ void expectSameImage(const std::string& name, const RenderScene& scene, int path
 }  // namespace
 
 TEST(LuminaireRender, BowlLampAsWithItsLightsAsLights) {
+  FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.GlassBulbAsWithItsLightsAsLights and OpenBoxSeenInsideAsItIs");
   const SceneDesc d = test::bowlLamp();
   expectSameImage("bowl lamp", test::withLuminaireTable(d), 300, 150, 300);
 }
@@ -63,6 +64,28 @@ TEST(LuminaireRender, GlassBulbAsWithItsLightsAsLights) {
 TEST(LuminaireRender, OpenBoxSeenInsideAsItIs) {
   const SceneDesc d = test::openBox();
   expectSameImage("open box", test::withLuminaireTable(d), 400, 150, 300);
+}
+
+// The ceiling straight above the bowl of the shipped bowl-lamp room (scenes/bowl-lamp-room.json), where its hot spot
+// is: an 8° view of it (16 × 16 pixels, four blocks) with the luminaire against light tracing with the bulb as a light.
+// The bulb's direct light through the opening is sampled from the bulb itself (the exit table holds only what the bowl
+// reflects); through the table it came out 22% too dark here (the direction bins around the face's normal:
+// docs/luminaires.md, "Error of the table"; 4.0σ beyond the allowance below). The bowl's reflection still passes
+// the bins: −8% measured (20° view, 2048 spp), so 10% of it is allowed beside the noise.
+TEST(LuminaireRender, CeilingAboveTheBowlAsWithItsLightAsALight) {
+  FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.GlassBulbAsWithItsLightsAsLights and OpenBoxSeenInsideAsItIs");
+  SceneDesc d = loadScene(test::source("scenes/bowl-lamp-room.json"));
+  d.camera.position = Vec3d(3.4, 2.0, 1.0);
+  d.camera.lookAt = Vec3d(3.0, 3.0, 1.0);
+  d.camera.fovYDeg = 8;
+  d.camera.width = d.camera.height = 16;
+  const RenderScene scene = test::withLuminaireTable(d);
+  ASSERT_EQ(scene.firstShot()->luminaires.size(), 1u);
+  auto on = makeIntegrator("path", pathOptions(d, true)), ref = makeIntegrator("light", pathOptions(d, false));
+  on->preprocess(scene);
+  ref->preprocess(scene);
+  test::expectBlocksAgree("ceiling above the bowl, path with the luminaire against light without",
+                          test::blockMeans(*on, scene, 400), test::blockMeans(*ref, scene, 800, 2), 0.10);
 }
 
 // Where no shadow ray reaches the light (behind glass) the exit patches are what the path tracer samples: the mean
@@ -83,7 +106,9 @@ TEST(LuminaireRender, GlassBulbLessNoisy) {
 
 // The shipped fixture room (scenes/fixture-room.json): 14 bulbs in a cove under a shelf along the walls and 3 lamps
 // in shades open at top and bottom, each found as a luminaire at the defaults. At 32 × 24, path tracing with them
-// against light tracing without (σ from the passes).
+// against light tracing without (σ from the passes), beside the exit table's own bias: the patch × direction bins
+// blur the light the shades' insides send out, measured −1.25% in the lower right block (the largest; 8192 against
+// 3 × 4096 spp, docs/luminaires.md), so 2% of it is allowed beside the noise.
 TEST(LuminaireRender, FixtureRoomCovesAndShades) {
   FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.BowlLampAsWithItsLightsAsLights and OpenBoxSeenInsideAsItIs");
   SceneDesc d = loadScene(test::source("scenes/fixture-room.json"));
@@ -94,7 +119,7 @@ TEST(LuminaireRender, FixtureRoomCovesAndShades) {
   ref->preprocess(scene);
   on->preprocess(scene);
   test::expectBlocksAgree("fixture room, path with the luminaires against light without", test::blockMeans(*on, scene, 1500),
-                          test::blockMeans(*ref, scene, 200, 2));
+                          test::blockMeans(*ref, scene, 200, 2), 0.02);
 }
 
 // A point light (100 W) at the centre of a clear glass sphere (r = 10 cm, ior 1.5) 2 m above a white floor: light

@@ -55,6 +55,7 @@ TEST_P(ShootingFirstShot, CornellAgreesWithPathTracingOnTheSameTable) {
 // as the path tracer counts a lit patch met at depth d as d + 1 (light 31σ, bdpt 35σ off without
 // it). 4× the passes: at 200 and 300 one bdpt block of 12 fell at 3.1σ by chance (2.7σ at 4×).
 TEST_P(ShootingFirstShot, CornellAtTwoBouncesAgreesWithPathTracingOnTheSameTable) {
+  FIRSTSHOT_STATISTICS_ONLY("Integrators/ShootingFirstShot.CornellAgreesWithPathTracingOnTheSameTable");
   SceneDesc d = shipped("cornell");
   d.settings.maxDepth = 2;
   expectAgrees("cornell, 2 bounces, table", d, 4);

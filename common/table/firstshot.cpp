@@ -18,9 +18,10 @@ namespace {
 /// 3: settings for adaptive patches and light tessellation; grouped factors (common/table/firstshot_groups.h).
 /// 4: packed patches (common/table/firstshot_patches.h).
 /// 5: the luminaires' exit distributions (common/table/luminaire.h), section LUMN.
+/// 6: a luminaire's exit distribution without its lights' direct light (LUMN: directPower after exitPower).
 constexpr BinaryFormat kFormat{.magic = {"FSHOTFSD", 8},
                                .endMarker = {"FSHOTEND", 8},
-                               .version = 5,
+                               .version = 6,
                                .headerBytes = 48,  // magic, version, flags, scene, settings and patch hashes
                                .noun = "first-shot file",
                                .identity = "a first-shot (.fsd) file",
@@ -34,7 +35,7 @@ constexpr uint32_t kMaxExitCells = 64;
 void readLuminaires(BinaryReader& in, FirstShotTable& t) {
   in.enter("LUMN");
   const uint64_t count = in.get<uint64_t>("LUMN");
-  // The smallest luminaire takes 4 + 24 + 8 + 48 + 8 + 28 + 8 bytes and its radiance (6 patches at least).
+  // The smallest luminaire takes 4 + 24 + 8 + 48 + 8 + 40 + 8 bytes and its radiance (6 patches at least).
   if (count > in.remaining() / 128) in.fail("LUMN", "truncated or corrupt: fewer luminaires than counted");
   t.luminaires.resize(count);
   auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
@@ -57,8 +58,10 @@ void readLuminaires(BinaryReader& in, FirstShotTable& t) {
       if (l.nu[size_t(f)] < 1 || l.nu[size_t(f)] > kMaxExitCells || l.nv[size_t(f)] < 1 || l.nv[size_t(f)] > kMaxExitCells)
         in.fail("LUMN", which + ": exit patches per face edge outside 1.." + std::to_string(kMaxExitCells) + " (corrupt file)");
     l.particles = in.get<uint64_t>("LUMN");
-    l.power = in.get<Color>("LUMN"), l.exitPower = in.get<Color>("LUMN"), l.relError = in.get<float>("LUMN");
-    if (!finiteNonNegative(l.power) || !finiteNonNegative(l.exitPower) || !std::isfinite(l.relError) ||
+    l.power = in.get<Color>("LUMN"), l.exitPower = in.get<Color>("LUMN"), l.directPower = in.get<Color>("LUMN");
+    l.relError = in.get<float>("LUMN");
+    if (!finiteNonNegative(l.power) || !finiteNonNegative(l.exitPower) || !finiteNonNegative(l.directPower) ||
+        !std::isfinite(l.relError) ||
         !(l.relError >= 0.0f))
       in.fail("LUMN", which + ": invalid power or error (corrupt file)");
     const uint64_t n = in.get<uint64_t>("LUMN");
@@ -177,7 +180,7 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
       o.array(l.lights);
       o.put(l.nu), o.put(l.nv);
       o.put(l.particles);
-      o.put(l.power), o.put(l.exitPower), o.put(l.relError);
+      o.put(l.power), o.put(l.exitPower), o.put(l.directPower), o.put(l.relError);
       o.put<uint64_t>(l.radiance.size());
       o.array(l.radiance);
     }

@@ -4,8 +4,10 @@
 /// axis-aligned box whose six faces are its exit surfaces (Radiance's mkillum, one step further than first-shot).
 ///
 /// The preprocessor traces the lights' particles inside the box, through every surface there, until they leave it,
-/// and tabulates the radiance leaving each exit patch per outgoing direction: the exit distribution. Light that
-/// leaves the box again after entering it from the room is not in it (the renderer finds that by tracing).
+/// and tabulates the radiance leaving each exit patch per outgoing direction: the exit distribution. Two parts of
+/// the light are not in it: what leaves the box straight from a light, met by nothing inside (the direct light,
+/// directPower: the renderer samples the lights themselves for it, exactly, as for any light), and light that
+/// leaves the box again after entering it from the room (the renderer finds that by tracing).
 ///
 /// Exit patches: face f = 2·axis + (1 on the box's high side, 0 on its low side), outward normal ±e_axis; its
 /// tangent axes are u = (axis + 1) mod 3 and v = (axis + 2) mod 3, cut into nu[f] × nv[f] equal rectangles,
@@ -48,7 +50,8 @@ struct Luminaire {
   std::vector<float> radiance;
   uint64_t particles = 0;      ///< particles traced for it
   Color power{0.0f};           ///< emitted by its lights, W
-  Color exitPower{0.0f};       ///< leaving the box (the exit distribution's integral), W
+  Color exitPower{0.0f};       ///< leaving the box after a bounce inside it (the exit distribution's integral), W
+  Color directPower{0.0f};     ///< leaving the box straight from its lights (not in the exit distribution), W
   /// Relative standard error of the exit power's luminance, from the particles (the table's own noise per patch and
   /// bin is larger: see docs/luminaires.md).
   float relError = 0.0f;

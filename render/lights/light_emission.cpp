@@ -84,8 +84,9 @@ void EmissionSampler::addExits(const LuminaireBoxes& boxes) {
   exits_ = ExitEmission(boxes);
   exitBegin_ = uint32_t(power_.size());
   for (uint32_t e = 0; e < exits_.count(); ++e) power_.push_back(exits_.power(e));
-  // A luminaire's lights' particles light only the inside of its box: they are chosen by the share of their power
-  // that does not leave it (at least kMinInnerShare), their power weight growing to match.
+  // A luminaire's lights' particles light the inside of its box and, straight out of it, the room (the direct
+  // light, not in its exit distribution): they are chosen by the share of their power that does not leave it after a
+  // bounce inside (at least kMinInnerShare), their power weight growing to match.
   for (uint32_t l = 0; l < lightCount_; ++l) {
     const int i = boxes.ofLight(l);
     if (i < 0) continue;

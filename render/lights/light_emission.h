@@ -91,8 +91,9 @@ class EmissionSampler {
   bool sampleOrigin(const Vec2d& uPair, EmissionSample& out) const;
 
   /// Adds the exit patches of @p boxes (which must outlive the sampler) as emitters numbered from exitBegin() on, with
-  /// the power of their exit distributions. A luminaire's lights, whose particles then light only the inside of its
-  /// box, are chosen by the share of their power that stays inside (1 − exitPower/power, at least kMinInnerShare):
+  /// the power of their exit distributions. A luminaire's lights, whose particles then light the inside of its box
+  /// and the room straight from the light, are chosen by the share of their power that the exit distribution does
+  /// not hold (1 − exitPower/power, at least kMinInnerShare):
   /// power() is then that share of their power, and their particles' power grows to match. Nothing if @p boxes is
   /// empty.
   void addExits(const LuminaireBoxes& boxes);

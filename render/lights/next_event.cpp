@@ -82,8 +82,8 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
   bool delta = false;
   TableVisibility seen = TableVisibility::Unknown;
   if (lights.hasLuminaires() && (e.kind == Emitter::Kind::Light || e.kind == Emitter::Kind::Triangle)) {
-    const int lum = scene.luminaires().ofLight(e.index);  // the Inner group: only the luminaire the vertex is in
-    if (lum >= 0 && lum != request.luminaire) return Color(0.0f);
+    const int lum = scene.luminaires().ofLight(e.index);  // the Inner group, but the box the vertex's path entered
+    if (lum >= 0 && lum == request.exceptLuminaire) return Color(0.0f);
   }
   switch (e.kind) {
     case Emitter::Kind::Light: {
@@ -255,7 +255,7 @@ float nextEventPdf(const LightSampler& lights, const Vec3& x, const Vec3& n, con
                         ? lights.scene().luminaires().ofLight(uint32_t(light - lights.scene().lights().lights().data()))
                         : -1;
     if (lum >= 0) {
-      if (!request.inner || lum != request.luminaire) return 0.0f;
+      if (!request.inner || lum == request.exceptLuminaire) return 0.0f;
     } else if (!(light->replaced ? request.replaced : request.kept)) {
       return 0.0f;
     }

@@ -59,10 +59,12 @@ struct NeeRequest {
   bool kept = false;      ///< the lights the table does not replace (every light without a table)
   bool replaced = false;  ///< the table's small lights (a vertex that does not use the table)
   bool patches = false;   ///< the first-shot patches (a LightSampler built with patch emitters)
-  /// The lights of luminaire @c luminaire, for a vertex inside its box that sees it as it is (a LightSampler built
-  /// with luminaires, render/scene/luminaire_boxes.h); their exit patches are kept emitters.
+  /// The luminaires' lights (a LightSampler built with luminaires, render/scene/luminaire_boxes.h; their exit
+  /// patches are kept emitters): the light that leaves a box straight from them is not in its exit distribution.
   bool inner = false;
-  int luminaire = -1;
+  /// The luminaire whose lights this vertex does not take, or −1: the vertex is inside its box on a path that
+  /// entered it from a non-delta vertex, whose exit distribution holds all that light.
+  int exceptLuminaire = -1;
   /// Weight area emitters against BSDF sampling (power heuristic); false: weight 1, for callers
   /// whose BSDF-sampled rays never count these emitters.
   bool mis = true;

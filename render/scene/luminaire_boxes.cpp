@@ -10,6 +10,7 @@ namespace firstshot {
 LuminaireBoxes::LuminaireBoxes(const std::vector<Luminaire>* luminaires, const LightSet& lights)
     : items_(luminaires) {
   if (empty()) return;
+  for (const Luminaire& lum : *items_) anyDirect_ = anyDirect_ || maxComponent(lum.directPower) > 0.0f;
   lightLuminaire_.assign(lights.lights().size(), -1);
   for (size_t l = 0; l < lights.lights().size(); ++l) {
     const uint32_t s = lights.lights()[l].sceneIndex;

@@ -5,14 +5,16 @@
 /// luminaires (the light sampler's Exit emitters, render/lights/light_sampler.h).
 ///
 /// How a path uses them without counting a luminaire's light twice (render/integrators/common/path_walk.cpp, after
-/// Radiance's illum): from outside a box its lights are not sampled; the exit patches are, and a segment from a
-/// non-delta vertex that enters the box adds the exit radiance where it crosses the face (MIS against that NEE).
-/// Past such a crossing the path is inside the box with the luminaire's light already counted: its lights then emit
+/// Radiance's illum): from outside a box its exit patches are sampled, and a segment from a non-delta vertex that
+/// enters the box adds the exit radiance where it crosses the face (MIS against that NEE). The light that leaves the
+/// box straight from its lights is not in the exit distribution: NEE samples the lights for it from outside too, and
+/// a segment that enters the box and meets a light before anything else counts it (MIS against that NEE).
+/// Past the first vertex inside a box entered so, the luminaire's light is counted: its lights then emit
 /// nothing, directly or by NEE, until the path leaves the box. A segment from the camera or a delta bounce enters
 /// without counting anything, and inside the path sees the luminaire as it is: its lights emit and are sampled.
-/// What the exit distribution holds (light that left the box for the first time) and what the path adds by
-/// tracing (light that entered it from the room, and the lights' light along segments from delta vertices) are
-/// disjoint, and together they are all the light.
+/// What the exit distribution holds (light that left the box for the first time after a bounce in it), the direct
+/// light, and what the path adds by tracing (light that entered it from the room, and the lights' light along
+/// segments from delta vertices) are disjoint, and together they are all the light.
 #include <cstdint>
 #include <vector>
 
@@ -40,6 +42,9 @@ class LuminaireBoxes {
   LuminaireBoxes(const std::vector<Luminaire>* luminaires, const LightSet& lights);
 
   bool empty() const { return items_ == nullptr || items_->empty(); }
+  /// True if some luminaire's light leaves its box straight from its lights (Luminaire::directPower): NEE from
+  /// outside the boxes then samples their lights too. False for luminaires behind glass alone.
+  bool anyDirect() const { return anyDirect_; }
   const std::vector<Luminaire>& items() const { return *items_; }
   /// The luminaire light @p l (a LightSet index) belongs to, or −1.
   int ofLight(uint32_t l) const { return l < lightLuminaire_.size() ? lightLuminaire_[l] : -1; }
@@ -64,6 +69,7 @@ class LuminaireBoxes {
 
  private:
   const std::vector<Luminaire>* items_ = nullptr;
+  bool anyDirect_ = false;
   std::vector<int> lightLuminaire_;
   std::vector<uint32_t> exitFirst_;  ///< per luminaire, and the total last
   /// Per exit patch (numbered across luminaires): the CDF of its face's patches by power up to and including it.

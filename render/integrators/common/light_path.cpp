@@ -29,7 +29,9 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   // bounce earlier.
   const int bounced = emission.isPatch(es.light) ? 1 : 0;
   const int maxDepth = options.maxDepth - bounced, rrDepth = options.rrDepth - bounced;
-  // A luminaire's light (with the exit particles): its box, which the particle's path ends by leaving.
+  // A luminaire's light (with the exit particles): its box, which the particle's path ends by leaving after a
+  // bounce inside it (the exit particles carry that light). A particle that leaves it straight from the light, met by
+  // nothing inside, goes on: that direct light is not in the exit distribution.
   const int inner = options.luminaires && es.light < emission.lightCount() ? options.luminaires->ofLight(es.light) : -1;
   const Luminaire* box = inner >= 0 ? &options.luminaires->items()[size_t(inner)] : nullptr;
   SubpathWalk walk(scene, Ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d), es.power,
@@ -38,7 +40,10 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   bool deltaDir = es.deltaDirection;
   while (walk.next(rays, sampler)) {
     const Hit& hit = walk.hit();
-    if (box && !box->contains(hit.p)) break;  // the segment left the box (convex: it cannot come back)
+    if (box && !box->contains(hit.p)) {  // the segment left the box (convex: it cannot come back)
+      if (path.size() > 1) break;        // after a bounce inside: the exit particles' light
+      box = nullptr;                     // straight from the light: a room particle from here on
+    }
     LightVertex v;
     v.hit = hit;
     v.wi = -walk.ray().d;

@@ -103,8 +103,11 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
                                  enterLuminaires(piece, tEnd, b, prev, lum, L);
                                });
       const int now = found ? boxes.containing(hit.p) : -1;
+      // A segment that enters a box from outside meets its lights, if at all, straight from a vertex outside: direct
+      // light, which no exit distribution holds (counted below, weighted against NEE to the lights).
+      lum.entered = now >= 0 && now != lum.inside;
       if (now < 0) lum.suppressed = false;
-      else if (now != lum.inside) lum.suppressed = !prev.delta;  // entered: counted there, unless seen as it is
+      else if (lum.entered) lum.suppressed = !prev.delta;  // entered: counted there, unless seen as it is
       lum.inside = now;
     } else {
       found = nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf);
@@ -121,8 +124,8 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     // Emission of area lights met by the path.
     if (!hit.onPatch()) {
       const Color Le = scene.lights().emitted(hit, wo);
-      const bool counted =  // a luminaire's light, entered from a vertex that took its exit light
-          lum.suppressed &&
+      const bool counted =  // a luminaire's light met after a bounce in the box entered where its exit light counted
+          lum.suppressed && !lum.entered &&
           boxes.ofLight(uint32_t(&scene.lights().emitterLight(hit.emitter) - scene.lights().lights().data())) ==
               lum.inside;
       if (maxComponent(Le) > 0.0f && !counted) {
@@ -159,8 +162,10 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       }
       nee.kept = true;
       nee.replaced = !useTable;
-      nee.inner = useLuminaires && lum.inside >= 0 && !lum.suppressed;
-      nee.luminaire = lum.inside;
+      // The luminaires' lights: inside a box seen as it is, and everywhere for the light that leaves a box straight
+      // from them, but for the box this path entered from a non-delta vertex (its exit light holds theirs).
+      nee.inner = useLuminaires && ((lum.inside >= 0 && !lum.suppressed) || boxes.anyDirect());
+      nee.exceptLuminaire = lum.suppressed ? lum.inside : -1;
       nee.tableVisibility = haveTable && options_.tableVisibility;
       nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
                     (options_.patchNee == PatchNee::Every || !sampledPatches);
