@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "render/loop/integrator_pilot.h"
+#include "tests/render_util.h"
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
@@ -83,6 +84,40 @@ TEST(IntegratorPilot, NoiseIsTheRelativeRmsOfOneImage) {
   EXPECT_EQ(firstshot::pilotNoise(lampA, lampB), 0.0);
   lampB[1] = 1.5;  // and one ordinary pixel's difference of 0.5 is what remains
   EXPECT_NEAR(firstshot::pilotNoise(lampA, lampB), std::sqrt(0.25 / 200.0) / ((3000.0 + 196.0 + 2.5) / 200.0), 1e-12);
+}
+
+// With the pixels the camera sees as they are left out (a lamp: 1000 and 2000), the rest counts unclamped: a firefly
+// of 101 against 1 (every channel) among 99 pixels of 1. Kept values: 297 per image; mean (297 + 597)/594; the
+// squared differences 3 · 100².
+TEST(IntegratorPilot, LampsLeftOutFirefliesCountWhole) {
+  std::vector<double> a(300, 1.0), b(300, 1.0);
+  for (int c = 0; c < 3; ++c) a[size_t(c)] = 1000.0, b[size_t(c)] = 2000.0, b[size_t(3 + c)] = 101.0;
+  std::vector<uint8_t> skip(100, 0);
+  skip[0] = 1;
+  const double mean = (297.0 + 597.0) / 594.0;
+  EXPECT_NEAR(firstshot::pilotNoise(a, b, &skip), std::sqrt(30000.0 / 594.0) / mean, 1e-12);
+  // Clamped at 5 m without the mask, the firefly counts far less.
+  EXPECT_LT(firstshot::pilotNoise(a, b), 0.5 * firstshot::pilotNoise(a, b, &skip));
+  // Everything left out: every pixel, clamped.
+  std::vector<uint8_t> all(100, 1);
+  EXPECT_EQ(firstshot::pilotNoise(a, b, &all), firstshot::pilotNoise(a, b));
+}
+
+// A camera looking at a wall whose left half is a lamp and whose right half is plaster: the left pixels are seen as
+// they are, the right ones are not; a pane in front of the wall is seen through.
+TEST(IntegratorPilot, PixelsSeenAsTheyAreAreTheLampsAndMirrors) {
+  const firstshot::SceneDesc d = firstshot::test::sceneFromJson(R"({"materials": {
+      "plaster": {"type": "diffuse", "albedo": 0.5}, "lamp": {"type": "diffuse", "emission": 5},
+      "pane": {"type": "thin_glass", "ior": 1.5}},
+    "shapes": [{"type": "quad", "material": "lamp", "vertices": [[-1,-1,0],[0,-1,0],[0,1,0],[-1,1,0]]},
+               {"type": "quad", "material": "plaster", "vertices": [[0,-1,0],[1,-1,0],[1,1,0],[0,1,0]]},
+               {"type": "quad", "material": "pane", "vertices": [[-2,-2,1],[2,-2,1],[2,2,1],[-2,2,1]]}],
+    "camera": {"position": [0, 0, 2], "look_at": [0, 0, 0], "fov_y": 40, "resolution": [8, 8]}})");
+  const firstshot::RenderScene scene(d);
+  const std::vector<uint8_t> skip = firstshot::pixelsSeenAsTheyAre(scene, d.camera);
+  ASSERT_EQ(skip.size(), 64u);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) EXPECT_EQ(skip[size_t(8 * y + x)], x < 4 ? 1 : 0) << x << ", " << y;
 }
 
 TEST(IntegratorPilot, TheMostEfficientWins) {

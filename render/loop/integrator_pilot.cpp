@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "common/util/interrupt.h"
@@ -65,18 +66,63 @@ CameraDesc pilotCamera(const CameraDesc& camera, const PilotPlan& plan) {
   return c;
 }
 
-double pilotNoise(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.empty()) return 0.0;
+namespace {
+
+/// The mean of @p a and @p b over the pixels @p skip keeps (all without it); @p n: the values counted.
+double keptMean(const std::vector<double>& a, const std::vector<double>& b, const std::vector<uint8_t>* skip,
+                double& n) {
   double sum = 0.0;
-  for (size_t i = 0; i < a.size(); ++i) sum += a[i] + b[i];
-  const double n = double(a.size()), mean = sum / (2.0 * n), top = kPilotClamp * mean;
+  n = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (skip && (*skip)[i / 3]) continue;
+    sum += a[i] + b[i];
+    n += 1.0;
+  }
+  return n > 0.0 ? sum / (2.0 * n) : 0.0;
+}
+
+}  // namespace
+
+double pilotNoise(const std::vector<double>& a, const std::vector<double>& b, const std::vector<uint8_t>* skip) {
+  if (a.empty()) return 0.0;
+  double n = 0.0;
+  double mean = keptMean(a, b, skip, n);
+  if (skip && !(mean > 0.0)) {
+    skip = nullptr;  // nothing lit outside the lamps and mirrors: every pixel, clamped
+    mean = keptMean(a, b, skip, n);
+  }
   if (!(mean > 0.0)) return 0.0;
+  const double top = skip ? std::numeric_limits<double>::infinity() : kPilotClamp * mean;
   double diff2 = 0.0;
   for (size_t i = 0; i < a.size(); ++i) {
+    if (skip && (*skip)[i / 3]) continue;
     const double d = std::min(a[i], top) - std::min(b[i], top);
     diff2 += d * d;
   }
   return std::sqrt(diff2 / (2.0 * n)) / mean;
+}
+
+std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraDesc& desc) {
+  const Camera camera(desc);
+  std::vector<uint8_t> skip(size_t(desc.width) * size_t(desc.height), 0);
+  constexpr int kMaxPanes = 8;
+  for (int y = 0; y < desc.height; ++y)
+    for (int x = 0; x < desc.width; ++x)
+      for (int k = 0; k < 4 && !skip[size_t(y) * size_t(desc.width) + size_t(x)]; ++k) {
+        Ray ray = camera.generateRay(float(x) + 0.25f + 0.5f * float(k % 2), float(y) + 0.25f + 0.5f * float(k / 2));
+        Hit hit;
+        for (int pane = 0; pane <= kMaxPanes && scene.intersect(ray, hit); ++pane) {
+          const BSDF bsdf = scene.bsdfAt(hit);
+          if (bsdf.thinGlass() && pane < kMaxPanes) {  // seen through
+            ray.tmin = hit.t + hit.eps / glm::length(ray.d);
+            continue;
+          }
+          if (bsdf.hasDelta() || (!hit.onPatch() && maxComponent(scene.lights().emitted(hit, -ray.d)) > 0.0f))
+            skip[size_t(y) * size_t(desc.width) + size_t(x)] = 1;
+          break;
+        }
+      }
+  return skip;
 }
 
 namespace {
@@ -125,6 +171,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
                                   int threads, const std::function<void(size_t)>& progress) {
   const CameraDesc desc = pilotCamera(scene.desc().camera, plan);
   const Camera camera(desc);
+  const std::vector<uint8_t> skip = pixelsSeenAsTheyAre(scene, desc);
   // Every image gets the same rays: what the first candidate (the path tracer, unless the options given left it
   // out) spends on plan.spp passes, its preprocessing shared among them; a candidate of costlier samples takes
   // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
@@ -162,8 +209,10 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       second.renderTo(f.spp, camera, seed + 1, sampler, threads);
       f.rays = (first.rays + second.rays) / 2.0;
       const std::vector<double> a = first.image(), b = second.image();
-      f.noise = pilotNoise(a, b);
-      for (size_t i = 0; i < a.size(); ++i) f.mean += (a[i] + b[i]) / (2.0 * double(a.size()));
+      f.noise = pilotNoise(a, b, &skip);
+      double n = 0.0;
+      f.mean = keptMean(a, b, &skip, n);
+      if (!(f.mean > 0.0)) f.mean = keptMean(a, b, nullptr, n);  // as pilotNoise
     }
     figures.push_back(f);
     if (progress) progress(c);

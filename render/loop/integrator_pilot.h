@@ -12,6 +12,10 @@
 /// box: at 4 spp its error is its edges' and stratification's). Its noise is the RMS over pixels and
 /// channels of the two images' difference / √2, relative to the picture's mean: one image's error, bias aside
 /// (pixels brighter than 5 means clamped there: pilotNoise).
+/// Pixels where the camera sees an emitter or a mirror or glass (4 rays per pixel, thin panes seen through) are left
+/// out of the noise and the mean: every method takes them alike (light tracing gives them to the path tracer), and a
+/// lamp's edge aliases at a pilot's few samples. The other pixels count unclamped, as the render's error is measured:
+/// a firefly of a thousand means is what makes a path tracer's picture of a lamp in a bowl unusable.
 /// Its work is the rays it traced for one image (its preprocessing's too, the irradiance cache's fill), counted,
 /// not timed; efficiency = 1 / (error² · rays), the inverse of the work to reach a given error, where the error
 /// adds to the noise how far the picture's mean falls from the candidates' median (PilotFigure). Images and ray
@@ -52,7 +56,7 @@ struct PilotFigure {
   /// integrator's other variants, which are then not tried).
   int spp = 0;
   double noise = 0;       ///< relative RMS error of one pilot image (above)
-  double mean = 0;        ///< the mean of its two pictures, W/(m² sr)
+  double mean = 0;        ///< the mean of its two pictures (the pixels the noise counts), W/(m² sr)
   /// √(noise'² + bias²), relative to the median m of the candidates' means: noise' = noise · mean / m, bias =
   /// (mean − m) / m (a method that has not found the light yet is dark, not noisy).
   double error = 0;
@@ -85,11 +89,16 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
                                   int threads, const std::function<void(size_t)>& progress = {});
 
 /// The relative noise of one image from two images @p a and @p b of independent seeds (interleaved RGB, the same
-/// size): RMS of (a − b)/√2 over pixels and channels / the mean m of (a + b)/2; 0 if m is not positive. Values
-/// are first clamped at 5 m, where a display that shows the mean as mid-grey (18%) turns white: a lamp seen
-/// directly, whose edge pixels alias at a pilot's few samples (alike for every gathering method at the render's
-/// many), and a firefly count as the white they are shown as.
-double pilotNoise(const std::vector<double>& a, const std::vector<double>& b);
+/// size): RMS of (a − b)/√2 over pixels and channels / the mean m of (a + b)/2; 0 if m is not positive. With
+/// @p skip (one entry per pixel), the pixels marked 1 are left out of both. Without it (or where it leaves no pixel
+/// with light), values are first clamped at 5 m, where a display that shows the mean as mid-grey (18%) turns white:
+/// a lamp seen directly, whose edge pixels alias at a pilot's few samples, then counts as the white it is shown as.
+double pilotNoise(const std::vector<double>& a, const std::vector<double>& b,
+                  const std::vector<uint8_t>* skip = nullptr);
+
+/// The pilot picture's pixels that the camera sees as they are (1): where one of 4 rays per pixel (the centres of
+/// its 2 × 2 strata) first meets, past thin panes, an emitter or a delta surface (a mirror, glass).
+std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraDesc& camera);
 
 /// Index of the most efficient figure (the first of equals; 0 if none has light).
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures);
