@@ -46,7 +46,7 @@ test-asan: build-asan
 fuzz: deps
 	FUZZ_BUILD=$(CURDIR)/$(FUZZ) JOBS=$(JOBS) bash scripts/fuzz.sh $(FUZZ_SECONDS)
 
-## The same for FUZZ_SMOKE_SECONDS per target (4 targets: under a minute in all), as part of `make test`.
+## The same for FUZZ_SMOKE_SECONDS per target (6 targets, JOBS at a time: about 40 s on 2 cores), as part of `make test`.
 fuzz-smoke: deps
 	FUZZ_BUILD=$(CURDIR)/$(FUZZ) JOBS=$(JOBS) bash scripts/fuzz.sh $(FUZZ_SMOKE_SECONDS)
 

@@ -26,15 +26,10 @@ cmake --build "$build" -j "${JOBS:-$(nproc)}" --target $(printf 'fuzz_%s ' "${ta
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 # The targets write each input to a scratch file: in memory if possible (several times faster).
 if [ -z "${TMPDIR:-}" ] && [ -d /dev/shm ] && [ -w /dev/shm ]; then export TMPDIR=/dev/shm; fi
-failed=()
-for t in "${targets[@]}"; do
-  [ -n "${max_len[$t]:-}" ] || { echo "fuzz: unknown target $t" >&2; exit 2; }
-  work=$build/fuzz-runs/$t
-  rm -rf "$work" && mkdir -p "$work/corpus"
-  cp "$root/tests/fuzz/corpus/$t/"* "$work/corpus/"
-  echo "fuzz: fuzz_$t for $seconds s (log: $work/log.txt)"
-  rc=0
-  dict=()  # the target's dictionary of format words, if any (tests/fuzz/<target>.dict)
+# One target: prints its summary and leaves its exit code in $work/rc.
+run_target() {
+  local t=$1 work=$build/fuzz-runs/$1 rc=0 execs
+  local dict=()  # the target's dictionary of format words, if any (tests/fuzz/<target>.dict)
   [ -f "$root/tests/fuzz/$t.dict" ] && dict=(-dict="$root/tests/fuzz/$t.dict")
   ASAN_OPTIONS=${ASAN_OPTIONS:-${asan_options[$t]:-detect_leaks=1}} "$build/tests/fuzz/fuzz_$t" "$work/corpus" \
     -max_total_time="$seconds" -max_len="${max_len[$t]}" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
@@ -42,10 +37,27 @@ for t in "${targets[@]}"; do
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/log.txt")
   echo "fuzz: fuzz_$t: ${execs:-?} runs, corpus $(ls "$work/corpus" | wc -l) inputs, exit $rc"
   if [ "$rc" -ne 0 ]; then
-    failed+=("$t")
     grep -aE "^(==[0-9]+==ERROR|SUMMARY|.*runtime error)" "$work/log.txt" | head -5 || true
     ls "$work"/crash-* "$work"/timeout-* "$work"/oom-* "$work"/leak-* 2>/dev/null || true
   fi
+  echo "$rc" > "$work/rc"
+}
+
+# The targets run JOBS at a time (each is one process on one core, for SECONDS of it).
+jobs_max=${JOBS:-$(nproc)}
+for t in "${targets[@]}"; do
+  [ -n "${max_len[$t]:-}" ] || { echo "fuzz: unknown target $t" >&2; exit 2; }
+  work=$build/fuzz-runs/$t
+  rm -rf "$work" && mkdir -p "$work/corpus"
+  cp "$root/tests/fuzz/corpus/$t/"* "$work/corpus/"
+  while [ "$(jobs -rp | wc -l)" -ge "$jobs_max" ]; do wait -n || true; done
+  echo "fuzz: fuzz_$t for $seconds s (log: $work/log.txt)"
+  run_target "$t" &
+done
+wait
+failed=()
+for t in "${targets[@]}"; do
+  [ "$(cat "$build/fuzz-runs/$t/rc" 2>/dev/null || echo 1)" = 0 ] || failed+=("$t")
 done
 if [ ${#failed[@]} -gt 0 ]; then
   echo "fuzz: FOUND problems in: ${failed[*]} (inputs and logs under $build/fuzz-runs/)" >&2
