@@ -195,6 +195,7 @@ TEST(LuminairePreprocess, SameForAnyThreadCount) {
   ASSERT_EQ(one[0].radiance.size(), two[0].radiance.size());
   EXPECT_EQ(std::memcmp(one[0].radiance.data(), two[0].radiance.data(), one[0].radiance.size() * sizeof(float)), 0);
   EXPECT_EQ(one[0].exitPower, two[0].exitPower);
+  EXPECT_EQ(one[0].directPower, two[0].directPower);
   EXPECT_EQ(one[0].relError, two[0].relError);
   EXPECT_GT(luminance(one[0].exitPower), 0.0f);
 }
@@ -253,6 +254,7 @@ TEST(LuminairePreprocess, FsdRoundTripAndRefusals) {
     EXPECT_EQ(a.particles, b.particles);
     EXPECT_EQ(std::memcmp(&a.power, &b.power, sizeof a.power), 0);
     EXPECT_EQ(std::memcmp(&a.exitPower, &b.exitPower, sizeof a.exitPower), 0);
+    EXPECT_EQ(std::memcmp(&a.directPower, &b.directPower, sizeof a.directPower), 0);
     EXPECT_EQ(std::memcmp(&a.relError, &b.relError, sizeof a.relError), 0);
   }
   writeFirstShot(dir + "/copy.fsd", r);
