@@ -71,7 +71,7 @@ TEST(LuminaireRender, OpenBoxSeenInsideAsItIs) {
 // The bulb's direct light through the opening is sampled from the bulb itself (the exit table holds only what the bowl
 // reflects); through the table it came out 22% too dark here (the direction bins around the face's normal:
 // docs/luminaires.md, "Error of the table"; 4.0σ beyond the allowance below). The bowl's reflection still passes
-// the bins: −8% measured (20° view, 2048 spp), so 10% of it is allowed beside the noise.
+// the table, −8% measured there (20° view, 2048 spp; cause not found), so 10% is allowed beside the noise.
 TEST(LuminaireRender, CeilingAboveTheBowlAsWithItsLightAsALight) {
   FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.GlassBulbAsWithItsLightsAsLights and OpenBoxSeenInsideAsItIs");
   SceneDesc d = loadScene(test::source("scenes/bowl-lamp-room.json"));
