@@ -81,16 +81,21 @@ double keptMean(const std::vector<double>& a, const std::vector<double>& b, cons
   return n > 0.0 ? sum / (2.0 * n) : 0.0;
 }
 
+/// The pixels the figures count: those @p skip keeps, or every pixel (then clamped, pilotNoise) where those have no
+/// light (nothing lit but the lamps and mirrors).
+const std::vector<uint8_t>* countedPixels(const std::vector<double>& a, const std::vector<double>& b,
+                                          const std::vector<uint8_t>* skip) {
+  double n = 0.0;
+  return skip && keptMean(a, b, skip, n) > 0.0 ? skip : nullptr;
+}
+
 }  // namespace
 
 double pilotNoise(const std::vector<double>& a, const std::vector<double>& b, const std::vector<uint8_t>* skip) {
   if (a.empty()) return 0.0;
+  skip = countedPixels(a, b, skip);
   double n = 0.0;
-  double mean = keptMean(a, b, skip, n);
-  if (skip && !(mean > 0.0)) {
-    skip = nullptr;  // nothing lit outside the lamps and mirrors: every pixel, clamped
-    mean = keptMean(a, b, skip, n);
-  }
+  const double mean = keptMean(a, b, skip, n);
   if (!(mean > 0.0)) return 0.0;
   const double top = skip ? std::numeric_limits<double>::infinity() : kPilotClamp * mean;
   double diff2 = 0.0;
@@ -107,8 +112,9 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
   std::vector<uint8_t> skip(size_t(desc.width) * size_t(desc.height), 0);
   constexpr int kMaxPanes = 8;
   for (int y = 0; y < desc.height; ++y)
-    for (int x = 0; x < desc.width; ++x)
-      for (int k = 0; k < 4 && !skip[size_t(y) * size_t(desc.width) + size_t(x)]; ++k) {
+    for (int x = 0; x < desc.width; ++x) {
+      uint8_t& seen = skip[size_t(y) * size_t(desc.width) + size_t(x)];
+      for (int k = 0; k < 4 && !seen; ++k) {
         Ray ray = camera.generateRay(float(x) + 0.25f + 0.5f * float(k % 2), float(y) + 0.25f + 0.5f * float(k / 2));
         Hit hit;
         for (int pane = 0; pane <= kMaxPanes && scene.intersect(ray, hit); ++pane) {
@@ -117,11 +123,11 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
             ray.tmin = hit.t + hit.eps / glm::length(ray.d);
             continue;
           }
-          if (bsdf.hasDelta() || (!hit.onPatch() && maxComponent(scene.lights().emitted(hit, -ray.d)) > 0.0f))
-            skip[size_t(y) * size_t(desc.width) + size_t(x)] = 1;
+          seen = bsdf.hasDelta() || (!hit.onPatch() && maxComponent(scene.lights().emitted(hit, -ray.d)) > 0.0f);
           break;
         }
       }
+    }
   return skip;
 }
 
@@ -211,8 +217,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       const std::vector<double> a = first.image(), b = second.image();
       f.noise = pilotNoise(a, b, &skip);
       double n = 0.0;
-      f.mean = keptMean(a, b, &skip, n);
-      if (!(f.mean > 0.0)) f.mean = keptMean(a, b, nullptr, n);  // as pilotNoise
+      f.mean = keptMean(a, b, countedPixels(a, b, &skip), n);
     }
     figures.push_back(f);
     if (progress) progress(c);

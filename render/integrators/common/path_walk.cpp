@@ -96,6 +96,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     Hit hit;
     BSDF bsdf;
     bool found;
+    bool enteredBox = false;  // this segment entered a luminaire's box from outside (its hit is the first inside)
     if (useLuminaires) {
       lum.depth = depth;
       found = nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf,
@@ -105,9 +106,9 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       const int now = found ? boxes.containing(hit.p) : -1;
       // A segment that enters a box from outside meets its lights, if at all, straight from a vertex outside: direct
       // light, which no exit distribution holds (counted below, weighted against NEE to the lights).
-      lum.entered = now >= 0 && now != lum.inside;
+      enteredBox = now >= 0 && now != lum.inside;
       if (now < 0) lum.suppressed = false;
-      else if (lum.entered) lum.suppressed = !prev.delta;  // entered: counted there, unless seen as it is
+      else if (enteredBox) lum.suppressed = !prev.delta;  // entered: counted there, unless seen as it is
       lum.inside = now;
     } else {
       found = nextHitPastPanes(scene, ray, first, sampler, beta, rays, hit, bsdf);
@@ -125,7 +126,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     if (!hit.onPatch()) {
       const Color Le = scene.lights().emitted(hit, wo);
       const bool counted =  // a luminaire's light met after a bounce in the box entered where its exit light counted
-          lum.suppressed && !lum.entered &&
+          lum.suppressed && !enteredBox &&
           boxes.ofLight(uint32_t(&scene.lights().emitterLight(hit.emitter) - scene.lights().lights().data())) ==
               lum.inside;
       if (maxComponent(Le) > 0.0f && !counted) {

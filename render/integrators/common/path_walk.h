@@ -82,7 +82,6 @@ class PathWalk {
   struct LuminaireState {
     int inside = -1;          ///< the luminaire whose box holds the current vertex, or −1
     bool suppressed = false;  ///< its exit light was counted where the path entered it: its lights emit nothing
-    bool entered = false;     ///< the current segment entered the box from outside (its vertex is the first inside)
     int depth = 0;            ///< the vertex the segment ends at (for a report)
   };
   /// The exit light of each luminaire box that the segment piece @p piece (from its tmin to @p tEnd) enters, seen
