@@ -207,11 +207,54 @@ float slabExit(const Vec3& lo, const Vec3& hi, const Vec3& o, const Vec3& d, int
   return std::max(t, 0.0f);
 }
 
+/// The particles that leave a box after delta bounces only: their power per goniophotometric bin, and the normal
+/// equations of the point nearest their lines, Σ y·(I − d·dᵀ)·c = Σ y·(I − d·dᵀ)·x (y a particle's luminance, x its
+/// exit point, d its direction).
+struct SpecularSums {
+  std::vector<double> bins = std::vector<double>(3 * size_t(Luminaire::kGonioBins), 0.0);  ///< W
+  glm::dmat3 normal{0.0};
+  Vec3d rhs{0.0};
+  double weight = 0;  ///< Σ y
+
+  void add(const ParticleExit& e) {
+    const size_t b = size_t(Luminaire::gonioBin(e.direction));
+    for (size_t k = 0; k < 3; ++k) bins[3 * b + k] += double(e.power[int(k)]);
+    const double y = luminance(e.power);
+    if (!(y > 0)) return;
+    const Vec3d d(e.direction);
+    const glm::dmat3 projector = glm::dmat3(1.0) - glm::outerProduct(d, d);
+    normal += y * projector;
+    rhs += y * (projector * Vec3d(e.point));
+    weight += y;
+  }
+
+  /// Fills @p lum's specularPower, intensity and centre from @p n particles. The centre is pulled towards the box's
+  /// centre by 10⁻³ of the weight (so parallel lines, a collimated beam, still give a point) and kept in the box.
+  void finish(Luminaire& lum, double n) const {
+    lum.intensity.assign(bins.size(), 0.0f);
+    Vec3d power(0.0);
+    const double toIntensity = double(Luminaire::kGonioBins) / (4.0 * kPi) / n;
+    for (size_t i = 0; i < bins.size(); ++i) {
+      power[int(i % 3)] += bins[i] / n;
+      lum.intensity[i] = float(bins[i] * toIntensity);
+    }
+    lum.specularPower = Color(power);
+    const Vec3d middle = 0.5 * (Vec3d(lum.lo) + Vec3d(lum.hi));
+    Vec3d c = middle;
+    if (weight > 0) {
+      const double lambda = 1e-3 * weight;
+      c = glm::inverse(normal + lambda * glm::dmat3(1.0)) * (rhs + lambda * middle);
+    }
+    lum.centre = glm::clamp(Vec3(c), lum.lo, lum.hi);
+  }
+};
+
 }  // namespace
 
 bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const std::vector<BSDF>& bsdfs,
                   const Luminaire& box, EmittedParticle p, Sampler& sampler, ParticleExit& out) {
   Color throughput(1.0f);
+  bool scattered = false;  // a non-delta surface inside the box was met
   for (int bounce = 0;; ++bounce) {
     int face = 0;
     const float tExit = slabExit(box.lo, box.hi, p.origin, p.direction, face);
@@ -223,7 +266,11 @@ bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const s
       if (b < 0) return false;  // grazing the face it leaves by (a direction within it): no projected solid angle
       out.cell = uint32_t(Luminaire::kBins) * box.patchAt(face, p.origin + tExit * p.direction) + uint32_t(b);
       out.power = p.weight * throughput;
-      out.direct = bounce == 0;
+      out.kind = bounce == 0 ? ParticleExit::Kind::Direct
+                 : scattered ? ParticleExit::Kind::Scattered
+                             : ParticleExit::Kind::Specular;
+      out.point = p.origin + tExit * p.direction;
+      out.direction = p.direction;
       return true;
     }
     if (bounce >= kLuminaireMaxBounces) return false;
@@ -236,6 +283,7 @@ bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const s
     BSDFQuery q(Vec3(glm::dot(wo, s), glm::dot(wo, t), glm::dot(wo, n)), TransportMode::Importance);
     const Color weight = bsdf.sample(q, sampler.next2D());
     if (!(q.pdf > 0.0f) || !(maxComponent(weight) > 0.0f)) return false;
+    scattered = scattered || !q.specular;
     const Vec3 wi = glm::normalize(q.wi.x * s + q.wi.y * t + q.wi.z * n);
     throughput *= weight;
     const Vec3 x = p.origin + hit.t * p.direction;
@@ -260,6 +308,7 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
   std::vector<double> chunkY(chunks, 0.0), chunkN(chunks, 0.0);  // per chunk: Σ luminance leaving, particles
   std::vector<double> squares(chunks, 0.0);                       // per chunk: Σ luminance² (one chunk's fallback)
   Vec3d direct(0.0);  // W, Σ over the particles that left straight from a light (not in the table)
+  SpecularSums specular;  // the particles that left after delta bounces only
   // Chunks in blocks: each chunk keeps its exits, then the block is added up in chunk order.
   const uint64_t block = 64;
   std::vector<std::vector<ParticleExit>> exits(block);
@@ -279,8 +328,12 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
     });
     for (uint64_t c = first; c < last; ++c)
       for (const ParticleExit& e : exits[c - first]) {
-        if (e.direct) {
+        if (e.kind == ParticleExit::Kind::Direct) {
           for (int k = 0; k < 3; ++k) direct[k] += double(e.power[k]);
+          continue;
+        }
+        if (e.kind == ParticleExit::Kind::Specular) {
+          specular.add(e);
           continue;
         }
         for (int k = 0; k < 3; ++k) sum[3 * size_t(e.cell) + size_t(k)] += double(e.power[k]);
@@ -305,6 +358,7 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
   }
   lum.exitPower = Color(exitPower);
   lum.directPower = Color(direct / n);
+  specular.finish(lum, n);
   // Relative standard error of the mean luminance leaving: from the chunks' sums (a ratio estimator, so a shorter last
   // chunk counts for its size), or from the particles themselves when there is one chunk.
   double total = 0, squaresTotal = 0;

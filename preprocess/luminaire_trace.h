@@ -91,9 +91,14 @@ class ParticleSource {
 
 /// One walk's way out of a luminaire's box.
 struct ParticleExit {
-  uint32_t cell = 0;   ///< kBins·(exit patch) + (direction bin)
-  Color power{0.0f};   ///< W (a particle's power estimate, as EmittedParticle::weight)
-  bool direct = false; ///< it left straight from its light, met by nothing inside the box (Luminaire::directPower)
+  /// Direct: straight from its light, met by nothing inside the box (Luminaire::directPower); Specular: after delta
+  /// bounces only (Luminaire::specularPower, intensity); Scattered: after a bounce off a non-delta surface (the exit
+  /// distribution).
+  enum class Kind : uint8_t { Scattered, Direct, Specular } kind = Kind::Scattered;
+  uint32_t cell = 0;     ///< kBins·(exit patch) + (direction bin)
+  Color power{0.0f};     ///< W (a particle's power estimate, as EmittedParticle::weight)
+  Vec3 point{0.0f};      ///< where it leaves the box, m
+  Vec3 direction{0.0f};  ///< unit, the way it leaves
 };
 
 /// The walk's limits: Russian roulette from this many bounces on (survival min(0.95, largest component of the
@@ -111,9 +116,10 @@ bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const s
 std::vector<BSDF> makeLuminaireBSDFs(const SceneDesc& scene);
 
 /// Traces @p particles particles (kLuminaireChunk per chunk, chunk c's numbers from Sampler(seed, index, c)) from
-/// the lights of @p lum through its box, and fills its radiance, power, exitPower, directPower, particles and
-/// relError: the radiance and exitPower hold the particles that met something inside the box, directPower the rest
-/// (the renderer samples the lights themselves for that light). The
+/// the lights of @p lum through its box, and fills its radiance, power, exitPower, directPower, specularPower, centre,
+/// intensity, particles and relError: the radiance and exitPower hold the particles that met a non-delta surface
+/// inside the box, directPower those that met nothing (the renderer samples the lights themselves for that light),
+/// specularPower and intensity those that met delta surfaces only (glass, mirrors), about the centre. The
 /// chunks run in parallel (TBB) and are summed in double in chunk order: the result does not depend on the number of
 /// threads. @p progress, when not null, advances by one per chunk.
 void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry, Luminaire& lum, uint32_t index,

@@ -268,11 +268,16 @@ std::string luminaireSummary(const Luminaire& lum, double seconds) {
   const double emitted = double(luminance(lum.power));
   const double ratio = emitted > 0 ? double(luminance(lum.exitPower)) / emitted : 0.0;
   const double direct = emitted > 0 ? double(luminance(lum.directPower)) / emitted : 0.0;
+  const double specular = emitted > 0 ? double(luminance(lum.specularPower)) / emitted : 0.0;
+  const std::string specularPart =
+      specular > 0 ? fmt::format(", {:.4f} through glass or off mirrors, an intensity about ({:.4g}, {:.4g}, {:.4g}) m",
+                                 specular, lum.centre.x, lum.centre.y, lum.centre.z)
+                   : std::string();
   return fmt::format("luminaire {}: {} light{}, box {:.4g} × {:.4g} × {:.4g} m, {} exit patches, {} particles, "
-                     "exit/emitted power {:.4f} (and {:.4f} straight from the lights, sampled as lights), "
+                     "exit/emitted power {:.4f} (and {:.4f} straight from the lights, sampled as lights{}), "
                      "relative error {:.2e}, {:.2f} s",
                      lum.name, lum.lights.size(), lum.lights.size() == 1 ? "" : "s", e.x, e.y, e.z, lum.patchCount(),
-                     lum.particles, ratio, direct, lum.relError, seconds);
+                     lum.particles, ratio, direct, specularPart, lum.relError, seconds);
 }
 
 }  // namespace firstshot

@@ -148,8 +148,16 @@ TEST(LuminairePreprocess, GlassBallLetsEverythingOut) {
     EXPECT_NEAR(ball->lo[a], c - 0.1, 1e-3) << a;
     EXPECT_NEAR(ball->hi[a], c + 0.1, 1e-3) << a;
   }
-  const double ratio = luminance(ball->exitPower) / luminance(ball->power);
-  EXPECT_NEAR(ratio, 1.0, 3 * ball->relError + 1e-5) << "relative error " << ball->relError;
+  // All of it through the glass (delta bounces only): the specular light, about the light's position.
+  EXPECT_EQ(luminance(ball->exitPower), 0.0f);
+  EXPECT_EQ(luminance(ball->directPower), 0.0f);
+  const double ratio = luminance(ball->specularPower) / luminance(ball->power);
+  EXPECT_NEAR(ratio, 1.0, 1e-4) << "every particle leaves with its power (Fresnel's choices are unweighted)";
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(ball->centre[a], a == 1 ? 1.0 : -1.0, 1e-3) << a;
+  // Its intensity integrates to its power (each bin 4π/kGonioBins sr).
+  double integral = 0;
+  for (float v : ball->intensity) integral += v * 4.0 * kPi / Luminaire::kGonioBins / 3.0;
+  EXPECT_NEAR(integral, (ball->specularPower.x + ball->specularPower.y + ball->specularPower.z) / 3.0, 1e-4 * integral);
 }
 
 // --luminaires off makes none; named keeps the named lamp only, boxed by its shade and light; auto adds the cube.
@@ -180,7 +188,7 @@ TEST(LuminairePreprocess, ModesAndNamedBox) {
 
 // The same radiance, bit for bit, on 1 and 2 threads.
 TEST(LuminairePreprocess, SameForAnyThreadCount) {
-  const SceneDesc s = load(scene(0.5));
+  const SceneDesc s = load(scene(0.5, false, true));  // the grey box, and the glass ball's specular light
   std::vector<Luminaire> one, two;
   {
     tbb::global_control cap(tbb::global_control::max_allowed_parallelism, 1);
@@ -190,14 +198,21 @@ TEST(LuminairePreprocess, SameForAnyThreadCount) {
     tbb::global_control cap(tbb::global_control::max_allowed_parallelism, 2);
     two = make(s, 5 * 4096 + 100);
   }
-  ASSERT_EQ(one.size(), 1u);
-  ASSERT_EQ(two.size(), 1u);
-  ASSERT_EQ(one[0].radiance.size(), two[0].radiance.size());
-  EXPECT_EQ(std::memcmp(one[0].radiance.data(), two[0].radiance.data(), one[0].radiance.size() * sizeof(float)), 0);
-  EXPECT_EQ(one[0].exitPower, two[0].exitPower);
-  EXPECT_EQ(one[0].directPower, two[0].directPower);
-  EXPECT_EQ(one[0].relError, two[0].relError);
-  EXPECT_GT(luminance(one[0].exitPower), 0.0f);
+  ASSERT_EQ(one.size(), 2u);
+  ASSERT_EQ(two.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    ASSERT_EQ(one[i].radiance.size(), two[i].radiance.size());
+    EXPECT_EQ(std::memcmp(one[i].radiance.data(), two[i].radiance.data(), one[i].radiance.size() * sizeof(float)), 0);
+    ASSERT_EQ(one[i].intensity.size(), two[i].intensity.size());
+    EXPECT_EQ(std::memcmp(one[i].intensity.data(), two[i].intensity.data(), one[i].intensity.size() * sizeof(float)), 0);
+    EXPECT_EQ(one[i].exitPower, two[i].exitPower);
+    EXPECT_EQ(one[i].directPower, two[i].directPower);
+    EXPECT_EQ(one[i].specularPower, two[i].specularPower);
+    EXPECT_EQ(one[i].centre, two[i].centre);
+    EXPECT_EQ(one[i].relError, two[i].relError);
+  }
+  EXPECT_GT(luminance(one[0].exitPower) + luminance(one[1].exitPower), 0.0f);
+  EXPECT_GT(luminance(one[0].specularPower) + luminance(one[1].specularPower), 0.0f);
 }
 
 namespace {
@@ -228,13 +243,13 @@ std::string readError(const std::string& path) {
 // A table with a luminaire: its lights are not replaced, every member comes back bit for bit, and a LUMN section
 // cut short or with a bad patch count is refused naming the section.
 TEST(LuminairePreprocess, FsdRoundTripAndRefusals) {
-  const SceneDesc s = load(scene(0.5, true));
+  const SceneDesc s = load(scene(0.5, true, true));
   PreprocessOptions po = defaultOptions(s);
   po.settings.backend = "embree";
   po.settings.resolution = 32;
   po.luminaires.particles = 8192;
   const FirstShotTable t = preprocessScene(s, po);
-  ASSERT_EQ(t.luminaires.size(), 2u);
+  ASSERT_EQ(t.luminaires.size(), 3u);  // the lamp, the grey box, the glass ball
   EXPECT_TRUE(t.replacedLights.empty());
   EXPECT_TRUE(t.samples.empty());
   const std::string dir = test::tempDir(), path = dir + "/lum.fsd";
@@ -256,6 +271,10 @@ TEST(LuminairePreprocess, FsdRoundTripAndRefusals) {
     EXPECT_EQ(std::memcmp(&a.exitPower, &b.exitPower, sizeof a.exitPower), 0);
     EXPECT_EQ(std::memcmp(&a.directPower, &b.directPower, sizeof a.directPower), 0);
     EXPECT_EQ(std::memcmp(&a.relError, &b.relError, sizeof a.relError), 0);
+    EXPECT_EQ(std::memcmp(&a.specularPower, &b.specularPower, sizeof a.specularPower), 0);
+    EXPECT_EQ(std::memcmp(&a.centre, &b.centre, sizeof a.centre), 0);
+    ASSERT_EQ(a.intensity.size(), b.intensity.size());
+    EXPECT_EQ(std::memcmp(a.intensity.data(), b.intensity.data(), a.intensity.size() * sizeof(float)), 0);
   }
   writeFirstShot(dir + "/copy.fsd", r);
   EXPECT_EQ(readBytes(path), readBytes(dir + "/copy.fsd"));
@@ -268,7 +287,16 @@ TEST(LuminairePreprocess, FsdRoundTripAndRefusals) {
   uint64_t len;
   std::memcpy(&len, good.data() + lenAt, 8);
   ASSERT_EQ(lenAt + 8 + len, good.size() - 16);  // the last section
-  {  // the section cut short by its last radiance value (length field and checksum made to agree)
+  {  // the last luminaire's centre (before its intensity count and values, the last of the section) out of its box
+    std::vector<char> bad = good;
+    const size_t centreAt = good.size() - 16 - 4 * 3 * size_t(Luminaire::kGonioBins) - 8 - 12;
+    const float far = 1e6f;
+    std::memcpy(bad.data() + centreAt, &far, 4);
+    writeResealed(dir + "/centre.fsd", bad);
+    EXPECT_THAT(readError(dir + "/centre.fsd"), HasSubstr("LUMN"));
+    EXPECT_THAT(readError(dir + "/centre.fsd"), HasSubstr("a centre outside its box"));
+  }
+  {  // the section cut short by its last intensity value (length field and checksum made to agree)
     std::vector<char> cut(good.begin(), good.end() - 20);
     cut.insert(cut.end(), good.end() - 16, good.end());
     const uint64_t shorter = len - 4;

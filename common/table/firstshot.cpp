@@ -19,9 +19,10 @@ namespace {
 /// 4: packed patches (common/table/firstshot_patches.h).
 /// 5: the luminaires' exit distributions (common/table/luminaire.h), section LUMN.
 /// 6: a luminaire's exit distribution without its lights' direct light (LUMN: directPower after exitPower).
+/// 7: nor its specular light (LUMN: specularPower, centre and intensity after the relative error).
 constexpr BinaryFormat kFormat{.magic = {"FSHOTFSD", 8},
                                .endMarker = {"FSHOTEND", 8},
-                               .version = 6,
+                               .version = 7,
                                .headerBytes = 48,  // magic, version, flags, scene, settings and patch hashes
                                .noun = "first-shot file",
                                .identity = "a first-shot (.fsd) file",
@@ -71,6 +72,17 @@ void readLuminaires(BinaryReader& in, FirstShotTable& t) {
     in.array(l.radiance, n, "LUMN");
     for (float v : l.radiance)
       if (!(v >= 0.0f) || !std::isfinite(v)) in.fail("LUMN", which + ": a radiance negative or not finite (corrupt file)");
+    l.specularPower = in.get<Color>("LUMN");
+    l.centre = in.get<Vec3>("LUMN");
+    if (!finiteNonNegative(l.specularPower)) in.fail("LUMN", which + ": invalid specular power (corrupt file)");
+    if (!finite(l.centre) || !l.contains(l.centre)) in.fail("LUMN", which + ": a centre outside its box (corrupt file)");
+    const uint64_t m = in.get<uint64_t>("LUMN");
+    if (m != 3 * uint64_t(Luminaire::kGonioBins))
+      in.fail("LUMN", which + ": intensity of " + std::to_string(m) + " values, not " +
+                          std::to_string(3 * Luminaire::kGonioBins) + " (corrupt file)");
+    in.array(l.intensity, m, "LUMN");
+    for (float v : l.intensity)
+      if (!(v >= 0.0f) || !std::isfinite(v)) in.fail("LUMN", which + ": an intensity negative or not finite (corrupt file)");
   }
   in.leave("LUMN");
 }
@@ -183,6 +195,12 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
       o.put(l.power), o.put(l.exitPower), o.put(l.directPower), o.put(l.relError);
       o.put<uint64_t>(l.radiance.size());
       o.array(l.radiance);
+      // A luminaire made without its specular light (no intensity yet) is written with none, centred in its box.
+      const bool gonio = l.intensity.size() == 3 * size_t(Luminaire::kGonioBins);
+      o.put(gonio ? l.specularPower : Color(0.0f));
+      o.put(gonio ? glm::clamp(l.centre, l.lo, l.hi) : 0.5f * (l.lo + l.hi));
+      o.put<uint64_t>(3 * uint64_t(Luminaire::kGonioBins));
+      o.array(gonio ? l.intensity : std::vector<float>(3 * size_t(Luminaire::kGonioBins), 0.0f));
     }
     o.endSection();
   });

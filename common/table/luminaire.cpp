@@ -69,6 +69,33 @@ Color Luminaire::patchPower(uint32_t k) const {
   return sum * (patch(k).area * kPiF / float(kBins));
 }
 
+int Luminaire::gonioBin(const Vec3& w) {
+  const int it = std::clamp(int((1.0f - w.y) * 0.5f * float(kGonioThetaBins)), 0, kGonioThetaBins - 1);
+  const int ip = std::clamp(int((std::atan2(w.z, w.x) * (0.5f / kPiF) + 0.5f) * float(kGonioPhiBins)), 0,
+                            kGonioPhiBins - 1);
+  return it * kGonioPhiBins + ip;
+}
+
+Color Luminaire::intensityAt(const Vec3& w) const {
+  if (intensity.size() != 3 * size_t(kGonioBins)) return Color(0.0f);
+  // Continuous bin coordinates with bin centres at integers: rows clamped at the poles, columns periodic.
+  const float s = std::clamp((1.0f - w.y) * 0.5f, 0.0f, 1.0f) * float(kGonioThetaBins) - 0.5f;
+  const float t = (std::atan2(w.z, w.x) * (0.5f / kPiF) + 0.5f) * float(kGonioPhiBins) - 0.5f;
+  const float s0 = std::floor(s), t0 = std::floor(t);
+  const float fs = s - s0, ft = t - t0;
+  const int rows[2] = {std::clamp(int(s0), 0, kGonioThetaBins - 1), std::clamp(int(s0) + 1, 0, kGonioThetaBins - 1)};
+  const int c0 = (int(t0) % kGonioPhiBins + kGonioPhiBins) % kGonioPhiBins;
+  const int cols[2] = {c0, (c0 + 1) % kGonioPhiBins};
+  Color sum(0.0f);
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) {
+      const float weight = (i ? fs : 1.0f - fs) * (j ? ft : 1.0f - ft);
+      const float* v = &intensity[3 * size_t(rows[i] * kGonioPhiBins + cols[j])];
+      sum += weight * Color(v[0], v[1], v[2]);
+    }
+  return sum;
+}
+
 bool Luminaire::contains(const Vec3& p) const {
   return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
 }

@@ -4,16 +4,23 @@
 /// axis-aligned box whose six faces are its exit surfaces (Radiance's mkillum, one step further than first-shot).
 ///
 /// The preprocessor traces the lights' particles inside the box, through every surface there, until they leave it,
-/// and tabulates the radiance leaving each exit patch per outgoing direction: the exit distribution. Two parts of
+/// and tabulates the radiance leaving each exit patch per outgoing direction: the exit distribution. Three parts of
 /// the light are not in it: what leaves the box straight from a light, met by nothing inside (the direct light,
-/// directPower: the renderer samples the lights themselves for it, exactly, as for any light), and light that
-/// leaves the box again after entering it from the room (the renderer finds that by tracing).
+/// directPower: the renderer samples the lights themselves for it, exactly, as for any light); what leaves it after
+/// delta bounces only, through glass or off mirrors (the specular light, specularPower: a point-like source's field,
+/// which patch × direction bins cannot hold, kept as a goniophotometric distribution, an intensity per direction about
+/// its photometric centre, as an IES file holds a luminaire's far field); and light that leaves the box again after
+/// entering it from the room (the renderer finds that by tracing).
 ///
 /// Exit patches: face f = 2·axis + (1 on the box's high side, 0 on its low side), outward normal ±e_axis; its
 /// tangent axes are u = (axis + 1) mod 3 and v = (axis + 2) mod 3, cut into nu[f] × nv[f] equal rectangles,
 /// patch (i, j) of face f numbered firstPatch(f) + i + nu[f]·j. Directions: kThetaBins bins uniform in sin²θ (θ from
 /// the outward normal) × kPhiBins uniform in φ = atan2(ω_v, ω_u): every bin covers π/kBins of projected solid
 /// angle, so a particle of power Φ leaving patch k in bin b adds Φ·kBins/(π·A_k) to its radiance.
+///
+/// The specular light's intensity: kGonioThetaBins bins uniform in cos θ (θ from +y) × kGonioPhiBins uniform in
+/// φ = atan2(ω_z, ω_x), each 4π/kGonioBins sr, so a particle of power Φ in bin b adds Φ·kGonioBins/(4π) to its
+/// intensity; looked up bilinearly between bin centres (intensityAt), which keeps the integral.
 #include <array>
 #include <cstdint>
 #include <string>
@@ -39,6 +46,9 @@ struct Luminaire {
   static constexpr int kThetaBins = 8;
   static constexpr int kPhiBins = 16;
   static constexpr int kBins = kThetaBins * kPhiBins;
+  static constexpr int kGonioThetaBins = 16;
+  static constexpr int kGonioPhiBins = 32;
+  static constexpr int kGonioBins = kGonioThetaBins * kGonioPhiBins;
 
   std::string name;            ///< the scene's name for it, or "auto:<first light's name>" when detected
   Vec3 lo{0.0f}, hi{0.0f};     ///< the box, m (world space)
@@ -52,6 +62,15 @@ struct Luminaire {
   Color power{0.0f};           ///< emitted by its lights, W
   Color exitPower{0.0f};       ///< leaving the box after a bounce inside it (the exit distribution's integral), W
   Color directPower{0.0f};     ///< leaving the box straight from its lights (not in the exit distribution), W
+  /// Leaving the box after delta bounces only (glass, mirrors; not in the exit distribution), W: the integral of
+  /// intensity.
+  Color specularPower{0.0f};
+  /// The specular light's photometric centre, m (in the box): the point nearest, by least squares weighted by power,
+  /// to the lines its particles leave along (the light's position for a bulb centred in a glass ball).
+  Vec3 centre{0.0f};
+  /// Per direction bin, RGB: the specular light's intensity about the centre, W/sr; intensity[3·b + c], size
+  /// 3·kGonioBins.
+  std::vector<float> intensity;
   /// Relative standard error of the exit power's luminance, from the particles (the table's own noise per patch and
   /// bin is larger: see docs/luminaires.md).
   float relError = 0.0f;
@@ -69,6 +88,12 @@ struct Luminaire {
   Color radianceAt(uint32_t k, const Vec3& w) const;
   /// Power leaving exit patch @p k (its radiance integrated over area and projected solid angle), W.
   Color patchPower(uint32_t k) const;
+
+  /// The goniophotometric bin of the unit direction @p w.
+  static int gonioBin(const Vec3& w);
+  /// The specular light's intensity along the unit direction @p w from the centre, interpolated bilinearly in
+  /// (cos θ, φ) between bin centres (constant beyond the first and last θ row), W/sr.
+  Color intensityAt(const Vec3& w) const;
 
   /// True if @p p lies inside the box (its boundary counts as inside).
   bool contains(const Vec3& p) const;

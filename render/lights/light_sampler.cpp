@@ -99,16 +99,25 @@ void LightSampler::addExits(Group& g, std::vector<LightBounds>& bounds) {
   const LuminaireBoxes& boxes = scene_->luminaires();
   // One emitter per luminaire, bounded by its box in every direction; next_event.cpp then chooses a face facing the
   // receiver and a patch by power (LuminaireBoxes::choosePatch): a short descent, and no patch it cannot see.
+  // Its specular light, a point at its centre sending light every way, is one more.
   exitEmitter_.assign(boxes.items().size(), kNoId);
   for (uint32_t i = 0; i < boxes.items().size(); ++i) {
     const Luminaire& lum = boxes.items()[i];
     const float phi = meanOf(lum.exitPower);
-    if (!(phi > 0.0f)) continue;
-    LightBounds b;
-    b.lo = lum.lo, b.hi = lum.hi, b.phi = phi;  // cosO = −1: every direction
-    exitEmitter_[i] = uint32_t(g.emitters.size());
-    g.emitters.push_back({Emitter::Kind::Exit, i, i, 0.0f});
-    bounds.push_back(b);
+    if (phi > 0.0f) {
+      LightBounds b;
+      b.lo = lum.lo, b.hi = lum.hi, b.phi = phi;  // cosO = −1: every direction
+      exitEmitter_[i] = uint32_t(g.emitters.size());
+      g.emitters.push_back({Emitter::Kind::Exit, i, i, 0.0f});
+      bounds.push_back(b);
+    }
+    const float specular = meanOf(lum.specularPower);
+    if (specular > 0.0f) {
+      LightBounds b;
+      b.lo = b.hi = lum.centre, b.phi = specular;
+      g.emitters.push_back({Emitter::Kind::Gonio, i, i, 0.0f});
+      bounds.push_back(b);
+    }
   }
 }
 
@@ -180,7 +189,8 @@ Vec3 LightSampler::emitterPoint(const Emitter& e, const Vec2& u) const {
     }
     case Emitter::Kind::Patch:
       return samplePatchPoint(scene_->mesh().patches[e.index], u);
-    case Emitter::Kind::Exit: {  // a point of the luminaire's box surface (next_event.cpp chooses NEE's patch)
+    case Emitter::Kind::Exit:  // a point of the luminaire's box surface (next_event.cpp chooses NEE's patch)
+    case Emitter::Kind::Gonio: {  // (its shadow rays stop at the box: what the visibility grid's rays aim at)
       const Luminaire& lum = scene_->luminaires().items()[e.index];
       const int f = std::min(5, int(u.x * 6.0f)), a = f / 2;
       Vec3 p(0.0f);

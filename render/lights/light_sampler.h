@@ -36,16 +36,18 @@ namespace firstshot {
 enum class LightStrategy : uint8_t { All, Tree };
 
 /// The groups a LightSampler chooses one emitter in (NeeRequest::kept, replaced, patches, inner). With luminaires
-/// (build()'s @c luminaires, render/scene/luminaire_boxes.h) their exit patches are kept emitters and their lights the
-/// Inner group, for vertices inside a luminaire that see it as it is.
+/// (build()'s @c luminaires, render/scene/luminaire_boxes.h) their exit patches and specular light are kept emitters
+/// and their lights the Inner group, for vertices inside a luminaire that see it as it is.
 enum class LightGroup : uint8_t { Kept = 0, Replaced = 1, Patches = 2, Inner = 3 };
 
 /// Something a LightSampler chooses.
 struct Emitter {
   /// Environment: the scene's infinite light (LightSet::environment), a direction, no point.
   /// Exit: a luminaire, whose exit patch next-event estimation then chooses (LuminaireBoxes::choosePatch).
-  enum class Kind : uint8_t { Light, Triangle, Patch, Environment, Exit } kind = Kind::Light;
-  uint32_t index = 0;  ///< LightSet index (Light, Triangle), patch ID or luminaire
+  /// Gonio: a luminaire's specular light (Luminaire::intensity), a point source at its centre whose shadow ray stops
+  /// where it enters the box.
+  enum class Kind : uint8_t { Light, Triangle, Patch, Environment, Exit, Gonio } kind = Kind::Light;
+  uint32_t index = 0;  ///< LightSet index (Light, Triangle), patch ID or luminaire (Exit, Gonio)
   uint32_t sub = 0;    ///< Triangle: LightSampler::triangle() index; Patch: the side (0 front, 1 back); Exit: its luminaire
   float area = 0.0f;   ///< m² (Triangle, Patch)
 };

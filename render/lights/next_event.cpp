@@ -142,6 +142,23 @@ Color emitterContribution(const LightSampler& lights, const SampledEmitter& c, c
       rec.value = le / rec.pdf;
       break;
     }
+    case Emitter::Kind::Gonio: {  // a point source at the centre, seen up to where the ray enters the box
+      const Luminaire& lum = scene.luminaires().items()[e.index];
+      if (lum.contains(hit.p)) return Color(0.0f);  // inside: the path sees the luminaire as it is
+      const Vec3 d = lum.centre - hit.p;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > 0.0f)) return Color(0.0f);
+      const float dist = std::sqrt(dist2);
+      rec.wi = d * (1.0f / dist);
+      float tEntry = dist;
+      int face = 0;
+      if (!lum.entry(hit.p, rec.wi, dist * 1.0001f, tEntry, face)) tEntry = dist;
+      rec.distance = tEntry;
+      rec.pdf = pSelect;
+      rec.value = lum.intensityAt(-rec.wi) / (dist2 * pSelect);
+      delta = true;
+      break;
+    }
   }
   return weighLightSample(scene, hit, frame, woLocal, bsdf, rec, delta, seen, request, rays);
 }

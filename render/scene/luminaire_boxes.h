@@ -8,7 +8,9 @@
 /// Radiance's illum): from outside a box its exit patches are sampled, and a segment from a non-delta vertex that
 /// enters the box adds the exit radiance where it crosses the face (MIS against that NEE). The light that leaves the
 /// box straight from its lights is not in the exit distribution: NEE samples the lights for it from outside too, and
-/// a segment that enters the box and meets a light before anything else counts it (MIS against that NEE).
+/// a segment that enters the box and meets a light before anything else counts it (MIS against that NEE). Nor is the
+/// light that leaves it through glass or off mirrors only (Luminaire::intensity): NEE samples it as a point source at
+/// the luminaire's centre (the light sampler's Gonio emitter), which no BSDF-sampled path finds.
 /// Past the first vertex inside a box entered so, the luminaire's light is counted: its lights then emit
 /// nothing, directly or by NEE, until the path leaves the box. A segment from the camera or a delta bounce enters
 /// without counting anything, and inside the path sees the luminaire as it is: its lights emit and are sampled.

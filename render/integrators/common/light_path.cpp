@@ -30,19 +30,21 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   const int bounced = emission.isPatch(es.light) ? 1 : 0;
   const int maxDepth = options.maxDepth - bounced, rrDepth = options.rrDepth - bounced;
   // A luminaire's light (with the exit particles): its box, which the particle's path ends by leaving after a
-  // bounce inside it (the exit particles carry that light). A particle that leaves it straight from the light, met by
-  // nothing inside, goes on: that direct light is not in the exit distribution.
+  // bounce off a non-delta surface inside it (the exit particles carry that light). A particle that leaves it straight
+  // from the light, or after delta bounces only (through glass, off mirrors), goes on: neither light is in the exit
+  // distribution.
   const int inner = options.luminaires && es.light < emission.lightCount() ? options.luminaires->ofLight(es.light) : -1;
   const Luminaire* box = inner >= 0 ? &options.luminaires->items()[size_t(inner)] : nullptr;
   SubpathWalk walk(scene, Ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d), es.power,
                    {maxDepth, rrDepth, start, TransportMode::Importance, options.sqrtSurvival});
   float pdfDir = es.pdfDir;
   bool deltaDir = es.deltaDirection;
+  bool scatteredInBox = false;  // a vertex inside the box was not a delta one
   while (walk.next(rays, sampler)) {
     const Hit& hit = walk.hit();
     if (box && !box->contains(hit.p)) {  // the segment left the box (convex: it cannot come back)
-      if (path.size() > 1) break;        // after a bounce inside: the exit particles' light
-      box = nullptr;                     // straight from the light: a room particle from here on
+      if (scatteredInBox) break;         // the exit particles' light
+      box = nullptr;                     // direct or specular: a room particle from here on
     }
     LightVertex v;
     v.hit = hit;
@@ -53,6 +55,7 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
     v.pdfFwd = deltaDir ? path.back().pdfFwd * cosIn : pdfDir * cosIn / (hit.t * hit.t);
     v.material = walk.material();
     v.delta = walk.bsdf().hasDelta();
+    scatteredInBox = scatteredInBox || (box && !v.delta);
     path.push_back(v);
     if (walk.depth() == 1 && options.deltaFirstHitOnly && !(v.delta && !path[0].delta) &&
         !(options.polishedFirstHit && walk.bsdf().tooSharpForTable()))
