@@ -275,3 +275,29 @@ TEST(IrradianceCacheSpecular, MirrorAndGlossySurfacesMatchPathTracing) {
   EXPECT_GT(e1.relRmse, 0.03);
   EXPECT_GT(std::abs(e1.meanDiff), 5 * e1.meanDiffSe + 0.005);
 }
+
+// limitPreprocessRays (--integrator auto's pilot budget): the fill stops after the first batch past the limit, at the
+// same place for one and two threads, well short of the whole fill.
+TEST(IrradianceCacheFill, StopsPastItsRayLimit) {
+  SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
+  desc.camera.width = 48, desc.camera.height = 48;
+  const RenderScene scene(desc);
+  IrradianceCacheSettings s;
+  s.twoPass = true;
+  s.quiet = true;
+  IrradianceCacheIntegrator whole(IntegratorOptions{}, s);
+  whole.preprocess(scene);
+  const uint64_t all = whole.preprocessRayCount(), limit = all / 10;
+  uint64_t counts[2] = {0, 0};
+  for (int t = 1; t <= 2; ++t) {
+    s.threads = t;
+    IrradianceCacheIntegrator part(IntegratorOptions{}, s);
+    part.limitPreprocessRays(limit);
+    part.preprocess(scene);
+    counts[t - 1] = part.preprocessRayCount();
+  }
+  fmt::print("fill rays: whole {}, limited to {}: {}\n", all, limit, counts[0]);
+  EXPECT_GT(counts[0], limit);
+  EXPECT_LT(counts[0], all / 2);
+  EXPECT_EQ(counts[0], counts[1]);
+}

@@ -123,6 +123,11 @@ class Integrator {
   /// view: --integrator auto's pilot, render/loop/integrator_pilot.h). Only an integrator whose preprocessing
   /// depends on the camera (the irradiance cache's fill) overrides it. Default: preprocess().
   virtual void preprocessFor(const RenderScene& scene, const CameraDesc& /*camera*/) { preprocess(scene); }
+  /// Lets the next preprocess() or preprocessFor() stop once it has traced more than @p rays rays (0: no limit), for a
+  /// caller that drops an integrator whose preprocessing outgrows its budget (--integrator auto's pilot): stopped so,
+  /// the integrator is not fit to render, and preprocessRayCount() exceeds @p rays. The irradiance cache's fill stops
+  /// between its batches (the same place for any thread count); the default ignores it.
+  virtual void limitPreprocessRays(uint64_t /*rays*/) {}
   /// Rays traced by preprocess() or preprocessFor() (the irradiance cache's fill), not counted in the render's
   /// RenderStats::rays; 0 by default.
   virtual uint64_t preprocessRayCount() const { return 0; }

@@ -191,16 +191,19 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       continue;
     }
     const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
+    // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past twice the
+    // budget, where it outgrows the pilot, and the candidate is not measured further.
+    if (c > 0) integrator->limitPreprocessRays(uint64_t(2.0 * budget) + 1);
     integrator->preprocessFor(scene, desc);
-    PilotImage first(*integrator, desc);
-    first.renderTo(1, camera, seed, sampler, threads);
-    const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
-    if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
     PilotFigure f;
-    if (preprocessing > 2.0 * budget) {  // its preprocessing alone outgrows the pilot: not measured further
-      f.rays = first.rays;
+    if (c > 0 && double(integrator->preprocessRayCount()) > 2.0 * budget) {
+      f.rays = double(integrator->preprocessRayCount());
       outgrown.push_back(candidates[c].integrator);
     } else {
+      PilotImage first(*integrator, desc);
+      first.renderTo(1, camera, seed, sampler, threads);
+      const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
+      if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
       f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
                                      double(kMaxPasses)));
       first.renderTo(f.spp, camera, seed, sampler, threads);

@@ -127,6 +127,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// preprocess() with the fill over @p camera's pixels and its pixel angle for the footprint clamp.
   void preprocessFor(const RenderScene& scene, const CameraDesc& camera) override;
   uint64_t preprocessRayCount() const override { return fillRays_; }
+  void limitPreprocessRays(uint64_t rays) override { fillRayLimit_ = rays; }
   bool seededPreprocess() const override { return settings_.twoPass; }
   std::string name() const override { return "irradiance-cache"; }
   bool supportsSensors() const override { return true; }
@@ -223,6 +224,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   size_t loaded_ = 0;
   double fillSeconds_ = 0;
   uint64_t fillRays_ = 0;
+  uint64_t fillRayLimit_ = 0;  ///< limitPreprocessRays(): the fill stops past it (0: none)
   int fillRounds_ = 0;
   uint64_t exchangeBytes_ = 0;
   double exchangeSeconds_ = 0;

@@ -153,6 +153,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
 
   // One sweep over the pixels; returns the number of records added.
   std::atomic<uint64_t> rays{0};
+  bool overLimit = false;  // limitPreprocessRays(): stopped past it, unfit to render
   auto sweep = [&](bool shrinkNeighbours) {
     Progress progress(shrinkNeighbours ? "irradiance cache fill" : "irradiance cache fill, gaps", tasks,
                       settings_.quiet || !comm.root());
@@ -207,6 +208,10 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
               ++added;
             }
       progress.advance(count);
+      if (fillRayLimit_ > 0 && rays.load() > fillRayLimit_) {
+        overLimit = true;
+        break;
+      }
     }
     return added;
   };
@@ -214,7 +219,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
   // such gaps with records that shrink nothing, so afterwards every pixel is covered and a later
   // run from the saved file adds nothing (its first sweep finds nothing to do).
   fillRounds_ = 1;
-  if (sweep(true) > 0 && settings_.neighbourClamp) {
+  if (sweep(true) > 0 && settings_.neighbourClamp && !overLimit) {
     fillRounds_ = 2;
     sweep(false);
   }
