@@ -15,6 +15,7 @@
 #include "common/lights/photometry.h"
 #include "common/patches/patch_size.h"
 #include "common/sampling/sampling.h"
+#include "common/table/firstshot.h"
 #include "render/sensors/sensors.h"
 #include "render_util.h"
 #include "test_util.h"
@@ -375,5 +376,72 @@ TEST(Sensors, GridQuadCli) {
     const auto& row = j["sets"][1]["rows"][i];
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(row[k].get<double>(), expected.sensors[i].p[k], 1e-6);
     EXPECT_NEAR(row[4].get<double>(), 1.0, 1e-6);  // the floor faces up
+  }
+}
+
+// A point light (100 W) in a clear glass ball (r = 10 cm) 2 m above a black floor: no shadow ray passes the glass and
+// no ray meets a point light, so sensors that take the bulb as a light read 0 lx. Its luminaire's specular light (a
+// point source at the ball's centre) gives the bare bulb's E = Φ/(4π)·cos θ/d² (a closed lossless shell lets all of
+// it out radially). With a small emissive sphere at the centre instead (a filament), the light leaving the glass is
+// isotropic by symmetry: E = Φ_s/(4π)·cos θ/d², Φ_s the table's specular power (what the glass and the filament, which
+// absorbs what comes back to it, let out). Allowed: 1% beside 3 of the intensity bins' frozen noise, √(512/N) for N
+// particles, and 3 σ.
+TEST(Sensors, ABulbInAGlassBallThroughItsLuminaire) {
+  const std::string dir = test::tempDir(), pre = FIRSTSHOT_PREPROCESS_EXE;
+  const uint64_t particles = 1u << 20;
+  for (const bool point : {true, false}) {
+    const std::string scene = dir + (point ? "/point.json" : "/sphere.json"), fsd = scene + ".fsd";
+    test::writeText(scene, fmt::format(R"({{"materials": {{"floor": {{"type": "diffuse", "albedo": 0}},
+        "glass": {{"type": "dielectric", "ior": 1.5}}, "filament": {{"type": "diffuse", "emission": 200}}}},
+      "shapes": [{{"type": "quad", "material": "floor", "vertices": [[-10,0,-10],[-10,0,10],[10,0,10],[10,0,-10]]}},
+                 {{"type": "sphere", "material": "glass", "center": [0, 2, 0], "radius": 0.1, "subdivisions": 4, "smooth": true}}{}],
+      {}"camera": {{"position": [0, 1, 4], "look_at": [0, 0.5, 0], "fov_y": 50, "resolution": [16, 16]}},
+      "settings": {{"patch_size": 2.0}}}})",
+        point ? "" : R"(, {"type": "sphere", "material": "filament", "center": [0, 2, 0], "radius": 0.03, "subdivisions": 2})",
+        point ? R"("lights": [{"type": "point", "position": [0, 2, 0], "power": 100}], )" : ""));
+    const auto p = test::run(pre + " " + scene + " -o " + fsd + " --quiet --luminaire-particles " +
+                             std::to_string(particles));
+    ASSERT_EQ(p.exitCode, 0) << p.output;
+    const std::vector<Vec3d> points = {{0, 0, 0}, {1, 0, 0}, {0.7, 0, 0.55}, {1.5, 0, -0.8}};
+    std::string text;
+    for (const Vec3d& q : points) text += fmt::format("{} {} {} 0 1 0\n", q.x, q.y, q.z);
+    test::writeText(dir + "/points.txt", text);
+    auto sensors = [&](const std::string& luminaires, int samples) {
+      const auto r = test::run(kRender + " " + scene + " --firstshot " + fsd + " --luminaires " + luminaires +
+                               " --sensors " + dir + "/points.txt --samples " + std::to_string(samples) +
+                               " -q -o " + dir + "/out.csv");
+      EXPECT_EQ(r.exitCode, 0) << r.output;
+      std::ifstream csv(dir + "/out.csv");
+      std::string line;
+      std::getline(csv, line);
+      std::vector<std::pair<double, double>> e;  // irradiance (green) and its standard error, W/m²
+      while (std::getline(csv, line)) {
+        const auto f = splitCsv(line);
+        e.emplace_back(std::stod(f[7]), std::stod(f[10]) / std::stod(f[9]) * std::stod(f[7]));
+      }
+      return e;
+    };
+    const auto on = sensors("on", 64);
+    ASSERT_EQ(on.size(), points.size());
+    const double frozen = std::sqrt(512.0 / double(particles));
+    if (point) {
+      for (size_t i = 0; i < points.size(); ++i) {
+        const double d2 = 4.0 + points[i].x * points[i].x + points[i].z * points[i].z;
+        const double expected = 100.0 / (4.0 * kPi) * (2.0 / std::sqrt(d2)) / d2;
+        EXPECT_NEAR(on[i].first, expected, (0.01 + 3.0 * frozen) * expected + 3.0 * on[i].second) << "sensor " << i;
+      }
+      const auto off = sensors("off", 64);
+      for (const auto& [e, se] : off) EXPECT_EQ(e, 0.0) << "no ray finds a point light behind glass";
+    } else {
+      const FirstShotTable table = readFirstShot(fsd);
+      ASSERT_EQ(table.luminaires.size(), 1u);
+      const double power = table.luminaires[0].specularPower.y;
+      EXPECT_GT(power, 0.8 * table.luminaires[0].power.y) << "most of the filament's light passes the glass";
+      for (size_t i = 0; i < points.size(); ++i) {
+        const double d2 = 4.0 + points[i].x * points[i].x + points[i].z * points[i].z;
+        const double expected = power / (4.0 * kPi) * (2.0 / std::sqrt(d2)) / d2;
+        EXPECT_NEAR(on[i].first, expected, (0.01 + 3.0 * frozen) * expected + 3.0 * on[i].second) << "sensor " << i;
+      }
+    }
   }
 }

@@ -19,6 +19,9 @@
 
 namespace firstshot {
 
+struct PathVertex;  // render/integrators/common/path_walk.h
+
+
 /// Extras an integrator reports for one camera sample.
 struct SampleInfo {
   Color albedo{0.0f};   ///< AOV: reflectance at the first hit (0 when the ray escapes)
@@ -144,6 +147,13 @@ class Integrator {
   /// Radiance arriving at the camera along @p ray (d unit length), estimated with @p sampler.
   /// Thread-safe. @p info, if given, receives the AOVs and the ray count.
   virtual Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const = 0;
+  /// Radiance arriving at a sensor along @p ray (render/sensors/sensors.h), for an integrator whose lightSampler()
+  /// samples the luminaires: the ray leaves @p from, a non-delta vertex whose next-event estimation took from.nee, so
+  /// that a luminaire's box the ray enters counts its exit light, weighted against that NEE, and not its lights'
+  /// light inside the box (render/scene/luminaire_boxes.h), as on any path past its first bounce. Default: Li().
+  virtual Color LiFromSensor(const Ray& ray, const PathVertex& /*from*/, Sampler& sampler, SampleInfo* info) const {
+    return Li(ray, sampler, info);
+  }
   /// The camera rays of a 4 × 4 pixel block at one sample index (k = 4·row + column, k < @p count):
   /// L[k] = Li(rays[k], samplers[k], &infos[k]) for every k with wanted[k]. An integrator may trace
   /// the rays with traced[k] (a superset of the wanted ones: all of the block's pixels in the image,

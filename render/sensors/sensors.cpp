@@ -19,6 +19,7 @@
 #include "common/sampling/sampling.h"
 #include "common/util/interrupt.h"
 #include "common/util/progress.h"
+#include "render/integrators/common/path_walk.h"
 #include "render/lights/light_sampler.h"
 #include "render/lights/next_event.h"
 #include "render/scene/embree_scene.h"
@@ -37,10 +38,38 @@ struct Sums {
   uint64_t n = 0;
 };
 
-/// One sample of E(x, n), W/m² per channel; @p li(ray, sampler, info) is the integrator's Li().
-template <class LiFn>
-Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSampler& lights, const Sensor& sensor,
-                       Sampler& sampler, uint64_t& rays) {
+/// One sample of E(x, n) with the luminaires of a light sampler that samples them: the sensor is a vertex of a path
+/// (a white Lambertian, MIS between its NEE and its cosine ray, which the walk continues from it: @p from(ray, vertex,
+/// sampler, info) is the integrator's LiFromSensor()).
+template <class FromFn>
+Color sampleIrradianceWithLuminaires(const FromFn& from, const RenderScene& scene, const LightSampler& lights,
+                                     const Hit& hit, const Frame& frame, Sampler& sampler, uint64_t& rays) {
+  static const BSDF white(LambertBRDF{Color(1.0f)});
+  const Vec3 woLocal(0.0f, 0.0f, 1.0f);
+  const LuminaireBoxes& boxes = scene.luminaires();
+  const int inside = boxes.containing(hit.p);
+  PathVertex v;
+  v.nee.kept = true;
+  v.nee.replaced = true;  // a table's small lights exactly, as at a camera-visible point
+  v.nee.inner = inside >= 0 || boxes.anyDirect();  // as the path walk asks at a vertex (path_walk.cpp)
+  Color E = kPiF * nextEvent(lights, hit, frame, woLocal, white, v.nee, sampler, rays);
+  const Vec3 local = squareToCosineHemisphere(sampler.next2D());
+  const Vec3 wi = frame.toWorld(local);
+  v.delta = false;
+  v.pdf = local.z * kInvPiF;
+  v.p = hit.p;
+  v.n = hit.ng;
+  SampleInfo info;
+  E += kPiF * from(Ray(hit.spawnOrigin(wi), wi), v, sampler, &info);  // cos θ/pdf = π
+  rays += info.rays;
+  return E;
+}
+
+/// One sample of E(x, n), W/m² per channel; @p li(ray, sampler, info) is the integrator's Li(), @p from(ray, vertex,
+/// sampler, info) its LiFromSensor().
+template <class LiFn, class FromFn>
+Color sampleIrradiance(const LiFn& li, const FromFn& from, const RenderScene& scene, const LightSampler& lights,
+                       const Sensor& sensor, Sampler& sampler, uint64_t& rays) {
   Hit hit;
   hit.p = sensor.p;
   hit.ng = sensor.n;
@@ -48,6 +77,7 @@ Color sampleIrradiance(const LiFn& li, const RenderScene& scene, const LightSamp
   // origin spawnOrigin moved along n at the light point and stops only eps + 1e-4·d short of it.
   hit.eps = 1e-5f * std::max({1.0f, std::abs(sensor.p.x), std::abs(sensor.p.y), std::abs(sensor.p.z)});
   const Frame frame(sensor.n);
+  if (lights.hasLuminaires()) return sampleIrradianceWithLuminaires(from, scene, lights, hit, frame, sampler, rays);
   const Vec3 woLocal(0.0f, 0.0f, 1.0f);           // the receiving side is the normal's
   static const BSDF white(LambertBRDF{Color(1.0f)});  // f = 1/π on the normal's side
   NeeRequest nee;
@@ -111,9 +141,11 @@ void preprocessSensors(Integrator& integrator, const RenderScene& scene, const s
     const LightSampler& lights = sensorLights(integrator);
     uint64_t rays = 0;
     auto trace = [&](const Ray& ray, Sampler& sampler, SampleInfo*) { return li(ray, sampler); };
+    // The cache fills from the sensors' rays; its light sampler has no luminaires, so the vertex is not needed.
+    auto fromSensor = [&](const Ray& ray, const PathVertex&, Sampler& sampler, SampleInfo*) { return li(ray, sampler); };
     for (uint64_t s = 0; s < fill; ++s) {
       Sampler sampler = Sampler::make(options.sampler, options.seed, i, s, kSensorStream);
-      sampleIrradiance(trace, scene, lights, sensors[i], sampler, rays);
+      sampleIrradiance(trace, fromSensor, scene, lights, sensors[i], sampler, rays);
     }
   };
   integrator.preprocessRays(scene, sensors.size(), task, float(options.rayAngle));
@@ -141,6 +173,9 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
   requireSensorIntegrator(integrator);
   const LightSampler& lights = sensorLights(integrator);
   auto li = [&](const Ray& ray, Sampler& sampler, SampleInfo* info) { return integrator.Li(ray, sampler, info); };
+  auto fromSensor = [&](const Ray& ray, const PathVertex& from, Sampler& sampler, SampleInfo* info) {
+    return integrator.LiFromSensor(ray, from, sampler, info);
+  };
   std::vector<Sums> sums(sensors.size());
   std::atomic<uint64_t> rays{0}, nonFinite{0};
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
@@ -160,7 +195,7 @@ std::vector<SensorResult> estimateSensors(const Integrator& integrator, const Re
           Sums& acc = sums[i];
           for (uint64_t s = s0; s < s1; ++s) {
             Sampler sampler = Sampler::make(options.sampler, options.seed, i, s, kSensorStream);
-            Color E = sampleIrradiance(li, scene, lights, sensors[i], sampler, localRays);
+            Color E = sampleIrradiance(li, fromSensor, scene, lights, sensors[i], sampler, localRays);
             if (!isFinite(E)) {
               ++bad;
               E = Color(0.0f);

@@ -13,6 +13,11 @@
 /// the second one cosine-distributed direction ω (pdf cos θ/π) whose radiance arriving at x is the
 /// integrator's Li() along the ray minus the emission of a light it meets first (counted by NEE), or minus the
 /// radiance of the scene's sky or environment map where the ray leaves the scene (NEE counted that too).
+/// Where the light sampler samples luminaires (the path tracer's, with the luminaires whose light leaves mostly
+/// through glass: render/cli/render_command.cpp), the sensor is instead a vertex of a path: NEE with MIS (the
+/// luminaires' specular light and exit patches among the emitters), and the cosine ray walked from that non-delta
+/// vertex (Integrator::LiFromSensor), which weighs what it meets against that NEE and counts a luminaire's exit light
+/// where it enters its box, not its lights inside (docs/luminaires.md, "Sensors").
 /// The integrator is the path tracer or the irradiance cache (requireSensorIntegrator): the
 /// estimator needs Li() per ray, which the splatting and per-pass ones do not have. The irradiance
 /// cache is filled from the sensors' own rays (preprocessSensors), not from the camera's pixels.

@@ -14,4 +14,11 @@ Color PathIntegrator::LiFrom(const Ray& ray, const Hit* first, Sampler& sampler,
   return walk_.trace(ray, Color(1.0f), 0, PathVertex(), true, sampler, rays, info, first);
 }
 
+Color PathIntegrator::LiFromSensor(const Ray& ray, const PathVertex& from, Sampler& sampler, SampleInfo* info) const {
+  uint64_t rays = 0;
+  const Color L = walk_.trace(ray, Color(1.0f), 0, from, false, sampler, rays, info);
+  if (info) info->rays = rays;
+  return L;
+}
+
 }  // namespace firstshot

@@ -20,6 +20,8 @@ class PathIntegrator : public PacketIntegrator {
   void preprocess(const RenderScene& scene) override;
   std::string name() const override { return "path"; }
   bool supportsSensors() const override { return true; }
+  /// The walk from the sensor's vertex @p from (not the camera: entering a luminaire's box counts its exit light).
+  Color LiFromSensor(const Ray& ray, const PathVertex& from, Sampler& sampler, SampleInfo* info) const override;
   /// The walk's light sampler (after preprocess()).
   const LightSampler* lightSampler() const override { return &walk_.lightSampler(); }
 
