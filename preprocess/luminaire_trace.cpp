@@ -317,9 +317,12 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
     tbb::parallel_for(first, last, [&](uint64_t c) {
       std::vector<ParticleExit>& mine = exits[c - first];
       mine.clear();
-      Sampler sampler(seed, index, c);
       const uint64_t begin = c * kLuminaireChunk, end = std::min(particles, begin + kLuminaireChunk);
       for (uint64_t i = begin; i < end; ++i) {
+        // Particle i's numbers: sample i of one Sobol' sequence per luminaire, so that the particles' light, points
+        // and directions are stratified over all of them (the intensity bins of a bulb in glass then hold nearly
+        // their exact share, where independent numbers left each a Poisson count's noise).
+        Sampler sampler = Sampler::sobol(seed, index, i);
         ParticleExit e;
         if (walkParticle(scene, geometry, bsdfs, lum, source.sample(sampler), sampler, e)) mine.push_back(e);
       }

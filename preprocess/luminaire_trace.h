@@ -115,7 +115,7 @@ bool walkParticle(const SceneDesc& scene, const ParticleScene& geometry, const s
 /// The BSDF of each material of @p scene for the walk: makeBSDF with a textured albedo replaced by its mean.
 std::vector<BSDF> makeLuminaireBSDFs(const SceneDesc& scene);
 
-/// Traces @p particles particles (kLuminaireChunk per chunk, chunk c's numbers from Sampler(seed, index, c)) from
+/// Traces @p particles particles (particle i's numbers from Sampler::sobol(seed, index, i), kLuminaireChunk per chunk) from
 /// the lights of @p lum through its box, and fills its radiance, power, exitPower, directPower, specularPower, centre,
 /// intensity, particles and relError: the radiance and exitPower hold the particles that met a non-delta surface
 /// inside the box, directPower those that met nothing (the renderer samples the lights themselves for that light),

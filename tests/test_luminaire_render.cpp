@@ -32,8 +32,9 @@ IntegratorOptions pathOptions(const SceneDesc&, bool luminaires) {
 /// Path tracing (@p pathPasses) and light tracing (@p lightPasses) with the luminaires against light tracing with
 /// their lights as lights (@p refPasses), the least noisy reference in these rooms (the path tracer's blocks without
 /// the luminaires have heavy tails behind glass: their σ from a few thousand passes is not to be trusted there).
+/// @p knownBias: the exit table's own error allowed beside the noise (block_compare.h).
 void expectSameImage(const std::string& name, const RenderScene& scene, int pathPasses, int lightPasses,
-                     int refPasses) {
+                     int refPasses, double knownBias = 0.0) {
   ASSERT_FALSE(scene.firstShot()->luminaires.empty()) << name << ": no luminaire found";
   auto ref = makeIntegrator("light", pathOptions(scene.desc(), false));
   ref->preprocess(scene);
@@ -42,7 +43,7 @@ void expectSameImage(const std::string& name, const RenderScene& scene, int path
     auto on = makeIntegrator(integrator, pathOptions(scene.desc(), true));
     on->preprocess(scene);
     test::expectBlocksAgree(name + ", " + integrator + " with the luminaires against light without",
-                            test::blockMeans(*on, scene, passes), refBlocks);
+                            test::blockMeans(*on, scene, passes), refBlocks, knownBias);
   }
 }
 
@@ -60,10 +61,13 @@ TEST(LuminaireRender, GlassBulbAsWithItsLightsAsLights) {
 }
 
 // The camera looks into the box: its inside is seen as it is (the light's direct light there, the walls'
-// interreflections), the room around it through the exit patches.
+// interreflections), the room around it through the exit patches. The room right beside the box gets the exit
+// table's patch × bin blur: light tracing with the luminaire (σ 1.5% per block, the least noisy here) measured its
+// worst block −2.7%, −2.7%, −3.2%, −3.9% for four tracing seeds at 2^19 particles and −3.4% at 2^21 (it does not
+// shrink with the particles: not their noise), so 4% is allowed beside the noise.
 TEST(LuminaireRender, OpenBoxSeenInsideAsItIs) {
   const SceneDesc d = test::openBox();
-  expectSameImage("open box", test::withLuminaireTable(d), 400, 150, 300);
+  expectSameImage("open box", test::withLuminaireTable(d), 400, 150, 300, 0.04);
 }
 
 // The ceiling straight above the bowl of the shipped bowl-lamp room (scenes/bowl-lamp-room.json), where its hot spot
@@ -126,8 +130,8 @@ TEST(LuminaireRender, FixtureRoomCovesAndShades) {
 // leaves a lossless closed shell radially, as from the bare bulb, so the floor's radiance at (x, 0, z) is
 // ρ/π · Φ/(4π) · cos θ/d² exactly. The path tracer samples it through the luminaire's specular light (an intensity
 // about its centre). Points on the line z = 0 lay on the patch × bin table's bin edges (−78% to −99% before it had a
-// specular part), the others between them (+10–13%). Allowed: 1% beside 3σ of the table's frozen noise, an intensity
-// bin's count of particles being Poisson (N/kGonioBins of N particles, all of one power here): √(kGonioBins/N) = 1.1%.
+// specular part), the others between them (+10–13%). Allowed: 1% (measured: within 0.27%, the particles' numbers
+// stratified; with independent ones an intensity bin's count was Poisson, √(kGonioBins/N) = 1.1%, and one point −1.8%).
 TEST(LuminaireRender, GlassBulbLightsTheFloorAsTheBareBulb) {
   auto scene = [](double x, double z) {
     return test::sceneFromJson(fmt::format(R"({{"materials": {{"floor": {{"type": "diffuse", "albedo": 0.5}},
@@ -139,9 +143,11 @@ TEST(LuminaireRender, GlassBulbLightsTheFloorAsTheBareBulb) {
       "settings": {{"patch_size": 1.0, "max_depth": 1}}}})", x, z + 0.2, z));
   };
 #ifdef FIRSTSHOT_UNDER_SANITIZERS
-  const uint64_t particles = 1u << 18;  // 4.4% of noise: it still catches the stripes (−78% and worse)
+  const uint64_t particles = 1u << 18;  // allowed 3 × 4.4% more: it still catches the stripes (−78% and worse)
+  const double frozen = std::sqrt(double(Luminaire::kGonioBins) / double(particles));
 #else
-  const uint64_t particles = 1u << 22;
+  const uint64_t particles = 1u << 22;  // the default for one luminaire
+  const double frozen = 0.0;
 #endif
   const SceneDesc first = scene(0.0, 0.0);
   PreprocessOptions po = defaultOptions(first);
@@ -149,7 +155,6 @@ TEST(LuminaireRender, GlassBulbLightsTheFloorAsTheBareBulb) {
   const FirstShotTable table = preprocessScene(first, po);  // the camera is not in the table
   ASSERT_EQ(table.luminaires.size(), 1u);
   EXPECT_NEAR(luminance(table.luminaires[0].specularPower), 100.0, 0.5) << "all of it through the glass";
-  const double frozen = std::sqrt(double(Luminaire::kGonioBins) / double(particles));
   const double points[][2] = {{0.3, 0.0}, {1.0, 0.0}, {2.0, 0.0}, {1.0, 0.2}, {0.7, 0.55}, {1.5, -0.8}, {0.2, 0.9}};
   for (const auto& xz : points) {
     const RenderScene rs(scene(xz[0], xz[1]), table);
@@ -162,8 +167,8 @@ TEST(LuminaireRender, GlassBulbLightsTheFloorAsTheBareBulb) {
     test::imageMean(run.film, 1, mean, se);
     const double d2 = 4.0 + xz[0] * xz[0] + xz[1] * xz[1];
     const double expected = 0.5 / kPi * 100.0 / (4.0 * kPi) * (2.0 / std::sqrt(d2)) / d2;
-    fmt::print("floor at ({}, {}): {:.5f} ± {:.5f} W/(m² sr), bare bulb {:.5f} ({:+.2f}%; table noise ±{:.1f}%)\n",
-               xz[0], xz[1], mean, se, expected, 100.0 * (mean - expected) / expected, 100.0 * frozen);
+    fmt::print("floor at ({}, {}): {:.5f} ± {:.5f} W/(m² sr), bare bulb {:.5f} ({:+.2f}%)\n", xz[0], xz[1], mean, se,
+               expected, 100.0 * (mean - expected) / expected);
     EXPECT_LT(std::abs(mean - expected), (0.01 + 3.0 * frozen) * expected + 3.0 * se)
         << "at (" << xz[0] << ", " << xz[1] << ")";
   }
