@@ -14,7 +14,7 @@ targets=("$@")
 build=${FUZZ_BUILD:-$root/build/fuzz}
 
 # The largest input each target tries (bytes): the seeds fit.
-declare -A max_len=([scene_json]=32768 [scene_xml]=32768 [mesh_import]=16384 [fsd]=16384 [cache_file]=4096 [ies]=8192)
+declare -A max_len=([scene_json]=32768 [scene_xml]=32768 [mesh_import]=16384 [fsd]=24576 [cache_file]=4096 [ies]=8192)
 # assimp 5.2 leaks parts of a half-read scene on some malformed files (not firstshot's memory); checking
 # for leaks after every such input would also make fuzz_mesh_import 3-4 times slower.
 declare -A asan_options=([mesh_import]=detect_leaks=0)
