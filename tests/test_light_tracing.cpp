@@ -21,13 +21,16 @@ using test::expectBlocksAgree;
 
 // The area light of the Cornell box is seen directly: light tracing draws it by connecting the
 // particles' first vertex (on the light) to the camera, so no block is left out.
-TEST(LightTracing, CornellImageAgreesWithPathTracing) { test::expectAgreesWithPathTracing("light", "cornell", 600, 300); }
+TEST(LightTracing, CornellImageAgreesWithPathTracing) {
+  FIRSTSHOT_STATISTICS_ONLY("LightTracing.MirrorAndGlassAgreeWithPathTracing");
+  test::expectAgreesWithPathTracing("light", "cornell", 600, 300);
+}
 TEST(LightTracing, ManyLightsImageAgreesWithPathTracing) {
-  FIRSTSHOT_STATISTICS_ONLY("LightTracing.CornellImageAgreesWithPathTracing");
+  FIRSTSHOT_STATISTICS_ONLY("LightTracing.MirrorAndGlassAgreeWithPathTracing");
   test::expectAgreesWithPathTracing("light", "many-lights", 600, 300);
 }
 TEST(LightTracing, SierpinskiGlossyImageAgreesWithPathTracing) {
-  FIRSTSHOT_STATISTICS_ONLY("LightTracing.CornellImageAgreesWithPathTracing and MirrorAndGlassAgreeWithPathTracing");
+  FIRSTSHOT_STATISTICS_ONLY("LightTracing.MirrorAndGlassAgreeWithPathTracing");
   test::expectAgreesWithPathTracing("light", "sierpinski-glossy", 600, 300);
 }
 
@@ -41,7 +44,7 @@ TEST(LightTracing, MirrorAndGlassAgreeWithPathTracing) {
 // With a first-shot table the small lights stay lights for shooting: the same image as without.
 // With --shoot-firstshot off the table's small lights are shot like all others.
 TEST(LightTracing, FirstShotTableLeavesTheImageUnchanged) {
-  FIRSTSHOT_STATISTICS_ONLY("Integrators/ShootingFirstShot.CornellAgreesWithPathTracingOnTheSameTable/light");
+  FIRSTSHOT_STATISTICS_ONLY("Integrators/ShootingFirstShot.MixedLightsAgreeWithPathTracingOnTheSameTable/light");
   IntegratorOptions io;
   io.shootFromPatches = false;
   test::expectTableLeavesImageUnchanged("light", 300, io);

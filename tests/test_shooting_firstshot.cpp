@@ -49,13 +49,14 @@ INSTANTIATE_TEST_SUITE_P(Integrators, ShootingFirstShot,
                          [](const testing::TestParamInfo<Shooter>& p) { return p.param.integrator; });
 
 TEST_P(ShootingFirstShot, CornellAgreesWithPathTracingOnTheSameTable) {
+  FIRSTSHOT_STATISTICS_ONLY("Integrators/ShootingFirstShot.MixedLightsAgreeWithPathTracingOnTheSameTable");
   expectAgrees("cornell, table", shipped("cornell"));
 }
 // Two bounces: a path from a lit patch has one bounce more than its vertices show (the table's),
 // as the path tracer counts a lit patch met at depth d as d + 1 (light 31σ, bdpt 35σ off without
 // it). 4× the passes: at 200 and 300 one bdpt block of 12 fell at 3.1σ by chance (2.7σ at 4×).
 TEST_P(ShootingFirstShot, CornellAtTwoBouncesAgreesWithPathTracingOnTheSameTable) {
-  FIRSTSHOT_STATISTICS_ONLY("Integrators/ShootingFirstShot.CornellAgreesWithPathTracingOnTheSameTable");
+  FIRSTSHOT_STATISTICS_ONLY("Integrators/ShootingFirstShot.MixedLightsAgreeWithPathTracingOnTheSameTable");
   SceneDesc d = shipped("cornell");
   d.settings.maxDepth = 2;
   expectAgrees("cornell, 2 bounces, table", d, 4);
