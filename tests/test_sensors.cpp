@@ -432,6 +432,13 @@ TEST(Sensors, ABulbInAGlassBallThroughItsLuminaire) {
       }
       const auto off = sensors("off", 64);
       for (const auto& [e, se] : off) EXPECT_EQ(e, 0.0) << "no ray finds a point light behind glass";
+      // Not silently: the lights taken as lights (the cache, --luminaires off) are said on stderr.
+      for (const char* how : {"--luminaires off", "--integrator irradiance-cache"}) {
+        const auto r = test::run(kRender + " " + scene + " --firstshot " + fsd + " " + how + " --sensors " + dir +
+                                 "/points.txt --samples 4 -q -o " + dir + "/warn.csv");
+        EXPECT_EQ(r.exitCode, 0) << r.output;
+        EXPECT_NE(r.output.find("warning: the sensors take luminaire"), std::string::npos) << how << ": " << r.output;
+      }
     } else {
       const FirstShotTable table = readFirstShot(fsd);
       ASSERT_EQ(table.luminaires.size(), 1u);

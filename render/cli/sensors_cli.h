@@ -19,6 +19,7 @@
 #include "common/lights/photometry.h"
 #include "common/util/atomic_file.h"
 #include "common/util/error.h"
+#include "render/lights/light_sampler.h"
 #include "render/sensors/daylight_factor.h"
 #include "render/sensors/sensors.h"
 
@@ -92,6 +93,25 @@ struct SensorsCli {
     for (const auto& g : quadGrids) s.push_back(gridOnQuad(scene, g));
   }
 
+  /// A luminaire whose light leaves through glass, which @p integrator's light sampler takes as lights (the irradiance
+  /// cache, `--luminaires off`, `--light-sampler all`): that light reaches a sensor only where a ray refracts into the
+  /// lamp by chance, and never from a point light. Said once on stderr (rank 0), not silently.
+  static void warnOfLuminairesTakenAsLights(const Integrator& integrator, const RenderScene& scene,
+                                            const SensorOptions& options) {
+    const LightSampler* lights = integrator.lightSampler();
+    if (!lights || lights->hasLuminaires() || scene.luminaires().empty() || (options.comm && !options.comm->root()))
+      return;
+    for (const Luminaire& l : scene.luminaires().items())
+      if (luminance(l.specularPower) > 0.0f) {
+        fmt::print(stderr,
+                   "firstshot-render: warning: the sensors take luminaire {}'s lights as lights ({}): its light through "
+                   "glass reaches them only where a ray refracts into the lamp (none from a point light); "
+                   "--integrator path with --luminaires on samples it\n",
+                   l.name, integrator.name());
+        return;
+      }
+  }
+
   /// Preprocesses @p integrator for the sensors, estimates every set and writes @p outputs; prints
   /// the summaries on stdout.
   int run(Integrator& integrator, const RenderScene& scene, const std::vector<SensorSet>& sets,
@@ -102,6 +122,7 @@ struct SensorsCli {
     for (const auto& s : sets) all.insert(all.end(), s.sensors.begin(), s.sensors.end());
     const auto start = std::chrono::steady_clock::now();
     preprocessSensors(integrator, scene, all, options);
+    warnOfLuminairesTakenAsLights(integrator, scene, options);
     const double prepSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     SensorStats st;
     const std::vector<SensorResult> results = estimateSensors(integrator, scene, all, options, &st);
