@@ -69,20 +69,28 @@ Color Luminaire::patchPower(uint32_t k) const {
   return sum * (patch(k).area * kPiF / float(kBins));
 }
 
+namespace {
+
+/// The unit direction @p w in continuous goniophotometric bin coordinates: rows (cos θ from +y, 0 at the top) in
+/// [0, kGonioThetaBins], columns (φ = atan2(ω_z, ω_x)) in [0, kGonioPhiBins].
+Vec2 gonioCoordinates(const Vec3& w) {
+  return Vec2(std::clamp((1.0f - w.y) * 0.5f, 0.0f, 1.0f) * float(Luminaire::kGonioThetaBins),
+              (std::atan2(w.z, w.x) * (0.5f / kPiF) + 0.5f) * float(Luminaire::kGonioPhiBins));
+}
+
+}  // namespace
+
 int Luminaire::gonioBin(const Vec3& w) {
-  const int it = std::clamp(int((1.0f - w.y) * 0.5f * float(kGonioThetaBins)), 0, kGonioThetaBins - 1);
-  const int ip = std::clamp(int((std::atan2(w.z, w.x) * (0.5f / kPiF) + 0.5f) * float(kGonioPhiBins)), 0,
-                            kGonioPhiBins - 1);
-  return it * kGonioPhiBins + ip;
+  const Vec2 c = gonioCoordinates(w);
+  return std::clamp(int(c.x), 0, kGonioThetaBins - 1) * kGonioPhiBins + std::clamp(int(c.y), 0, kGonioPhiBins - 1);
 }
 
 Color Luminaire::intensityAt(const Vec3& w) const {
   if (intensity.size() != 3 * size_t(kGonioBins)) return Color(0.0f);
-  // Continuous bin coordinates with bin centres at integers: rows clamped at the poles, columns periodic.
-  const float s = std::clamp((1.0f - w.y) * 0.5f, 0.0f, 1.0f) * float(kGonioThetaBins) - 0.5f;
-  const float t = (std::atan2(w.z, w.x) * (0.5f / kPiF) + 0.5f) * float(kGonioPhiBins) - 0.5f;
-  const float s0 = std::floor(s), t0 = std::floor(t);
-  const float fs = s - s0, ft = t - t0;
+  // Bin centres at integers: rows clamped at the poles, columns periodic.
+  const Vec2 c = gonioCoordinates(w) - Vec2(0.5f);
+  const float s0 = std::floor(c.x), t0 = std::floor(c.y);
+  const float fs = c.x - s0, ft = c.y - t0;
   const int rows[2] = {std::clamp(int(s0), 0, kGonioThetaBins - 1), std::clamp(int(s0) + 1, 0, kGonioThetaBins - 1)};
   const int c0 = (int(t0) % kGonioPhiBins + kGonioPhiBins) % kGonioPhiBins;
   const int cols[2] = {c0, (c0 + 1) % kGonioPhiBins};

@@ -172,7 +172,8 @@ void RenderCommand::buildRenderScene() {
     // NEE. Elsewhere its lights are lights (unbiased; the exit table's patch × bin blur is a few per cent at a
     // bowl's hot spot, where a lighting designer puts a sensor first: docs/luminaires.md).
     if (sensors_.active())
-      std::erase_if(table.luminaires, [](const Luminaire& l) { return !(luminance(l.specularPower) > luminance(l.exitPower)); });
+      std::erase_if(table.luminaires,
+                    [](const Luminaire& l) { return !(luminance(l.specularPower) > luminance(l.exitPower)); });
     renderScene_.emplace(scene_, std::move(table), fsdPath_);
   } else {
     renderScene_.emplace(scene_, patchSize_ > 0 || integrators_.isAuto() || !integrators_.chosen().needsPatches()

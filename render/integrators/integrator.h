@@ -21,7 +21,6 @@ namespace firstshot {
 
 struct PathVertex;  // render/integrators/common/path_walk.h
 
-
 /// Extras an integrator reports for one camera sample.
 struct SampleInfo {
   Color albedo{0.0f};   ///< AOV: reflectance at the first hit (0 when the ray escapes)

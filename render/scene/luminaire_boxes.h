@@ -47,6 +47,9 @@ class LuminaireBoxes {
   /// True if some luminaire's light leaves its box straight from its lights (Luminaire::directPower): NEE from
   /// outside the boxes then samples their lights too. False for luminaires behind glass alone.
   bool anyDirect() const { return anyDirect_; }
+  /// Whether a vertex samples the luminaires' lights (NeeRequest::inner): inside box @p inside (−1: none) seen as it
+  /// is (not @p suppressed), or anywhere for the light that leaves a box straight from its lights.
+  bool innerWanted(int inside, bool suppressed) const { return (inside >= 0 && !suppressed) || anyDirect_; }
   const std::vector<Luminaire>& items() const { return *items_; }
   /// The luminaire light @p l (a LightSet index) belongs to, or −1.
   int ofLight(uint32_t l) const { return l < lightLuminaire_.size() ? lightLuminaire_[l] : -1; }

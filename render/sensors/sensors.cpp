@@ -38,20 +38,25 @@ struct Sums {
   uint64_t n = 0;
 };
 
+/// The sensor's BSDF: a white Lambertian, f = 1/π on the normal's side.
+const BSDF& whiteSensor() {
+  static const BSDF white(LambertBRDF{Color(1.0f)});
+  return white;
+}
+
 /// One sample of E(x, n) with the luminaires of a light sampler that samples them: the sensor is a vertex of a path
 /// (a white Lambertian, MIS between its NEE and its cosine ray, which the walk continues from it: @p from(ray, vertex,
 /// sampler, info) is the integrator's LiFromSensor()).
 template <class FromFn>
 Color sampleIrradianceWithLuminaires(const FromFn& from, const RenderScene& scene, const LightSampler& lights,
                                      const Hit& hit, const Frame& frame, Sampler& sampler, uint64_t& rays) {
-  static const BSDF white(LambertBRDF{Color(1.0f)});
+  const BSDF& white = whiteSensor();
   const Vec3 woLocal(0.0f, 0.0f, 1.0f);
   const LuminaireBoxes& boxes = scene.luminaires();
-  const int inside = boxes.containing(hit.p);
   PathVertex v;
   v.nee.kept = true;
   v.nee.replaced = true;  // a table's small lights exactly, as at a camera-visible point
-  v.nee.inner = inside >= 0 || boxes.anyDirect();  // as the path walk asks at a vertex (path_walk.cpp)
+  v.nee.inner = boxes.innerWanted(boxes.containing(hit.p), false);  // a box around the sensor is seen as it is
   Color E = kPiF * nextEvent(lights, hit, frame, woLocal, white, v.nee, sampler, rays);
   const Vec3 local = squareToCosineHemisphere(sampler.next2D());
   const Vec3 wi = frame.toWorld(local);
@@ -79,7 +84,7 @@ Color sampleIrradiance(const LiFn& li, const FromFn& from, const RenderScene& sc
   const Frame frame(sensor.n);
   if (lights.hasLuminaires()) return sampleIrradianceWithLuminaires(from, scene, lights, hit, frame, sampler, rays);
   const Vec3 woLocal(0.0f, 0.0f, 1.0f);           // the receiving side is the normal's
-  static const BSDF white(LambertBRDF{Color(1.0f)});  // f = 1/π on the normal's side
+  const BSDF& white = whiteSensor();
   NeeRequest nee;
   nee.kept = true;
   nee.replaced = true;  // a table's small lights exactly, as at a camera-visible point

@@ -165,7 +165,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
       nee.replaced = !useTable;
       // The luminaires' lights: inside a box seen as it is, and everywhere for the light that leaves a box straight
       // from them, but for the box this path entered from a non-delta vertex (its exit light holds theirs).
-      nee.inner = useLuminaires && ((lum.inside >= 0 && !lum.suppressed) || boxes.anyDirect());
+      nee.inner = useLuminaires && boxes.innerWanted(lum.inside, lum.suppressed);
       nee.exceptLuminaire = lum.suppressed ? lum.inside : -1;
       nee.tableVisibility = haveTable && options_.tableVisibility;
       nee.patches = lights_.hasPatchEmitters() && depth + 1 < options_.maxDepth &&  // a lit patch is one bounce more
