@@ -3,8 +3,9 @@
 # method a user could pick without a table (path with the light tree, path with NEE to every light, the irradiance
 # cache, light tracing, BDPT). Noise = RMS over pixels of the two seeds' difference / sqrt(2), relative to the image
 # mean (firstshot-compare's nrmse / sqrt(2)); efficiency ratio = noise^2 ratio. The table's preprocessing is counted
-# in the first-shot side's time: its render gets SECONDS minus the preprocessing time. "path + table" forces the
-# path tracer on the table (with the luminaires the preprocessor found, docs/luminaires.md; their number is a column).
+# in the first-shot side's time: its render gets SECONDS minus the preprocessing time. "path + table" and "cache + table"
+# force the path tracer and the irradiance cache on the table (with the luminaires the preprocessor found,
+# docs/luminaires.md; their number is a column). The cache's noise leaves out its bias (its interpolation error).
 #
 # usage: bench/auto_vs_best.sh BUILD OUT [SECONDS] [WIDTH] [HEIGHT] [SCENES...]
 #   BUILD: build/release; OUT: a folder for the images and tables; SECONDS (default 10) per render;
@@ -57,8 +58,8 @@ run() {
 
 table="$out/table.md"
 {
-  echo "| scene | preprocess (s) | luminaires | path | path, NEE to every light | irradiance cache | light | bdpt | best without table | auto, no table (choice) | path + table | auto + table (choice) | auto + table against the best |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| scene | preprocess (s) | luminaires | path | path, NEE to every light | irradiance cache | light | bdpt | best without table | auto, no table (choice) | path + table | cache + table | auto + table (choice) | auto + table against the best |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$table"
 for scene in "${scenes[@]}"; do
   tag=$(basename "$(dirname "$scene")")-$(basename "$scene" | sed 's/\.[a-z]*$//')
@@ -80,6 +81,7 @@ for scene in "${scenes[@]}"; do
   n[auto]=$(run auto "$seconds")
   rest=$(python3 -c "print(max(0.5, $seconds - $prep))")
   n[pathT]=$(run pathT "$rest" --firstshot "$dir/table.fsd" --integrator path)
+  n[cacheT]=$(run cacheT "$rest" --firstshot "$dir/table.fsd" --integrator irradiance-cache)
   n[autoT]=$(run autoT "$rest" --firstshot "$dir/table.fsd")
   lums=$(grep -c '^luminaire' "$dir/preprocess.log" || true)
   best=$(printf '%s\n' "${n[path]}" "${n[all]}" "${n[cache]}" "${n[light]}" "${n[bdpt]}" | grep -v '^-$' | sort -g | head -1)
@@ -88,7 +90,7 @@ for scene in "${scenes[@]}"; do
       grep -o -- '--integrator auto: [a-z -]* (' "$dir/$1-1.log" | head -1 | sed 's/.*auto: //; s/ *($//'
   }
   ratio=$(python3 -c "b=float('$best'); a='${n[autoT]}'; print('-' if a == '-' else '%.2fx' % ((b / float(a))**2))")
-  echo "| $tag | $prep | $lums | ${n[path]} | ${n[all]} | ${n[cache]} | ${n[light]} | ${n[bdpt]} | $best | ${n[auto]} ($(choice auto)) | ${n[pathT]} | ${n[autoT]} ($(choice autoT)) | $ratio |" >> "$table"
+  echo "| $tag | $prep | $lums | ${n[path]} | ${n[all]} | ${n[cache]} | ${n[light]} | ${n[bdpt]} | $best | ${n[auto]} ($(choice auto)) | ${n[pathT]} | ${n[cacheT]} | ${n[autoT]} ($(choice autoT)) | $ratio |" >> "$table"
   unset n
 done
 cat "$table"

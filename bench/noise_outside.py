@@ -3,7 +3,7 @@
 
 usage: bench/noise_outside.py DIR METHODS X0,X1,Y0,Y1
   DIR: a scene's folder of bench/auto_vs_best.sh (METHOD-1.exr, METHOD-2.exr); METHODS: comma-separated names
-  (path, all, cache, light, bdpt, auto, pathT, autoT); X0,X1,Y0,Y1: the window left out, pixels, inclusive (say, where
+  (path, all, cache, light, bdpt, auto, pathT, cacheT, autoT); X0,X1,Y0,Y1: the window left out, pixels, inclusive (say, where
   the camera sees a lamp through glass: those pixels every method path traces alike).
 noise = RMS over pixels and channels of (a - b)/sqrt(2), relative to the mean of the pixels counted, as
 auto_vs_best.sh's. Reads the images with oiiotool --dumpdata (no Python packages needed).

@@ -36,7 +36,7 @@ const std::map<std::string, std::vector<std::string>> kUses = {
     {"irradiance-cache", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility",
                           "--accuracy", "--ic-samples", "--bounces", "--ambient", "--gradients", "--clamp-footprint",
                           "--neighbour-clamp", "--ic-patch-nee", "--two-pass", "--one-pass", "--cache-file",
-                          "--show-records"}},
+                          "--show-records", "--luminaires"}},
     {"light", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility",
                "--shoot-firstshot", "--light-paths", "--luminaires"}},
     {"bundle", {"--primary", "--table-visibility", "--iterations", "--bundle-resolution", "--bundle-directions"}},

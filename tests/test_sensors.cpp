@@ -406,10 +406,10 @@ TEST(Sensors, ABulbInAGlassBallThroughItsLuminaire) {
     std::string text;
     for (const Vec3d& q : points) text += fmt::format("{} {} {} 0 1 0\n", q.x, q.y, q.z);
     test::writeText(dir + "/points.txt", text);
-    auto sensors = [&](const std::string& luminaires, int samples) {
+    auto sensors = [&](const std::string& luminaires, int samples, const std::string& integrator = "path") {
       const auto r = test::run(kRender + " " + scene + " --firstshot " + fsd + " --luminaires " + luminaires +
-                               " --sensors " + dir + "/points.txt --samples " + std::to_string(samples) +
-                               " -q -o " + dir + "/out.csv");
+                               " --integrator " + integrator + " --sensors " + dir + "/points.txt --samples " +
+                               std::to_string(samples) + " -q -o " + dir + "/out.csv");
       EXPECT_EQ(r.exitCode, 0) << r.output;
       std::ifstream csv(dir + "/out.csv");
       std::string line;
@@ -425,15 +425,20 @@ TEST(Sensors, ABulbInAGlassBallThroughItsLuminaire) {
     ASSERT_EQ(on.size(), points.size());
     const double frozen = std::sqrt(512.0 / double(particles));
     if (point) {
+      // The irradiance cache takes the luminaire's light as direct light, as the path tracer's sensor vertex does.
+      const auto cache = sensors("on", 64, "irradiance-cache");
+      ASSERT_EQ(cache.size(), points.size());
       for (size_t i = 0; i < points.size(); ++i) {
         const double d2 = 4.0 + points[i].x * points[i].x + points[i].z * points[i].z;
         const double expected = 100.0 / (4.0 * kPi) * (2.0 / std::sqrt(d2)) / d2;
         EXPECT_NEAR(on[i].first, expected, (0.01 + 3.0 * frozen) * expected + 3.0 * on[i].second) << "sensor " << i;
+        EXPECT_NEAR(cache[i].first, expected, (0.01 + 3.0 * frozen) * expected + 3.0 * cache[i].second)
+            << "sensor " << i << ", irradiance cache";
       }
       const auto off = sensors("off", 64);
       for (const auto& [e, se] : off) EXPECT_EQ(e, 0.0) << "no ray finds a point light behind glass";
-      // Not silently: the lights taken as lights (the cache, --luminaires off) are said on stderr.
-      for (const char* how : {"--luminaires off", "--integrator irradiance-cache"}) {
+      // Not silently: the lights taken as lights (--luminaires off, --light-sampler all) are said on stderr.
+      for (const char* how : {"--luminaires off", "--light-sampler all"}) {
         const auto r = test::run(kRender + " " + scene + " --firstshot " + fsd + " " + how + " --sensors " + dir +
                                  "/points.txt --samples 4 -q -o " + dir + "/warn.csv");
         EXPECT_EQ(r.exitCode, 0) << r.output;

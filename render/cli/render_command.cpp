@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 
 #include "common/formats/load_scene.h"
@@ -49,8 +50,9 @@ void RenderCommand::declareOptions() {
   app.add_option("--firstshot", fsdPath_, "first-shot table from firstshot-preprocess (.fsd)");
   integrators_.addShared(app);
   auto* sppOpt = app.add_option("--spp", spp_, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
-  app.add_option("--time", timeLimit_, "render passes of 1 spp until this many seconds have passed (the image then "
-                                       "depends on how many passes fit)")
+  app.add_option("--time", timeLimit_, "render passes of 1 spp until this many seconds have passed, the auto pilot "
+                                       "and the integrator's preprocessing (the cache's fill) included (the image "
+                                       "then depends on how many passes fit)")
       ->check(CLI::Range(1e-3, 1e9))->excludes(sppOpt);
   auto* outOpt = app.add_option("-o,--output", outputs_, "output image, .exr (linear float) or .png (sRGB); may be repeated "
                                                          "(required without --preview)");
@@ -238,8 +240,6 @@ int RenderCommand::runPreview() {
 int RenderCommand::renderImage() {
   RenderOptions ro;
   ro.spp = spp_ > 0 ? spp_ : scene_.settings.spp;
-  // --time is the whole budget: the pilot's time comes off it (at least one pass is rendered).
-  ro.timeLimit = timeLimit_ > 0 ? std::max(1e-3, timeLimit_ - pilotSeconds_) : 0.0;
   ro.seed = seed();
   ro.sampler = samplerMode();
   ro.threads = threads_;
@@ -253,7 +253,13 @@ int RenderCommand::renderImage() {
     if (name == integrator_option::kPatchNee) value = integrators_.patchNee;
     if (name == integrator_option::kShootFirstShot) value = integrators_.shootFirstShot;
   }
+  const auto preprocessStart = std::chrono::steady_clock::now();
   integrator_->preprocess(*renderScene_);
+  // --time is the whole budget: the pilot's time and the integrator's preprocessing (the irradiance cache's fill, light
+  // trees) come off it; at least one pass is rendered.
+  const double preprocessSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - preprocessStart).count();
+  ro.timeLimit = timeLimit_ > 0 ? std::max(1e-3, timeLimit_ - pilotSeconds_ - preprocessSeconds) : 0.0;
 
   const Camera camera(scene_.camera);
   Film film(camera.width(), camera.height());

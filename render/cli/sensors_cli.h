@@ -93,8 +93,8 @@ struct SensorsCli {
     for (const auto& g : quadGrids) s.push_back(gridOnQuad(scene, g));
   }
 
-  /// A luminaire whose light leaves through glass, which @p integrator's light sampler takes as lights (the irradiance
-  /// cache, `--luminaires off`, `--light-sampler all`): that light reaches a sensor only where a ray refracts into the
+  /// A luminaire whose light leaves through glass, which @p integrator's light sampler takes as lights (`--luminaires
+  /// off`, `--light-sampler all`): that light reaches a sensor only where a ray refracts into the
   /// lamp by chance, and never from a point light. Said once on stderr (rank 0), not silently.
   static void warnOfLuminairesTakenAsLights(const Integrator& integrator, const RenderScene& scene,
                                             const SensorOptions& options) {
@@ -106,7 +106,7 @@ struct SensorsCli {
         fmt::print(stderr,
                    "firstshot-render: warning: the sensors take luminaire {}'s lights as lights ({}): its light through "
                    "glass reaches them only where a ray refracts into the lamp (none from a point light); "
-                   "--integrator path with --luminaires on samples it\n",
+                   "--luminaires on with the light tree samples it\n",
                    l.name, integrator.name());
         return;
       }

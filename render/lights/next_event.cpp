@@ -221,6 +221,27 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
   return sum;
 }
 
+Color nextEventEveryLuminaire(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal,
+                              const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays) {
+  if (!lights.hasLuminaires()) return Color(0.0f);
+  const std::vector<Luminaire>& items = lights.scene().luminaires().items();
+  Color sum(0.0f);
+  // Luminaire i takes dimensions d0 + 2i and d0 + 2i + 1 for its exit patch (its specular light needs none).
+  const uint64_t d0 = sampler.dimension();
+  for (uint32_t i = 0; i < items.size(); ++i) {
+    sampler.setDimension(d0 + 2 * uint64_t(i));
+    const Vec2 u = sampler.next2D();
+    if (luminance(items[i].exitPower) > 0.0f)
+      sum += emitterContribution(lights, SampledEmitter{Emitter{Emitter::Kind::Exit, i, i, 0.0f}, 1.0f}, hit, frame,
+                                 woLocal, bsdf, u, request, rays);
+    if (luminance(items[i].specularPower) > 0.0f)
+      sum += emitterContribution(lights, SampledEmitter{Emitter{Emitter::Kind::Gonio, i, i, 0.0f}, 1.0f}, hit, frame,
+                                 woLocal, bsdf, u, request, rays);
+  }
+  sampler.setDimension(d0 + 2 * uint64_t(items.size()));
+  return sum;
+}
+
 Color nextEvent(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf,
                 const NeeRequest& request, Sampler& sampler, uint64_t& rays, NeeParts* parts) {
   const Vec3 n = receiverNormal(bsdf, woLocal.z >= 0.0f ? hit.ng : -hit.ng);  // the side that reflects towards the viewer

@@ -102,6 +102,13 @@ Color nextEventEveryLight(const RenderScene& scene, const FirstShotLighting& lig
                           const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays,
                           NeeParts* parts = nullptr);
 
+/// NEE to every luminaire of @p lights (a sampler built with luminaires; 0 otherwise): one point of each one's exit
+/// patches (chosen as nextEvent() chooses them, the luminaire's choice probability 1) and its specular light, as the
+/// kept emitters they are; @p request's weighting. The luminaires' lights are not in it (nextEventEveryLight).
+/// Luminaire i takes the sampler's dimensions d0 + 2i and d0 + 2i + 1.
+Color nextEventEveryLuminaire(const LightSampler& lights, const Hit& hit, const Frame& frame, const Vec3& woLocal,
+                              const BSDF& bsdf, const NeeRequest& request, Sampler& sampler, uint64_t& rays);
+
 /// Solid-angle density with which nextEvent() at @p x, receiving side normal @p n, under
 /// @p request, samples the point of @p y: a hit on an area light or on a patch. 0 where that
 /// emitter is not requested (or not an emitter).

@@ -38,6 +38,7 @@ void PathWalk::enterLuminaires(const Ray& piece, float tEnd, const Color& beta, 
     const LuminaireBoxes::Entry& e = entries[i];
     if (e.t < piece.tmin) continue;  // an earlier piece's
     if (prev.delta) continue;  // seen as it is: its lights count where the path meets them
+    if (prev.countedExits) continue;
     const Luminaire& lum = boxes.items()[e.luminaire];
     const Vec3 y = piece.o + e.t * piece.d;
     const Vec3 w = -glm::normalize(piece.d);
@@ -200,6 +201,7 @@ Color PathWalk::trace(Ray ray, Color beta, int depth, PathVertex prev, bool spec
     prev.nee = nee;
     prev.counted = nullptr;
     prev.countedInfinite = false;
+    prev.countedExits = false;
     specularChain = specularChain && q.specular;
     ray = Ray(hit.spawnOrigin(wi), wi);
 

@@ -51,6 +51,9 @@ struct PathVertex {
   const std::vector<uint8_t>* counted = nullptr;
   /// The vertex counted the infinite light (sky, environment map) in full by other means: it counts 0 when met.
   bool countedInfinite = false;
+  /// The vertex counted the luminaires' exit light in full by other means (an irradiance cache's direct light): a box
+  /// its segment enters adds none, and the luminaire's lights inside stay suppressed as after any counted entry.
+  bool countedExits = false;
 };
 
 class PathWalk {

@@ -103,7 +103,7 @@ void IrradianceCache::visit(const Level& level, const Vec3& p, float radius, flo
 }
 
 void IrradianceCache::lookup(int level, const Vec3& p, const Vec3& n, bool gradients, IrradianceEstimate& est,
-                             float relax) const {
+                             float relax, int32_t zone) const {
   relax = std::clamp(relax, 1.0f, 2.0f);  // a node of side s holds domains a·R_i < s/2
   const float a = relax * accuracy_[size_t(level)], invA = 1.0f / a;
   visit(*levels_[size_t(level)], p, 0.0f, 0.5f * relax, [&](const Stored& s) {
@@ -112,6 +112,7 @@ void IrradianceCache::lookup(int level, const Vec3& p, const Vec3& n, bool gradi
     const Vec3 dp = p - r.p;
     const float d2 = glm::dot(dp, dp), cosN = glm::dot(n, r.n);
     if (!(d2 < (a * R) * (a * R)) || !(cosN > 0.0f)) return;  // w > 1/a needs |P − P_i| < a·R_i
+    if (r.zone != zone) return;
     const float den = std::sqrt(d2) / R + std::sqrt(std::max(0.0f, 1.0f - cosN));
     const float w = 1.0f / std::max(den, 1e-6f);  // finite at P = P_i
     if (!(w > invA)) return;
@@ -122,9 +123,9 @@ void IrradianceCache::lookup(int level, const Vec3& p, const Vec3& n, bool gradi
   });
 }
 
-bool IrradianceCache::covers(int level, const Vec3& p, const Vec3& n) const {
+bool IrradianceCache::covers(int level, const Vec3& p, const Vec3& n, int32_t zone) const {
   IrradianceEstimate est;
-  lookup(level, p, n, false, est);
+  lookup(level, p, n, false, est, 1.0f, zone);
   return est.count > 0;
 }
 

@@ -31,6 +31,10 @@ struct IrradianceRecord {
   float Rmax = std::numeric_limits<float>::infinity();
   Vec3 gradT[3]{Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};  ///< translational gradient ∂E_c/∂P per colour channel c, W/m³
   Vec3 gradR[3]{Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};  ///< rotational gradient per channel: E_c(N) ≈ E_c + gradR[c]·(N_i × N)
+  /// The part of space P_i lies in, where the light a record holds differs from its neighbours' (the irradiance
+  /// cache's luminaire boxes: inside one, its light reflected inside is indirect light; outside, its exit light is
+  /// direct): a record serves only lookups of its own zone. 0 where there are none.
+  int32_t zone = 0;
 
   /// The radius R_i the weights use.
   float radius() const { return std::min(std::max(R, Rmin), Rmax); }
@@ -75,10 +79,12 @@ class IrradianceCache {
   /// The secondary method at level @p level: adds w_i·E_i(P) over every record with
   /// w_i(P) > 1/a, N·N_i > 0 and d_i(P) ≥ −tolerance (eq. 6) to @p est, found by the octree
   /// search of §3.3. With @p gradients the values are extrapolated (extrapolateIrradiance).
-  /// @p relax ∈ [1, 2] widens the acceptance to w_i > 1/(relax·a) (domains relax·a·R_i).
-  void lookup(int level, const Vec3& p, const Vec3& n, bool gradients, IrradianceEstimate& est, float relax = 1.0f) const;
-  /// True if a record of @p level would be accepted at (p, n).
-  bool covers(int level, const Vec3& p, const Vec3& n) const;
+  /// @p relax ∈ [1, 2] widens the acceptance to w_i > 1/(relax·a) (domains relax·a·R_i). Only records of @p zone
+  /// (IrradianceRecord::zone) count.
+  void lookup(int level, const Vec3& p, const Vec3& n, bool gradients, IrradianceEstimate& est, float relax = 1.0f,
+              int32_t zone = 0) const;
+  /// True if a record of @p level and @p zone would be accepted at (p, n).
+  bool covers(int level, const Vec3& p, const Vec3& n, int32_t zone = 0) const;
 
   /// Stores @p r at @p level in the node that contains P_i and whose side s satisfies
   /// 2·a·R_i < s ≤ 4·a·R_i (or the root when the domain exceeds the cube). With

@@ -133,7 +133,7 @@ class IrradianceCacheCli : public IntegratorCli {
  protected:
   std::vector<std::string> shared() const override {
     using namespace integrator_option;
-    return {kPrimary, kLightSampler, kPatchNee, kLightVisibility, kTableVisibility};
+    return {kPrimary, kLightSampler, kPatchNee, kLightVisibility, kTableVisibility, kLuminaires};
   }
 
  private:

@@ -59,11 +59,12 @@ std::string IrradianceCacheIntegrator::settingsText() const {
   const FirstShotTable* t = scene_ ? scene_->firstShot() : nullptr;
   return fmt::format(
       "accuracy={} samples={} bounces={} past-last={} ambient={},{},{} gradients={} clamp-footprint={},{} neighbour-clamp={} "
-      "max-depth={} levels=path-vertices gathered-lights=[{}] firstshot={} patch-nee={}",
+      "max-depth={} levels=path-vertices gathered-lights=[{}] firstshot={} patch-nee={} luminaires={}",
       settings_.accuracy, settings_.samples, settings_.bounces, settings_.pathContinuation ? "path" : "ambient", settings_.ambient.x, settings_.ambient.y,
       settings_.ambient.z, settings_.gradients ? "on" : "off", settings_.footprintMin, settings_.footprintMax,
       settings_.neighbourClamp ? "on" : "off", options_.maxDepth, gathered, t ? fmt::format("{:016x}", tableHash(*t)) : "none",
-      patchNeeOn() ? fmt::format("{}", settings_.patchNee) : "off");
+      patchNeeOn() ? fmt::format("{}", settings_.patchNee) : "off",
+      luminaires_ ? std::to_string(scene_->luminaires().items().size()) : "off");
 }
 
 std::vector<IntegratorRecord> IrradianceCacheIntegrator::records() const {
@@ -107,6 +108,8 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
   float prevPdf = 0.0f;
   Vec3 prevP(0.0f);
   if (first) *first = FirstVertex{std::numeric_limits<float>::infinity(), Hit(), Color(0.0f)};
+  const LuminaireBoxes& boxes = scene.luminaires();
+  int inside = luminaires_ ? boxes.containing(ray.o) : -1;  // the luminaire box the ray leaves from, or −1
 
   for (int depth = 0;; ++depth) {
     // The hit's place along the whole path, counted as the path tracer counts (its vertex index,
@@ -123,6 +126,14 @@ Color IrradianceCacheIntegrator::radiance(Ray ray, int level, RayKind kind, floa
     }
     if (depth == 0 && first) first->distance = hit.t, first->hit = hit;
     pathLength += hit.t;
+    if (luminaires_) {
+      const int now = boxes.containing(hit.p);
+      if (now >= 0 && now != inside && (kind == RayKind::Gather || kind == RayKind::Glossy)) {
+        L += enteredLuminaire(ray, hit, bsdf, beta, vertex, sampler, ctx, depth == 0 ? first : nullptr);
+        break;
+      }
+      inside = now;
+    }
     const Vec3 wo = -glm::normalize(ray.d);
 
     if (!hit.onPatch()) {  // an area light
@@ -203,7 +214,13 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     o.mis = false;  // cache and BSDF rays never count the direct lights
     o.infinite = true;  // nor the sky
     o.tableVisibility = scene_->firstShot() && options_.tableVisibility;
-    L += nextEventEveryLight(*scene_, firstShot_, &direct_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
+    // With luminaires: their exit patches and specular light, one sample of each luminaire's, and their lights where
+    // the path tracer samples them (inside a box seen as it is; for the light that leaves a box straight from them).
+    const LuminaireBoxes& boxes = scene_->luminaires();
+    const bool inner = luminaires_ && boxes.innerWanted(boxes.containing(hit.p), false);
+    L += nextEventEveryLight(*scene_, firstShot_, inner ? &direct_ : &directEvery_, hit, frame, woLocal, bsdf, o,
+                             sampler, ctx.rays);
+    if (luminaires_) L += nextEventEveryLuminaire(directLights_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
   } else {
     // Inside gathers the hemisphere averages many vertices: the light sampler (--light-sampler).
     NeeRequest nee;  // the direct lights (directLights_ holds no others), replaced ones where the table is not used
@@ -211,6 +228,10 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     nee.replaced = !useTable;  // only off the patches: no table visibility there
     nee.mis = false;
     nee.infinite = true;
+    if (luminaires_) {  // a box around the vertex is seen as it is (the cache's rays never suppress one)
+      const LuminaireBoxes& boxes = scene_->luminaires();
+      nee.inner = boxes.innerWanted(boxes.containing(hit.p), false);
+    }
     L += nextEvent(directLights_, hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
   }
   const Color rho = bsdf.diffuseAlbedo();
@@ -234,6 +255,7 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     prev.pdf = squareToCosineHemispherePdf(Vec3(0.0f, 0.0f, glm::dot(w, n)));
     prev.counted = &direct_;
     prev.countedInfinite = true;
+    prev.countedExits = true;
     return kPiF *
            continuation_.trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, sampler, ctx.rays);
   };
@@ -241,11 +263,12 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
   // Drawn whether or not a record is made, so that the path does not depend on the cache.
   const uint64_t key = sampler.nextBits();
   IrradianceEstimate est;
-  cache_->lookup(level, hit.p, n, settings_.gradients, est);
-  if (ctx.overlay) ctx.overlay->lookup(level, hit.p, n, settings_.gradients, est);
+  const int32_t zone = zoneOf(hit.p);
+  cache_->lookup(level, hit.p, n, settings_.gradients, est, 1.0f, zone);
+  if (ctx.overlay) ctx.overlay->lookup(level, hit.p, n, settings_.gradients, est, 1.0f, zone);
   if (est.count > 0) return est.value();
   if (frozen_) {  // two-pass render: a point the fill did not reach; first try the doubled domains
-    cache_->lookup(level, hit.p, n, settings_.gradients, est, 2.0f);
+    cache_->lookup(level, hit.p, n, settings_.gradients, est, 2.0f, zone);
     if (est.count > 0) return est.value();
     // Filled from rays (sensors): one path instead of a private record, whose hundreds of rays (and
     // deeper private records) served only this sample; unbiased, as past the last level.
@@ -300,6 +323,7 @@ IrradianceRecord IrradianceCacheIntegrator::gather(const Hit& hit, const Vec3& n
 
   IrradianceRecord rec;
   rec.p = hit.p;
+  rec.zone = zoneOf(hit.p);
   rec.n = n;
   hs.estimate(frame, settings_.gradients, rec);  // E, R and gradients from the rays' full radiance
   if (nee) {

@@ -31,6 +31,11 @@
 ///   irradiance_cache_patch_nee.cpp) and combines those samples with the hemisphere rays' first-
 ///   shot terms by multiple importance sampling, so E stays unbiased; gradients and R come from
 ///   the hemisphere rays alone.
+/// - With luminaires in the table (render/scene/luminaire_boxes.h, IntegratorOptions::luminaires): their light is
+///   direct light. A camera vertex samples each one's exit patches and specular light (and their lights, where the path
+///   tracer would) by NEE beside every other direct light; other vertices through the direct light sampler. A record's
+///   or glossy ray that enters a box and meets something inside it counts nothing there of the luminaire's light: the
+///   path continuation takes it on from that hit with the luminaire's lights suppressed (luminaires.cpp).
 /// - Mirrors and glass are followed by ray tracing; the glossy part f − ρd/π of a stretched-Phong
 ///   BSDF by one BSDF-sampled ray per vertex, with NEE + MIS for the large lights.
 ///
@@ -133,6 +138,9 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   bool supportsSensors() const override { return true; }
   /// The path continuation's light sampler, over every light (after preprocess() or preprocessRays()).
   const LightSampler* lightSampler() const override { return &continuation_.lightSampler(); }
+  /// With luminaires (lightSampler() samples them): the path continuation from the sensor, no records (a record's
+  /// gather would take the luminaires' light at the sensor's first hit, which the sensor's own NEE weighs by MIS).
+  Color LiFromSensor(const Ray& ray, const PathVertex& from, Sampler& sampler, SampleInfo* info) const override;
   std::string notResumable() const override {
     return settings_.twoPass ? std::string()
                              : "the one-pass irradiance cache depends on the thread schedule and cannot resume exactly: "
@@ -184,6 +192,15 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   Color shade(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, int level, bool cameraVertex,
               float pathLength, Sampler& sampler, Context& ctx, Color* firstShot = nullptr) const;
   Color irradiance(const Hit& hit, const Vec3& n, int level, float pathLength, Sampler& sampler, Context& ctx) const;
+  /// The zone of a record at @p p (IrradianceRecord::zone): 1 + the luminaire box holding it, 0 outside every box
+  /// (always 0 without luminaires). Inside a box its light reflected there is indirect light, outside its exit light
+  /// is direct: a record must not serve the other side (luminaires.cpp).
+  int32_t zoneOf(const Vec3& p) const { return luminaires_ ? int32_t(scene_->luminaires().containing(p) + 1) : 0; }
+  /// Radiance along a record's or glossy ray @p ray (its throughput @p beta) whose hit @p hit, path vertex @p vertex,
+  /// lies in a luminaire's box it entered from outside: the path continuation from there, the exit light and the
+  /// luminaire's lights counted by the shaded point's NEE (luminaires.cpp). @p first: as radiance()'s.
+  Color enteredLuminaire(const Ray& ray, const Hit& hit, const BSDF& bsdf, const Color& beta, int vertex,
+                         Sampler& sampler, Context& ctx, FirstVertex* first) const;
   IrradianceRecord gather(const Hit& hit, const Vec3& n, int level, float pathLength, Sampler& sampler, Context& ctx) const;
   /// True if gather() samples the lit patches (a table, patch emitters, patchNee > 0).
   bool patchNeeOn() const;
@@ -214,6 +231,8 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   LightSampler directLights_;             ///< NEE over the direct lights (and the lit patches)
   std::vector<uint8_t> gathered_;         ///< per light: emission gathered by the cache (large area lights)
   std::vector<uint8_t> direct_;           ///< per light: NEE / first-shot (the others)
+  std::vector<uint8_t> directEvery_;      ///< direct_ but the luminaires' lights (a camera vertex outside their boxes)
+  bool luminaires_ = false;               ///< the table's luminaires are sampled (IntegratorOptions::luminaires)
   std::vector<uint8_t> gatheredEmitter_;  ///< per emitter mesh: its light is gathered
   Vec3 boundsLo_{0.0f}, boundsHi_{1.0f};
   float pixelAngle_ = 0.0f;               ///< footprint of one pixel per metre of distance

@@ -78,6 +78,11 @@ void IrradianceCacheIntegrator::preprocessRays(const RenderScene& scene, size_t 
   setup(scene);
   pixelAngle_ = rayAngle;
   if (!settings_.twoPass) return;
+  // With luminaires the sensors' rays are path traced past the sensor (LiFromSensor): no records to fill.
+  if (luminaires_) {
+    frozen_ = true;
+    return;
+  }
   pathOnMiss_ = true;
   taskRayBudget_ = kRayTaskBudget;
   fill(tasks, task);
@@ -106,8 +111,13 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
                      "the one-pass irradiance cache depends on the thread schedule and cannot be split over MPI ranks; "
                      "use the two-pass fill (the default)");
   firstShot_.build(scene);
+  // The luminaires' light (exit patches, specular light, the light straight from their lights) is direct light, taken
+  // by NEE at every shaded point: never gathered by the records' rays (luminaires.cpp). Under LightStrategy::Tree only,
+  // as in the path tracer.
+  const LuminaireBoxes& boxes = scene.luminaires();
+  luminaires_ = options_.luminaires && options_.lightSampler == LightStrategy::Tree && !boxes.empty();
   IntegratorOptions walk = options_;
-  walk.luminaires = false;  // its direct lights are every light (luminaires' too), taken at the cached points
+  walk.luminaires = luminaires_;
   continuation_.build(scene, firstShot_, walk);
   if (!(settings_.patchNee >= 0.0f)) throw std::invalid_argument("irradiance cache: invalid settings");
 
@@ -119,7 +129,7 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   gatheredEmitter_.assign(lights.emitterMeshes().size(), 0);
   for (size_t l = 0; l < n; ++l) {
     const RenderLight& light = lights.lights()[l];
-    if (light.type != LightType::Area) continue;
+    if (light.type != LightType::Area || (luminaires_ && boxes.ofLight(uint32_t(l)) >= 0)) continue;
     const bool small = scene.firstShot() ? light.replaced : isSmallLight(scene.desc(), light.desc, scene.desc().settings.smallLightMaxSolidAngle);
     if (small) continue;
     gathered_[l] = 1;
@@ -127,7 +137,12 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
     gatheredEmitter_[light.emitter] = 1;
   }
   directLights_.build(scene, firstShot_, options_.lightSampler, scene.firstShot() && settings_.patchNee > 0.0f,
-                      options_.lightVisibility, &direct_, true);  // with the sky: direct light too
+                      options_.lightVisibility, &direct_, true, luminaires_);  // with the sky: direct light too
+  // The camera's vertices outside the boxes take the luminaires' lights only where some light leaves a box straight.
+  directEvery_ = direct_;
+  if (luminaires_)
+    for (size_t l = 0; l < n; ++l)
+      if (boxes.ofLight(uint32_t(l)) >= 0) directEvery_[l] = 0;
 
   Vec3d lo, hi;
   scene.desc().bounds(lo, hi);
@@ -141,7 +156,10 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
     const CacheFileData d = readCacheFile(file, hashScene(scene.desc()), settingsText());
     if (int(d.levels.size()) != cache_->levels()) throw InputError(file, "records", "wrong number of levels (corrupt file)");
     for (int l = 0; l < cache_->levels(); ++l)
-      for (const IrradianceRecord& r : d.levels[size_t(l)]) cache_->insert(l, r, false);
+      for (IrradianceRecord r : d.levels[size_t(l)]) {
+        r.zone = zoneOf(r.p);  // not in the file: the scene's boxes decide it
+        cache_->insert(l, r, false);
+      }
     loaded_ = cache_->size();
   }
 }
@@ -203,7 +221,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
       for (const MadeRecords& m : made)
         for (int l = 0; l < int(m.size()); ++l)
           for (const IrradianceRecord& r : m[size_t(l)])
-            if (!cache_->covers(l, r.p, r.n)) {
+            if (!cache_->covers(l, r.p, r.n, r.zone)) {
               cache_->insert(l, r, settings_.neighbourClamp, shrinkNeighbours);
               ++added;
             }

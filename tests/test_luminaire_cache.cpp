@@ -1,0 +1,89 @@
+// Luminaires in the irradiance cache (render/integrators/irradiance_cache/luminaires.cpp): their light is direct light
+// at every shaded point (exit patches, specular light, their lights where the path tracer samples them), and a
+// record's or glossy ray that enters a box meets none of it there. Against light tracing with their lights as lights,
+// every 8×8 block within 3σ, σ from fills of different seeds (a fill's records freeze their noise into every pass of
+// it), on the bulb in an open metal bowl, the filament in a clear glass envelope and the box open towards the camera
+// (tests/hidden_lights_scenes.h). One cached bounce: the rules are the same at every level, and deeper levels add the
+// cache's interpolation error, which is not in question here. And its records are less noisy than with the luminaires'
+// lights taken as lights, whose light the records' rays then find by chance (a block's spread between fills 3–25×).
+#include <gtest/gtest.h>
+
+#include <fmt/core.h>
+
+#include "render/integrators/irradiance_cache/integrator.h"
+#include "tests/block_compare.h"
+#include "tests/hidden_lights_scenes.h"
+#include "tests/test_util.h"
+
+using namespace firstshot;
+
+namespace {
+
+/// Per 8×8 block gray means of @p fills renders of @p scene by the irradiance cache (one cached bounce, @p spp samples
+/// per pixel), each with its own fill (seeds 100, 101, ...).
+std::vector<test::Moments> cacheBlocks(const RenderScene& scene, bool luminaires, int fills, int spp) {
+  IntegratorOptions io;
+  io.maxDepth = 32;  // as the exit distribution, which holds every bounce inside the box
+  io.luminaires = luminaires;
+  const Camera camera(scene.desc().camera);
+  std::vector<test::Moments> blocks(size_t((camera.width() + 7) / 8) * size_t((camera.height() + 7) / 8));
+  for (int r = 0; r < fills; ++r) {
+    IrradianceCacheSettings s;
+    s.bounces = 1;
+    s.seed = 100 + uint64_t(r);
+    IrradianceCacheIntegrator cache(io, s);
+    cache.preprocess(scene);
+    Film film(camera.width(), camera.height());
+    RenderOptions ro;
+    ro.spp = spp;
+    ro.seed = s.seed;
+    render(cache, camera, film, ro);
+    test::addBlockMeans(film, blocks);
+  }
+  return blocks;
+}
+
+/// The cache with the luminaires against light tracing without them (@p refPasses); with @p fills ≥ 8 also its
+/// spread between fills against the cache's with the luminaires' lights as lights: the median block's variance
+/// ratio above 4. (Were the two as noisy, a block's ratio of two 8-fill variances would exceed 4 with probability
+/// 0.04, F(7, 7); half of the 12 blocks doing so, about 4·10⁻⁶.)
+void expectCacheAgrees(const std::string& name, const SceneDesc& d, int fills, int spp, int refPasses) {
+  const RenderScene scene = test::withLuminaireTable(d);
+  ASSERT_FALSE(scene.firstShot()->luminaires.empty()) << name << ": no luminaire found";
+  IntegratorOptions io;
+  io.maxDepth = 32;
+  io.luminaires = false;
+  auto ref = makeIntegrator("light", io);
+  ref->preprocess(scene);
+  const std::vector<test::Moments> on = cacheBlocks(scene, true, fills, spp);
+  test::expectBlocksAgree(name + ", the cache with the luminaires against light tracing without", on,
+                          test::blockMeans(*ref, scene, refPasses, 2));
+  if (fills < 8) return;
+  const std::vector<test::Moments> off = cacheBlocks(scene, false, fills, spp);
+  std::vector<double> ratio;
+  for (size_t k = 0; k < on.size(); ++k) ratio.push_back(std::pow(off[k].se() / on[k].se(), 2.0));
+  std::nth_element(ratio.begin(), ratio.begin() + ratio.size() / 2, ratio.end());
+  const double median = ratio[ratio.size() / 2];
+  fmt::print("{}: the blocks' variance between fills, lights as lights over luminaires: median {:.1f}\n", name, median);
+  EXPECT_GT(median, 4.0) << name << ": the luminaires' light taken at every shaded point makes records less noisy";
+}
+
+}  // namespace
+
+TEST(LuminaireCache, GlassBulb) {
+#ifdef FIRSTSHOT_UNDER_SANITIZERS
+  expectCacheAgrees("glass bulb", test::glassBulb(), 3, 4, 60);
+#else
+  expectCacheAgrees("glass bulb", test::glassBulb(), 8, 16, 300);
+#endif
+}
+
+TEST(LuminaireCache, BowlLamp) {
+  FIRSTSHOT_STATISTICS_ONLY("LuminaireCache.GlassBulb");
+  expectCacheAgrees("bowl lamp", test::bowlLamp(), 8, 8, 200);
+}
+
+TEST(LuminaireCache, OpenBoxSeenInside) {
+  FIRSTSHOT_STATISTICS_ONLY("LuminaireCache.GlassBulb");
+  expectCacheAgrees("open box", test::openBox(), 8, 8, 200);
+}
