@@ -65,14 +65,35 @@ class LuminaireBoxes {
   uint32_t exitLuminaire(uint32_t e) const;
 
   /// Next-event estimation's choice of an exit patch of luminaire @p luminaire (already chosen) for a receiver at
-  /// @p x: one of the faces whose outer side holds @p x, by its power, then one of its patches by power. @p u ∈ [0,1)
-  /// makes the choice and comes back rescaled within the chosen patch's share. @return the patch (its number within
-  /// the luminaire) and in @p p the probability of the choice; false where no face facing @p x emits.
+  /// @p x, among the faces whose outer side holds @p x. Mostly (1 − kPowerShare) by what the patches send towards
+  /// @p x: a face by its radiance times area in the direction bin of @p x seen from the face's centre, times the
+  /// cosine there over the squared distance, then a patch by its radiance times area in that bin; otherwise by power
+  /// alone (a face by its power, a patch by its power), so that a patch whose light reaches @p x in another bin than
+  /// its face centre's keeps a probability. @p u ∈ [0,1) makes the choice and comes back rescaled within the chosen
+  /// patch's share. @return the patch (its number within the luminaire) and in @p p the probability of the choice
+  /// (both ways together); false where no face facing @p x emits.
   bool choosePatch(uint32_t luminaire, const Vec3& x, float& u, uint32_t& patch, float& p) const;
   /// The probability with which choosePatch() at @p x chooses patch @p patch of luminaire @p luminaire.
   float patchProbability(uint32_t luminaire, const Vec3& x, uint32_t patch) const;
+  /// The share of choosePatch()'s choices made by power alone.
+  static constexpr float kPowerShare = 0.2f;
 
  private:
+  /// What choosePatch() weighs the faces of a luminaire by, for one receiver.
+  struct FaceWeights {
+    bool facing[6];
+    float power = 0.0f;            ///< the facing faces' power
+    float toward[6];               ///< per face: radiance × area in bin[f] × cos / distance² (0 not facing)
+    int bin[6];                    ///< per face: the direction bin of the receiver seen from its centre, or −1
+    float towardTotal = 0.0f;
+  };
+  FaceWeights faceWeights(uint32_t i, const Vec3& x) const;
+  float probability(const FaceWeights& w, uint32_t i, uint32_t patch) const;
+  /// The CDF over face f's patches of luminaire i by radiance × area in direction bin b, at patch k's entry.
+  const float* binCdf(uint32_t i, int b) const {
+    return &binCdf_[size_t(Luminaire::kBins) * exitFirst_[i] + size_t(b) * (*items_)[i].patchCount()];
+  }
+
   const std::vector<Luminaire>* items_ = nullptr;
   bool anyDirect_ = false;
   std::vector<int> lightLuminaire_;
@@ -80,6 +101,9 @@ class LuminaireBoxes {
   /// Per exit patch (numbered across luminaires): the CDF of its face's patches by power up to and including it.
   std::vector<float> patchCdf_;
   std::vector<float> facePower_;  ///< per luminaire, 6 per face: the face's power (mean RGB), W
+  /// Per luminaire and direction bin, per exit patch: the CDF of its face's patches by radiance × area in that bin
+  /// (binCdf()); and per luminaire, face and bin that sum (mean RGB), W/sr.
+  std::vector<float> binCdf_, faceBinPower_;
   /// The faces of luminaire @p i whose outer side holds @p x, and their total power.
   float facingPower(uint32_t i, const Vec3& x, bool facing[6]) const;
 };
