@@ -6,6 +6,8 @@
 // (tests/hidden_lights_scenes.h). One cached bounce: the rules are the same at every level, and deeper levels add the
 // cache's interpolation error, which is not in question here. And its records are less noisy than with the luminaires'
 // lights taken as lights, whose light the records' rays then find by chance (a block's spread between fills 3–25×).
+// Also: which luminaires the command line gives the cache, and next-event estimation's choice of an exit patch
+// against the probability it reports.
 #include <gtest/gtest.h>
 
 #include <fmt/core.h>
@@ -109,5 +111,37 @@ TEST(LuminaireCache, CliKeepsTheLuminairesThatHoldGlassOrGloss) {
       image[off] = test::readFile(out);
     }
     EXPECT_EQ(image[0] != image[1], kept) << scene;
+  }
+}
+
+// Next-event estimation's choice of an exit patch (LuminaireBoxes::choosePatch) against its probability
+// (patchProbability, which MIS weighs by): for receivers around the bowl lamp's box, 2^16 stratified choices per
+// receiver, each patch's count within 4σ (binomial) of N·p, the probabilities summing to 1 over the patches chosen,
+// and the probability each choice reports equal to patchProbability's.
+TEST(LuminaireCache, ExitPatchChoiceMatchesItsProbability) {
+  const RenderScene scene = test::withLuminaireTable(test::bowlLamp());
+  const LuminaireBoxes& boxes = scene.luminaires();
+  ASSERT_FALSE(boxes.empty());
+  const Luminaire& lum = boxes.items()[0];
+  const Vec3 mid = 0.5f * (lum.lo + lum.hi), size = lum.hi - lum.lo;
+  const Vec3 receivers[] = {mid + Vec3(0.0f, 0.6f, 0.0f), mid + Vec3(0.5f, 0.3f, -0.2f), mid + Vec3(-0.9f, -0.4f, 0.3f),
+                            mid + Vec3(0.0f, 0.5f * size.y + 0.02f, 0.05f)};
+  constexpr int N = 1 << 16;
+  for (const Vec3& x : receivers) {
+    std::vector<int> count(lum.patchCount(), 0);
+    for (int i = 0; i < N; ++i) {
+      float u = (float(i) + 0.5f) / float(N), p = 0.0f;
+      uint32_t k = 0;
+      if (!boxes.choosePatch(0, x, u, k, p)) continue;
+      ASSERT_NEAR(p, boxes.patchProbability(0, x, k), 1e-6f * std::max(1.0f, p));
+      ++count[k];
+    }
+    double sum = 0.0;
+    for (uint32_t k = 0; k < lum.patchCount(); ++k) {
+      const double p = boxes.patchProbability(0, x, k);
+      sum += p;
+      EXPECT_NEAR(count[k], N * p, 4.0 * std::sqrt(N * p * (1.0 - p)) + 2.0) << "patch " << k;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-4);
   }
 }
