@@ -72,13 +72,7 @@ void expectCacheAgrees(const std::string& name, const SceneDesc& d, int fills, i
 
 }  // namespace
 
-TEST(LuminaireCache, GlassBulb) {
-#ifdef FIRSTSHOT_UNDER_SANITIZERS
-  expectCacheAgrees("glass bulb", test::glassBulb(), 3, 4, 60);
-#else
-  expectCacheAgrees("glass bulb", test::glassBulb(), 8, 16, 300);
-#endif
-}
+TEST(LuminaireCache, GlassBulb) { expectCacheAgrees("glass bulb", test::glassBulb(), 8, 16, 300); }
 
 TEST(LuminaireCache, BowlLamp) {
   FIRSTSHOT_STATISTICS_ONLY("LuminaireCache.GlassBulb");

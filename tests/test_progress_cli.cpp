@@ -91,7 +91,8 @@ TEST(ProgressCli, PipedRenderPrintsPlainLines) {
   const auto timed = stderrOf(render + " --time 0.3");
   ASSERT_EQ(timed.exitCode, 0) << timed.output;
   expectProgressLines(timed.output, "render");
-  EXPECT_THAT(timed.output, HasSubstr("render: started, time limit 0.3 s\n"));
+  // The limit left after the integrator's preprocessing (light trees), which --time counts.
+  EXPECT_TRUE(std::regex_search(timed.output, std::regex(R"(render: started, time limit 0\.[0-3] s\n)"))) << timed.output;
   const auto counted = stderrOf(render + " --spp 64");
   ASSERT_EQ(counted.exitCode, 0) << counted.output;
   EXPECT_THAT(counted.output, HasSubstr("render: started, 196608 to do\n"));
