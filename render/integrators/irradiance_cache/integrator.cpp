@@ -216,10 +216,8 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     o.tableVisibility = scene_->firstShot() && options_.tableVisibility;
     // With luminaires: their exit patches and specular light, one sample of each luminaire's, and their lights where
     // the path tracer samples them (inside a box seen as it is; for the light that leaves a box straight from them).
-    const LuminaireBoxes& boxes = scene_->luminaires();
-    const bool inner = luminaires_ && boxes.innerWanted(boxes.containing(hit.p), false);
-    L += nextEventEveryLight(*scene_, firstShot_, inner ? &direct_ : &directEvery_, hit, frame, woLocal, bsdf, o,
-                             sampler, ctx.rays);
+    L += nextEventEveryLight(*scene_, firstShot_, innerLightsAt(hit.p) ? &direct_ : &directEvery_, hit, frame, woLocal,
+                             bsdf, o, sampler, ctx.rays);
     if (luminaires_) L += nextEventEveryLuminaire(directLights_, hit, frame, woLocal, bsdf, o, sampler, ctx.rays);
   } else {
     // Inside gathers the hemisphere averages many vertices: the light sampler (--light-sampler).
@@ -228,10 +226,7 @@ Color IrradianceCacheIntegrator::shade(const Hit& hit, const Frame& frame, const
     nee.replaced = !useTable;  // only off the patches: no table visibility there
     nee.mis = false;
     nee.infinite = true;
-    if (luminaires_) {  // a box around the vertex is seen as it is (the cache's rays never suppress one)
-      const LuminaireBoxes& boxes = scene_->luminaires();
-      nee.inner = boxes.innerWanted(boxes.containing(hit.p), false);
-    }
+    nee.inner = innerLightsAt(hit.p);
     L += nextEvent(directLights_, hit, frame, woLocal, bsdf, nee, sampler, ctx.rays);
   }
   const Color rho = bsdf.diffuseAlbedo();

@@ -192,6 +192,11 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   Color shade(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf, int level, bool cameraVertex,
               float pathLength, Sampler& sampler, Context& ctx, Color* firstShot = nullptr) const;
   Color irradiance(const Hit& hit, const Vec3& n, int level, float pathLength, Sampler& sampler, Context& ctx) const;
+  /// Whether a vertex at @p p samples the luminaires' lights (LuminaireBoxes::innerWanted): a box around it is seen as
+  /// it is, since the cache's own rays never enter one to suppress it (luminaires.cpp). False without luminaires.
+  bool innerLightsAt(const Vec3& p) const {
+    return luminaires_ && scene_->luminaires().innerWanted(scene_->luminaires().containing(p), false);
+  }
   /// The zone of a record at @p p (IrradianceRecord::zone): 1 + the luminaire box holding it, 0 outside every box
   /// (always 0 without luminaires). Inside a box its light reflected there is indirect light, outside its exit light
   /// is direct: a record must not serve the other side (luminaires.cpp).
