@@ -20,26 +20,6 @@
 
 namespace firstshot {
 
-namespace {
-
-/// True if luminaire @p l's box holds a surface of @p mesh that is not Lambertian (glass, a mirror, a glossy metal):
-/// its light then leaves by routes the irradiance cache's records find only by chance (a filament through its glass,
-/// a bulb's reflection in a metal bowl), which its exit distribution and specular light sample directly. A box of
-/// Lambertian surfaces alone (a cove, a fabric shade) scatters its light diffusely, which the records gather as
-/// smoothly, and its exit patches, cut by the ceiling and walls the box takes in, are noisier to sample
-/// (docs/luminaires.md, "The irradiance cache").
-bool holdsNonLambertian(const Luminaire& l, const PatchMesh& mesh, const SceneDesc& scene) {
-  for (const Patch& p : mesh.patches) {
-    if (p.material >= scene.materials.size() || scene.materials[p.material].type == MaterialType::Diffuse) continue;
-    Vec3 c(0.0f);
-    for (uint32_t k = 0; k < p.count; ++k) c += p.v[k];
-    if (l.contains(c / float(p.count))) return true;
-  }
-  return false;
-}
-
-}  // namespace
-
 RenderCommand::RenderCommand(Comm& comm)
     : comm_(comm),
       app_("firstshot-render: renders a scene with the Embree path tracer, optionally replacing small lights by "
@@ -196,9 +176,6 @@ void RenderCommand::buildRenderScene() {
     if (sensors_.active())
       std::erase_if(table.luminaires,
                     [](const Luminaire& l) { return !(luminance(l.specularPower) > luminance(l.exitPower)); });
-    // The irradiance cache takes as luminaires those that hold glass, a mirror or a glossy surface.
-    else if (integrators_.name == "irradiance-cache")
-      std::erase_if(table.luminaires, [&](const Luminaire& l) { return !holdsNonLambertian(l, table.mesh, scene_); });
     renderScene_.emplace(scene_, std::move(table), fsdPath_);
   } else {
     renderScene_.emplace(scene_, patchSize_ > 0 || integrators_.isAuto() || !integrators_.chosen().needsPatches()

@@ -157,6 +157,12 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   IrradianceCacheStats stats() const;
 
   // Building blocks, public for tests.
+  /// True if luminaire @p l's box holds a surface of @p scene that is not Lambertian (glass, a mirror, a glossy metal):
+  /// its light then leaves by routes the records find only by chance (a filament through its glass, a bulb's
+  /// reflection in a metal bowl), which its exit distribution and specular light sample directly. A box of Lambertian
+  /// surfaces alone (a cove, a fabric shade) scatters its light diffusely, which the records gather as smoothly, and
+  /// its exit patches, cut by the ceiling and walls the box takes in, are noisier to sample (docs/luminaires.md).
+  static bool holdsNonLambertian(const RenderScene& scene, const Luminaire& l);
   /// a at level @p level: a·1.4^level.
   float accuracy(int level) const;
   /// Polar strata M at @p level; a record takes M × 2M samples (about N/2^level, at least 8).

@@ -12,6 +12,17 @@
 
 namespace firstshot {
 
+bool IrradianceCacheIntegrator::holdsNonLambertian(const RenderScene& scene, const Luminaire& l) {
+  const std::vector<MaterialDesc>& materials = scene.desc().materials;
+  for (const Patch& p : scene.mesh().patches) {
+    if (p.material >= materials.size() || materials[p.material].type == MaterialType::Diffuse) continue;
+    Vec3 c(0.0f);
+    for (uint32_t k = 0; k < p.count; ++k) c += p.v[k];
+    if (l.contains(c / float(p.count))) return true;
+  }
+  return false;
+}
+
 Color IrradianceCacheIntegrator::enteredLuminaire(const Ray& ray, const Hit& hit, const BSDF& bsdf, const Color& beta,
                                                   int vertex, Sampler& sampler, Context& ctx, FirstVertex* first) const {
   // The first-shot term of the hit, which the walk counts in full (its vertex took no patch NEE): what patch NEE at

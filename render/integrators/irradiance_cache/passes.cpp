@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -113,9 +114,12 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   firstShot_.build(scene);
   // The luminaires' light (exit patches, specular light, the light straight from their lights) is direct light, taken
   // by NEE at every shaded point: never gathered by the records' rays (luminaires.cpp). Under LightStrategy::Tree only,
-  // as in the path tracer.
+  // as in the path tracer, and where every luminaire holds glass, a mirror or a glossy surface (holdsNonLambertian):
+  // otherwise their lights are lights.
   const LuminaireBoxes& boxes = scene.luminaires();
-  luminaires_ = options_.luminaires && options_.lightSampler == LightStrategy::Tree && !boxes.empty();
+  luminaires_ = options_.luminaires && options_.lightSampler == LightStrategy::Tree && !boxes.empty() &&
+                std::all_of(boxes.items().begin(), boxes.items().end(),
+                            [&](const Luminaire& l) { return holdsNonLambertian(scene, l); });
   IntegratorOptions walk = options_;
   walk.luminaires = luminaires_;
   continuation_.build(scene, firstShot_, walk);
