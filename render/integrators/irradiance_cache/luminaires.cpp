@@ -5,8 +5,6 @@
 // reflects of the room's other light still counts, traced by the path continuation with the luminaire's lights
 // suppressed, as the path tracer does past a counted entry (render/scene/luminaire_boxes.h). A box entered from the
 // camera or after a mirror or glass is seen as it is, as everywhere.
-#include <limits>
-
 #include "render/integrators/irradiance_cache/context.h"
 #include "render/integrators/irradiance_cache/integrator.h"
 
@@ -16,9 +14,7 @@ bool IrradianceCacheIntegrator::holdsNonLambertian(const RenderScene& scene, con
   const std::vector<MaterialDesc>& materials = scene.desc().materials;
   for (const Patch& p : scene.mesh().patches) {
     if (p.material >= materials.size() || materials[p.material].type == MaterialType::Diffuse) continue;
-    Vec3 c(0.0f);
-    for (uint32_t k = 0; k < p.count; ++k) c += p.v[k];
-    if (l.contains(c / float(p.count))) return true;
+    if (l.contains(p.centroid)) return true;
   }
   return false;
 }
