@@ -47,16 +47,21 @@ inline SceneDesc glassBulb() {
 }
 
 /// A point light (2 W) in a 30 cm box of grey diffuse walls whose face towards the camera is open, on a stand in the
-/// hidden-lights room; the camera looks into the opening from 0.8 m.
-inline SceneDesc openBox() {
-  SceneDesc d = hiddenLightsRoom(
-      R"("shade": {"type": "diffuse", "albedo": 0.6})",
+/// hidden-lights room; the camera looks into the opening from 0.8 m. With @p areaLight a diffuse sphere of 2 cm
+/// radius (emission 100 W/(m² sr), ≈ 1.6 W) instead: an area light a record's rays meet by chance.
+inline SceneDesc openBox(bool areaLight = false) {
+  const std::string box =
       R"({"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.3,0.8,0.6],[1.3,0.8,0.9],[1.0,0.8,0.9]]},
          {"type": "quad", "material": "shade", "vertices": [[1.0,1.1,0.6],[1.0,1.1,0.9],[1.3,1.1,0.9],[1.3,1.1,0.6]]},
          {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,0.8,0.9],[1.0,1.1,0.9],[1.0,1.1,0.6]]},
          {"type": "quad", "material": "shade", "vertices": [[1.3,0.8,0.6],[1.3,1.1,0.6],[1.3,1.1,0.9],[1.3,0.8,0.9]]},
-         {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,1.1,0.6],[1.3,1.1,0.6],[1.3,0.8,0.6]]}],
-    "lights": [{"type": "point", "position": [1.15, 0.95, 0.7], "power": 2})");
+         {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,1.1,0.6],[1.3,1.1,0.6],[1.3,0.8,0.6]]})";
+  SceneDesc d =
+      areaLight ? hiddenLightsRoom(R"("shade": {"type": "diffuse", "albedo": 0.6}, "bulb": {"type": "diffuse", "emission": 100})",
+                                   box + R"(, {"type": "sphere", "material": "bulb", "center": [1.15, 0.95, 0.7],
+                                              "radius": 0.02, "subdivisions": 2})")
+                : hiddenLightsRoom(R"("shade": {"type": "diffuse", "albedo": 0.6})",
+                                   box + R"(], "lights": [{"type": "point", "position": [1.15, 0.95, 0.7], "power": 2})");
   d.camera.position = Vec3d(1.35, 1.05, 1.6);
   d.camera.lookAt = Vec3d(1.15, 0.95, 0.75);
   d.camera.fovYDeg = 60;
