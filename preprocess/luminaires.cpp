@@ -184,7 +184,44 @@ std::optional<BoxBuilder> probeLight(const SceneDesc& scene, const ParticleScene
   return std::nullopt;
 }
 
+/// Whether a face of @p s (its bounds) meets the box [@p lo, @p hi].
+bool entersBox(const ShapeDesc& s, const Vec3d& lo, const Vec3d& hi) {
+  for (const Face& f : s.faces) {
+    BoxBuilder b;
+    for (int k = 0; k < int(f.count); ++k) b.extend(s.vertices[f.v[k]]);
+    if (!glm::any(glm::lessThan(b.hi, lo)) && !glm::any(glm::greaterThan(b.lo, hi))) return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+std::vector<uint32_t> holdWholeShapes(const SceneDesc& scene, Luminaire& lum, double sceneDiagonal) {
+  // The reach allowed past each face: kWholeShapeReach of the box's extent as found, so that the growth does not
+  // spread from a lamp to the desk it stands on and on.
+  const Vec3d reach = kWholeShapeReach * Vec3d(lum.hi - lum.lo);
+  const Vec3d outerLo = Vec3d(lum.lo) - reach, outerHi = Vec3d(lum.hi) + reach;
+  std::vector<uint32_t> taken;
+  for (bool grown = true; grown;) {
+    grown = false;
+    const Vec3d lo(lum.lo), hi(lum.hi);
+    for (uint32_t i = 0; i < scene.shapes.size(); ++i) {
+      if (std::find(taken.begin(), taken.end(), i) != taken.end()) continue;
+      BoxBuilder b;
+      for (const Vec3d& v : scene.shapes[i].vertices) b.extend(v);
+      if (b.empty() || glm::any(glm::lessThan(b.lo, outerLo)) || glm::any(glm::greaterThan(b.hi, outerHi))) continue;
+      if (!glm::any(glm::lessThan(b.lo, lo)) && !glm::any(glm::greaterThan(b.hi, hi))) continue;  // inside
+      if (!entersBox(scene.shapes[i], lo, hi)) continue;
+      BoxBuilder box;
+      box.extend(lo), box.extend(hi), box.extend(b);
+      const double margin = 1e-3 * glm::length(box.hi - box.lo) + 1e-5 * sceneDiagonal;
+      lum.lo = Vec3(box.lo - Vec3d(margin)), lum.hi = Vec3(box.hi + Vec3d(margin));
+      taken.push_back(i);
+      grown = true;  // the new box may cut others within the reach: test them all again
+    }
+  }
+  return taken;
+}
 
 void setExitPatches(Luminaire& lum) {
   const Vec3 e = lum.hi - lum.lo;
@@ -219,8 +256,10 @@ std::vector<Luminaire> findLuminaires(const SceneDesc& scene, const std::vector<
         found[i] = probeLight(scene, *geometry, candidates[i], options.seed, diagonal);
       });
       for (size_t i = 0; i < candidates.size(); ++i)
-        if (found[i])
+        if (found[i]) {
           lums.push_back(boxed("auto:" + scene.lights[candidates[i]].name, {candidates[i]}, *found[i], diagonal));
+          holdWholeShapes(scene, lums.back(), diagonal);
+        }
     }
   } else if (options.mode != "named") {
     throw std::invalid_argument("unknown luminaire mode \"" + options.mode + "\" (auto, named, off)");
