@@ -66,8 +66,8 @@ std::vector<Luminaire> findLuminaires(const SceneDesc& scene, const std::vector<
 /// (as given, per axis) past its faces: such a shape with a face inside the box and bounds outside it is taken in
 /// whole (its bounds, plus the margin of 1e-3 of the new box's diagonal and 1e-5 of @p sceneDiagonal). An exit face
 /// that cuts through a lamp spreads the light crossing it inside the lamp over the whole patch, also where the lamp's
-/// part outside the box would have blocked it (veach-bidir's wall lamp, its shapes 2–8 cm past the box of a metre:
-/// +47% on the wall beside it). Shapes reaching farther (the wall or ceiling a lamp hangs on, its stand, the desk it
+/// part outside the box would have blocked it: the walls beside the lamp too bright (docs/luminaires.md). Shapes
+/// reaching farther (the wall or ceiling a lamp hangs on, its stand, the desk it
 /// stands on) stay cut. Returns the shapes taken in, in the order taken.
 std::vector<uint32_t> holdWholeShapes(const SceneDesc& scene, Luminaire& lum, double sceneDiagonal);
 

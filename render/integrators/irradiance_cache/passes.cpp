@@ -135,8 +135,8 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
     const RenderLight& light = lights.lights()[l];
     if (light.type != LightType::Area || (luminaires_ && boxes.ofLight(uint32_t(l)) >= 0)) continue;
     // A replaced light's first bounce is the table's; a light the table kept (a luminaire's, when its box is not
-    // taken here, or one it judged large) is judged by the small-light rule: gathered, a 6 cm bulb is met by a
-    // record's rays by chance (veach-bidir's wall lamp: its spot on the far wall −50%, in blotches).
+    // taken here, or one it judged large) is judged by the small-light rule: gathered, a bulb of a few centimetres
+    // is met by the records' rays by chance, and its light comes out low and in blotches.
     const bool small = (scene.firstShot() && light.replaced) ||
                        isSmallLight(scene.desc(), light.desc, scene.desc().settings.smallLightMaxSolidAngle);
     if (small) continue;
