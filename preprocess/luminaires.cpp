@@ -42,15 +42,21 @@ BoxBuilder lightBounds(const SceneDesc& scene, uint32_t l) {
   return b;
 }
 
-/// A luminaire of box @p b grown by the margin (1e-3 of its diagonal + 1e-5 of the scene's, @p sceneDiagonal).
-Luminaire boxed(std::string name, std::vector<uint32_t> lights, const BoxBuilder& b, double sceneDiagonal) {
+/// Sets @p lum's box to @p b grown by the margin (1e-3 of its diagonal + 1e-5 of the scene's, @p sceneDiagonal): a
+/// light or surface on its boundary is inside it.
+void setBox(Luminaire& lum, const BoxBuilder& b, double sceneDiagonal) {
   const double margin = 1e-3 * glm::length(b.hi - b.lo) + 1e-5 * sceneDiagonal;
+  lum.lo = Vec3(b.lo - Vec3d(margin));
+  lum.hi = Vec3(b.hi + Vec3d(margin));
+}
+
+/// A luminaire of box @p b and its margin (setBox).
+Luminaire boxed(std::string name, std::vector<uint32_t> lights, const BoxBuilder& b, double sceneDiagonal) {
   Luminaire lum;
   lum.name = std::move(name);
   lum.lights = std::move(lights);
   std::sort(lum.lights.begin(), lum.lights.end());
-  lum.lo = Vec3(b.lo - Vec3d(margin));
-  lum.hi = Vec3(b.hi + Vec3d(margin));
+  setBox(lum, b, sceneDiagonal);
   return lum;
 }
 
@@ -201,21 +207,25 @@ std::vector<uint32_t> holdWholeShapes(const SceneDesc& scene, Luminaire& lum, do
   // spread from a lamp to the desk it stands on and on.
   const Vec3d reach = kWholeShapeReach * Vec3d(lum.hi - lum.lo);
   const Vec3d outerLo = Vec3d(lum.lo) - reach, outerHi = Vec3d(lum.hi) + reach;
+  // The shapes within the reach, the only ones that can be taken.
+  std::vector<std::pair<uint32_t, BoxBuilder>> near;
+  for (uint32_t i = 0; i < scene.shapes.size(); ++i) {
+    BoxBuilder b;
+    for (const Vec3d& v : scene.shapes[i].vertices) b.extend(v);
+    if (!b.empty() && !glm::any(glm::lessThan(b.lo, outerLo)) && !glm::any(glm::greaterThan(b.hi, outerHi)))
+      near.emplace_back(i, b);
+  }
   std::vector<uint32_t> taken;
   for (bool grown = true; grown;) {
     grown = false;
     const Vec3d lo(lum.lo), hi(lum.hi);
-    for (uint32_t i = 0; i < scene.shapes.size(); ++i) {
+    for (const auto& [i, b] : near) {
       if (std::find(taken.begin(), taken.end(), i) != taken.end()) continue;
-      BoxBuilder b;
-      for (const Vec3d& v : scene.shapes[i].vertices) b.extend(v);
-      if (b.empty() || glm::any(glm::lessThan(b.lo, outerLo)) || glm::any(glm::greaterThan(b.hi, outerHi))) continue;
       if (!glm::any(glm::lessThan(b.lo, lo)) && !glm::any(glm::greaterThan(b.hi, hi))) continue;  // inside
       if (!entersBox(scene.shapes[i], lo, hi)) continue;
       BoxBuilder box;
       box.extend(lo), box.extend(hi), box.extend(b);
-      const double margin = 1e-3 * glm::length(box.hi - box.lo) + 1e-5 * sceneDiagonal;
-      lum.lo = Vec3(box.lo - Vec3d(margin)), lum.hi = Vec3(box.hi + Vec3d(margin));
+      setBox(lum, box, sceneDiagonal);
       taken.push_back(i);
       grown = true;  // the new box may cut others within the reach: test them all again
     }

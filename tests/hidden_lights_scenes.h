@@ -56,12 +56,12 @@ inline SceneDesc openBox(bool areaLight = false) {
          {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,0.8,0.9],[1.0,1.1,0.9],[1.0,1.1,0.6]]},
          {"type": "quad", "material": "shade", "vertices": [[1.3,0.8,0.6],[1.3,1.1,0.6],[1.3,1.1,0.9],[1.3,0.8,0.9]]},
          {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,1.1,0.6],[1.3,1.1,0.6],[1.3,0.8,0.6]]})";
+  const std::string shade = R"("shade": {"type": "diffuse", "albedo": 0.6})";
   SceneDesc d =
-      areaLight ? hiddenLightsRoom(R"("shade": {"type": "diffuse", "albedo": 0.6}, "bulb": {"type": "diffuse", "emission": 100})",
+      areaLight ? hiddenLightsRoom(shade + R"(, "bulb": {"type": "diffuse", "emission": 100})",
                                    box + R"(, {"type": "sphere", "material": "bulb", "center": [1.15, 0.95, 0.7],
                                               "radius": 0.02, "subdivisions": 2})")
-                : hiddenLightsRoom(R"("shade": {"type": "diffuse", "albedo": 0.6})",
-                                   box + R"(], "lights": [{"type": "point", "position": [1.15, 0.95, 0.7], "power": 2})");
+                : hiddenLightsRoom(shade, box + R"(], "lights": [{"type": "point", "position": [1.15, 0.95, 0.7], "power": 2})");
   d.camera.position = Vec3d(1.35, 1.05, 1.6);
   d.camera.lookAt = Vec3d(1.15, 0.95, 0.75);
   d.camera.fovYDeg = 60;
