@@ -218,9 +218,9 @@ std::vector<uint32_t> holdWholeShapes(const SceneDesc& scene, Luminaire& lum, do
   std::vector<uint32_t> taken;
   for (bool grown = true; grown;) {
     grown = false;
-    const Vec3d lo(lum.lo), hi(lum.hi);
     for (const auto& [i, b] : near) {
       if (std::find(taken.begin(), taken.end(), i) != taken.end()) continue;
+      const Vec3d lo(lum.lo), hi(lum.hi);  // as grown so far
       if (!glm::any(glm::lessThan(b.lo, lo)) && !glm::any(glm::greaterThan(b.hi, hi))) continue;  // inside
       if (!entersBox(scene.shapes[i], lo, hi)) continue;
       BoxBuilder box;

@@ -214,6 +214,15 @@ TEST(LuminairePreprocess, DetectedBoxHoldsTheSmallShapesItCuts) {
   EXPECT_EQ(holdWholeShapes(s, cube, 5.7), std::vector<uint32_t>{0});
   EXPECT_NEAR(cube.hi.x, 0.14f, 1e-3f);
   EXPECT_NEAR(cube.lo.y, 0.9f, 1e-3f);
+  // Two arms on opposite sides, taken in one sweep: the box holds both.
+  const std::string other = quad("wall", {Vec3d(-0.14, 1.0, -0.02), Vec3d(-0.05, 1.0, -0.02), Vec3d(-0.05, 1.0, 0.02),
+                                          Vec3d(-0.14, 1.0, 0.02)});
+  json.replace(json.find(R"("shapes": [)") + 11, 0, other + ", ");
+  const SceneDesc both = load(json);
+  cube.lo = Vec3(-0.1f, 0.9f, -0.1f), cube.hi = Vec3(0.1f, 1.1f, 0.1f);
+  EXPECT_EQ(holdWholeShapes(both, cube, 5.7), (std::vector<uint32_t>{0, 1}));
+  EXPECT_LE(cube.lo.x, -0.14f);
+  EXPECT_GE(cube.hi.x, 0.14f);
 }
 
 // veach-bidir's wall lamp as it ships (../shared/scenes, skipped where absent): its light's first hits make a box
