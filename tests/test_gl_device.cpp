@@ -4,7 +4,6 @@
 // --backend auto takes GL on a GPU only. And firstshot-fsd-compare's measure (preprocess/table_compare.h).
 #include <gtest/gtest.h>
 
-#include <regex>
 
 #include "common/formats/load_scene.h"
 #include "common/scene/scene_desc.h"
@@ -85,8 +84,8 @@ TEST(GLDevice, SummaryNamesTheRendererTheItemBuffersRanOn) {
   const auto osmesa = test::run(run + "32 --backend gl --gl osmesa");
   ASSERT_EQ(osmesa.exitCode, 0) << osmesa.output;
   // (No OSMesa context in this process: after EGL ones, glad's pointers are EGL's, which OSMesa's contexts do not take.)
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(osmesa.output, m, std::regex(R"(\[gl/osmesa \((.+)\); R = 32\])"))) << osmesa.output;
+  const auto m = test::regexSearch(osmesa.output, R"(\[gl/osmesa \((.+)\); R = 32\])");
+  ASSERT_FALSE(m.empty()) << osmesa.output;
   EXPECT_TRUE(isSoftwareRenderer(m[1])) << m[1];  // OSMesa is Mesa's CPU rasteriser
   std::string why;
   const std::string renderer = eglRenderer(why);

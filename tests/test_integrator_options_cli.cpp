@@ -24,7 +24,7 @@ const std::vector<std::pair<std::string, std::string>> kOptions = {
     {"--light-visibility", "off"},  {"--table-visibility", "off"},   {"--shoot-firstshot", "off"},
     {"--light-paths", "2"},         {"--accuracy", "0.5"},           {"--ic-samples", "16"},
     {"--bounces", "1"},             {"--ambient", "0.1"},            {"--gradients", "off"},
-    {"--clamp-footprint", "off"},   {"--neighbour-clamp", "off"},    {"--ic-patch-nee", "1"},
+    {"--clamp-footprint", "1,50"},  {"--neighbour-clamp", "off"},    {"--ic-patch-nee", "1"},
     {"--two-pass", ""},             {"--one-pass", ""},              {"--cache-file", "DIR/c.fsic"},
     {"--show-records", "DIR/r.png"}, {"--iterations", "1"},          {"--bundle-resolution", "8"},
     {"--bundle-directions", "halton"}, {"--luminaires", "off"},

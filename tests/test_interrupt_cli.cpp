@@ -9,7 +9,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
 
 #include "render/output/film.h"
 #include "tests/test_util.h"
@@ -125,9 +124,8 @@ TEST(InterruptCli, SigintWithPeriodicCheckpointsResumesExactly) {
                            kSmall;
   const auto stopped = test::run(after(0.5, "INT", base + " --spp 1000000 --checkpoint 0.1 -o " + dir + "/a.exr", dir + "/state"));
   ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(stopped.output, m, std::regex("checkpoint of ([0-9]+) passes saved to " + dir + "/state")))
-      << stopped.output;
+  const auto m = test::regexSearch(stopped.output, "checkpoint of ([0-9]+) passes saved to " + dir + "/state");
+  ASSERT_FALSE(m.empty()) << stopped.output;
   const std::string spp = " --spp " + std::to_string(std::stoi(m[1]) + 3);
   const auto resumed = test::run(base + spp + " --resume -o " + dir + "/a.exr");
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
@@ -147,10 +145,10 @@ TEST(InterruptCli, ResumeWithTimeLimitEqualsTheRenderOfItsPassCount) {
   ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
   const auto resumed = test::run(base + " --time 0.2 --resume -o " + dir + "/a.exr");
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(resumed.output, m, std::regex("32x24 at ([0-9]+) spp"))) << resumed.output;
+  const auto m = test::regexSearch(resumed.output, "32x24 at ([0-9]+) spp");
+  ASSERT_FALSE(m.empty()) << resumed.output;
   EXPECT_GT(std::stoi(m[1]), 2);
-  ASSERT_EQ(test::run(base + " -q --spp " + std::string(m[1]) + " -o " + dir + "/full.exr").exitCode, 0);
+  ASSERT_EQ(test::run(base + " -q --spp " + m[1] + " -o " + dir + "/full.exr").exitCode, 0);
   EXPECT_EQ(pixels(dir + "/a.exr"), pixels(dir + "/full.exr"));
 }
 

@@ -174,7 +174,7 @@ TEST(PbrRender, PathTracerWithFirstShotOnPolishedBlocksAgreesWithNee) { expectPo
 // Light tracing: camera rays whose first hit is polished take the path tracer's estimate, and the replaced lights'
 // particles whose first hit is polished go on from it (the table's patch sum loses their reflections); before:
 // docs/measurements.md (pbr).
-TEST(PbrRender, LightTracingWithFirstShotOnPolishedBlocksAgreesWithNee) { expectPolishedAgrees("light", 256); }
+TEST(PbrRender, LightTracingWithFirstShotOnPolishedBlocksAgreesWithNee) { expectPolishedAgrees("light", 64); }
 // BDPT: a polished camera vertex after the first non-delta one takes the replaced lights' direct light by NEE and MIS.
 // Before: docs/measurements.md (pbr).
 TEST(PbrRender, BdptWithFirstShotOnPolishedBlocksAgreesWithNee) { expectPolishedAgrees("bdpt", 256); }

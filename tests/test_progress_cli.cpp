@@ -6,7 +6,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <regex>
 #include <sstream>
 
 #include "common/table/firstshot.h"
@@ -44,20 +43,19 @@ void expectProgressLines(const std::string& err, const std::string& label) {
   EXPECT_EQ(err.find('\x1b'), std::string::npos);
   // Counts are units ("12/80") or, for a stage under a time limit, seconds ("0.1/0.3 s").
   const std::string count = R"(\(([\d.]+)/([\d.]+)(?: s)?\))";
-  const std::regex periodic(label + R"(: (\d+\.\d)% )" + count + R"(, \d+\.\d s elapsed, ETA (\d+\.\d s|unknown))");
-  const std::regex done(label + R"(: done in \d+\.\d\d s )" + count);
+  const std::string periodic = label + R"(: (\d+\.\d)% )" + count + R"(, \d+\.\d s elapsed, ETA (\d+\.\d s|unknown))";
+  const std::string done = label + R"(: done in \d+\.\d\d s )" + count;
   int started = 0, withPercent = 0, finished = 0;
   for (const std::string& line : lines(err)) {
-    std::smatch m;
     if (line.rfind(label + ": started, ", 0) == 0) ++started;
-    if (std::regex_match(line, m, periodic)) {
+    if (const auto m = test::regexMatch(line, periodic); !m.empty()) {
       ++withPercent;
       const double percent = std::stod(m[1]);
       EXPECT_GE(percent, 0.0) << line;
       EXPECT_LE(percent, 100.0) << line;
       EXPECT_LE(std::stod(m[2]), std::stod(m[3])) << line;
     }
-    if (std::regex_match(line, m, done)) {
+    if (const auto m = test::regexMatch(line, done); !m.empty()) {
       ++finished;
       EXPECT_EQ(m[1], m[2]) << line;
     }
@@ -78,7 +76,7 @@ TEST(ProgressCli, PipedPreprocessPrintsPlainLines) {
   const auto stopped = stderrOf("FIRSTSHOT_PROGRESS_INTERVAL=0.01 " + kPreprocess + " " + kCornell + kFast +
                                 " --time 0.001 -o " + dir + "/d.fsd");
   EXPECT_NE(stopped.exitCode, 0);
-  EXPECT_TRUE(std::regex_search(stopped.output, std::regex(R"(\nfirst-shot: stopped at \d+\.\d% \(\d+/80\) after )")))
+  EXPECT_FALSE(test::regexSearch(stopped.output, R"(\nfirst-shot: stopped at \d+\.\d% \(\d+/80\) after )").empty())
       << stopped.output;
 }
 
@@ -92,7 +90,7 @@ TEST(ProgressCli, PipedRenderPrintsPlainLines) {
   ASSERT_EQ(timed.exitCode, 0) << timed.output;
   expectProgressLines(timed.output, "render");
   // The limit left after the integrator's preprocessing (light trees), which --time counts.
-  EXPECT_TRUE(std::regex_search(timed.output, std::regex(R"(render: started, time limit 0\.[0-3] s\n)"))) << timed.output;
+  EXPECT_FALSE(test::regexSearch(timed.output, R"(render: started, time limit 0\.[0-3] s\n)").empty()) << timed.output;
   const auto counted = stderrOf(render + " --spp 64");
   ASSERT_EQ(counted.exitCode, 0) << counted.output;
   EXPECT_THAT(counted.output, HasSubstr("render: started, 196608 to do\n"));

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <regex>
 
 namespace firstshot::test {
 
@@ -46,5 +47,23 @@ void writeText(const std::string& path, const std::string& text) {
 }
 
 std::string source(const std::string& relative) { return std::string(FIRSTSHOT_SOURCE_DIR) + "/" + relative; }
+
+namespace {
+std::vector<std::string> groups(const std::smatch& m) {
+  std::vector<std::string> g;
+  for (const auto& sub : m) g.push_back(sub.str());
+  return g;
+}
+}  // namespace
+
+std::vector<std::string> regexSearch(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  return std::regex_search(text, m, std::regex(pattern)) ? groups(m) : std::vector<std::string>{};
+}
+
+std::vector<std::string> regexMatch(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  return std::regex_match(text, m, std::regex(pattern)) ? groups(m) : std::vector<std::string>{};
+}
 
 }  // namespace firstshot::test
