@@ -4,7 +4,6 @@
 // --backend auto takes GL on a GPU only. And firstshot-fsd-compare's measure (preprocess/table_compare.h).
 #include <gtest/gtest.h>
 
-
 #include "common/formats/load_scene.h"
 #include "common/scene/scene_desc.h"
 #include "common/util/error.h"
