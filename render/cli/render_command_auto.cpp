@@ -97,12 +97,12 @@ void RenderCommand::resolveIntegrator() {
   integrators_.choose(candidates[best]);
   if (quiet_) return;
 
-  // The pilot's rays against the render's, priced at the chosen method's rays per camera sample.
+  // The pilot's rays against the render's, priced at the first candidate's rays per camera sample (as the plan).
   double pilotRays = 0.0;
   for (const PilotFigure& f : figures) pilotRays += f.spp > 0 ? 2.0 * f.rays : f.rays;
   const PilotFigure& chosen = figures[best];
-  const double renderRays = pixels * double(spp) * chosen.rays /
-                            (double(plan.width) * double(plan.height) * double(std::max(1, chosen.spp)));
+  const double renderRays = pixels * double(spp) * figures.front().rays /
+                            (double(plan.width) * double(plan.height) * double(std::max(1, figures.front().spp)));
   fmt::print(stderr,
              "firstshot-render: --integrator auto: pilot at {} x {}, each setting's two images at equal rays, {:.2f} s "
              "({:.1f}% of the rays of {} x {} at {} spp):\n  {:<42} {:>5} {:>9} {:>9} {:>12} {:>11}\n",
@@ -119,6 +119,13 @@ void RenderCommand::resolveIntegrator() {
       fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
                  figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,
                  i == best ? " *" : "");
+  const CameraDesc fill = pilotFillCamera(scene_.camera, plan);
+  for (size_t i = 0; i < candidates.size(); ++i)
+    if (figures[i].spp > 0 && figures[i].preprocessShare > 0.0)
+      fmt::print(stderr,
+                 "  {}: filled at {} x {}, its fill projected to {:.1f}% of the render's rays, its records' error "
+                 "{:.4f} (more passes leave it), its efficiency the render's\n",
+                 candidates[i].label(), fill.width, fill.height, 100.0 * figures[i].preprocessShare, figures[i].frozen);
   fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it)\n",
              candidates[best].label());
 }

@@ -121,9 +121,9 @@ class Integrator {
   virtual void preprocessRays(const RenderScene& scene, size_t /*tasks*/, const RayTask& /*task*/, float /*rayAngle*/) {
     preprocess(scene);
   }
-  /// As preprocess(), for rendering through @p camera instead of the scene's own (a smaller picture of the same
-  /// view: --integrator auto's pilot, render/loop/integrator_pilot.h). Only an integrator whose preprocessing
-  /// depends on the camera (the irradiance cache's fill) overrides it. Default: preprocess().
+  /// As preprocess(), for rendering pictures of the same view as @p camera, at its size or finer, instead of the
+  /// scene's own picture (--integrator auto's pilot, render/loop/integrator_pilot.h). Only an integrator whose
+  /// preprocessing depends on the camera (the irradiance cache's fill) overrides it. Default: preprocess().
   virtual void preprocessFor(const RenderScene& scene, const CameraDesc& /*camera*/) { preprocess(scene); }
   /// Lets the next preprocess() or preprocessFor() stop once it has traced more than @p rays rays (0: no limit), for a
   /// caller that drops an integrator whose preprocessing outgrows its budget (--integrator auto's pilot): stopped so,

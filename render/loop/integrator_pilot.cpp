@@ -23,6 +23,8 @@ constexpr int kMinSide = 16;          ///< its shorter side at least, pixels
 constexpr int kMinSpp = 4;            ///< samples per pixel of a pilot image at least
 constexpr int kMinPasses = 2;         ///< passes of a candidate's pilot image at least
 constexpr int kMaxPasses = 256;       ///< and at most
+constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
+constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
 const char* patchNeeName(PatchNee p) { return p == PatchNee::Off ? "off" : p == PatchNee::First ? "first" : "every"; }
 
@@ -55,6 +57,7 @@ PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates) {
   plan.width = w;
   plan.height = h;
   plan.spp = int(std::floor(perImage / (double(w) * double(h))));
+  plan.renderSpp = spp;
   plan.run = plan.spp >= kMinSpp;
   return plan;
 }
@@ -63,6 +66,13 @@ CameraDesc pilotCamera(const CameraDesc& camera, const PilotPlan& plan) {
   CameraDesc c = camera;
   c.width = plan.width;
   c.height = plan.height;
+  return c;
+}
+
+CameraDesc pilotFillCamera(const CameraDesc& camera, const PilotPlan& plan) {
+  CameraDesc c = camera;
+  c.width = std::max(std::min(kMinFillSide, plan.width), plan.width / kFillDivisor);
+  c.height = std::max(std::min(kMinFillSide, plan.height), plan.height / kFillDivisor);
   return c;
 }
 
@@ -87,6 +97,19 @@ const std::vector<uint8_t>* countedPixels(const std::vector<double>& a, const st
                                           const std::vector<uint8_t>* skip) {
   double n = 0.0;
   return skip && keptMean(a, b, skip, n) > 0.0 ? skip : nullptr;
+}
+
+/// One image's relative noise from its pixels' variances alone: the RMS over the pixels @p skip keeps (all without
+/// it) of the variances of the pixel means @p va and @p vb (two images, interleaved RGB) averaged, / @p mean.
+double passNoise(const std::vector<double>& va, const std::vector<double>& vb, const std::vector<uint8_t>* skip,
+                 double mean) {
+  double sum = 0.0, n = 0.0;
+  for (size_t i = 0; i < va.size(); ++i) {
+    if (skip && (*skip)[i / 3]) continue;
+    sum += 0.5 * (va[i] + vb[i]);
+    n += 1.0;
+  }
+  return n > 0.0 && mean > 0.0 ? std::sqrt(sum / n) / mean : 0.0;
 }
 
 }  // namespace
@@ -138,11 +161,12 @@ struct PilotImage {
   const Integrator& integrator;
   Film film;
   double rays = 0;       ///< traced so far, the integrator's preprocessing included
+  double preprocessing = 0;  ///< of those, the preprocessing's
   double firstPass = 0;  ///< rays of its first pass
   int passes = 0;
 
   PilotImage(const Integrator& i, const CameraDesc& desc)
-      : integrator(i), film(desc.width, desc.height), rays(double(i.preprocessRayCount())) {}
+      : integrator(i), film(desc.width, desc.height), rays(double(i.preprocessRayCount())), preprocessing(rays) {}
   /// Renders passes until @p total are done.
   void renderTo(int total, const Camera& camera, uint64_t seed, SamplerMode sampler, int threads) {
     for (; passes < total; ++passes) {
@@ -168,6 +192,17 @@ struct PilotImage {
       }
     return out;
   }
+  /// The variances of the film's pixel means (a pixel's samples' variance / their number), interleaved RGB.
+  std::vector<double> meanVariances() const {
+    std::vector<double> out;
+    out.reserve(size_t(film.width()) * size_t(film.height()) * 3);
+    for (int y = 0; y < film.height(); ++y)
+      for (int x = 0; x < film.width(); ++x) {
+        const Vec3d v = film.variance(x, y) / double(std::max(1u, film.samples(x, y)));
+        for (int ch = 0; ch < 3; ++ch) out.push_back(std::isfinite(v[ch]) ? v[ch] : 0.0);
+      }
+    return out;
+  }
 };
 
 }  // namespace
@@ -175,7 +210,7 @@ struct PilotImage {
 std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<PilotCandidate>& candidates,
                                   const PilotPlan& plan, const PilotFactory& make, uint64_t seed, SamplerMode sampler,
                                   int threads, const std::function<void(size_t)>& progress) {
-  const CameraDesc desc = pilotCamera(scene.desc().camera, plan);
+  const CameraDesc desc = pilotCamera(scene.desc().camera, plan), fillDesc = pilotFillCamera(scene.desc().camera, plan);
   const Camera camera(desc);
   const std::vector<uint8_t> skip = pixelsSeenAsTheyAre(scene, desc);
   // Every image gets the same rays: what the first candidate (the path tracer, unless the options given left it
@@ -183,10 +218,12 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
   // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
   double budget = 0.0;
   std::vector<PilotFigure> figures;
+  std::vector<uint8_t> seededFigure;  // 1: a seeded preprocessing, measured over its own picture's records
   std::vector<std::string> outgrown;  // integrators whose preprocessing outgrew the pilot: their variants are skipped
   for (size_t c = 0; c < candidates.size(); ++c) {
     if (std::find(outgrown.begin(), outgrown.end(), candidates[c].integrator) != outgrown.end()) {
       figures.emplace_back();
+      seededFigure.push_back(0);
       if (progress) progress(c);
       continue;
     }
@@ -194,7 +231,9 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
     // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past twice the
     // budget, where it outgrows the pilot, and the candidate is not measured further.
     if (c > 0) integrator->limitPreprocessRays(uint64_t(2.0 * budget) + 1);
-    integrator->preprocessFor(scene, desc);
+    const bool seeded = integrator->seededPreprocess();
+    const CameraDesc& preprocessDesc = seeded ? fillDesc : desc;
+    integrator->preprocessFor(scene, preprocessDesc);
     PilotFigure f;
     if (c > 0 && double(integrator->preprocessRayCount()) > 2.0 * budget) {
       f.rays = double(integrator->preprocessRayCount());
@@ -209,20 +248,27 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       first.renderTo(f.spp, camera, seed, sampler, threads);
       // The second seed's image: a fresh integrator only where its preprocessing drew on the seed (the cache's
       // fill); the others render it with the first's (the same preprocessing, counted for both images).
-      std::unique_ptr<Integrator> seeded;
-      if (integrator->seededPreprocess()) {
-        seeded = make(candidates[c], seed + 1);
-        seeded->preprocessFor(scene, desc);
+      std::unique_ptr<Integrator> other;
+      if (seeded) {
+        other = make(candidates[c], seed + 1);
+        other->preprocessFor(scene, preprocessDesc);
       }
-      PilotImage second(seeded ? *seeded : *integrator, desc);
+      PilotImage second(other ? *other : *integrator, desc);
       second.renderTo(f.spp, camera, seed + 1, sampler, threads);
       f.rays = (first.rays + second.rays) / 2.0;
+      f.preprocessRays = (first.preprocessing + second.preprocessing) / 2.0;
       const std::vector<double> a = first.image(), b = second.image();
       f.noise = pilotNoise(a, b, &skip);
       double n = 0.0;
-      f.mean = keptMean(a, b, countedPixels(a, b, &skip), n);
+      const std::vector<uint8_t>* counted = countedPixels(a, b, &skip);
+      f.mean = keptMean(a, b, counted, n);
+      if (seeded) {  // the records' part of the noise (below)
+        const double passes = passNoise(first.meanVariances(), second.meanVariances(), counted, f.mean);
+        f.frozen = std::sqrt(std::max(0.0, f.noise * f.noise - passes * passes));
+      }
     }
     figures.push_back(f);
+    seededFigure.push_back(seeded && f.spp > 0);
     if (progress) progress(c);
   }
   // A method that has not found the light yet (paths that must hit a bulb behind glass by chance) makes two
@@ -234,13 +280,31 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
   if (means.empty()) return figures;
   std::nth_element(means.begin(), means.begin() + ptrdiff_t(means.size() / 2), means.end());
   const double median = means[means.size() / 2];
+  // A seeded preprocessing (the cache's fill) is charged at its share of the render: G, the render's rays per pilot
+  // picture at the first candidate's price, and its fill at the render's scale, in proportion to the pixels.
+  const double render = budget * double(plan.renderSpp) / double(std::max(1, plan.spp));
+  const double fillScale =
+      double(desc.width) * double(desc.height) / (double(fillDesc.width) * double(fillDesc.height));
   for (PilotFigure& f : figures) {
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);
     f.efficiency = f.error > 0.0 && f.rays > 0.0 ? 1.0 / (f.error * f.error * f.rays) : 0.0;
+    if (!seededFigure[size_t(&f - figures.data())]) continue;
+    // The passes' noise at the passes' rays of the render (those its fill leaves); frozen part and bias stay.
+    const double fill = f.preprocessRays * fillScale, passRays = f.rays - f.preprocessRays;
+    f.frozen *= f.mean / median;
+    f.preprocessShare = render > 0.0 ? fill / render : 1.0;
+    f.efficiency = renderEfficiency(noise, f.frozen, off, passRays, fill, render);
   }
   return figures;
+}
+
+double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render) {
+  if (!(fixed < render) || !(passRays > 0.0)) return 0.0;
+  const double pass2 = std::max(0.0, noise * noise - frozen * frozen);
+  const double e2 = frozen * frozen + bias * bias + pass2 * passRays / (render - fixed);
+  return e2 > 0.0 ? 1.0 / (e2 * render) : 0.0;
 }
 
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures) {

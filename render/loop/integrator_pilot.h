@@ -20,9 +20,16 @@
 /// not timed; efficiency = 1 / (error² · rays), the inverse of the work to reach a given error, where the error
 /// adds to the noise how far the picture's mean falls from the candidates' median (PilotFigure). Images and ray
 /// counts do not depend on the threads (render/loop/renderer.h), so the choice is the same on every machine for
-/// a seed. The pilot picture has at most 48 × 48 pixels, the camera's aspect and field; each candidate's two
-/// images take 5% of the render's camera samples divided among the candidates, priced at the first
-/// candidate's rays per sample (with --time T: of the scene's samples per pixel or T × 250,000 camera samples,
+/// a seed.
+/// An integrator whose preprocessing draws on the seed (the irradiance cache's fill) is made for a coarser picture
+/// (pilotFillCamera: a sixteenth of the pixels), so that its two fills fit in its share, and renders the pilot
+/// picture over those records, a sample that they do not cover taking one path. Its records' error does not shrink
+/// with more passes: its noise is split into that frozen part and the passes' (the films' per-pixel variances), and
+/// its efficiency is the render's, its fill charged at its share of the render's rays (projected from the fill's
+/// picture in proportion to the pixels: the fill grows more slowly, so this errs against the cache), not of a pilot
+/// image (PilotFigure::efficiency). The pilot picture has at most 48 × 48 pixels, the camera's aspect and field;
+/// each candidate's two images take 5% of the render's camera samples divided among the candidates, priced at the
+/// first candidate's rays per sample (with --time T: of the scene's samples per pixel or T × 250,000 camera samples,
 /// whichever is more: a fixed rate, so that the pilot does not depend on the machine). Below 4 samples per pixel of a
 /// 16 × 16 picture there is no pilot: the path tracer renders.
 #include <cstdint>
@@ -61,7 +68,18 @@ struct PilotFigure {
   /// (mean − m) / m (a method that has not found the light yet is dark, not noisy).
   double error = 0;
   double rays = 0;        ///< rays per pilot image, preprocessing included
-  double efficiency = 0;  ///< 1 / (error² · rays); 0 for a black picture
+  double preprocessRays = 0;  ///< of those, the preprocessing's (the irradiance cache's fill)
+  /// A seeded preprocessing's (the cache's records'): the part of noise' that more passes over the same records do
+  /// not reduce, √(noise² − pass noise²) · mean / m, the pass noise from the films' per-pixel variances; 0 for the
+  /// others.
+  double frozen = 0;
+  /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
+  double preprocessShare = 0;
+  /// 1 / (error² · rays); 0 for a black picture. For a seeded preprocessing, the render's: 1 / (e² · G), G the
+  /// render's rays per pilot picture and e² = frozen² + bias² + (noise'² − frozen²) · (its passes' rays) / (G −
+  /// its preprocessing at the render's scale): the fill charged at its share of the render, not of a pilot image;
+  /// 0 where that takes the whole render.
+  double efficiency = 0;
 };
 
 /// The pilot's picture and samples.
@@ -69,6 +87,7 @@ struct PilotPlan {
   bool run = false;           ///< false: too small a budget for a pilot
   int width = 0, height = 0;  ///< pixels of the pilot picture
   int spp = 0;                ///< samples per pixel of the first candidate's images (the others: at equal rays)
+  int renderSpp = 0;          ///< samples per pixel of the render the pilot is for
   /// Camera samples of one candidate's two images at the first candidate's price.
   uint64_t samples() const { return uint64_t(width) * uint64_t(height) * uint64_t(spp) * 2; }
 };
@@ -78,6 +97,10 @@ PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates);
 
 /// @p camera with the pilot picture's size (same view, aspect and field).
 CameraDesc pilotCamera(const CameraDesc& camera, const PilotPlan& plan);
+
+/// The picture a seeded preprocessing (the irradiance cache's fill) is made for in the pilot: the pilot picture's
+/// sides / 4, at least 4 pixels each (its passes render the pilot picture itself, Integrator::preprocessFor).
+CameraDesc pilotFillCamera(const CameraDesc& camera, const PilotPlan& plan);
 
 /// Makes a candidate's integrator, configured for seed @p seed, before preprocessing.
 using PilotFactory = std::function<std::unique_ptr<Integrator>(const PilotCandidate& candidate, uint64_t seed)>;
@@ -99,6 +122,14 @@ double pilotNoise(const std::vector<double>& a, const std::vector<double>& b,
 /// The pilot picture's pixels that the camera sees as they are (1): where one of 4 rays per pixel (the centres of
 /// its 2 × 2 strata) first meets, past thin panes, an emitter or a delta surface (a mirror, glass).
 std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraDesc& camera);
+
+/// The efficiency at the render of a method with a fixed cost (a seeded preprocessing, the irradiance cache's
+/// fill), per pilot picture: 1 / (e² · @p render), e² = @p frozen² + @p bias² + (@p noise² − @p frozen²) ·
+/// @p passRays / (@p render − @p fixed): @p noise (relative, the frozen part included) measured after @p passRays
+/// rays of passes, @p fixed the preprocessing's rays at the render's scale, @p render the render's rays; 0 where
+/// @p fixed takes them all. Without a fixed cost or a frozen part, 1 / (noise² · passRays): what a method without
+/// preprocessing gets.
+double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
 
 /// Index of the most efficient figure (the first of equals; 0 if none has light).
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures);

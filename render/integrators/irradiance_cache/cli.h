@@ -124,8 +124,8 @@ class IrradianceCacheCli : public IntegratorCli {
     fmt::print(stderr, "irradiance cache: {} records ({} by level), {} loaded, {} new ({:.0f} records/s)", s.records,
                levels.empty() ? "0" : levels, s.loaded, made, seconds > 0 ? double(made) / seconds : 0.0);
     if (settings.twoPass)
-      fmt::print(stderr, "; fill {:.2f} s in {} sweep(s), {} private records in the {}", s.fillSeconds, s.fillRounds,
-                 s.privateRecords, film ? "render" : "sensor estimate");
+      fmt::print(stderr, "; fill {:.2f} s, {:.3f} Mrays in {} sweep(s), {} private records in the {}", s.fillSeconds,
+                 double(s.fillRays) * 1e-6, s.fillRounds, s.privateRecords, film ? "render" : "sensor estimate");
     if (!film) fmt::print(stderr, ", {} lookups without a record took a path", s.missPaths);
     fmt::print(stderr, "\n");
   }

@@ -129,7 +129,9 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// fill, so does a task's lookup once the task has traced 2^20 rays (a deterministic bound on
   /// the records one task makes, e.g. inside a closed object).
   void preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task, float rayAngle) override;
-  /// preprocess() with the fill over @p camera's pixels and its pixel angle for the footprint clamp.
+  /// preprocess() with the fill over @p camera's pixels and its pixel angle for the footprint clamp; afterwards a
+  /// lookup that finds no record, not even in the doubled domains, takes one path (as after preprocessRays()), since
+  /// the picture rendered may be finer than @p camera's (--integrator auto's pilot).
   void preprocessFor(const RenderScene& scene, const CameraDesc& camera) override;
   uint64_t preprocessRayCount() const override { return fillRays_; }
   void limitPreprocessRays(uint64_t rays) override { fillRayLimit_ = rays; }
@@ -224,6 +226,8 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   std::unique_ptr<IrradianceCache> makeCache() const;
   /// preprocess() without the fill: lights, the empty cache, the cache file.
   void setup(const RenderScene& scene);
+  /// setup() and, two-pass, the fill over @p camera's pixels (the render's own first camera samples of each).
+  void fillFor(const RenderScene& scene, const CameraDesc& camera);
   /// Two-pass fill from the rays of tasks 0 .. @p tasks − 1, in that order. With several ranks
   /// (IntegratorOptions::comm) each rank traces the tasks comm.mine() deals to it and the batch's
   /// records are exchanged before the merge, so every rank merges the same records in the same order.

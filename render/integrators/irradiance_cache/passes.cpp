@@ -52,9 +52,16 @@ float pixelAngleOf(const CameraDesc& cam) {
 
 }  // namespace
 
-void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) { preprocessFor(scene, scene.desc().camera); }
+void IrradianceCacheIntegrator::preprocess(const RenderScene& scene) { fillFor(scene, scene.desc().camera); }
 
-void IrradianceCacheIntegrator::preprocessFor(const RenderScene& scene, const CameraDesc& cameraDesc) {
+void IrradianceCacheIntegrator::preprocessFor(const RenderScene& scene, const CameraDesc& camera) {
+  fillFor(scene, camera);
+  // The pilot renders a finer picture over these records: a sample they do not cover takes one path (no bias), not a
+  // private record of hundreds of rays that a render filled for its own pixels would hardly ever make.
+  pathOnMiss_ = settings_.twoPass;
+}
+
+void IrradianceCacheIntegrator::fillFor(const RenderScene& scene, const CameraDesc& cameraDesc) {
   setup(scene);
   pixelAngle_ = pixelAngleOf(cameraDesc);
   if (!settings_.twoPass) return;
