@@ -239,13 +239,17 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       f.rays = double(integrator->preprocessRayCount());
       outgrown.push_back(candidates[c].integrator);
     } else {
+      // A seeded preprocessing's passes take independent samples: the films' per-pixel variances / samples are then
+      // the passes' noise, which splits off the records' (with the render's stratified samples they overstate it, and
+      // the records' part came out 0 nearly everywhere); the passes' noise so measured errs against the cache.
+      const SamplerMode passSampler = seeded ? SamplerMode::Independent : sampler;
       PilotImage first(*integrator, desc);
-      first.renderTo(1, camera, seed, sampler, threads);
+      first.renderTo(1, camera, seed, passSampler, threads);
       const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
       if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
       f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
                                      double(kMaxPasses)));
-      first.renderTo(f.spp, camera, seed, sampler, threads);
+      first.renderTo(f.spp, camera, seed, passSampler, threads);
       // The second seed's image: a fresh integrator only where its preprocessing drew on the seed (the cache's
       // fill); the others render it with the first's (the same preprocessing, counted for both images).
       std::unique_ptr<Integrator> other;
@@ -254,7 +258,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
         other->preprocessFor(scene, preprocessDesc);
       }
       PilotImage second(other ? *other : *integrator, desc);
-      second.renderTo(f.spp, camera, seed + 1, sampler, threads);
+      second.renderTo(f.spp, camera, seed + 1, passSampler, threads);
       f.rays = (first.rays + second.rays) / 2.0;
       f.preprocessRays = (first.preprocessing + second.preprocessing) / 2.0;
       const std::vector<double> a = first.image(), b = second.image();

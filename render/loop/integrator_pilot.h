@@ -24,14 +24,15 @@
 /// An integrator whose preprocessing draws on the seed (the irradiance cache's fill) is made for a coarser picture
 /// (pilotFillCamera: a sixteenth of the pixels), so that its two fills fit in its share, and renders the pilot
 /// picture over those records, a sample that they do not cover taking one path. Its records' error does not shrink
-/// with more passes: its noise is split into that frozen part and the passes' (the films' per-pixel variances), and
-/// its efficiency is the render's, its fill charged at its share of the render's rays (projected from the fill's
-/// picture in proportion to the pixels: the fill grows more slowly, so this errs against the cache), not of a pilot
-/// image (PilotFigure::efficiency). The pilot picture has at most 48 × 48 pixels, the camera's aspect and field;
-/// each candidate's two images take 5% of the render's camera samples divided among the candidates, priced at the
-/// first candidate's rays per sample (with --time T: of the scene's samples per pixel or T × 250,000 camera samples,
-/// whichever is more: a fixed rate, so that the pilot does not depend on the machine). Below 4 samples per pixel of a
-/// 16 × 16 picture there is no pilot: the path tracer renders.
+/// with more passes: its noise is split into that frozen part and the passes' (the films' per-pixel variances, its
+/// passes taking independent samples for that), and its efficiency is the render's, its fill charged at its share
+/// of the render's rays (projected from the fill's picture in proportion to the pixels: the fill grows more slowly,
+/// so this errs against the cache), not of a pilot image (PilotFigure::efficiency).
+/// The pilot picture has at most 48 × 48 pixels, the camera's aspect and field; each candidate's two images take 5%
+/// of the render's camera samples divided among the candidates, priced at the first candidate's rays per sample
+/// (with --time T: of the scene's samples per pixel or T × 250,000 camera samples, whichever is more: a fixed rate,
+/// so that the pilot does not depend on the machine). Below 4 samples per pixel of a 16 × 16 picture there is no
+/// pilot: the path tracer renders.
 #include <cstdint>
 #include <functional>
 #include <memory>
