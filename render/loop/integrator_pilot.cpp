@@ -23,8 +23,17 @@ constexpr int kMinSide = 16;          ///< its shorter side at least, pixels
 constexpr int kMinSpp = 4;            ///< samples per pixel of a pilot image at least
 constexpr int kMinPasses = 2;         ///< passes of a candidate's pilot image at least
 constexpr int kMaxPasses = 256;       ///< and at most
+/// The path tracer's rays with patch NEE count this much work each: sampling the lit patches (their light tree, each
+/// patch's first-shot light) took 1.8–3.0× the time per ray of the same path tracer without it (2.2–2.9× on six of
+/// seven scenes with their tables at 128 × 128; no ray count shows that work).
+constexpr double kPatchNeeRayCost = 2.5;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
+
+/// Work per ray of @p c's rays (kPatchNeeRayCost; 1 for the others).
+double rayCost(const PilotCandidate& c) {
+  return c.integrator == "path" && c.patchNee != PatchNee::Off ? kPatchNeeRayCost : 1.0;
+}
 
 const char* patchNeeName(PatchNee p) { return p == PatchNee::Off ? "off" : p == PatchNee::First ? "first" : "every"; }
 
@@ -245,7 +254,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       const SamplerMode passSampler = seeded ? SamplerMode::Independent : sampler;
       PilotImage first(*integrator, desc);
       first.renderTo(1, camera, seed, passSampler, threads);
-      const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
+      const double cost = rayCost(candidates[c]);
+      const double pass = std::max(1.0, first.firstPass) * cost, preprocessing = first.rays - first.firstPass;
       if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
       f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
                                      double(kMaxPasses)));
@@ -260,6 +270,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       PilotImage second(other ? *other : *integrator, desc);
       second.renderTo(f.spp, camera, seed + 1, passSampler, threads);
       f.rays = (first.rays + second.rays) / 2.0;
+      f.work = f.rays * cost;
       f.preprocessRays = (first.preprocessing + second.preprocessing) / 2.0;
       const std::vector<double> a = first.image(), b = second.image();
       f.noise = pilotNoise(a, b, &skip);
@@ -293,7 +304,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);
-    f.efficiency = f.error > 0.0 && f.rays > 0.0 ? 1.0 / (f.error * f.error * f.rays) : 0.0;
+    f.efficiency = f.error > 0.0 && f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
     if (!seededFigure[size_t(&f - figures.data())]) continue;
     // The passes' noise at the passes' rays of the render (those its fill leaves); frozen part and bias stay.
     const double fill = f.preprocessRays * fillScale, passRays = f.rays - f.preprocessRays;

@@ -17,7 +17,8 @@
 /// lamp's edge aliases at a pilot's few samples. The other pixels count unclamped, as the render's error is measured:
 /// a firefly of a thousand means is what makes a path tracer's picture of a lamp in a bowl unusable.
 /// Its work is the rays it traced for one image (its preprocessing's too, the irradiance cache's fill), counted,
-/// not timed; efficiency = 1 / (error² · rays), the inverse of the work to reach a given error, where the error
+/// not timed, the path tracer's with patch NEE at 2.5 each (its patch sampling's time per ray, which no ray count
+/// shows); efficiency = 1 / (error² · work), the inverse of the work to reach a given error, where the error
 /// adds to the noise how far the picture's mean falls from the candidates' median (PilotFigure). Images and ray
 /// counts do not depend on the threads (render/loop/renderer.h), so the choice is the same on every machine for
 /// a seed.
@@ -69,6 +70,8 @@ struct PilotFigure {
   /// (mean − m) / m (a method that has not found the light yet is dark, not noisy).
   double error = 0;
   double rays = 0;        ///< rays per pilot image, preprocessing included
+  /// The work they count: rays, the path tracer's with patch NEE at 2.5 each (the patch sampling's time)
+  double work = 0;
   double preprocessRays = 0;  ///< of those, the preprocessing's (the irradiance cache's fill)
   /// A seeded preprocessing's (the cache's records'): the part of noise' that more passes over the same records do
   /// not reduce, √(noise² − pass noise²) · mean / m, the pass noise from the films' per-pixel variances; 0 for the
@@ -76,7 +79,7 @@ struct PilotFigure {
   double frozen = 0;
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
   double preprocessShare = 0;
-  /// 1 / (error² · rays); 0 for a black picture. For a seeded preprocessing, the render's: 1 / (e² · G), G the
+  /// 1 / (error² · work); 0 for a black picture. For a seeded preprocessing, the render's: 1 / (e² · G), G the
   /// render's rays per pilot picture and e² = frozen² + bias² + (noise'² − frozen²) · (its passes' rays) / (G −
   /// its preprocessing at the render's scale): the fill charged at its share of the render, not of a pilot image;
   /// 0 where that takes the whole render.
