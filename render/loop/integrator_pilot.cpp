@@ -227,12 +227,10 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
   // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
   double budget = 0.0;
   std::vector<PilotFigure> figures;
-  std::vector<uint8_t> seededFigure;  // 1: a seeded preprocessing, measured over its own picture's records
   std::vector<std::string> outgrown;  // integrators whose preprocessing outgrew the pilot: their variants are skipped
   for (size_t c = 0; c < candidates.size(); ++c) {
     if (std::find(outgrown.begin(), outgrown.end(), candidates[c].integrator) != outgrown.end()) {
       figures.emplace_back();
-      seededFigure.push_back(0);
       if (progress) progress(c);
       continue;
     }
@@ -282,8 +280,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
         f.frozen = std::sqrt(std::max(0.0, f.noise * f.noise - passes * passes));
       }
     }
+    f.seeded = seeded && f.spp > 0;
     figures.push_back(f);
-    seededFigure.push_back(seeded && f.spp > 0);
     if (progress) progress(c);
   }
   // A method that has not found the light yet (paths that must hit a bulb behind glass by chance) makes two
@@ -305,7 +303,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);
     f.efficiency = f.error > 0.0 && f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
-    if (!seededFigure[size_t(&f - figures.data())]) continue;
+    if (!f.seeded) continue;
     // The passes' noise at the passes' rays of the render (those its fill leaves); frozen part and bias stay.
     const double fill = f.preprocessRays * fillScale, passRays = f.rays - f.preprocessRays;
     f.frozen *= f.mean / median;

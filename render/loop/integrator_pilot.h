@@ -72,7 +72,8 @@ struct PilotFigure {
   double rays = 0;        ///< rays per pilot image, preprocessing included
   /// The work they count: rays, the path tracer's with patch NEE at 2.5 each (the patch sampling's time)
   double work = 0;
-  double preprocessRays = 0;  ///< of those, the preprocessing's (the irradiance cache's fill)
+  double preprocessRays = 0;  ///< of those, the preprocessing's
+  bool seeded = false;        ///< measured with a seeded preprocessing (the cache's fill, over pilotFillCamera) (the irradiance cache's fill)
   /// A seeded preprocessing's (the cache's records'): the part of noise' that more passes over the same records do
   /// not reduce, √(noise² − pass noise²) · mean / m, the pass noise from the films' per-pixel variances; 0 for the
   /// others.
