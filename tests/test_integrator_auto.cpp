@@ -257,3 +257,24 @@ TEST(IntegratorAuto, ABulbBehindGlassWithItsTableGoesToTheCache) {
   EXPECT_EQ(pilotTable(one.output), pilotTable(r.output));
 #endif
 }
+
+TEST(IntegratorAuto, PatchNeeIsChargedTheTimeItsSamplingTakes) {
+  // Sampling the lit patches makes each of the path tracer's rays about 2.5× as costly in time (docs/integrators.md):
+  // counted at one ray each, the pilot took `--patch-nee every` on the Ward sphere with its table (efficiency 1
+  // against 0.858), where at 20 s `--patch-nee off` is 2.6× as efficient; counted at 2.5, it takes `off`.
+  const std::string dir = firstshot::test::tempDir();
+  std::string text = firstshot::test::readFile(firstshot::test::source("scenes/ward-sphere.json"));
+  const std::string from = "\"spp\": 64";
+  const auto spp = text.find(from);
+  ASSERT_NE(spp, std::string::npos);
+  text.replace(spp, from.size(), "\"spp\": 305");  // what --time 20 sizes at 128 x 128
+  const std::string scene = dir + "/ward.json";
+  std::ofstream(scene) << text;
+  const auto p =
+      firstshot::test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene + " --quiet -o " + dir + "/t.fsd");
+  ASSERT_EQ(p.exitCode, 0) << p.output;
+  const auto r = firstshot::test::run(kRender + " " + scene + " --firstshot " + dir +
+                                      "/t.fsd --width 128 --height 128 --time 0.01 -o " + dir + "/a.exr");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_EQ(choice(r.output), "path --patch-nee off") << r.output;
+}
