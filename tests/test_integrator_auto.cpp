@@ -1,11 +1,13 @@
 // --integrator auto (render/loop/integrator_pilot.h, render/cli/render_command_auto.cpp): the pilot's size stays
 // within its share of the budget, its noise measure is right, its choice does not depend on the threads, the
-// options given narrow it, a table of luminaires alone adds no variants, and on a bulb behind glass it hands the
-// render to light tracing, with its table to the irradiance cache (whose fill is charged at its share of the render).
+// options given narrow it, a table of luminaires alone adds no variants, on a bulb behind glass it hands the render
+// to light tracing, with its table to the irradiance cache (whose fill is charged at its share of the render), and a
+// table that does not pay is left unread (the render, and its resumption, as without --firstshot).
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <utility>
@@ -36,6 +38,16 @@ std::string choice(const std::string& output) {
   if (at == std::string::npos) return "";
   const auto end = output.find(" (efficiency", at);
   return output.substr(at + key.size(), end - at - key.size());
+}
+
+/// The efficiency printed in the pilot's table for @p setting (its row's last figure); -1 if it has none.
+double efficiency(const std::string& output, const std::string& setting) {
+  const auto row = output.find("\n  " + setting + " ");
+  if (row == std::string::npos) return -1.0;
+  std::string line = output.substr(row + 1, output.find('\n', row + 1) - row - 1);
+  if (line.size() > 2 && line.substr(line.size() - 2) == " *") line.resize(line.size() - 2);
+  const auto last = line.find_last_of(' ');
+  return last == std::string::npos ? -1.0 : std::atof(line.c_str() + last + 1);
 }
 
 }  // namespace
@@ -186,8 +198,8 @@ TEST(IntegratorAuto, ResumeTakesTheCheckpointsChoice) {
 
 TEST(IntegratorAuto, ATableOfLuminairesAloneIsNotTriedTwice) {
   // A point light in a clear glass sphere is a luminaire: the table replaces no light, so --patch-nee and
-  // --shoot-firstshot would change nothing, and the pilot tries each integrator once. Without the glass the table
-  // replaces the light: the variants are tried.
+  // --shoot-firstshot would change nothing, and the pilot tries each integrator once with the table (and the path
+  // tracer once more without it). Without the glass the table replaces the light: the variants are tried.
   const std::string dir = firstshot::test::tempDir(), pre = FIRSTSHOT_PREPROCESS_EXE;
   for (const bool glass : {true, false}) {
     const std::string scene = dir + (glass ? "/bulb.json" : "/bare.json"), fsd = scene + ".fsd";
@@ -207,6 +219,8 @@ TEST(IntegratorAuto, ATableOfLuminairesAloneIsNotTriedTwice) {
     ASSERT_FALSE(table.empty()) << r.output;
     EXPECT_EQ(table.find("--patch-nee") == std::string::npos, glass) << table;
     EXPECT_EQ(table.find("--shoot-firstshot") == std::string::npos, glass) << table;
+    EXPECT_THAT(table, HasSubstr("\n  path, no table ")) << table;
+    EXPECT_EQ(table.find("cache, no table"), std::string::npos) << table;
   }
 }
 
@@ -261,7 +275,9 @@ TEST(IntegratorAuto, ABulbBehindGlassWithItsTableGoesToTheCache) {
 TEST(IntegratorAuto, PatchNeeIsChargedTheTimeItsSamplingTakes) {
   // Sampling the lit patches makes each of the path tracer's rays about 2.5× as costly in time (docs/integrators.md):
   // counted at one ray each, the pilot took `--patch-nee every` on the Ward sphere with its table (efficiency 1
-  // against 0.858), where at 20 s `--patch-nee off` is 2.6× as efficient; counted at 2.5, it takes `off`.
+  // against 0.858), where at 20 s `--patch-nee off` is 2.6× as efficient; counted at 2.5, `off` is ahead of it.
+  // The table itself does not pay there: the path tracer without it is chosen (1.11× `--patch-nee off` at 20 s), the
+  // render is the scene's as without --firstshot, and a resumed render takes that choice from its checkpoint.
   const std::string dir = firstshot::test::tempDir();
   std::string text = firstshot::test::readFile(firstshot::test::source("scenes/ward-sphere.json"));
   const std::string from = "\"spp\": 64";
@@ -273,8 +289,20 @@ TEST(IntegratorAuto, PatchNeeIsChargedTheTimeItsSamplingTakes) {
   const auto p =
       firstshot::test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene + " --quiet -o " + dir + "/t.fsd");
   ASSERT_EQ(p.exitCode, 0) << p.output;
-  const auto r = firstshot::test::run(kRender + " " + scene + " --firstshot " + dir +
-                                      "/t.fsd --width 128 --height 128 --time 0.01 -o " + dir + "/a.exr");
+  const std::string base = kRender + " " + scene + " --firstshot " + dir + "/t.fsd --width 128 --height 128";
+  const auto r = firstshot::test::run(base + " --time 0.01 -o " + dir + "/a.exr");
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  EXPECT_EQ(choice(r.output), "path --patch-nee off") << r.output;
+  EXPECT_GT(efficiency(r.output, "path --patch-nee off"), efficiency(r.output, "path --patch-nee every")) << r.output;
+  EXPECT_EQ(choice(r.output), "path, no table") << r.output;
+  EXPECT_THAT(r.output, HasSubstr("the table given is not read")) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("(0 replaced by first-shot)")) << r.output;
+  // Stopped after two passes with a checkpoint, resumed: the checkpoint's choice, without the table again.
+  const auto stopped = firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base +
+                                            " --spp 305 --checkpoint 1000 -o " + dir + "/b.exr");
+  ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
+  ASSERT_EQ(choice(stopped.output), "path, no table") << stopped.output;
+  const auto resumed = firstshot::test::run(base + " --spp 3 --resume -o " + dir + "/b.exr");
+  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr("--integrator auto: path, no table (the choice of the render in the checkpoint)"));
+  EXPECT_THAT(resumed.output, HasSubstr("(0 replaced by first-shot)")) << resumed.output;
 }

@@ -21,6 +21,9 @@
 
 namespace firstshot {
 
+/// The checkpoint key's entry of a render that --integrator auto chose to make without the --firstshot table given.
+inline constexpr const char* kTableUnusedKey = "firstshot-table";
+
 struct CheckpointCli {
   double every = 0;  ///< seconds between checkpoints; 0 = none
   std::string file;  ///< the checkpoint file (default: the first output + ".checkpoint")

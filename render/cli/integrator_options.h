@@ -87,10 +87,11 @@ struct IntegratorOptionsCli {
   /// --integrator auto: the settings the pilot may choose from (render/loop/integrator_pilot.h). The integrators
   /// that read every integrator option given on @p app (an option only some read narrows the choice to them),
   /// and, with a table that replaces lights (@p table), each with --patch-nee off and every (path, irradiance-cache) or
-  /// --shoot-firstshot patches and off (light, bdpt) unless that option was given. The bundle only when the
-  /// options given leave nothing else; with a sky or environment map (@p infinite) only path and
-  /// irradiance-cache. @throws InputError when no integrator reads every option given.
-  std::vector<PilotCandidate> autoCandidates(const CLI::App& app, bool table, bool infinite,
+  /// --shoot-firstshot patches and off (light, bdpt) unless that option was given. With a table given (@p tableGiven)
+  /// and none of its options, the path tracer also without the table (last). The bundle only when the options given
+  /// leave nothing else; with a sky or environment map (@p infinite) only path and irradiance-cache.
+  /// @throws InputError when no integrator reads every option given.
+  std::vector<PilotCandidate> autoCandidates(const CLI::App& app, bool table, bool tableGiven, bool infinite,
                                              const std::string& sceneFile) const {
     using namespace integrator_option;
     std::vector<std::string> given, readers, pilotReaders;
@@ -118,6 +119,7 @@ struct IntegratorOptionsCli {
       pilotReaders.push_back(readers.front());
     }
     const IntegratorOptions fixed = options(0);  // --patch-nee, --shoot-firstshot as given or by default
+    const bool unread = tableGiven && app.count(kPatchNee) == 0 && app.count(kShootFirstShot) == 0;
     std::vector<PilotCandidate> out;
     for (const std::string& n : pilotReaders) {
       PilotCandidate c;
@@ -144,6 +146,18 @@ struct IntegratorOptionsCli {
       } else {
         out.push_back(c);
       }
+    }
+    // A table that does not pay (its lookups cost more than its smoother light saves) is left unread: the path
+    // tracer as without --firstshot, what the defaults give without a table. Not where the user asked for one of the
+    // table's options. (Light tracing and BDPT with --shoot-firstshot off are the others' plain methods but for the
+    // luminaires; the cache's records' error, which the pilot measures coarsely, decided against it wrongly.)
+    if (unread && std::find(pilotReaders.begin(), pilotReaders.end(), "path") != pilotReaders.end()) {
+      PilotCandidate c;
+      c.integrator = "path";
+      c.patchNee = fixed.patchNee;
+      c.shootFromPatches = fixed.shootFromPatches;
+      c.table = false;
+      out.push_back(c);
     }
     return out;
   }

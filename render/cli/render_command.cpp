@@ -167,7 +167,7 @@ void RenderCommand::makeIntegrator() {
 }
 
 void RenderCommand::buildRenderScene() {
-  if (!fsdPath_.empty()) {
+  if (!fsdPath_.empty() && !tableUnused_) {
     FirstShotTable table = readFirstShot(fsdPath_, hashScene(scene_));
     // Sensors take a luminaire as one only where most of its light leaves through glass or off mirrors (its specular
     // light, a point source sampled exactly up to its bins): a lamp in a glass bulb is then found by every sensor's
@@ -176,11 +176,11 @@ void RenderCommand::buildRenderScene() {
     if (sensors_.active())
       std::erase_if(table.luminaires,
                     [](const Luminaire& l) { return !(luminance(l.specularPower) > luminance(l.exitPower)); });
-    renderScene_.emplace(scene_, std::move(table), fsdPath_);
+    renderScene_ = std::make_unique<RenderScene>(scene_, std::move(table), fsdPath_);
   } else {
-    renderScene_.emplace(scene_, patchSize_ > 0 || integrators_.isAuto() || !integrators_.chosen().needsPatches()
-                                     ? patchSize_
-                                     : resolvePatchSize(scene_));
+    renderScene_ = std::make_unique<RenderScene>(
+        scene_, patchSize_ > 0 || integrators_.isAuto() || !integrators_.chosen().needsPatches() ? patchSize_
+                                                                                                 : resolvePatchSize(scene_));
   }
 }
 
@@ -253,6 +253,7 @@ int RenderCommand::renderImage() {
     if (name == integrator_option::kPatchNee) value = integrators_.patchNee;
     if (name == integrator_option::kShootFirstShot) value = integrators_.shootFirstShot;
   }
+  if (checkpoint_.active() && tableUnused_) checkpoint_.key.emplace_back(kTableUnusedKey, "unused");
   const auto preprocessStart = std::chrono::steady_clock::now();
   integrator_->preprocess(*renderScene_);
   // --time is the whole budget: the pilot's time and the integrator's preprocessing (the irradiance cache's fill, light

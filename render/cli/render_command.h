@@ -8,7 +8,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +41,7 @@ class RenderCommand {
   /// --integrator auto: chooses the integrator and its table options, by a pilot where the render is an image
   /// (render/loop/integrator_pilot.h), and says so on stderr (render/cli/render_command_auto.cpp).
   void resolveIntegrator();
+  void leaveTableUnread();  // --integrator auto: the render is the scene's without the --firstshot table
   /// The longest path in bounces: --max-depth or the scene's, one less for sensors.
   int maxDepth() const;
   /// Checks the chosen integrator's options against the scene and makes it.
@@ -69,6 +69,7 @@ class RenderCommand {
   float exposure_ = 0;
   uint64_t seed_ = 0;
   bool quiet_ = false, aov_ = false, preview_ = false;
+  bool tableUnused_ = false;  // --integrator auto chose to render without the --firstshot table
   IntegratorOptionsCli integrators_;  // --integrator, --primary, ..., and each integrator's own
   CheckpointCli checkpoint_;          // --checkpoint, --checkpoint-file, --resume
   SensorsCli sensors_;                // --sensors, --grid, --samples, --efficacy
@@ -78,7 +79,7 @@ class RenderCommand {
   SceneDesc scene_;
   IntegratorOptions integratorOptions_;
   std::unique_ptr<Integrator> integrator_;
-  std::optional<RenderScene> renderScene_;
+  std::unique_ptr<RenderScene> renderScene_;
 };
 
 }  // namespace firstshot

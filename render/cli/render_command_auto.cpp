@@ -23,14 +23,21 @@ const PilotCandidate& pathOrFirst(const std::vector<PilotCandidate>& candidates)
 
 }  // namespace
 
+void RenderCommand::leaveTableUnread() {
+  tableUnused_ = true;
+  renderScene_.reset();  // built again, without the table
+}
+
 void RenderCommand::resolveIntegrator() {
   if (!integrators_.isAuto()) return;
   // A table's options (--patch-nee, --shoot-firstshot) change nothing where it replaces no light (a table of
   // luminaires alone): their variants would be the same pictures at twice the pilot's cost.
   if (!fsdPath_.empty()) buildRenderScene();
   const bool replaces = renderScene_ && renderScene_->firstShot() && !renderScene_->firstShot()->replacedLights.empty();
+  // Sensors and the preview start with the table: a choice without it is the pilot's, on the camera's pictures.
+  const bool tableGiven = renderScene_ && renderScene_->firstShot() && !sensors_.active() && !preview_;
   const std::vector<PilotCandidate> candidates =
-      integrators_.autoCandidates(app_, replaces, scene_.sky || scene_.environment, scene_.file);
+      integrators_.autoCandidates(app_, replaces, tableGiven, scene_.sky || scene_.environment, scene_.file);
   auto say = [&](const std::string& text) {
     if (!quiet_) fmt::print(stderr, "firstshot-render: --integrator auto: {}\n", text);
   };
@@ -46,10 +53,12 @@ void RenderCommand::resolveIntegrator() {
       if (name == integrator_option::kPatchNee)
         c.patchNee = value == "off" ? PatchNee::Off : value == "first" ? PatchNee::First : PatchNee::Every;
       if (name == integrator_option::kShootFirstShot) c.shootFromPatches = value == "patches";
+      if (name == kTableUnusedKey) c.table = false;
     }
     c.variesPatchNee = c.variesShoot = false;
     integrators_.choose(c);
-    say(c.integrator + " (the choice of the render in the checkpoint)");
+    if (!c.table) leaveTableUnread();
+    say(c.label() + " (the choice of the render in the checkpoint)");
     return;
   }
   if (sensors_.active() || preview_) {  // the pilot compares pictures of the camera's view
@@ -75,6 +84,10 @@ void RenderCommand::resolveIntegrator() {
 
   const auto start = std::chrono::steady_clock::now();
   if (!renderScene_) buildRenderScene();
+  // The scene as without --firstshot, for the candidates that leave the table unread.
+  std::unique_ptr<RenderScene> withoutTable;
+  if (std::any_of(candidates.begin(), candidates.end(), [](const PilotCandidate& c) { return !c.table; }))
+    withoutTable = std::make_unique<RenderScene>(scene_, patchSize_);
   IntegratorOptions base = integrators_.options(maxDepth());
   base.comm = nullptr;  // every rank runs the same pilot and makes the same choice
   const PilotFactory make = [&](const PilotCandidate& c, uint64_t seed) {
@@ -89,12 +102,16 @@ void RenderCommand::resolveIntegrator() {
   std::vector<PilotFigure> figures;
   {
     Progress progress("integrator pilot", candidates.size(), quiet_);
-    figures = runPilot(*renderScene_, candidates, plan, make, seed(), samplerMode(), threads_,
+    figures = runPilot(*renderScene_, withoutTable.get(), candidates, plan, make, seed(), samplerMode(), threads_,
                        [&](size_t) { progress.advance(); });
   }
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const size_t best = bestPilotFigure(figures);
   integrators_.choose(candidates[best]);
+  if (!candidates[best].table) {
+    tableUnused_ = true;
+    renderScene_ = std::move(withoutTable);
+  }
   if (quiet_) return;
 
   // The pilot's rays against the render's, priced at the first candidate's rays per camera sample (as the plan).
@@ -126,8 +143,9 @@ void RenderCommand::resolveIntegrator() {
                  "  {}: filled at {} x {}, its fill projected to {:.1f}% of the render's rays, its records' error "
                  "{:.4f} (more passes leave it), its efficiency the render's\n",
                  candidates[i].label(), fill.width, fill.height, 100.0 * figures[i].preprocessShare, figures[i].frozen);
-  fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it)\n",
-             candidates[best].label());
+  fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}\n",
+             candidates[best].label(),
+             tableUnused_ ? "; the table given is not read: the render is the scene's as without --firstshot" : "");
 }
 
 }  // namespace firstshot

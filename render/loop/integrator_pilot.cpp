@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "common/util/interrupt.h"
 #include "render/loop/renderer.h"
@@ -27,12 +29,20 @@ constexpr int kMaxPasses = 256;       ///< and at most
 /// patch's first-shot light) took 1.8–3.0× the time per ray of the same path tracer without it (2.2–2.9× on six of
 /// seven scenes with their tables at 128 × 128; no ray count shows that work).
 constexpr double kPatchNeeRayCost = 2.5;
+/// Where the pilot weighs reading a table against leaving it unread (the path tracer without it), the rays of a
+/// method that reads it count this much work each: its lookups (a hit's first-shot light, shooting from the lit
+/// patches) took more time per ray than the same method's without the table, the path tracer's 1.52× (median of 28
+/// shipped and public scenes with their tables, 128 × 128; 0.61–2.78), light tracing's and BDPT's 1.77× and 1.70×
+/// (bench/table_ray_cost.sh).
+constexpr double kTableRayCost = 1.5;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
-/// Work per ray of @p c's rays (kPatchNeeRayCost; 1 for the others).
-double rayCost(const PilotCandidate& c) {
-  return c.integrator == "path" && c.patchNee != PatchNee::Off ? kPatchNeeRayCost : 1.0;
+/// Work per ray of @p c's rays: kPatchNeeRayCost for the path tracer's with patch NEE, times kTableRayCost for a
+/// method reading the table where others leave it unread (@p weighTable); 1 for the others.
+double rayCost(const PilotCandidate& c, bool weighTable) {
+  const double nee = c.integrator == "path" && c.patchNee != PatchNee::Off ? kPatchNeeRayCost : 1.0;
+  return nee * (weighTable && c.table ? kTableRayCost : 1.0);
 }
 
 const char* patchNeeName(PatchNee p) { return p == PatchNee::Off ? "off" : p == PatchNee::First ? "first" : "every"; }
@@ -49,6 +59,7 @@ std::string PilotCandidate::label() const {
   std::string s = integrator;
   if (variesPatchNee) s += std::string(" --patch-nee ") + patchNeeName(patchNee);
   if (variesShoot) s += shootFromPatches ? " --shoot-firstshot patches" : " --shoot-firstshot off";
+  if (!table) s += ", no table";
   return s;
 }
 
@@ -216,9 +227,10 @@ struct PilotImage {
 
 }  // namespace
 
-std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<PilotCandidate>& candidates,
-                                  const PilotPlan& plan, const PilotFactory& make, uint64_t seed, SamplerMode sampler,
-                                  int threads, const std::function<void(size_t)>& progress) {
+std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* withoutTable,
+                                  const std::vector<PilotCandidate>& candidates, const PilotPlan& plan,
+                                  const PilotFactory& make, uint64_t seed, SamplerMode sampler, int threads,
+                                  const std::function<void(size_t)>& progress) {
   const CameraDesc desc = pilotCamera(scene.desc().camera, plan), fillDesc = pilotFillCamera(scene.desc().camera, plan);
   const Camera camera(desc);
   const std::vector<uint8_t> skip = pixelsSeenAsTheyAre(scene, desc);
@@ -227,24 +239,29 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
   // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
   double budget = 0.0;
   std::vector<PilotFigure> figures;
-  std::vector<std::string> outgrown;  // integrators whose preprocessing outgrew the pilot: their variants are skipped
+  // Integrators (and whether they read the table) whose preprocessing outgrew the pilot: their variants are skipped.
+  std::vector<std::pair<std::string, bool>> outgrown;
   for (size_t c = 0; c < candidates.size(); ++c) {
-    if (std::find(outgrown.begin(), outgrown.end(), candidates[c].integrator) != outgrown.end()) {
+    const std::pair<std::string, bool> kind{candidates[c].integrator, candidates[c].table};
+    if (std::find(outgrown.begin(), outgrown.end(), kind) != outgrown.end()) {
       figures.emplace_back();
       if (progress) progress(c);
       continue;
     }
+    if (!candidates[c].table && !withoutTable)
+      throw std::logic_error("runPilot: a candidate without the table needs the scene without it");
+    const RenderScene& theirs = candidates[c].table ? scene : *withoutTable;
     const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
     // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past twice the
     // budget, where it outgrows the pilot, and the candidate is not measured further.
     if (c > 0) integrator->limitPreprocessRays(uint64_t(2.0 * budget) + 1);
     const bool seeded = integrator->seededPreprocess();
     const CameraDesc& preprocessDesc = seeded ? fillDesc : desc;
-    integrator->preprocessFor(scene, preprocessDesc);
+    integrator->preprocessFor(theirs, preprocessDesc);
     PilotFigure f;
     if (c > 0 && double(integrator->preprocessRayCount()) > 2.0 * budget) {
       f.rays = double(integrator->preprocessRayCount());
-      outgrown.push_back(candidates[c].integrator);
+      outgrown.push_back(kind);
     } else {
       // A seeded preprocessing's passes take independent samples: the films' per-pixel variances / samples are then
       // the passes' noise, which splits off the records' (with the render's stratified samples they overstate it, and
@@ -252,7 +269,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       const SamplerMode passSampler = seeded ? SamplerMode::Independent : sampler;
       PilotImage first(*integrator, desc);
       first.renderTo(1, camera, seed, passSampler, threads);
-      const double cost = rayCost(candidates[c]);
+      const double cost = rayCost(candidates[c], withoutTable != nullptr);
       const double pass = std::max(1.0, first.firstPass) * cost, preprocessing = first.rays - first.firstPass;
       if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
       f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
@@ -263,7 +280,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
       std::unique_ptr<Integrator> other;
       if (seeded) {
         other = make(candidates[c], seed + 1);
-        other->preprocessFor(scene, preprocessDesc);
+        other->preprocessFor(theirs, preprocessDesc);
       }
       PilotImage second(other ? *other : *integrator, desc);
       second.renderTo(f.spp, camera, seed + 1, passSampler, threads);
@@ -304,8 +321,9 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<Pi
     f.error = std::sqrt(noise * noise + off * off);
     f.efficiency = f.error > 0.0 && f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
     if (!f.seeded) continue;
-    // The passes' noise at the passes' rays of the render (those its fill leaves); frozen part and bias stay.
-    const double fill = f.preprocessRays * fillScale, passRays = f.rays - f.preprocessRays;
+    // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay.
+    const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0, fill = f.preprocessRays * fillScale * cost;
+    const double passRays = (f.rays - f.preprocessRays) * cost;
     f.frozen *= f.mean / median;
     f.preprocessShare = render > 0.0 ? fill / render : 1.0;
     f.efficiency = renderEfficiency(noise, f.frozen, off, passRays, fill, render);

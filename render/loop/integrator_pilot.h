@@ -54,7 +54,10 @@ struct PilotCandidate {
   bool shootFromPatches = true;       ///< --shoot-firstshot patches (light, bdpt with a table)
   bool variesPatchNee = false;        ///< the label names --patch-nee (there were variants of it)
   bool variesShoot = false;           ///< the label names --shoot-firstshot
-  /// The candidate as options: "path", "path --patch-nee every", "light --shoot-firstshot off".
+  /// Reads the table given with --firstshot; false: renders the scene as if none were given (its small lights as
+  /// lights, no luminaires), a candidate only where a table was given.
+  bool table = true;
+  /// The candidate as options: "path", "path --patch-nee every", "light --shoot-firstshot off", "path, no table".
   std::string label() const;
 };
 
@@ -70,7 +73,8 @@ struct PilotFigure {
   /// (mean − m) / m (a method that has not found the light yet is dark, not noisy).
   double error = 0;
   double rays = 0;        ///< rays per pilot image, preprocessing included
-  /// The work they count: rays, the path tracer's with patch NEE at 2.5 each (the patch sampling's time)
+  /// The work they count: rays, the path tracer's with patch NEE at 2.5 each (the patch sampling's time), and where
+  /// candidates without the table are measured too, a table reader's at 1.5 times that (its lookups' time)
   double work = 0;
   double preprocessRays = 0;  ///< of those, the preprocessing's
   bool seeded = false;        ///< measured with a seeded preprocessing (the cache's fill, over pilotFillCamera) (the irradiance cache's fill)
@@ -110,11 +114,14 @@ CameraDesc pilotFillCamera(const CameraDesc& camera, const PilotPlan& plan);
 /// Makes a candidate's integrator, configured for seed @p seed, before preprocessing.
 using PilotFactory = std::function<std::unique_ptr<Integrator>(const PilotCandidate& candidate, uint64_t seed)>;
 
-/// Renders every candidate's two pilot images and measures them (in candidates' order). @p threads: 0 = one per
-/// core. @p progress, if set, is called after each candidate with its index.
-std::vector<PilotFigure> runPilot(const RenderScene& scene, const std::vector<PilotCandidate>& candidates,
-                                  const PilotPlan& plan, const PilotFactory& make, uint64_t seed, SamplerMode sampler,
-                                  int threads, const std::function<void(size_t)>& progress = {});
+/// Renders every candidate's two pilot images and measures them (in candidates' order): those that read the table
+/// in @p scene, the others (PilotCandidate::table false) in @p withoutTable, the same scene built without it (required
+/// if there are such candidates). The pixels left out are @p scene's. @p threads: 0 = one per core. @p progress, if
+/// set, is called after each candidate with its index.
+std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* withoutTable,
+                                  const std::vector<PilotCandidate>& candidates, const PilotPlan& plan,
+                                  const PilotFactory& make, uint64_t seed, SamplerMode sampler, int threads,
+                                  const std::function<void(size_t)>& progress = {});
 
 /// The relative noise of one image from two images @p a and @p b of independent seeds (interleaved RGB, the same
 /// size): RMS of (a − b)/√2 over pixels and channels / the mean m of (a + b)/2; 0 if m is not positive. With
