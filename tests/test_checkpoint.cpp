@@ -53,10 +53,10 @@ class CancelSplatsAfter : public CancelAfter<SplattingIntegrator> {
  public:
   using CancelAfter::CancelAfter;
   uint64_t particlesPerPass(const Camera& camera) const override { return inner_.particlesPerPass(camera); }
-  void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
-                      uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override {
+  void splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode, uint64_t pass,
+                      uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override {
     count();
-    inner_.splatParticles(camera, seed, mode, pass, begin, end, out, rays);
+    inner_.splatParticles(camera, seed, jitterSeed, mode, pass, begin, end, out, rays);
   }
 };
 

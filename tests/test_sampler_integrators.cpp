@@ -3,12 +3,14 @@
 // mode stay a function of (seed, pixel or particle, pass) — the same for 1 and 2 threads and for
 // passes of 1 spp as for one pass. σ always comes from repetitions with different seeds: the
 // samples of one Sobol' sequence (a pixel's, a sensor's, a run's particles) are not independent
-// of each other, so the spread within one image or one sensor says nothing about its error.
+// of each other, so the spread within one image or one sensor says nothing about its error. And the camera samples'
+// positions in their pixels drawn from a seed of their own (the integrator pilot's two images share them).
 #include <gtest/gtest.h>
 
 #include <fmt/core.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -155,4 +157,45 @@ TEST(SobolIntegrators, SensorsAgreeWithIndependent) {
   const double n = std::max(1.0, double(lit));
   fmt::print("{} lit sensors, worst {:.2f}σ; mean relative σ over 32 samples: independent {:.2f}%, sobol {:.2f}%\n",
              lit, worst, 100 * rInd / n, 100 * rSob / n);
+}
+
+TEST(CameraJitter, ASharedSeedDrawsItsPositionsAndTheSamplerSkipsItsOwn) {
+  for (const SamplerMode mode : {SamplerMode::Independent, SamplerMode::Sobol}) {
+    // The same seed: the sampler's own first two dimensions, as before there was a jitter seed.
+    Sampler a = Sampler::make(mode, 5, 77, 3), plain = Sampler::make(mode, 5, 77, 3);
+    EXPECT_EQ(cameraJitter(a, mode, 5, 5, 77, 3), plain.next2D());
+    EXPECT_EQ(a.next1D(), plain.next1D());
+    // Another: the positions of the jitter seed's sampler, the rest of the sampler's numbers its own.
+    Sampler b = Sampler::make(mode, 6, 77, 3), own = Sampler::make(mode, 6, 77, 3);
+    EXPECT_EQ(cameraJitter(b, mode, 6, 5, 77, 3), Sampler::make(mode, 5, 77, 3).next2D());
+    own.next2D();
+    EXPECT_EQ(b.next1D(), own.next1D());
+    EXPECT_EQ(b.dimension(), own.dimension());
+  }
+}
+
+TEST(CameraJitter, TwoSeedsAtTheSamePositionsDifferOnlyInTheirLight) {
+  // A point light over a floor, direct light only: a camera ray's estimate does not depend on the seed, so the
+  // integrator pilot's two images (seeds 1 and 2) are the same picture when they share their positions in the
+  // pixels, and differ (at the floor's edges, and across its gradient) when they do not.
+  SceneDesc d = loadScene(test::source("scenes/point-over-plane.json"));
+  d.camera.width = 32, d.camera.height = 32;
+  const RenderScene scene(d);
+  const Camera camera(d.camera);
+  IntegratorOptions io;
+  io.maxDepth = 1;
+  auto integrator = makeIntegrator("path", io);
+  integrator->preprocess(scene);
+  for (const SamplerMode mode : {SamplerMode::Independent, SamplerMode::Sobol}) {
+    auto film = [&](uint64_t seed, std::optional<uint64_t> jitterSeed) {
+      Film f(camera.width(), camera.height());
+      RenderOptions ro;
+      ro.spp = 2, ro.seed = seed, ro.jitterSeed = jitterSeed, ro.sampler = mode;
+      render(*integrator, camera, f, ro);
+      return test::filmValues(f);
+    };
+    EXPECT_EQ(film(1, 1), film(1, std::nullopt));  // a jitter seed equal to the seed changes nothing
+    EXPECT_EQ(film(2, 1), film(1, 1));
+    EXPECT_NE(film(2, std::nullopt), film(1, std::nullopt));
+  }
 }

@@ -239,4 +239,17 @@ class Sampler {
   SamplerMode mode_ = SamplerMode::Independent;
 };
 
+/// The position of a camera sample in its pixel: @p sampler's next two dimensions, made for (@p seed, @p pixel,
+/// @p index, @p stream) in @p mode; where @p jitterSeed differs from @p seed, those of the sampler of (@p jitterSeed,
+/// @p pixel, @p index, @p stream) instead, @p sampler skipping its own (the integrator pilot's two images of two seeds
+/// then sample the same positions, and the edges' aliasing, which the render's stratified samples nearly remove,
+/// cancels in their difference).
+inline Vec2 cameraJitter(Sampler& sampler, SamplerMode mode, uint64_t seed, uint64_t jitterSeed, uint64_t pixel,
+                         uint64_t index, uint64_t stream = 0) {
+  if (jitterSeed == seed) return sampler.next2D();
+  Sampler own = Sampler::make(mode, jitterSeed, pixel, index, stream);
+  sampler.setDimension(sampler.dimension() + 2);
+  return own.next2D();
+}
+
 }  // namespace firstshot

@@ -188,9 +188,10 @@ class SplattingIntegrator : public Integrator {
   /// their splats to @p out in particle order. Thread-safe. @p mode: how the particles' samplers
   /// draw (RenderOptions::sampler); a particle's numbers stay a function of (seed, particle, pass).
   /// @p rays counts the rays traced. The renderer drops (and counts in RenderStats::nonFinite)
-  /// splats that are NaN or Inf.
-  virtual void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
-                              uint64_t end, std::vector<Splat>& out, uint64_t& rays) const = 0;
+  /// splats that are NaN or Inf. @p jitterSeed: that of a particle's position in its pixel where it starts at the
+  /// camera (BDPT; RenderOptions::jitterSeed, cameraJitter), @p seed where they are the same.
+  virtual void splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode, uint64_t pass,
+                              uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const = 0;
 };
 
 /// Integrators with a global state per sample index (ray-bundle stochastic iteration): render()

@@ -187,10 +187,13 @@ struct PilotImage {
 
   PilotImage(const Integrator& i, const CameraDesc& desc)
       : integrator(i), film(desc.width, desc.height), rays(double(i.preprocessRayCount())), preprocessing(rays) {}
-  /// Renders passes until @p total are done.
-  void renderTo(int total, const Camera& camera, uint64_t seed, SamplerMode sampler, int threads) {
+  /// Renders passes until @p total are done, their camera samples at the positions in their pixels that seed
+  /// @p jitterSeed draws.
+  void renderTo(int total, const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode sampler,
+                int threads) {
     for (; passes < total; ++passes) {
       RenderOptions ro = RenderOptions::pass(passes, seed);
+      ro.jitterSeed = jitterSeed;
       ro.sampler = sampler;
       ro.threads = threads;
       ro.quiet = true;
@@ -268,13 +271,13 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       // the records' part came out 0 nearly everywhere); the passes' noise so measured errs against the cache.
       const SamplerMode passSampler = seeded ? SamplerMode::Independent : sampler;
       PilotImage first(*integrator, desc);
-      first.renderTo(1, camera, seed, passSampler, threads);
+      first.renderTo(1, camera, seed, seed, passSampler, threads);
       const double cost = rayCost(candidates[c], withoutTable != nullptr);
       const double pass = std::max(1.0, first.firstPass) * cost, preprocessing = first.rays - first.firstPass;
       if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
       f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
                                      double(kMaxPasses)));
-      first.renderTo(f.spp, camera, seed, passSampler, threads);
+      first.renderTo(f.spp, camera, seed, seed, passSampler, threads);
       // The second seed's image: a fresh integrator only where its preprocessing drew on the seed (the cache's
       // fill); the others render it with the first's (the same preprocessing, counted for both images).
       std::unique_ptr<Integrator> other;
@@ -283,7 +286,10 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
         other->preprocessFor(theirs, preprocessDesc);
       }
       PilotImage second(other ? *other : *integrator, desc);
-      second.renderTo(f.spp, camera, seed + 1, passSampler, threads);
+      // The second image's camera samples at the first's positions in their pixels: the edges' aliasing, which the
+      // render's stratified samples nearly remove as they add up, would otherwise be most of the pilot's noise
+      // where the light is smooth, and hide what a method gains there.
+      second.renderTo(f.spp, camera, seed + 1, seed, passSampler, threads);
       f.rays = (first.rays + second.rays) / 2.0;
       f.work = f.rays * cost;
       f.preprocessRays = (first.preprocessing + second.preprocessing) / 2.0;

@@ -37,7 +37,7 @@ std::vector<Tile> makeTiles(int width, int height, int size) {
 /// yet. Stops between two sample indices of a block once @p cancel is set (every pixel then holds
 /// its first samples, in order): @return false if it did.
 bool renderTile(const Integrator& integrator, const Camera& camera, Film& film, const Tile& tile, int s0, int s1,
-                uint64_t seed, SamplerMode mode, bool skipTaken, const std::atomic<bool>* cancel, uint64_t& rays,
+                uint64_t seed, uint64_t jitterSeed, SamplerMode mode, bool skipTaken, const std::atomic<bool>* cancel, uint64_t& rays,
                 uint64_t& nonFinite) {
   constexpr int B = 4;
   for (int by = tile.y0; by < tile.y1; by += B)
@@ -63,8 +63,9 @@ bool renderTile(const Integrator& integrator, const Camera& camera, Film& film, 
         for (int k = 0; k < count; ++k) {
           if (!traced[k]) continue;
           const int x = bx + k % B, y = by + k / B;
-          sampler[k] = Sampler::make(mode, seed, uint64_t(y) * uint64_t(camera.width()) + uint64_t(x), uint64_t(s));
-          const Vec2 jitter = sampler[k].next2D();
+          const uint64_t pixel = uint64_t(y) * uint64_t(camera.width()) + uint64_t(x);
+          sampler[k] = Sampler::make(mode, seed, pixel, uint64_t(s));
+          const Vec2 jitter = cameraJitter(sampler[k], mode, seed, jitterSeed, pixel, uint64_t(s));
           ray[k] = camera.generateRay(float(x) + jitter.x, float(y) + jitter.y);
           wanted[k] = s >= first[k];
         }
@@ -122,7 +123,8 @@ RenderStats render(const Integrator& integrator, const Camera& camera, Film& fil
             continue;
           }
           uint64_t tileRays = 0, tileBad = 0;
-          if (!renderTile(integrator, camera, film, tiles[t], s0, s1, options.seed, options.sampler, options.skipTaken,
+          if (!renderTile(integrator, camera, film, tiles[t], s0, s1, options.seed,
+                          options.jitterSeed.value_or(options.seed), options.sampler, options.skipTaken,
                           options.cancel, tileRays, tileBad))
             cancelled = true;
           rays += tileRays;

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 
 #include "common/sampling/rng.h"
 #include "common/util/comm.h"
@@ -23,6 +24,9 @@ struct RenderOptions {
   /// per pixel stratified Sobol' points over the sample index. The image stays a function of
   /// (seed, pixel, sample index) in both.
   SamplerMode sampler = SamplerMode::Independent;
+  /// The seed of the camera samples' positions in their pixels, where it is not `seed` (cameraJitter,
+  /// common/sampling/rng.h): the integrator pilot renders its two images of two seeds at the same positions.
+  std::optional<uint64_t> jitterSeed;
   int threads = 0;         ///< worker threads; 0 = one per core
   int tileSize = 16;       ///< pixels along a tile's side
   bool quiet = true;       ///< no progress bar

@@ -42,6 +42,7 @@ bool splatPass(const SplattingIntegrator& integrator, const Camera& camera, Film
                uint64_t pass, tbb::task_arena& arena, std::atomic<uint64_t>& rays, std::atomic<uint64_t>& nonFinite,
                Comm& comm) {
   const int w = camera.width(), h = camera.height();
+  const uint64_t jitterSeed = options.jitterSeed.value_or(options.seed);
   const uint64_t n = integrator.particlesPerPass(camera);
   const size_t chunks = size_t((n + kSplatChunk - 1) / kSplatChunk);
   std::vector<std::vector<Splat>> splats(chunks);
@@ -57,8 +58,8 @@ bool splatPass(const SplattingIntegrator& integrator, const Camera& camera, Film
           continue;
         }
         uint64_t chunkRays = 0;
-        integrator.splatParticles(camera, options.seed, options.sampler, pass, c * kSplatChunk, std::min(n, (c + 1) * kSplatChunk),
-                                  splats[c], chunkRays);
+        integrator.splatParticles(camera, options.seed, jitterSeed, options.sampler, pass, c * kSplatChunk,
+                                  std::min(n, (c + 1) * kSplatChunk), splats[c], chunkRays);
         rays += chunkRays;
       }
     });
@@ -85,7 +86,7 @@ bool splatPass(const SplattingIntegrator& integrator, const Camera& camera, Film
         for (int x = 0; x < w; ++x) {
           const uint64_t pixel = uint64_t(y) * uint64_t(w) + uint64_t(x);
           Sampler sampler = Sampler::make(options.sampler, options.seed, pixel, pass);
-          const Vec2 jitter = sampler.next2D();
+          const Vec2 jitter = cameraJitter(sampler, options.sampler, options.seed, jitterSeed, pixel, pass);
           SampleInfo info;
           Color L = integrator.Li(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, &info);
           rowRays += info.rays;

@@ -31,23 +31,24 @@ Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
   return Color(0.0f);
 }
 
-void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass,
-                                    uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const {
+void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode,
+                                    uint64_t pass, uint64_t begin, uint64_t end, std::vector<Splat>& out,
+                                    uint64_t& rays) const {
   const BdptDensities densities(*scene_, emission(), camera), deltaDensities(*scene_, deltaFirst_, camera);
   Workspace ws;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler = Sampler::make(mode, seed, i, pass, kStream);
     Sampler deltaSampler = Sampler::make(mode, seed, i, pass, kDeltaFirstStream);
-    sample(densities, deltaDensities, uint32_t(i), sampler, deltaSampler, ws, out, rays);
+    const Vec2 jitter = cameraJitter(sampler, mode, seed, jitterSeed, i, pass, kStream);
+    sample(densities, deltaDensities, uint32_t(i), jitter, sampler, deltaSampler, ws, out, rays);
   }
 }
 
 void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities& deltaDensities, uint32_t pixel,
-                            Sampler& sampler, Sampler& deltaSampler, Workspace& ws, std::vector<Splat>& out,
-                            uint64_t& rays) const {
+                            const Vec2& jitter, Sampler& sampler, Sampler& deltaSampler, Workspace& ws,
+                            std::vector<Splat>& out, uint64_t& rays) const {
   const Camera& camera = densities.camera();
   const int maxDepth = options_.maxDepth;
-  const Vec2 jitter = sampler.next2D();
   const Ray ray = camera.generateRay(float(pixel % uint32_t(camera.width())) + jitter.x,
                                      float(pixel / uint32_t(camera.width())) + jitter.y);
   traceCameraPath(densities, ray, maxDepth + 1, options_.rrDepth, sampler, ws.camera, rays);

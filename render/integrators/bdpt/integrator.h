@@ -52,8 +52,8 @@ class BdptIntegrator : public ShootingIntegrator {
     return uint64_t(camera.width()) * uint64_t(camera.height());
   }
   /// Particle i is the sample of pixel i (row-major).
-  void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
-                      uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
+  void splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode, uint64_t pass,
+                      uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
 
   /// The stream index of the samples' samplers: Sampler::make(mode, seed, pixel, pass, kStream) (in
   /// Sobol' mode a pixel's passes are its sequence's indices, as the tile renderer's samples).
@@ -70,8 +70,8 @@ class BdptIntegrator : public ShootingIntegrator {
   };
   /// One sample of pixel @p pixel: appends its splats to @p out. @p deltaDensities: those of the
   /// delta-first light subpaths (deltaFirst_), drawn from @p deltaSampler.
-  void sample(const BdptDensities& densities, const BdptDensities& deltaDensities, uint32_t pixel, Sampler& sampler,
-              Sampler& deltaSampler, Workspace& ws, std::vector<Splat>& out, uint64_t& rays) const;
+  void sample(const BdptDensities& densities, const BdptDensities& deltaDensities, uint32_t pixel, const Vec2& jitter,
+              Sampler& sampler, Sampler& deltaSampler, Workspace& ws, std::vector<Splat>& out, uint64_t& rays) const;
   /// Table mode: the delta-first light subpath's strategies with the camera subpath in @p ws (whose first
   /// non-delta vertex is @p m), and the camera subpath meeting a small area light right after a delta
   /// vertex: returns the t ≥ 2 part, appends the t = 1 splats to @p out.

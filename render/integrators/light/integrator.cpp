@@ -130,8 +130,8 @@ Sampler LightTracingIntegrator::particleSampler(SamplerMode mode, uint64_t seed,
   return Sampler::sobol(seed, g >> 32, g, stream);
 }
 
-void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass,
-                                            uint64_t begin, uint64_t end, std::vector<Splat>& out,
+void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t, SamplerMode mode,
+                                            uint64_t pass, uint64_t begin, uint64_t end, std::vector<Splat>& out,
                                             uint64_t& rays) const {
   // Particle i of the pass chooses its emitter in stratum i of n (EmissionSampler::sample).
   const uint64_t n = particlesPerPass(camera);

@@ -76,8 +76,8 @@ class LightTracingIntegrator : public ShootingIntegrator {
   /// mode, only the small lights' direct light), so more light paths per pass buy the same error
   /// sooner (docs/light-tracing.md, "Light paths per pass").
   int pathsPerPixel(const Camera& camera) const;
-  void splatParticles(const Camera& camera, uint64_t seed, SamplerMode mode, uint64_t pass, uint64_t begin,
-                      uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
+  void splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode, uint64_t pass,
+                      uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
 
   /// The light subpaths' walk: IntegratorOptions::maxDepth and rrDepth, and with the luminaires the boxes that end
   /// their lights' particles.
