@@ -40,6 +40,18 @@ std::string choice(const std::string& output) {
   return output.substr(at + key.size(), end - at - key.size());
 }
 
+/// Writes the shipped scene @p source to @p to with its settings' 64 spp made 305, what --time 20 sizes at
+/// 128 x 128 (the pilot's budget of such a render); false if it has no "spp": 64.
+bool copyAt305Spp(const std::string& source, const std::string& to) {
+  std::string text = firstshot::test::readFile(firstshot::test::source(source));
+  const std::string from = "\"spp\": 64";
+  const auto spp = text.find(from);
+  if (spp == std::string::npos) return false;
+  text.replace(spp, from.size(), "\"spp\": 305");
+  std::ofstream(to) << text;
+  return true;
+}
+
 /// The efficiency printed in the pilot's table for @p setting (its row's last figure); -1 if it has none.
 double efficiency(const std::string& output, const std::string& setting) {
   const auto row = output.find("\n  " + setting + " ");
@@ -278,14 +290,8 @@ TEST(IntegratorAuto, PatchNeeIsChargedTheTimeItsSamplingTakes) {
   // against 0.858), where at 20 s `--patch-nee off` is 2.6× as efficient; counted at 2.5, `off` is ahead of it.
   // The table itself does not pay there: the path tracer without it is chosen (1.11× `--patch-nee off` at 20 s), the
   // render is the scene's as without --firstshot, and a resumed render takes that choice from its checkpoint.
-  const std::string dir = firstshot::test::tempDir();
-  std::string text = firstshot::test::readFile(firstshot::test::source("scenes/ward-sphere.json"));
-  const std::string from = "\"spp\": 64";
-  const auto spp = text.find(from);
-  ASSERT_NE(spp, std::string::npos);
-  text.replace(spp, from.size(), "\"spp\": 305");  // what --time 20 sizes at 128 x 128
-  const std::string scene = dir + "/ward.json";
-  std::ofstream(scene) << text;
+  const std::string dir = firstshot::test::tempDir(), scene = dir + "/ward.json";
+  ASSERT_TRUE(copyAt305Spp("scenes/ward-sphere.json", scene));
   const auto p =
       firstshot::test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene + " --quiet -o " + dir + "/t.fsd");
   ASSERT_EQ(p.exitCode, 0) << p.output;
@@ -312,14 +318,8 @@ TEST(IntegratorAuto, TheCornellBoxGoesToThePathTracer) {
   // is the light's noise, not the edges' aliasing, which the render's stratified samples nearly remove. Without that
   // the Cornell box at 128 x 128, 305 spp (what --time 20 sizes) went to light tracing, where the path tracer is
   // 2.3x as efficient at 20 s (docs/measurements.md, "The pilot's two images at the same positions").
-  const std::string dir = firstshot::test::tempDir();
-  std::string text = firstshot::test::readFile(firstshot::test::source("scenes/cornell.json"));
-  const std::string from = "\"spp\": 64";
-  const auto spp = text.find(from);
-  ASSERT_NE(spp, std::string::npos);
-  text.replace(spp, from.size(), "\"spp\": 305");
-  const std::string scene = dir + "/cornell.json";
-  std::ofstream(scene) << text;
+  const std::string dir = firstshot::test::tempDir(), scene = dir + "/cornell.json";
+  ASSERT_TRUE(copyAt305Spp("scenes/cornell.json", scene));
   const auto r = firstshot::test::run(kRender + " " + scene + " --width 128 --height 128 --time 0.01 -o " + dir + "/a.exr");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(choice(r.output), "path") << r.output;
