@@ -324,3 +324,24 @@ TEST(IntegratorAuto, TheCornellBoxGoesToThePathTracer) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(choice(r.output), "path") << r.output;
 }
+
+TEST(IntegratorAuto, ASunAndSkyGoToNeeToEveryLight) {
+  // Where a scene has more than one light the path tracer with --light-sampler all is a candidate too: in the sky
+  // courtyard (sun and sky) it is 6.6x the light tree's efficiency at 20 s, and the pilot takes it (3.5x there at
+  // 128 x 128, 305 spp). A resumed render takes it from its checkpoint.
+  const std::string dir = firstshot::test::tempDir(), scene = dir + "/court.json";
+  ASSERT_TRUE(copyAt305Spp("scenes/sky-courtyard.json", scene));
+  const std::string base = kRender + " " + scene + " --width 128 --height 128";
+  const auto stopped = firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base +
+                                            " --spp 305 --checkpoint 1000 -o " + dir + "/a.exr");
+  ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
+  ASSERT_EQ(choice(stopped.output), "path --light-sampler all") << stopped.output;
+  const auto resumed = firstshot::test::run(base + " --spp 3 --resume -o " + dir + "/a.exr");
+  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_THAT(resumed.output,
+              HasSubstr("--integrator auto: path --light-sampler all (the choice of the render in the checkpoint)"));
+  // Given --light-sampler, the option is the user's: no such candidate.
+  const auto given = firstshot::test::run(base + " --light-sampler tree --time 0.01 -o " + dir + "/b.exr");
+  ASSERT_EQ(given.exitCode, 0) << given.output;
+  EXPECT_EQ(pilotTable(given.output).find("--light-sampler all"), std::string::npos) << given.output;
+}

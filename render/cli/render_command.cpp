@@ -252,6 +252,7 @@ int RenderCommand::renderImage() {
   for (auto& [name, value] : checkpoint_.key) {  // as used: --integrator auto may have chosen them
     if (name == integrator_option::kPatchNee) value = integrators_.patchNee;
     if (name == integrator_option::kShootFirstShot) value = integrators_.shootFirstShot;
+    if (name == integrator_option::kLightSampler) value = integrators_.lightSampler;
   }
   if (checkpoint_.active() && tableUnused_) checkpoint_.key.emplace_back(kTableUnusedKey, "unused");
   const auto preprocessStart = std::chrono::steady_clock::now();

@@ -36,8 +36,9 @@ void RenderCommand::resolveIntegrator() {
   const bool replaces = renderScene_ && renderScene_->firstShot() && !renderScene_->firstShot()->replacedLights.empty();
   // Sensors and the preview start with the table: a choice without it is the pilot's, on the camera's pictures.
   const bool tableGiven = renderScene_ && renderScene_->firstShot() && !sensors_.active() && !preview_;
+  const bool manyLights = scene_.lights.size() + (scene_.sky || scene_.environment ? 1 : 0) > 1;
   const std::vector<PilotCandidate> candidates =
-      integrators_.autoCandidates(app_, replaces, tableGiven, scene_.sky || scene_.environment, scene_.file);
+      integrators_.autoCandidates(app_, replaces, tableGiven, manyLights, scene_.sky || scene_.environment, scene_.file);
   auto say = [&](const std::string& text) {
     if (!quiet_) fmt::print(stderr, "firstshot-render: --integrator auto: {}\n", text);
   };
@@ -54,6 +55,7 @@ void RenderCommand::resolveIntegrator() {
         c.patchNee = value == "off" ? PatchNee::Off : value == "first" ? PatchNee::First : PatchNee::Every;
       if (name == integrator_option::kShootFirstShot) c.shootFromPatches = value == "patches";
       if (name == kTableUnusedKey) c.table = false;
+      if (name == integrator_option::kLightSampler) c.everyLight = value == "all";
     }
     c.variesPatchNee = c.variesShoot = false;
     integrators_.choose(c);
@@ -94,6 +96,7 @@ void RenderCommand::resolveIntegrator() {
     IntegratorOptions io = base;
     io.patchNee = c.patchNee;
     io.shootFromPatches = c.shootFromPatches;
+    if (c.everyLight) io.lightSampler = LightStrategy::All;
     IntegratorSetup setup{&app_, &scene_, seed, threads_, spp_, samplerMode(), true};
     IntegratorCli& cli = integrators_.cli(c.integrator);
     cli.configure(setup);

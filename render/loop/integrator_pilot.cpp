@@ -59,6 +59,7 @@ std::string PilotCandidate::label() const {
   std::string s = integrator;
   if (variesPatchNee) s += std::string(" --patch-nee ") + patchNeeName(patchNee);
   if (variesShoot) s += shootFromPatches ? " --shoot-firstshot patches" : " --shoot-firstshot off";
+  if (everyLight) s += " --light-sampler all";
   if (!table) s += ", no table";
   return s;
 }

@@ -57,6 +57,8 @@ struct PilotCandidate {
   /// Reads the table given with --firstshot; false: renders the scene as if none were given (its small lights as
   /// lights, no luminaires), a candidate only where a table was given.
   bool table = true;
+  /// --light-sampler all: next-event estimation to every light at every vertex, not one chosen by the light tree.
+  bool everyLight = false;
   /// The candidate as options: "path", "path --patch-nee every", "light --shoot-firstshot off", "path, no table".
   std::string label() const;
 };
