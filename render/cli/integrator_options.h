@@ -91,8 +91,8 @@ struct IntegratorOptionsCli {
   /// --shoot-firstshot patches and off (light, bdpt) unless that option was given. With a table given (@p tableGiven)
   /// and none of its options, the path tracer also without the table; where the scene has more than one light
   /// (@p manyLights) and --light-sampler is not given, the path tracer with --light-sampler all too (without the
-  /// table given, if one is: last). The bundle only when the options given
-  /// leave nothing else; with a sky or environment map (@p infinite) only path and irradiance-cache.
+  /// table given, if one is: last). The bundle only when the options given leave nothing else; with a sky or
+  /// environment map (@p infinite) only path and irradiance-cache.
   /// @throws InputError when no integrator reads every option given.
   std::vector<PilotCandidate> autoCandidates(const CLI::App& app, bool table, bool tableGiven, bool manyLights,
                                              bool infinite, const std::string& sceneFile) const {
@@ -153,7 +153,8 @@ struct IntegratorOptionsCli {
     // A table that does not pay (its lookups cost more than its smoother light saves) is left unread: the path
     // tracer as without --firstshot, what the defaults give without a table. Not where the user asked for one of the
     // table's options. (Light tracing and BDPT with --shoot-firstshot off are the others' plain methods but for the
-    // luminaires; the cache's records' error, which the pilot measures coarsely, decided against it wrongly.)
+    // luminaires; the cache without the table, tried, made the pilot leave tables that pay: it measures the cache's
+    // records' error coarsely.)
     const bool path = std::find(pilotReaders.begin(), pilotReaders.end(), "path") != pilotReaders.end();
     PilotCandidate plain;
     plain.integrator = "path";
