@@ -311,6 +311,16 @@ TEST(IntegratorAuto, PatchNeeIsChargedTheTimeItsSamplingTakes) {
   ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
   EXPECT_THAT(resumed.output, HasSubstr("--integrator auto: path, no table (the choice of the render in the checkpoint)"));
   EXPECT_THAT(resumed.output, HasSubstr("(0 replaced by first-shot)")) << resumed.output;
+  // The picture is the path tracer's without --firstshot, byte for byte (64 x 64 at 305 spp: the same choice).
+  const std::string small = kRender + " " + scene + " --width 64 --height 64 --spp 305 --seed 3";
+  const auto unread = firstshot::test::run(small + " --firstshot " + dir + "/t.fsd -o " + dir + "/c.exr");
+  ASSERT_EQ(unread.exitCode, 0) << unread.output;
+  ASSERT_EQ(choice(unread.output), "path, no table") << unread.output;
+  const auto plain = firstshot::test::run(small + " --integrator path -o " + dir + "/d.exr");
+  ASSERT_EQ(plain.exitCode, 0) << plain.output;
+  const std::string picture = firstshot::test::readFile(dir + "/c.exr");
+  ASSERT_FALSE(picture.empty());
+  EXPECT_EQ(picture, firstshot::test::readFile(dir + "/d.exr"));
 }
 
 TEST(IntegratorAuto, TheCornellBoxGoesToThePathTracer) {
