@@ -333,6 +333,12 @@ TEST(IntegratorAuto, TheCornellBoxGoesToThePathTracer) {
   const auto r = firstshot::test::run(kRender + " " + scene + " --width 128 --height 128 --time 0.01 -o " + dir + "/a.exr");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(choice(r.output), "path") << r.output;
+  // The cache's records' error is measured with the positions shared too (a third image: the second fill's records
+  // under the first image's passes); from the films' per-pixel variances, which hold the samples' spread over their
+  // pixels, it came out 0 here.
+  const auto error = r.output.find("its records' error ");
+  ASSERT_NE(error, std::string::npos) << r.output;
+  EXPECT_GT(std::atof(r.output.c_str() + error + 19), 0.0) << r.output;
 }
 
 TEST(IntegratorAuto, ASunAndSkyGoToNeeToEveryLight) {

@@ -119,7 +119,8 @@ void RenderCommand::resolveIntegrator() {
 
   // The pilot's rays against the render's, priced at the first candidate's rays per camera sample (as the plan).
   double pilotRays = 0.0;
-  for (const PilotFigure& f : figures) pilotRays += f.spp > 0 ? 2.0 * f.rays : f.rays;
+  for (const PilotFigure& f : figures)  // a seeded preprocessing's third image (its records' error): its passes
+    pilotRays += (f.spp > 0 ? 2.0 * f.rays : f.rays) + (f.seeded ? f.rays - f.preprocessRays : 0.0);
   const PilotFigure& chosen = figures[best];
   const double renderRays = pixels * double(spp) * figures.front().rays /
                             (double(plan.width) * double(plan.height) * double(std::max(1, figures.front().spp)));

@@ -35,6 +35,10 @@ constexpr double kPatchNeeRayCost = 2.5;
 /// shipped and public scenes with their tables, 128 × 128; 0.61–2.78), light tracing's and BDPT's 1.77× and 1.70×
 /// (bench/table_ray_cost.sh).
 constexpr double kTableRayCost = 1.5;
+/// The cache's records' error falls as (records' picture's pixels)^−this: 12 × 12 records against the render's own
+/// at 128 × 128 left 0.016 against at most 0.0051 in the glass-bulb room, 0.029 against at most 0.010 in the
+/// bowl-lamp room (both with their tables, 20 s): 0.24 and 0.22.
+constexpr double kRecordsErrorExponent = 0.23;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -120,19 +124,6 @@ const std::vector<uint8_t>* countedPixels(const std::vector<double>& a, const st
   return skip && keptMean(a, b, skip, n) > 0.0 ? skip : nullptr;
 }
 
-/// One image's relative noise from its pixels' variances alone: the RMS over the pixels @p skip keeps (all without
-/// it) of the variances of the pixel means @p va and @p vb (two images, interleaved RGB) averaged, / @p mean.
-double passNoise(const std::vector<double>& va, const std::vector<double>& vb, const std::vector<uint8_t>* skip,
-                 double mean) {
-  double sum = 0.0, n = 0.0;
-  for (size_t i = 0; i < va.size(); ++i) {
-    if (skip && (*skip)[i / 3]) continue;
-    sum += 0.5 * (va[i] + vb[i]);
-    n += 1.0;
-  }
-  return n > 0.0 && mean > 0.0 ? std::sqrt(sum / n) / mean : 0.0;
-}
-
 }  // namespace
 
 double pilotNoise(const std::vector<double>& a, const std::vector<double>& b, const std::vector<uint8_t>* skip) {
@@ -216,17 +207,6 @@ struct PilotImage {
       }
     return out;
   }
-  /// The variances of the film's pixel means (a pixel's samples' variance / their number), interleaved RGB.
-  std::vector<double> meanVariances() const {
-    std::vector<double> out;
-    out.reserve(size_t(film.width()) * size_t(film.height()) * 3);
-    for (int y = 0; y < film.height(); ++y)
-      for (int x = 0; x < film.width(); ++x) {
-        const Vec3d v = film.variance(x, y) / double(std::max(1u, film.samples(x, y)));
-        for (int ch = 0; ch < 3; ++ch) out.push_back(std::isfinite(v[ch]) ? v[ch] : 0.0);
-      }
-    return out;
-  }
 };
 
 }  // namespace
@@ -299,9 +279,10 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       double n = 0.0;
       const std::vector<uint8_t>* counted = countedPixels(a, b, &skip);
       f.mean = keptMean(a, b, counted, n);
-      if (seeded) {  // the records' part of the noise (below)
-        const double passes = passNoise(first.meanVariances(), second.meanVariances(), counted, f.mean);
-        f.frozen = std::sqrt(std::max(0.0, f.noise * f.noise - passes * passes));
+      if (seeded) {  // the records' part of the noise: the second fill's records under the first image's passes
+        PilotImage third(*other, desc);
+        third.renderTo(f.spp, camera, seed, seed, passSampler, threads);
+        f.frozen = std::min(f.noise, pilotNoise(a, third.image(), &skip));
       }
     }
     f.seeded = seeded && f.spp > 0;
@@ -328,12 +309,17 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     f.error = std::sqrt(noise * noise + off * off);
     f.efficiency = f.error > 0.0 && f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
     if (!f.seeded) continue;
-    // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay.
+    // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay, the
+    // frozen part as the render's denser records have it (kRecordsErrorExponent).
+    const double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * (f.mean / median) * (f.mean / median));
+    f.frozen *= std::pow(double(fillDesc.width) * double(fillDesc.height) /
+                             (double(scene.desc().camera.width) * double(scene.desc().camera.height)),
+                         kRecordsErrorExponent);
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0, fill = f.preprocessRays * fillScale * cost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
     f.frozen *= f.mean / median;
     f.preprocessShare = render > 0.0 ? fill / render : 1.0;
-    f.efficiency = renderEfficiency(noise, f.frozen, off, passRays, fill, render);
+    f.efficiency = renderEfficiency(std::sqrt(pass2 + f.frozen * f.frozen), f.frozen, off, passRays, fill, render);
   }
   return figures;
 }

@@ -25,8 +25,9 @@
 /// An integrator whose preprocessing draws on the seed (the irradiance cache's fill) is made for a coarser picture
 /// (pilotFillCamera: a sixteenth of the pixels), so that its two fills fit in its share, and renders the pilot
 /// picture over those records, a sample that they do not cover taking one path. Its records' error does not shrink
-/// with more passes: its noise is split into that frozen part and the passes' (the films' per-pixel variances, its
-/// passes taking independent samples for that), and its efficiency is the render's, its fill charged at its share
+/// with more passes: its noise is split into that frozen part (a third image, the second fill's records under the
+/// first image's passes, against the first), projected to the render's denser records, and the passes' (its passes
+/// take independent samples), and its efficiency is the render's, its fill charged at its share
 /// of the render's rays (projected from the fill's picture in proportion to the pixels: the fill grows more slowly,
 /// so this errs against the cache), not of a pilot image (PilotFigure::efficiency).
 /// The pilot picture has at most 48 × 48 pixels, the camera's aspect and field; each candidate's two images take 5%
@@ -81,7 +82,8 @@ struct PilotFigure {
   double preprocessRays = 0;  ///< of those, the preprocessing's
   bool seeded = false;        ///< measured with a seeded preprocessing (the cache's fill, over pilotFillCamera) (the irradiance cache's fill)
   /// A seeded preprocessing's (the cache's records'): the part of noise' that more passes over the same records do
-  /// not reduce, √(noise² − pass noise²) · mean / m, the pass noise from the films' per-pixel variances; 0 for the
+  /// not reduce, · mean / m, as the render's records would leave it: the relative noise between the first image and
+  /// the second fill's records under the first image's passes, × (fill pixels / render pixels)^0.23; 0 for the
   /// others.
   double frozen = 0;
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
