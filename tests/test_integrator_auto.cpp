@@ -52,6 +52,11 @@ bool copyAt305Spp(const std::string& source, const std::string& to) {
   return true;
 }
 
+/// firstshot-preprocess at its defaults: @p scene's table written to @p fsd.
+auto preprocess(const std::string& scene, const std::string& fsd) {
+  return firstshot::test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene + " --quiet -o " + fsd);
+}
+
 /// The efficiency printed in the pilot's table for @p setting (its row's last figure); -1 if it has none.
 double efficiency(const std::string& output, const std::string& setting) {
   const auto row = output.find("\n  " + setting + " ");
@@ -268,8 +273,7 @@ TEST(IntegratorAuto, ABulbBehindGlassWithItsTableGoesToTheCache) {
   text.insert(text.find('{') + 1, "\"settings\": {\"spp\": 305},");
   const std::string scene = dir + "/bulb.json";
   std::ofstream(scene) << text;
-  const auto p =
-      firstshot::test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene + " --quiet -o " + dir + "/t.fsd");
+  const auto p = preprocess(scene, dir + "/t.fsd");
   ASSERT_EQ(p.exitCode, 0) << p.output;
   const std::string base = kRender + " " + scene + " --firstshot " + dir + "/t.fsd --width 128 --height 96 --time 0.01";
   const auto r = firstshot::test::run(base + " --threads 2 -o " + dir + "/a.exr");
@@ -292,8 +296,7 @@ TEST(IntegratorAuto, PatchNeeIsChargedTheTimeItsSamplingTakes) {
   // render is the scene's as without --firstshot, and a resumed render takes that choice from its checkpoint.
   const std::string dir = firstshot::test::tempDir(), scene = dir + "/ward.json";
   ASSERT_TRUE(copyAt305Spp("scenes/ward-sphere.json", scene));
-  const auto p =
-      firstshot::test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene + " --quiet -o " + dir + "/t.fsd");
+  const auto p = preprocess(scene, dir + "/t.fsd");
   ASSERT_EQ(p.exitCode, 0) << p.output;
   const std::string base = kRender + " " + scene + " --firstshot " + dir + "/t.fsd --width 128 --height 128";
   const auto r = firstshot::test::run(base + " --time 0.01 -o " + dir + "/a.exr");

@@ -37,8 +37,8 @@ std::vector<Tile> makeTiles(int width, int height, int size) {
 /// yet. Stops between two sample indices of a block once @p cancel is set (every pixel then holds
 /// its first samples, in order): @return false if it did.
 bool renderTile(const Integrator& integrator, const Camera& camera, Film& film, const Tile& tile, int s0, int s1,
-                uint64_t seed, uint64_t jitterSeed, SamplerMode mode, bool skipTaken, const std::atomic<bool>* cancel, uint64_t& rays,
-                uint64_t& nonFinite) {
+                uint64_t seed, uint64_t jitterSeed, SamplerMode mode, bool skipTaken, const std::atomic<bool>* cancel,
+                uint64_t& rays, uint64_t& nonFinite) {
   constexpr int B = 4;
   for (int by = tile.y0; by < tile.y1; by += B)
     for (int bx = tile.x0; bx < tile.x1; bx += B) {
