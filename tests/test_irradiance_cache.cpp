@@ -165,6 +165,58 @@ TEST(IrradianceOctree, SearchFindsExactlyTheBruteForceSet) {
   EXPECT_LT(found, queries);
 }
 
+// freeze(): lookups over the compact copy give bit for bit the sums of the octree's lists (the same records in the same
+// order: the render's images do not change), at both acceptances, with neighbour clamping and footprint clamps in the
+// radii; an insert afterwards is seen at once (the copy is not read stale).
+TEST(IrradianceOctree, AFrozenCopyFindsTheSameRecordsInTheSameOrder) {
+  const float a = 0.15f;
+  IrradianceCache cache(Vec3(-1), Vec3(1), {a});
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int i = 0; i < 2000; ++i) {
+    const bool floor = i % 2 == 0;
+    IrradianceRecord r = record(floor ? Vec3(u(rng), -1.0f, u(rng)) : 0.5f * glm::normalize(Vec3(u(rng), u(rng), u(rng))),
+                                Vec3(0, 1, 0), 0.002f + 0.3f * (u(rng) + 1.0f), Color(u(rng) + 1.0f, 1.0f, 0.5f));
+    if (!floor) r.n = glm::normalize(r.p);
+    r.gradT[0] = Vec3(u(rng), u(rng), u(rng));
+    if (i % 5 == 0) r.Rmin = 0.05f, r.Rmax = 0.2f;
+    cache.insert(0, r, i % 3 != 0);  // neighbour clamping lowers earlier radii
+  }
+  std::vector<std::pair<Vec3, Vec3>> queries;
+  for (int q = 0; q < 4000; ++q) {
+    const bool floor = q % 2 == 0;
+    const Vec3 p = floor ? Vec3(u(rng), -1.0f + 0.01f * u(rng), u(rng)) : 0.5f * glm::normalize(Vec3(u(rng), u(rng), u(rng)));
+    queries.emplace_back(p, floor ? Vec3(0, 1, 0) : glm::normalize(p));
+  }
+  auto lookups = [&](float relax) {
+    std::vector<IrradianceEstimate> out(queries.size());
+    for (size_t q = 0; q < queries.size(); ++q) cache.lookup(0, queries[q].first, queries[q].second, true, out[q], relax);
+    return out;
+  };
+  const std::vector<IrradianceEstimate> lists1 = lookups(1.0f), lists2 = lookups(2.0f);
+  cache.freeze();
+  const std::vector<IrradianceEstimate> frozen1 = lookups(1.0f), frozen2 = lookups(2.0f);
+  int found = 0;
+  for (size_t q = 0; q < queries.size(); ++q) {
+    ASSERT_EQ(frozen1[q].count, lists1[q].count) << q;
+    ASSERT_EQ(frozen2[q].count, lists2[q].count) << q;
+    EXPECT_EQ(frozen1[q].weight, lists1[q].weight) << q;
+    EXPECT_EQ(frozen2[q].weight, lists2[q].weight) << q;
+    EXPECT_EQ(frozen1[q].sum, lists1[q].sum) << q;
+    EXPECT_EQ(frozen2[q].sum, lists2[q].sum) << q;
+    found += lists1[q].count > 0;
+  }
+  fmt::print("{} of {} queries found records\n", found, queries.size());
+  EXPECT_GT(found, int(queries.size()) / 10);  // the comparison is not vacuous
+  EXPECT_LT(found, int(queries.size()));
+  // After an insert the lists serve again: a record where none was is found.
+  size_t empty = 0;
+  while (empty < queries.size() && frozen1[empty].count > 0) ++empty;
+  ASSERT_LT(empty, queries.size());
+  cache.insert(0, record(queries[empty].first, queries[empty].second, 0.1f), false);
+  EXPECT_TRUE(cache.covers(0, queries[empty].first, queries[empty].second));
+}
+
 TEST(IrradianceOctree, NeighbourClampingBoundsRadiiByDistance) {
   IrradianceCache cache(Vec3(-1), Vec3(1), {0.2f});
   const Vec3 up(0, 1, 0);

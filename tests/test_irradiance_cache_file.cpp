@@ -7,6 +7,7 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -94,6 +95,7 @@ TEST(IrradianceCacheTwoPass, ImageDoesNotDependOnTheThreadCount) {
   EXPECT_GT(one.stats.records, 0u);
   EXPECT_EQ(one.stats.records, two.stats.records);
   EXPECT_EQ(one.stats.privateRecords, two.stats.privateRecords);
+  EXPECT_EQ(one.stats.missPaths, two.stats.missPaths);
   ASSERT_EQ(one.level0.size(), two.level0.size());
   for (size_t i = 0; i < one.level0.size(); ++i) {
     EXPECT_EQ(one.level0[i].p, two.level0[i].p);
@@ -101,6 +103,35 @@ TEST(IrradianceCacheTwoPass, ImageDoesNotDependOnTheThreadCount) {
     EXPECT_EQ(one.level0[i].R, two.level0[i].R);
   }
   EXPECT_TRUE(sameImage(one.film, two.film));
+}
+
+// A render sample that no record covers (the fill traced each pixel's first sample only) takes one path from there;
+// with missRecords (--ic-miss record) it makes a record for itself, as Ward's method would. Both estimate the same
+// image: the pixels' differences (zero where no sample missed) average to 0 within 4σ of their own spread.
+TEST(IrradianceCacheTwoPass, AMissTakesAPathOrWithRecordMissMakesAPrivateRecord) {
+  const RenderScene scene(test::cornellWithPointLight(kSize));
+  IrradianceCacheSettings s = twoPass("", 2);
+  const Rendered paths = renderWith(scene, s, 2, 8);
+  s.missRecords = true;
+  const Rendered records = renderWith(scene, s, 2, 8);
+  fmt::print("8 spp: {} misses took a path; with record misses {} private records, {} paths\n", paths.stats.missPaths,
+             records.stats.privateRecords, records.stats.missPaths);
+  EXPECT_GT(paths.stats.missPaths, 0u) << "no sample missed: the test shows nothing";
+  EXPECT_EQ(paths.stats.privateRecords, 0u);
+  EXPECT_GT(records.stats.privateRecords, 0u);
+  EXPECT_EQ(records.stats.missPaths, 0u);
+  double sum = 0, sum2 = 0, mean = 0;
+  const double n = 3.0 * kSize * kSize;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double d = paths.film.mean(x, y)[c] - records.film.mean(x, y)[c];
+        sum += d, sum2 += d * d, mean += records.film.mean(x, y)[c] / n;
+      }
+  const double md = sum / n, sd = std::sqrt(std::max(0.0, sum2 / n - md * md) / n);
+  fmt::print("mean difference {:+.3g} ± {:.3g} (image mean {:.4g})\n", md, sd, mean);
+  EXPECT_GT(sd, 0.0) << "the images are the same: no miss changed a pixel";
+  EXPECT_LT(std::abs(md), 4.0 * sd);
 }
 
 TEST(IrradianceCacheFile, ReuseGivesTheSameImageWithNoNewRecords) {

@@ -36,6 +36,7 @@ IrradianceCacheSettings ward1988(float a, int bounces) {
   s.footprintMin = 0.0f;
   s.footprintMax = std::numeric_limits<float>::infinity();
   s.twoPass = true;
+  s.missRecords = true;  // Ward's: a render sample that finds no record makes one
   s.seed = kSeed;
   return s;
 }

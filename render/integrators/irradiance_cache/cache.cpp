@@ -55,11 +55,34 @@ struct IrradianceCache::Node {
   std::atomic<const Stored*> head{nullptr};  ///< newest record of this node
 };
 
+/// A level's octree as freeze() copies it: nodes by index (the root first), each with its records' range; a record's
+/// fields that a lookup tests side by side, in the order of the nodes' lists.
+struct IrradianceCache::Frozen {
+  struct FrozenNode {
+    int32_t child[8];  ///< index of each octant's node, −1 for none
+    uint32_t begin, end;  ///< its records
+    /// The box around the valid domains a·R_i (relax 1) of the records of this node and those below it, a little
+    /// wider than rounding could move them: a point outside it is accepted by none of them.
+    Vec3 lo, hi;
+  };
+  struct Tested {
+    Vec3 p;        ///< P_i
+    float radius;  ///< clamp(R_i, Rmin, Rmax) at freeze()
+    Vec3 n;        ///< N_i
+    int32_t zone;
+  };
+  std::vector<FrozenNode> nodes;
+  std::vector<Tested> tested;
+  std::vector<const Stored*> stored;  ///< the record itself (its values and gradients), by the same index
+};
+
 struct IrradianceCache::Level {
   Node root;
   std::deque<Node> nodes;      ///< every other node (a deque keeps addresses stable)
   std::deque<Stored> records;  ///< in insertion order
   mutable std::mutex mutex;    ///< serialises inserts and whole-level reads
+  Frozen frozen;               ///< freeze()'s copy, valid while isFrozen
+  std::atomic<bool> isFrozen{false};
 };
 
 IrradianceCache::IrradianceCache(const Vec3& lo, const Vec3& hi, std::vector<float> accuracy)
@@ -102,25 +125,116 @@ void IrradianceCache::visit(const Level& level, const Vec3& p, float radius, flo
   }
 }
 
+template <typename F>
+void IrradianceCache::visitFrozen(const Frozen& frozen, const Vec3& p, float nodeReach, bool prune, F&& f) const {
+  struct Item {
+    int32_t node;
+    Vec3 o;
+    float s;
+  };
+  Item stack[8 * (kMaxDepth + 2)];
+  int top = 0;
+  stack[top++] = {0, origin_, size_};
+  while (top > 0) {
+    const Item it = stack[--top];
+    const Frozen::FrozenNode& node = frozen.nodes[size_t(it.node)];
+    if (prune && (p.x < node.lo.x || p.y < node.lo.y || p.z < node.lo.z || p.x > node.hi.x || p.y > node.hi.y ||
+                  p.z > node.hi.z))
+      continue;  // none of its records' domains, nor those below it, holds p
+    for (uint32_t i = node.begin; i < node.end; ++i) f(i);
+    const float h = 0.5f * it.s, reach = nodeReach * h;  // visit()'s test, in the same order
+    for (int c = 0; c < 8; ++c) {
+      if (node.child[c] < 0) continue;
+      const Vec3 o = octantOrigin(it.o, h, c);
+      if (p.x < o.x - reach || p.x > o.x + h + reach || p.y < o.y - reach || p.y > o.y + h + reach ||
+          p.z < o.z - reach || p.z > o.z + h + reach)
+        continue;
+      stack[top++] = {node.child[c], o, h};
+    }
+  }
+}
+
 void IrradianceCache::lookup(int level, const Vec3& p, const Vec3& n, bool gradients, IrradianceEstimate& est,
                              float relax, int32_t zone) const {
   relax = std::clamp(relax, 1.0f, 2.0f);  // a node of side s holds domains a·R_i < s/2
   const float a = relax * accuracy_[size_t(level)], invA = 1.0f / a;
-  visit(*levels_[size_t(level)], p, 0.0f, 0.5f * relax, [&](const Stored& s) {
-    const IrradianceRecord& r = s.rec;
-    const float R = std::min(std::max(s.R.load(std::memory_order_relaxed), r.Rmin), r.Rmax);
-    const Vec3 dp = p - r.p;
-    const float d2 = glm::dot(dp, dp), cosN = glm::dot(n, r.n);
+  // R: the radius the weights use (the current R_i, clamped).
+  auto test = [&](const Vec3& pi, const Vec3& ni, float R, int32_t zi, const Stored& s) {
+    const Vec3 dp = p - pi;
+    const float d2 = glm::dot(dp, dp), cosN = glm::dot(n, ni);
     if (!(d2 < (a * R) * (a * R)) || !(cosN > 0.0f)) return;  // w > 1/a needs |P − P_i| < a·R_i
-    if (r.zone != zone) return;
+    if (zi != zone) return;
     const float den = std::sqrt(d2) / R + std::sqrt(std::max(0.0f, 1.0f - cosN));
     const float w = 1.0f / std::max(den, 1e-6f);  // finite at P = P_i
     if (!(w > invA)) return;
-    if (inFrontDistance(r.p, r.n, p, n) < -frontTolerance_) return;
+    if (inFrontDistance(pi, ni, p, n) < -frontTolerance_) return;
+    const IrradianceRecord& r = s.rec;
     est.sum += w * (gradients ? extrapolateIrradiance(r, p, n) : r.E);
     est.weight += w;
     ++est.count;
+  };
+  const Level& L = *levels_[size_t(level)];
+  if (L.isFrozen.load(std::memory_order_acquire)) {
+    const Frozen& f = L.frozen;
+    visitFrozen(f, p, 0.5f * relax, relax == 1.0f, [&](uint32_t i) {
+      const Frozen::Tested& t = f.tested[i];
+      test(t.p, t.n, t.radius, t.zone, *f.stored[i]);
+    });
+    return;
+  }
+  visit(L, p, 0.0f, 0.5f * relax, [&](const Stored& s) {
+    const IrradianceRecord& r = s.rec;
+    test(r.p, r.n, std::min(std::max(s.R.load(std::memory_order_relaxed), r.Rmin), r.Rmax), r.zone, s);
   });
+}
+
+void IrradianceCache::freeze() {
+  for (const std::unique_ptr<Level>& level : levels_) {
+    Level& L = *level;
+    std::lock_guard<std::mutex> lock(L.mutex);
+    L.isFrozen.store(false, std::memory_order_relaxed);
+    Frozen& f = L.frozen;
+    f.nodes.clear(), f.tested.clear(), f.stored.clear();
+    // Depth first, each node's records in its list's order (newest first), as visit() meets them.
+    std::vector<std::pair<const Node*, int32_t>> todo{{&L.root, 0}};
+    f.nodes.emplace_back();
+    while (!todo.empty()) {
+      const auto [node, index] = todo.back();
+      todo.pop_back();
+      Frozen::FrozenNode fn;
+      fn.begin = uint32_t(f.tested.size());
+      for (const Stored* r = node->head.load(std::memory_order_relaxed); r; r = r->next) {
+        const IrradianceRecord& rec = r->rec;
+        f.tested.push_back({rec.p, std::min(std::max(r->R.load(std::memory_order_relaxed), rec.Rmin), rec.Rmax),
+                            rec.n, rec.zone});
+        f.stored.push_back(r);
+      }
+      fn.end = uint32_t(f.tested.size());
+      for (int c = 0; c < 8; ++c) {
+        const Node* child = node->child[c].load(std::memory_order_relaxed);
+        fn.child[c] = child ? int32_t(f.nodes.size()) : -1;
+        if (child) {
+          todo.emplace_back(child, fn.child[c]);
+          f.nodes.emplace_back();
+        }
+      }
+      f.nodes[size_t(index)] = fn;
+    }
+    // The domains' boxes, children before parents (a child's index is above its parent's).
+    const float a = accuracy_[size_t(&level - levels_.data())], pad = 1e-5f * size_;
+    for (size_t k = f.nodes.size(); k-- > 0;) {
+      Frozen::FrozenNode& fn = f.nodes[k];
+      fn.lo = Vec3(std::numeric_limits<float>::infinity()), fn.hi = -fn.lo;
+      for (uint32_t i = fn.begin; i < fn.end; ++i) {
+        const float r = a * f.tested[i].radius * 1.0001f + pad;
+        fn.lo = glm::min(fn.lo, f.tested[i].p - Vec3(r)), fn.hi = glm::max(fn.hi, f.tested[i].p + Vec3(r));
+      }
+      for (int c = 0; c < 8; ++c)
+        if (fn.child[c] >= 0)
+          fn.lo = glm::min(fn.lo, f.nodes[size_t(fn.child[c])].lo), fn.hi = glm::max(fn.hi, f.nodes[size_t(fn.child[c])].hi);
+    }
+    L.isFrozen.store(true, std::memory_order_release);
+  }
 }
 
 bool IrradianceCache::covers(int level, const Vec3& p, const Vec3& n, int32_t zone) const {
@@ -146,6 +260,7 @@ void IrradianceCache::clampToNeighbours(int level, IrradianceRecord& r) const {
 void IrradianceCache::insert(int level, IrradianceRecord r, bool neighbourClamp, bool shrinkNeighbours) {
   Level& L = *levels_[size_t(level)];
   std::lock_guard<std::mutex> lock(L.mutex);
+  L.isFrozen.store(false, std::memory_order_relaxed);  // the copy is stale from here (freeze() makes another)
   if (neighbourClamp) {
     clampToNeighbours(level, r);
     // Shrink the neighbours, and theirs in turn while radii drop (a distance transform over the

@@ -85,6 +85,12 @@ class IrradianceCache {
               int32_t zone = 0) const;
   /// True if a record of @p level and @p zone would be accepted at (p, n).
   bool covers(int level, const Vec3& p, const Vec3& n, int32_t zone = 0) const;
+  /// Copies every level's octree into compact arrays (nodes by index, each node's records' positions, normals, radii
+  /// and zones side by side) that lookup() and covers() search instead, with the same results in the same order, until
+  /// the next insert(). For a cache that is read more than written (the two-pass fill between its merges, the render
+  /// after it): a lookup reads tens of records for each one it accepts, scattered over memory in the octree's lists.
+  /// Not while another thread inserts.
+  void freeze();
 
   /// Stores @p r at @p level in the node that contains P_i and whose side s satisfies
   /// 2·a·R_i < s ≤ 4·a·R_i (or the root when the domain exceeds the cube). With
@@ -109,9 +115,14 @@ class IrradianceCache {
   struct Stored;
   struct Node;
   struct Level;
+  struct Frozen;
   /// Calls f on the records of every node whose cube, grown by max(radius, nodeReach · its side), contains p.
   template <typename F>
   void visit(const Level& level, const Vec3& p, float radius, float nodeReach, F&& f) const;
+  /// As visit(), over the frozen copy: f(index of the record in Frozen's arrays), in the same order; with @p prune,
+  /// not into a node whose records' domains at relax 1, its own and those below it, all leave out p.
+  template <typename F>
+  void visitFrozen(const Frozen& frozen, const Vec3& p, float nodeReach, bool prune, F&& f) const;
   /// Calls f(record, distance, R_j) for the neighbours of a record at p with radius R: the records
   /// within R of p, or whose doubled valid domain 2·a·R_j contains p.
   template <typename F>

@@ -21,7 +21,8 @@ namespace firstshot {
 class IrradianceCacheCli : public IntegratorCli {
  public:
   IrradianceCacheSettings settings;
-  std::string ambient = "0", gradients = "on", clampFootprint = "1.5,100", neighbourClamp = "on", showRecords;
+  std::string ambient = "0", gradients = "on", clampFootprint = "1.5,100", neighbourClamp = "on", miss = "path",
+              showRecords;
   bool twoPass = false, onePass = false;
   CLI::Option* ambientOption = nullptr;
   bool configured = false;  ///< configure() ran: make() hands the settings to the integrator
@@ -52,6 +53,10 @@ class IrradianceCacheCli : public IntegratorCli {
         app.add_option("--ic-patch-nee", settings.patchNee, "irradiance cache with --firstshot: patch NEE samples per "
                                                             "hemisphere ray of a record, MIS-combined with the rays (0: off)")
             ->check(CLI::Range(0.0, 64.0))->capture_default_str(),
+        app.add_option("--ic-miss", miss, "irradiance cache, two-pass: where a render sample finds no record, take one "
+                                          "path from there (unbiased, one sample's rays) or make a record for that "
+                                          "sample alone (Ward's method: its hundreds of rays serve one sample)")
+            ->check(CLI::IsMember({"path", "record"}))->capture_default_str(),
         app.add_flag("--two-pass", twoPass, "irradiance cache: fill the cache through every pixel first, then render "
                                             "read-only, so the image does not depend on --threads (the default)"),
         app.add_flag("--one-pass", onePass, "irradiance cache: make records while rendering (25-30% less CPU; the "
@@ -72,6 +77,7 @@ class IrradianceCacheCli : public IntegratorCli {
     settings.pathContinuation = ambientOption->count() == 0;  // --ambient given: Ward's ambient term instead
     settings.gradients = gradients == "on";
     settings.neighbourClamp = neighbourClamp == "on";
+    settings.missRecords = miss == "record";
     if (clampFootprint == "off") {
       settings.footprintMin = 0.0f;
       settings.footprintMax = std::numeric_limits<float>::infinity();
@@ -124,9 +130,9 @@ class IrradianceCacheCli : public IntegratorCli {
     fmt::print(stderr, "irradiance cache: {} records ({} by level), {} loaded, {} new ({:.0f} records/s)", s.records,
                levels.empty() ? "0" : levels, s.loaded, made, seconds > 0 ? double(made) / seconds : 0.0);
     if (settings.twoPass)
-      fmt::print(stderr, "; fill {:.2f} s, {:.3f} Mrays in {} sweep(s), {} private records in the {}", s.fillSeconds,
-                 double(s.fillRays) * 1e-6, s.fillRounds, s.privateRecords, film ? "render" : "sensor estimate");
-    if (!film) fmt::print(stderr, ", {} lookups without a record took a path", s.missPaths);
+      fmt::print(stderr, "; fill {:.2f} s, {:.3f} Mrays in {} sweep(s); in the {}: {} lookups without a record took a path",
+                 s.fillSeconds, double(s.fillRays) * 1e-6, s.fillRounds, film ? "render" : "sensor estimate", s.missPaths);
+    if (s.privateRecords > 0) fmt::print(stderr, ", {} private records", s.privateRecords);
     fmt::print(stderr, "\n");
   }
 

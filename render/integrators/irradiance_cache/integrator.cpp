@@ -265,8 +265,8 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
   if (frozen_) {  // two-pass render: a point the fill did not reach; first try the doubled domains
     cache_->lookup(level, hit.p, n, settings_.gradients, est, 2.0f, zone);
     if (est.count > 0) return est.value();
-    // Filled from rays (sensors): one path instead of a private record, whose hundreds of rays (and
-    // deeper private records) served only this sample; unbiased, as past the last level.
+    // One path instead of a record private to this sample, whose hundreds of rays (and deeper private
+    // records) would serve it only; unbiased, as past the last level.
     if (pathOnMiss_ && settings_.pathContinuation) {
       ++missPaths_;
       return pathIrradiance();

@@ -44,8 +44,9 @@
 /// first camera sample(s) of every pixel in a fixed coarse-to-fine pixel order, in parallel
 /// batches whose new records are merged in a fixed order, and sweeps again until every one of
 /// those samples finds its records; the render then only reads the cache. A render lookup that
-/// finds no record accepts the records of doubled domain (w > 1/(2a)), and failing that makes
-/// a record private to that camera sample. The image is then bit-identical for any number of
+/// finds no record accepts the records of doubled domain (w > 1/(2a)), and failing that takes
+/// one path from there (as past the last level: no bias), or with missRecords (and with --ambient)
+/// makes a record private to that camera sample. The image is then bit-identical for any number of
 /// threads, and the render's first samples are exactly as a one-pass render would make them.
 #include <atomic>
 #include <cstdint>
@@ -79,6 +80,9 @@ struct IrradianceCacheSettings {
   float footprintMax = 100.0f;
   bool neighbourClamp = true;   ///< R_i ≤ R_j + |P_i − P_j| (Křivánek et al. 2006) [--neighbour-clamp]
   bool twoPass = true;          ///< fill the cache in preprocess(), then render read-only [default; --one-pass: false]
+  /// Two-pass render: a lookup that finds no record (not even in the doubled domains) makes a record private to that
+  /// camera sample, as Ward's method would, instead of taking one path from there (the default) [--ic-miss record].
+  bool missRecords = false;
   int fillSamples = 1;          ///< two-pass: camera samples per pixel of the fill (the render's first ones)
   std::string cacheFile;        ///< records read in preprocess() if the file exists [--cache-file]
   uint64_t seed = 1;            ///< the render's seed (the fill traces the render's own camera samples)
@@ -95,8 +99,8 @@ struct IrradianceCacheStats {
   size_t loaded = 0;            ///< records read from the cache file
   size_t records = 0;           ///< records in the cache now (all levels)
   std::vector<size_t> perLevel; ///< records per level
-  uint64_t privateRecords = 0;  ///< two-pass render: records made for one camera sample only
-  uint64_t missPaths = 0;       ///< after preprocessRays: lookups that found no record and took one path
+  uint64_t privateRecords = 0;  ///< two-pass render: records made for one camera sample only (missRecords, --ambient)
+  uint64_t missPaths = 0;       ///< two-pass render: lookups that found no record and took one path
   double fillSeconds = 0;       ///< two-pass fill
   uint64_t fillRays = 0;        ///< rays the two-pass fill traced (closest-hit and shadow)
   int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
@@ -129,9 +133,8 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// fill, so does a task's lookup once the task has traced 2^20 rays (a deterministic bound on
   /// the records one task makes, e.g. inside a closed object).
   void preprocessRays(const RenderScene& scene, size_t tasks, const RayTask& task, float rayAngle) override;
-  /// preprocess() with the fill over @p camera's pixels and its pixel angle for the footprint clamp; afterwards a
-  /// lookup that finds no record, not even in the doubled domains, takes one path (as after preprocessRays()), since
-  /// the picture rendered may be finer than @p camera's (--integrator auto's pilot).
+  /// preprocess() with the fill over @p camera's pixels and its pixel angle for the footprint clamp (--integrator
+  /// auto's pilot renders a finer picture over them).
   void preprocessFor(const RenderScene& scene, const CameraDesc& camera) override;
   uint64_t preprocessRayCount() const override { return fillRays_; }
   void limitPreprocessRays(uint64_t rays) override { fillRayLimit_ = rays; }
@@ -253,7 +256,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   float pixelAngle_ = 0.0f;               ///< footprint of one pixel per metre of distance
   std::unique_ptr<IrradianceCache> cache_;
   bool frozen_ = false;                   ///< two-pass render: the shared cache is read-only
-  bool pathOnMiss_ = false;               ///< after preprocessRays: a miss takes one path (frozen, or over budget)
+  bool pathOnMiss_ = false;               ///< after a two-pass fill: a miss takes one path (frozen, or over budget)
   uint64_t taskRayBudget_ = 0;            ///< preprocessRays' fill: rays per task before misses take paths (0: none)
   size_t loaded_ = 0;
   double fillSeconds_ = 0;
