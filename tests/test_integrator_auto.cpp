@@ -85,6 +85,19 @@ TEST(IntegratorPilot, StaysWithinFivePercentOfTheCameraSamples) {
   }
 }
 
+// A render sized by --time has the work of its seconds at the nominal ray rate (what a seeded preprocessing's share
+// is taken of); the pilot's picture and samples do not change with it, and a render of given samples has none.
+TEST(IntegratorPilot, ARenderGivenATimeHasTheWorkOfItsSecondsAtTheNominalRayRate) {
+  firstshot::CameraDesc cam;
+  cam.width = cam.height = 128;
+  const firstshot::PilotPlan timed = firstshot::planPilot(cam, 305, 8, 20.0), counted = firstshot::planPilot(cam, 305, 8);
+  EXPECT_DOUBLE_EQ(timed.renderWork, 20.0 * firstshot::kTimeRaysRate);
+  EXPECT_EQ(counted.renderWork, 0.0);
+  EXPECT_EQ(timed.width, counted.width);
+  EXPECT_EQ(timed.height, counted.height);
+  EXPECT_EQ(timed.spp, counted.spp);
+}
+
 TEST(IntegratorPilot, NoPilotWhereTheBudgetIsTooSmall) {
   firstshot::CameraDesc cam;
   cam.width = 32;

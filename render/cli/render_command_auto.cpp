@@ -76,7 +76,9 @@ void RenderCommand::resolveIntegrator() {
   const int spp = spp_ > 0 ? spp_
                   : timeLimit_ > 0 ? int(std::min(1e6, std::max<double>(scene_.settings.spp, timeLimit_ * kTimeRate / pixels)))
                                    : scene_.settings.spp;
-  const PilotPlan plan = planPilot(scene_.camera, spp, candidates.size());
+  // Where the time sized it, the render's work is the time at a nominal ray rate (planPilot).
+  const bool timed = spp_ <= 0 && timeLimit_ > 0 && timeLimit_ * kTimeRate / pixels > scene_.settings.spp;
+  const PilotPlan plan = planPilot(scene_.camera, spp, candidates.size(), timed ? timeLimit_ : 0.0);
   if (!plan.run) {
     integrators_.choose(pathOrFirst(candidates));
     say(fmt::format("{} ({} x {} at {} spp leaves no room for a pilot)", pathOrFirst(candidates).label(),

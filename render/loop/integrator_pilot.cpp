@@ -35,10 +35,17 @@ constexpr double kPatchNeeRayCost = 2.5;
 /// shipped and public scenes with their tables, 128 × 128; 0.61–2.78), light tracing's and BDPT's 1.77× and 1.70×
 /// (bench/table_ray_cost.sh).
 constexpr double kTableRayCost = 1.5;
-/// The cache's records' error falls as (records' picture's pixels)^−this: 12 × 12 records against the render's own
-/// at 128 × 128 left 0.016 against at most 0.0051 in the glass-bulb room, 0.029 against at most 0.010 in the
-/// bowl-lamp room (both with their tables, 20 s): 0.24 and 0.22.
-constexpr double kRecordsErrorExponent = 0.23;
+/// The cache's records' error falls as (records' picture's pixels)^−this: an interpolation error that falls as the
+/// records' spacing. 12 × 12 records against the render's own at 128 × 128 left 0.016 against at most 0.0051 in the
+/// glass-bulb room, 0.029 against at most 0.010 in the bowl-lamp room: at least 0.24 and 0.22. With 0.23 and the
+/// render's work at kTimeRaysRate, three Cornell boxes with their tables left the cache, which is 2.15–3.8× the
+/// choices made instead there. Where the records' own noise dominates (daylight, the classroom) it falls more slowly;
+/// the pilot does not tell the two apart.
+constexpr double kRecordsErrorExponent = 0.5;
+/// A seeded preprocessing's rays (the cache's fill: records gathered, their neighbours clamped) count this much work
+/// each: over the 19 scenes where the cache is chosen they took 1.33–3.27× the time of the path tracer's rays
+/// (median 1.88; 128 × 128, one thread), where its passes' rays took 0.57–1.60× (median 1.18, counted as one).
+constexpr double kFillRayCost = 1.9;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -68,7 +75,7 @@ std::string PilotCandidate::label() const {
   return s;
 }
 
-PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates) {
+PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates, double seconds) {
   PilotPlan plan;
   if (candidates < 2 || spp < 1 || camera.width < 1 || camera.height < 1) return plan;
   const double pixels = double(camera.width) * double(camera.height);
@@ -83,6 +90,7 @@ PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates) {
   plan.height = h;
   plan.spp = int(std::floor(perImage / (double(w) * double(h))));
   plan.renderSpp = spp;
+  plan.renderWork = seconds > 0.0 ? seconds * kTimeRaysRate : 0.0;
   plan.run = plan.spp >= kMinSpp;
   return plan;
 }
@@ -222,6 +230,15 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   // out) spends on plan.spp passes, its preprocessing shared among them; a candidate of costlier samples takes
   // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
   double budget = 0.0;
+  // The render's work per pilot picture (G): its samples at the first candidate's work per sample (@p b, the budget
+  // of plan.spp passes), or the time's rays; and a seeded preprocessing's picture against the pilot's.
+  const double renderPixels = double(scene.desc().camera.width) * double(scene.desc().camera.height);
+  auto renderWork = [&](double b) {
+    return plan.renderWork > 0.0 ? plan.renderWork * double(desc.width) * double(desc.height) / renderPixels
+                                 : b * double(plan.renderSpp) / double(std::max(1, plan.spp));
+  };
+  const double fillScale =
+      double(desc.width) * double(desc.height) / (double(fillDesc.width) * double(fillDesc.height));
   std::vector<PilotFigure> figures;
   // Integrators (and whether they read the table) whose preprocessing outgrew the pilot: their variants are skipped.
   std::vector<std::pair<std::string, bool>> outgrown;
@@ -237,13 +254,18 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     const RenderScene& theirs = candidates[c].table ? scene : *withoutTable;
     const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
     // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past twice the
-    // budget, where it outgrows the pilot, and the candidate is not measured further.
-    if (c > 0) integrator->limitPreprocessRays(uint64_t(2.0 * budget) + 1);
+    // budget, or past what would take the whole render once projected to it, whichever is more (at most a share of
+    // the render of 2 × its fill picture's pixels / the render's, under 1% at 128 × 128): there it outgrows the
+    // pilot, and the candidate is not measured further.
+    const double limit =
+        std::max(2.0 * budget, renderWork(budget) / (fillScale * rayCost(candidates[c], withoutTable != nullptr) *
+                                                     kFillRayCost));
+    if (c > 0) integrator->limitPreprocessRays(uint64_t(limit) + 1);
     const bool seeded = integrator->seededPreprocess();
     const CameraDesc& preprocessDesc = seeded ? fillDesc : desc;
     integrator->preprocessFor(theirs, preprocessDesc);
     PilotFigure f;
-    if (c > 0 && double(integrator->preprocessRayCount()) > 2.0 * budget) {
+    if (c > 0 && double(integrator->preprocessRayCount()) > limit) {
       f.rays = double(integrator->preprocessRayCount());
       outgrown.push_back(kind);
     } else {
@@ -300,9 +322,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   const double median = means[means.size() / 2];
   // A seeded preprocessing (the cache's fill) is charged at its share of the render: G, the render's rays per pilot
   // picture at the first candidate's price, and its fill at the render's scale, in proportion to the pixels.
-  const double render = budget * double(plan.renderSpp) / double(std::max(1, plan.spp));
-  const double fillScale =
-      double(desc.width) * double(desc.height) / (double(fillDesc.width) * double(fillDesc.height));
+  const double render = renderWork(budget);
   for (PilotFigure& f : figures) {
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
@@ -312,10 +332,9 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay, the
     // frozen part as the render's denser records have it (kRecordsErrorExponent).
     const double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * (f.mean / median) * (f.mean / median));
-    f.frozen *= std::pow(double(fillDesc.width) * double(fillDesc.height) /
-                             (double(scene.desc().camera.width) * double(scene.desc().camera.height)),
-                         kRecordsErrorExponent);
-    const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0, fill = f.preprocessRays * fillScale * cost;
+    f.frozen *= std::pow(double(fillDesc.width) * double(fillDesc.height) / renderPixels, kRecordsErrorExponent);
+    const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
+                 fill = f.preprocessRays * fillScale * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
     f.frozen *= f.mean / median;
     f.preprocessShare = render > 0.0 ? fill / render : 1.0;

@@ -28,11 +28,12 @@
 /// with more passes: its noise is split into that frozen part (a third image, the second fill's records under the
 /// first image's passes, against the first), projected to the render's denser records, and the passes' (its passes
 /// take independent samples), and its efficiency is the render's, its fill charged at its share
-/// of the render's rays (projected from the fill's picture in proportion to the pixels: the fill grows more slowly,
-/// so this errs against the cache), not of a pilot image (PilotFigure::efficiency).
+/// of the render's work (projected from the fill's picture in proportion to the pixels, its rays at kFillRayCost
+/// each), not of a pilot image (PilotFigure::efficiency); the render's work is its samples at the first candidate's
+/// rays per sample, or where --time sized it, the time at kTimeRaysRate.
 /// The pilot picture has at most 48 × 48 pixels, the camera's aspect and field; each candidate's two images take 5%
 /// of the render's camera samples divided among the candidates, priced at the first candidate's rays per sample
-/// (with --time T: of the scene's samples per pixel or T × 250,000 camera samples, whichever is more: a fixed rate,
+/// (with --time T: of the scene's samples per pixel or T × 250,000 camera samples, whichever is more: fixed rates,
 /// so that the pilot does not depend on the machine). Below 4 samples per pixel of a 16 × 16 picture there is no
 /// pilot: the path tracer renders.
 #include <cstdint>
@@ -67,8 +68,8 @@ struct PilotCandidate {
 /// What the pilot measured of one candidate.
 struct PilotFigure {
   /// Passes (samples per pixel) of each of its two images; 0: not measured, its preprocessing alone (the
-  /// irradiance cache's fill) took more than two images' rays (rays: that one image's; 0 for the same
-  /// integrator's other variants, which are then not tried).
+  /// irradiance cache's fill) took more than two images' rays and more than would take the whole render once
+  /// projected to it (rays: that one image's; 0 for the same integrator's other variants, which are then not tried).
   int spp = 0;
   double noise = 0;       ///< relative RMS error of one pilot image (above)
   double mean = 0;        ///< the mean of its two pictures (the pixels the noise counts), W/(m² sr)
@@ -83,7 +84,7 @@ struct PilotFigure {
   bool seeded = false;        ///< measured with a seeded preprocessing (the cache's fill, over pilotFillCamera) (the irradiance cache's fill)
   /// A seeded preprocessing's (the cache's records'): the part of noise' that more passes over the same records do
   /// not reduce, · mean / m, as the render's records would leave it: the relative noise between the first image and
-  /// the second fill's records under the first image's passes, × (fill pixels / render pixels)^0.23; 0 for the
+  /// the second fill's records under the first image's passes, × (fill pixels / render pixels)^0.5; 0 for the
   /// others.
   double frozen = 0;
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
@@ -101,12 +102,22 @@ struct PilotPlan {
   int width = 0, height = 0;  ///< pixels of the pilot picture
   int spp = 0;                ///< samples per pixel of the first candidate's images (the others: at equal rays)
   int renderSpp = 0;          ///< samples per pixel of the render the pilot is for
+  /// The render's work in ray-equivalents where it is given as a time (--time): its seconds at a nominal
+  /// kTimeRaysRate rays per second; 0: renderSpp at the first candidate's rays per sample. Only a seeded
+  /// preprocessing's share of the render depends on it.
+  double renderWork = 0;
   /// Camera samples of one candidate's two images at the first candidate's price.
   uint64_t samples() const { return uint64_t(width) * uint64_t(height) * uint64_t(spp) * 2; }
 };
 
-/// The pilot for a render of @p spp samples per pixel through @p camera, among @p candidates candidates.
-PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates);
+/// Rays per second of one thread that a render given a time is taken to trace: the path tracer's at 128 × 128 on one
+/// thread ran at 2.7–7.4 Mrays/s on the public scenes and 2–11 on the shipped ones (median about 5); fixed, so that the
+/// pilot does not depend on the machine or the threads.
+inline constexpr double kTimeRaysRate = 4.0e6;
+
+/// The pilot for a render of @p spp samples per pixel through @p camera, among @p candidates candidates; with
+/// @p seconds > 0 (a render given a time), its work is also taken as @p seconds at kTimeRaysRate (renderWork).
+PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates, double seconds = 0.0);
 
 /// @p camera with the pilot picture's size (same view, aspect and field).
 CameraDesc pilotCamera(const CameraDesc& camera, const PilotPlan& plan);
