@@ -320,8 +320,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   if (means.empty()) return figures;
   std::nth_element(means.begin(), means.begin() + ptrdiff_t(means.size() / 2), means.end());
   const double median = means[means.size() / 2];
-  // A seeded preprocessing (the cache's fill) is charged at its share of the render: G, the render's rays per pilot
-  // picture at the first candidate's price, and its fill at the render's scale, in proportion to the pixels.
+  // A seeded preprocessing (the cache's fill) is charged at its share of the render: G, the render's work per pilot
+  // picture (renderWork), and its fill at the render's scale, in proportion to the pixels, at kFillRayCost a ray.
   const double render = renderWork(budget);
   for (PilotFigure& f : figures) {
     if (f.spp == 0 || !(median > 0.0)) continue;
