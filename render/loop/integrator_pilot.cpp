@@ -44,7 +44,8 @@ constexpr double kTableRayCost = 1.5;
 constexpr double kRecordsErrorExponent = 0.5;
 /// A seeded preprocessing's rays (the cache's fill: records gathered, their neighbours clamped) count this much work
 /// each: over the 19 scenes where the cache is chosen they took 1.33–3.27× the time of the path tracer's rays
-/// (median 1.88; 128 × 128, one thread), where its passes' rays took 0.57–1.60× (median 1.18, counted as one).
+/// (median 1.88; 128 × 128, one thread; bench/cache_ray_cost.sh), where its passes' rays took 0.57–1.60× (median
+/// 1.18, counted as one).
 constexpr double kFillRayCost = 1.9;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
