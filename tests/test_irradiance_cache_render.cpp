@@ -11,6 +11,9 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
+#include <memory>
+
 #include "common/formats/load_scene.h"
 #include "preprocess/preprocessor.h"
 #include "render/integrators/irradiance_cache/integrator.h"
@@ -90,6 +93,24 @@ RenderScene* IrradianceCacheVsPath::scene_ = nullptr;
 Camera* IrradianceCacheVsPath::camera_ = nullptr;
 test::PairedReference* IrradianceCacheVsPath::ref1_ = nullptr;
 test::PairedReference* IrradianceCacheVsPath::ref2_ = nullptr;
+
+/// The Cornell box at 32 × 32, and a picture of its view with 8 × 8 pixels (a pilot's fill is made for such).
+SceneDesc cornell32() {
+  SceneDesc d = loadScene(test::source("scenes/cornell.json"));
+  d.camera.width = d.camera.height = 32;
+  return d;
+}
+/// The cache's defaults, without progress on stderr.
+IrradianceCacheSettings quietSettings() {
+  IrradianceCacheSettings s;
+  s.quiet = true;
+  return s;
+}
+CameraDesc eighth(const CameraDesc& camera) {
+  CameraDesc c = camera;
+  c.width = c.height = 8;
+  return c;
+}
 
 }  // namespace
 
@@ -303,18 +324,69 @@ TEST(IrradianceCacheFill, StopsPastItsRayLimit) {
   EXPECT_EQ(counts[0], counts[1]);
 }
 
+// preprocessFor (the pilot's fill) gathers about one level-0 record in two twice: |E − E'|/√2 is one draw of its
+// standard error. perturbPreprocessing then redraws every level-0 record's E by the records' relative noise so
+// measured (the same for a seed, another for another seed) and leaves the other levels and every position alone.
+TEST(IrradianceCacheFill, ThePilotsFillMeasuresItsRecordsOwnNoiseAndRedrawsThem) {
+  const SceneDesc desc = cornell32();
+  const RenderScene scene(desc);
+  const CameraDesc coarse = eighth(desc.camera);
+  IrradianceCacheSettings s = quietSettings();
+  auto filled = [&] {
+    auto ic = std::make_unique<IrradianceCacheIntegrator>(IntegratorOptions{}, s);
+    ic->preprocessFor(scene, coarse);
+    return ic;
+  };
+  const auto ic = filled();
+  const std::vector<IrradianceRecord> before = ic->cache().records(0), deeper = ic->cache().records(1);
+  size_t measured = 0;
+  double spread2 = 0, value2 = 0;
+  for (const IrradianceRecord& r : before)
+    if (r.spread.x >= 0.0f)
+      ++measured, spread2 += luminance(r.spread) * luminance(r.spread), value2 += luminance(r.E) * luminance(r.E);
+  fmt::print("{} level-0 records, {} gathered twice, their relative noise {:.4f}\n", before.size(), measured,
+             std::sqrt(spread2 / value2));
+  ASSERT_GT(measured, 0u);
+  EXPECT_GT(measured, before.size() / 4);  // about one in two
+  EXPECT_LT(measured, before.size());
+  EXPECT_GT(spread2, 0.0);
+  ic->perturbPreprocessing(7);
+  const std::vector<IrradianceRecord> after = ic->cache().records(0);
+  ASSERT_EQ(after.size(), before.size());
+  double change2 = 0, sum2 = 0;
+  for (size_t i = 0; i < after.size(); ++i) {
+    EXPECT_EQ(after[i].p, before[i].p);
+    const double d = luminance(after[i].E) - luminance(before[i].E);
+    change2 += d * d, sum2 += luminance(before[i].E) * luminance(before[i].E);
+  }
+  const double relative = std::sqrt(spread2 / value2), changed = std::sqrt(change2 / sum2);
+  fmt::print("redrawn: relative change {:.4f}\n", changed);
+  EXPECT_GT(changed, 0.5 * relative);  // a normal draw per record: the RMS change is the relative noise, ±
+  EXPECT_LT(changed, 2.0 * relative);
+  const std::vector<IrradianceRecord> deeperAfter = ic->cache().records(1);
+  ASSERT_EQ(deeperAfter.size(), deeper.size());
+  for (size_t i = 0; i < deeper.size(); ++i) EXPECT_EQ(deeperAfter[i].E, deeper[i].E);
+  const auto again = filled(), other = filled();
+  again->perturbPreprocessing(7);
+  other->perturbPreprocessing(8);
+  const std::vector<IrradianceRecord> a = again->cache().records(0), b = other->cache().records(0);
+  size_t same = 0;
+  for (size_t i = 0; i < after.size(); ++i) {
+    EXPECT_EQ(a[i].E, after[i].E) << i;
+    same += b[i].E == after[i].E;
+  }
+  EXPECT_LT(same, after.size() / 2);
+}
+
 // preprocessFor a coarser picture (--integrator auto's pilot): the finer picture's samples that its records do not
 // cover take one path each instead of a record of their own, the same for one and two threads, and the image agrees
 // with the path tracer's (within 3σ of the two images' means and the cache's interpolation bias, +0.4% in this box
 // at the defaults: 1.5% allowed).
 TEST(IrradianceCacheFill, ACoarserPicturesRecordsServeAFinerPictureWithPathsWhereNoneIsValid) {
-  SceneDesc desc = loadScene(test::source("scenes/cornell.json"));
-  desc.camera.width = 32, desc.camera.height = 32;
+  const SceneDesc desc = cornell32();
   const RenderScene scene(desc);
-  CameraDesc coarse = desc.camera;
-  coarse.width = coarse.height = 8;
-  IrradianceCacheSettings s;
-  s.quiet = true;
+  const CameraDesc coarse = eighth(desc.camera);
+  IrradianceCacheSettings s = quietSettings();
   IrradianceCacheStats stats[2];
   std::unique_ptr<test::RenderRun> run[2];
   for (int t = 1; t <= 2; ++t) {

@@ -121,8 +121,8 @@ void RenderCommand::resolveIntegrator() {
 
   // The pilot's rays against the render's, priced at the first candidate's rays per camera sample (as the plan).
   double pilotRays = 0.0;
-  for (const PilotFigure& f : figures)  // a seeded preprocessing's third image (its records' error): its passes
-    pilotRays += (f.spp > 0 ? 2.0 * f.rays : f.rays) + (f.seeded ? f.rays - f.preprocessRays : 0.0);
+  for (const PilotFigure& f : figures)  // a seeded preprocessing's third and fourth images (its records' error)
+    pilotRays += (f.spp > 0 ? 2.0 * f.rays : f.rays) + (f.seeded ? 2.0 * (f.rays - f.preprocessRays) : 0.0);
   const PilotFigure& chosen = figures[best];
   const double renderRays = pixels * double(spp) * figures.front().rays /
                             (double(plan.width) * double(plan.height) * double(std::max(1, figures.front().spp)));
@@ -147,8 +147,9 @@ void RenderCommand::resolveIntegrator() {
     if (figures[i].spp > 0 && figures[i].preprocessShare > 0.0)
       fmt::print(stderr,
                  "  {}: filled at {} x {}, its fill projected to {:.1f}% of the render's rays, its records' error "
-                 "{:.4f} (more passes leave it), its efficiency the render's\n",
-                 candidates[i].label(), fill.width, fill.height, 100.0 * figures[i].preprocessShare, figures[i].frozen);
+                 "{:.4f} (more passes leave it; {:.4f} as measured, of which their own noise {:.4f}), its efficiency the render's\n",
+                 candidates[i].label(), fill.width, fill.height, 100.0 * figures[i].preprocessShare, figures[i].frozen,
+                 figures[i].frozenMeasured, figures[i].recordNoise);
   fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}\n",
              candidates[best].label(),
              tableUnused_ ? "; the table given is not read: the render is the scene's as without --firstshot" : "");

@@ -137,6 +137,11 @@ class Integrator {
   /// fill), so that renders of another seed need another integrator; false by default: one preprocessed
   /// integrator renders any seed (RenderOptions::seed).
   virtual bool seededPreprocess() const { return false; }
+  /// Replaces the random values a seeded preprocessing made (the irradiance cache's records' irradiance) by one more
+  /// draw from their own error, as far as the preprocessing measured it (preprocessFor): rendered with the same
+  /// samples, the picture differs from the unperturbed one by what those values' own noise does to it, which more of
+  /// them at the same precision would not reduce (--integrator auto's pilot). The default does nothing.
+  virtual void perturbPreprocessing(uint64_t /*seed*/) {}
   /// The light sampler with which the integrator's paths choose lights for next-event estimation,
   /// over every light (kept and replaced); its lighting() is the first-shot lighting the integrator
   /// built. Both are built once by preprocess() (or preprocessRays()) and shared: the sensors' NEE

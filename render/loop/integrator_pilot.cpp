@@ -306,6 +306,12 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
         PilotImage third(*other, desc);
         third.renderTo(f.spp, camera, seed, seed, passSampler, threads);
         f.frozen = std::min(f.noise, pilotNoise(a, third.image(), &skip));
+        // Of that, the records' own noise: the first image's passes again over its records, each value drawn once
+        // more from its own error. Their difference is one copy of that noise (the third image's holds two).
+        integrator->perturbPreprocessing(seed + 2);
+        PilotImage fourth(*integrator, desc);
+        fourth.renderTo(f.spp, camera, seed, seed, passSampler, threads);
+        f.recordNoise = std::min(f.frozen, std::sqrt(2.0) * pilotNoise(a, fourth.image(), &skip));
       }
     }
     f.seeded = seeded && f.spp > 0;
@@ -333,7 +339,12 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay, the
     // frozen part as the render's denser records have it (kRecordsErrorExponent).
     const double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * (f.mean / median) * (f.mean / median));
-    f.frozen *= std::pow(double(fillDesc.width) * double(fillDesc.height) / renderPixels, kRecordsErrorExponent);
+    // The records' own noise stays at any density; the rest (where they were placed, how they interpolate) falls.
+    f.frozenMeasured = f.frozen;
+    const double placed2 = std::max(0.0, f.frozen * f.frozen - f.recordNoise * f.recordNoise);
+    f.frozen = std::sqrt(f.recordNoise * f.recordNoise +
+                         placed2 * std::pow(double(fillDesc.width) * double(fillDesc.height) / renderPixels,
+                                            2.0 * kRecordsErrorExponent));
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
                  fill = f.preprocessRays * fillScale * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;

@@ -87,6 +87,11 @@ struct PilotFigure {
   /// the second fill's records under the first image's passes, × (fill pixels / render pixels)^0.5; 0 for the
   /// others.
   double frozen = 0;
+  /// Of the frozen part as measured (frozenMeasured, before it is projected), what the records' own noise makes:
+  /// √2 × the relative noise between the first image and its passes over its records each perturbed by their own
+  /// error (Integrator::perturbPreprocessing). It does not fall with more records; the rest does. 0 for the others.
+  double recordNoise = 0;
+  double frozenMeasured = 0;  ///< the frozen part as measured at the fill's picture
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
   double preprocessShare = 0;
   /// 1 / (error² · work); 0 for a black picture. For a seeded preprocessing, the render's: 1 / (e² · G), G the

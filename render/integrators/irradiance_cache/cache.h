@@ -25,6 +25,9 @@ struct IrradianceRecord {
   Vec3 p{0.0f};                 ///< position P_i
   Vec3 n{0.0f, 0.0f, 1.0f};     ///< unit normal N_i, on the side the irradiance was gathered
   Color E{0.0f};                ///< irradiance E_i, W/m²
+  /// |E_i − E'_i|/√2 for a second, independent gather E'_i at the same point: one draw of E_i's standard error, W/m²;
+  /// −1 where none was made (only --integrator auto's pilot makes them, for some level-0 records).
+  Color spread{-1.0f};
   /// R_i: harmonic mean distance to the surfaces seen from P_i (m), lowered by neighbour clamping.
   float R = std::numeric_limits<float>::infinity();
   float Rmin = 0.0f;            ///< the radius used is clamp(R, Rmin, Rmax) (pixel-footprint clamping)
