@@ -9,25 +9,7 @@
 #   SCENES: scene files (default: the shipped scenes and those of ../shared/scenes).
 # Prints a Markdown table and the medians on stdout.
 set -euo pipefail
-here=$(cd "$(dirname "$0")/.." && pwd)
-build=${1:?usage: bench/cache_ray_cost.sh BUILD TABLES [SCENES...]}
-tables=${2:?usage: bench/cache_ray_cost.sh BUILD TABLES [SCENES...]}
-shift 2
-scenes=("$@")
-if [ ${#scenes[@]} -eq 0 ]; then
-  scenes=("$here"/scenes/*.json)
-  shared="$here/../shared/scenes"
-  if [ -d "$shared" ]; then
-    scenes+=("$shared/veach-bidir/scene.xml" "$shared/veach-mis/scene.xml" "$shared/bitterli-cornell-box/scene.xml"
-             "$shared/mcguire-cornell-box/CornellBox-Original.obj" "$shared/classroom/scene.xml")
-  else
-    echo "cache_ray_cost: ../shared/scenes is absent: the public scenes are left out" >&2
-  fi
-fi
-pin=(taskset -c "${CORE:-0}")
-mkdir -p "$tables"
-scratch=$(mktemp -d)
-trap 'rm -rf "$scratch"' EXIT
+source "$(dirname "$0")/scene_set.sh" cache_ray_cost "$@"
 
 # render SCENE ARGS...: the render's stderr in $scratch/log (empty when it is refused).
 render() {
@@ -40,13 +22,10 @@ render() {
 echo "| scene | table | fill Mrays/s | passes Mrays/s | path Mrays/s | fill ray cost | pass ray cost |"
 echo "|---|---|---|---|---|---|---|"
 ratios="$scratch/ratios"
+: > "$ratios"
 for scene in "${scenes[@]}"; do
-  tag=$(basename "$(dirname "$scene")")-$(basename "$scene" | sed 's/\.[a-z]*$//')
-  table="$tables/$tag.fsd"
-  if [ ! -f "$table" ] && ! "${pin[@]}" "$build/preprocess/firstshot-preprocess" "$scene" -o "$table" --threads 1 -q \
-       > "$scratch/pre.log" 2>&1; then
-    table=""
-  fi
+  tag=$(scene_tag "$scene")
+  table=$(scene_table "$scene") || table=""
   for with in no yes; do
     args=()
     if [ "$with" = yes ]; then

@@ -42,6 +42,20 @@ std::string choice(const std::string& output) {
 
 /// Writes the shipped scene @p source to @p to with its settings' 64 spp made 305, what --time 20 sizes at
 /// 128 x 128 (the pilot's budget of such a render); false if it has no "spp": 64.
+/// Renders @p base (a command without -o) to @p out with a checkpoint, stopped after its second pass, expecting the
+/// pilot to choose @p chosen; resumed, the render takes the checkpoint's choice. @p resumed: the resumed run's output.
+void expectTheCheckpointKeepsTheChoice(const std::string& base, const std::string& out, const std::string& chosen,
+                                       std::string& resumed) {
+  const auto stopped =
+      firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base + " --spp 305 --checkpoint 1000 -o " + out);
+  ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
+  ASSERT_EQ(choice(stopped.output), chosen) << stopped.output;
+  const auto run = firstshot::test::run(base + " --spp 3 --resume -o " + out);
+  resumed = run.output;
+  ASSERT_EQ(run.exitCode, 0) << run.output;
+  EXPECT_THAT(run.output, HasSubstr("--integrator auto: " + chosen + " (the choice of the render in the checkpoint)"));
+}
+
 bool copyAt305Spp(const std::string& source, const std::string& to) {
   std::string text = firstshot::test::readFile(firstshot::test::source(source));
   const std::string from = "\"spp\": 64";
@@ -319,14 +333,9 @@ TEST(IntegratorAuto, PatchNeeIsChargedTheTimeItsSamplingTakes) {
   EXPECT_THAT(r.output, HasSubstr("the table given is not read")) << r.output;
   EXPECT_THAT(r.output, HasSubstr("(0 replaced by first-shot)")) << r.output;
   // Stopped after two passes with a checkpoint, resumed: the checkpoint's choice, without the table again.
-  const auto stopped = firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base +
-                                            " --spp 305 --checkpoint 1000 -o " + dir + "/b.exr");
-  ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
-  ASSERT_EQ(choice(stopped.output), "path, no table") << stopped.output;
-  const auto resumed = firstshot::test::run(base + " --spp 3 --resume -o " + dir + "/b.exr");
-  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
-  EXPECT_THAT(resumed.output, HasSubstr("--integrator auto: path, no table (the choice of the render in the checkpoint)"));
-  EXPECT_THAT(resumed.output, HasSubstr("(0 replaced by first-shot)")) << resumed.output;
+  std::string resumed;
+  ASSERT_NO_FATAL_FAILURE(expectTheCheckpointKeepsTheChoice(base, dir + "/b.exr", "path, no table", resumed));
+  EXPECT_THAT(resumed, HasSubstr("(0 replaced by first-shot)")) << resumed;
   // The picture is the path tracer's without --firstshot, byte for byte (64 x 64 at 305 spp: the same choice).
   const std::string small = kRender + " " + scene + " --width 64 --height 64 --spp 305 --seed 3";
   const auto unread = firstshot::test::run(small + " --firstshot " + dir + "/t.fsd -o " + dir + "/c.exr");
@@ -364,14 +373,8 @@ TEST(IntegratorAuto, ASunAndSkyGoToNeeToEveryLight) {
   const std::string dir = firstshot::test::tempDir(), scene = dir + "/court.json";
   ASSERT_TRUE(copyAt305Spp("scenes/sky-courtyard.json", scene));
   const std::string base = kRender + " " + scene + " --width 128 --height 128";
-  const auto stopped = firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base +
-                                            " --spp 305 --checkpoint 1000 -o " + dir + "/a.exr");
-  ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
-  ASSERT_EQ(choice(stopped.output), "path --light-sampler all") << stopped.output;
-  const auto resumed = firstshot::test::run(base + " --spp 3 --resume -o " + dir + "/a.exr");
-  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
-  EXPECT_THAT(resumed.output,
-              HasSubstr("--integrator auto: path --light-sampler all (the choice of the render in the checkpoint)"));
+  std::string resumed;
+  ASSERT_NO_FATAL_FAILURE(expectTheCheckpointKeepsTheChoice(base, dir + "/a.exr", "path --light-sampler all", resumed));
   // Given --light-sampler, the option is the user's: no such candidate.
   const auto given = firstshot::test::run(base + " --light-sampler tree --time 0.01 -o " + dir + "/b.exr");
   ASSERT_EQ(given.exitCode, 0) << given.output;

@@ -17,7 +17,6 @@ struct IrradianceCacheIntegrator::Context {
   Mode mode;
   std::unique_ptr<IrradianceCache> overlay;  ///< private records (created on the first one)
   uint64_t rays = 0;
-  bool pathOnMiss = false;  ///< a lookup that finds no record takes one path (a second gather's context)
 };
 
 enum class IrradianceCacheIntegrator::RayKind : uint8_t {

@@ -273,17 +273,14 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     }
   } else if (pathOnMiss_ && taskRayBudget_ > 0 && ctx.rays > taskRayBudget_ && settings_.pathContinuation) {
     return pathIrradiance();  // a fill task over its budget
-  } else if (ctx.pathOnMiss && settings_.pathContinuation) {
-    return pathIrradiance();
   }
 
   Sampler rs = Sampler::fromKey(key);
   IrradianceRecord r = gather(hit, n, level, pathLength, rs, ctx);
   if (level == 0 && spreadEvery_ > 0 && key % uint64_t(spreadEvery_) == 0) {
-    // The pilot's measure of the records' own noise: the same record gathered again with other numbers, its deeper
-    // lookups taking paths where they miss; neither its rays nor its records count.
+    // The pilot's measure of the records' own noise: the same record gathered again with other numbers, the records
+    // its deeper lookups make kept to its own context; neither its rays nor its records count.
     Context other(Context::Mode::Private);
-    other.pathOnMiss = false;
     Sampler os = Sampler::fromKey(hashKeys(key, kSpreadSalt));
     const Color again = gather(hit, n, level, pathLength, os, other).E;
     r.spread = glm::abs(r.E - again) * float(1.0 / std::sqrt(2.0));

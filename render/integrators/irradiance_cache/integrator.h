@@ -50,6 +50,7 @@
 /// threads, and the render's first samples are exactly as a one-pass render would make them.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -230,6 +231,9 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// from the record at @p x with normal @p n, against patchNeeIrradiance()'s samples.
   float hemisphereWeight(const Vec3& x, const Vec3& n, int cells, const Hit& y, float cosTheta) const;
   std::unique_ptr<IrradianceCache> makeCache() const;
+  /// cache_ rebuilt from its records in order (as reading a cache file builds it), each first passed to @p edit
+  /// (level, index in the level, record), then frozen.
+  void rebuildCache(const std::function<void(int, size_t, IrradianceRecord&)>& edit);
   /// preprocess() without the fill: lights, the empty cache, the cache file.
   void setup(const RenderScene& scene);
   /// setup() and, two-pass, the fill over @p camera's pixels (the render's own first camera samples of each).

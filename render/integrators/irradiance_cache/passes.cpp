@@ -269,11 +269,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
     sweep(false);
   }
   // Rebuild the octrees from the final records in order, exactly as reading the file does.
-  auto rebuilt = makeCache();
-  for (int l = 0; l < cache_->levels(); ++l)
-    for (const IrradianceRecord& r : cache_->records(l)) rebuilt->insert(l, r, false);
-  rebuilt->freeze();  // the render only reads it
-  cache_ = std::move(rebuilt);
+  rebuildCache([](int, size_t, IrradianceRecord&) {});
   fillSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   fillRays_ = rays.load();
 }
@@ -289,22 +285,27 @@ void IrradianceCacheIntegrator::perturbPreprocessing(uint64_t seed) {
     }
   if (!(value2 > 0.0)) return;
   const double s = std::sqrt(spread2 / value2);
-  auto perturbed = makeCache();
+  rebuildCache([&](int level, size_t i, IrradianceRecord& r) {
+    if (level > 0) return;
+    // A normal number by Box–Muller from two keyed uniforms.
+    const double u1 = 1.0 - bitsToUnitDouble(hashKeys(seed, uint64_t(i), 0u));
+    const double u2 = bitsToUnitDouble(hashKeys(seed, uint64_t(i), 1u));
+    const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+    r.E = glm::max(r.E * float(1.0 + z * s), Color(0.0f));
+  });
+}
+
+void IrradianceCacheIntegrator::rebuildCache(const std::function<void(int, size_t, IrradianceRecord&)>& edit) {
+  auto rebuilt = makeCache();
   for (int l = 0; l < cache_->levels(); ++l) {
-    const std::vector<IrradianceRecord> records = cache_->records(l);
+    std::vector<IrradianceRecord> records = cache_->records(l);
     for (size_t i = 0; i < records.size(); ++i) {
-      IrradianceRecord r = records[i];
-      if (l == 0) {  // a normal number by Box–Muller from two keyed uniforms
-        const double u1 = 1.0 - bitsToUnitDouble(hashKeys(seed, uint64_t(i), 0u));
-        const double u2 = bitsToUnitDouble(hashKeys(seed, uint64_t(i), 1u));
-        const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
-        r.E = glm::max(r.E * float(1.0 + z * s), Color(0.0f));
-      }
-      perturbed->insert(l, r, false);
+      edit(l, i, records[i]);
+      rebuilt->insert(l, records[i], false);
     }
   }
-  perturbed->freeze();
-  cache_ = std::move(perturbed);
+  rebuilt->freeze();  // read only from here
+  cache_ = std::move(rebuilt);
 }
 
 int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine,
