@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """What --integrator auto chooses on every scene, without and with its first-shot table, and the pilot's figures.
 
-usage: bench/pilot_choices.py BUILD TABLES [--time S] [--size W H] [SCENES...]
+usage: bench/pilot_choices.py BUILD TABLES [--time S] [--size W H] [--seed N] [SCENES...]
   BUILD: build/release; TABLES: a folder for the scenes' tables (made at the preprocessor's defaults where absent);
-  --time (default 20) and --size (default 128 128) as the render is given them, one thread; SCENES: scene files
+  --time (default 20), --size (default 128 128) and --seed (default: the scene's) as the render is given them, one
+  thread; SCENES: scene files
   (default: the shipped scenes and those of ../shared/scenes).
 Each render is stopped once the choice is printed (the pilot alone runs). Prints, per scene and table, the pilot's
 table and its choice; the last lines list the choices alone, one per line, to compare two builds with diff.
@@ -21,12 +22,14 @@ def main():
         sys.exit(__doc__)
     build, tables = args[0], args[1]
     rest = args[2:]
-    seconds, size = "20", ["128", "128"]
+    seconds, size, seed = "20", ["128", "128"], []
     scenes = []
     i = 0
     while i < len(rest):
         if rest[i] == "--time":
             seconds, i = rest[i + 1], i + 2
+        elif rest[i] == "--seed":
+            seed, i = ["--seed", rest[i + 1]], i + 2
         elif rest[i] == "--size":
             size, i = rest[i + 1:i + 3], i + 3
         else:
@@ -61,7 +64,7 @@ def main():
                 name = f"{tag} {'table' if extra else 'none'}"
                 print(f"=== {name}", flush=True)
                 cmd = [render, scene, *extra, "--width", size[0], "--height", size[1], "--time", seconds,
-                       "--threads", "1", "-o", os.path.join(scratch, "x.exr")]
+                       "--threads", "1", *seed, "-o", os.path.join(scratch, "x.exr")]
                 p = subprocess.Popen(cmd, stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
                 shown, chose = False, "-"
                 for line in p.stderr:

@@ -54,6 +54,12 @@ void RenderCommand::declareOptions() {
                                        "and the integrator's preprocessing (the cache's fill) included (the image "
                                        "then depends on how many passes fit)")
       ->check(CLI::Range(1e-3, 1e9))->excludes(sppOpt);
+  app.add_option("--adaptive", adaptive_, "samples where the pixels' noise is (on): after 16 passes, rounds that give "
+                                          "each pixel one sample and as many again by the pixels' estimated error "
+                                          "(--spp then their mean; light tracing: more path-traced estimates at "
+                                          "mirrors and glass within each pass; not BDPT); off: passes of 1 spp; auto: "
+                                          "on with --time, off with --spp (off with --checkpoint and the bundle)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
   auto* outOpt = app.add_option("-o,--output", outputs_, "output image, .exr (linear float) or .png (sRGB); may be repeated "
                                                          "(required without --preview)");
   app.add_option("--threads", threads_, "worker threads (default: one per core); the image does not depend on it")
@@ -137,6 +143,10 @@ void RenderCommand::switchToDaylightFactorScene() {  // --daylight-factor: the C
 }
 
 uint64_t RenderCommand::seed() const { return app_.count("--seed") ? seed_ : scene_.settings.seed; }
+
+bool RenderCommand::adaptiveRender() const {
+  return (adaptive_ == "on" || (adaptive_ == "auto" && timeLimit_ > 0)) && !checkpoint_.active();
+}
 
 SamplerMode RenderCommand::samplerMode() const {
   return samplerName_ == "sobol" ? SamplerMode::Sobol : SamplerMode::Independent;
@@ -242,6 +252,7 @@ int RenderCommand::renderImage() {
   ro.spp = spp_ > 0 ? spp_ : scene_.settings.spp;
   ro.seed = seed();
   ro.sampler = samplerMode();
+  ro.adaptive = adaptiveRender();
   ro.threads = threads_;
   ro.quiet = quiet_;
   ro.comm = &comm_;

@@ -58,10 +58,13 @@ class RenderCommand {
   uint64_t seed() const;
   /// --sampler: how every integrator, the sensors and the preview draw their numbers.
   SamplerMode samplerMode() const;
+  /// The render samples adaptively (--adaptive; never with --checkpoint, whose files hold whole passes).
+  bool adaptiveRender() const;
 
   Comm& comm_;
   CLI::App app_;
   std::string scenePath_, fsdPath_, samplerName_ = "sobol", screenshot_, windowGrab_;
+  std::string adaptive_ = "auto";  ///< --adaptive
   std::vector<std::string> outputs_;
   int spp_ = 0, threads_ = 0, maxDepth_ = -1, width_ = 0, height_ = 0, frames_ = -1;
   double timeLimit_ = 0, patchSize_ = 0;

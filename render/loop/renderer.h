@@ -19,6 +19,13 @@ namespace firstshot {
 struct RenderOptions {
   int spp = 16;            ///< samples per pixel (ignored when timeLimit > 0)
   double timeLimit = 0;    ///< seconds; > 0: whole passes of 1 spp until the time is up (at least one)
+  /// Adaptive sampling (render/loop/adaptive_sampling.h; not with afterPass, nor with a PerPass integrator):
+  /// after kAdaptiveBase uniform passes, rounds that give each pixel one sample and share as many again out by
+  /// the pixels' estimated error, until the time limit or until the samples' mean reaches spp (RenderStats::spp
+  /// is then that mean). A splatting integrator's passes stay passes, and what is shared out are more
+  /// estimates of each pixel's camera side (SplattingIntegrator's Li: light tracing's path-traced pixels at
+  /// mirrors and glass) within its pass; BDPT, whose camera samples are all particles, renders as without.
+  bool adaptive = false;
   uint64_t seed = 1;
   /// How the camera samples' numbers are drawn (common/sampling/rng.h; --sampler): independent hashes, or
   /// per pixel stratified Sobol' points over the sample index. The image stays a function of

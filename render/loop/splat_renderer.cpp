@@ -8,10 +8,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 
 #include "common/sampling/rng.h"
 #include "common/util/progress.h"
+#include "render/loop/adaptive_sampling.h"
 #include "render/output/film_exchange.h"
 #include "render/scene/embree_scene.h"
 
@@ -34,13 +36,19 @@ void exchangeSplats(Comm& comm, std::vector<std::vector<Splat>>& splats) {
   }
 }
 
+/// The stream of a pixel's k-th extra camera sample of a pass (k ≥ 1; the first takes stream 0).
+constexpr uint64_t kExtraStream = 0xada0000;
+
 /// One pass: the particles' splats summed in particle order, then one film sample per pixel. With
 /// several ranks, each traces the particle chunks and renders the image rows dealt to it; the
 /// splats are exchanged, so every rank sums all of them in the same order.
+/// With @p adaptive (the counts of the camera side's samples so far, @p target those to reach, row-major; an
+/// adaptive render), pixel p's film sample adds the mean of target[p] − its count camera-side estimates (Li: light
+/// tracing's path tracer at a mirror or glass; BDPT's adds nothing), each added to @p adaptive as a sample.
 /// @return false if cancelled on any rank (the film is then untouched).
 bool splatPass(const SplattingIntegrator& integrator, const Camera& camera, Film& film, const RenderOptions& options,
                uint64_t pass, tbb::task_arena& arena, std::atomic<uint64_t>& rays, std::atomic<uint64_t>& nonFinite,
-               Comm& comm) {
+               Comm& comm, Film* adaptive = nullptr, const std::vector<uint32_t>* target = nullptr) {
   const int w = camera.width(), h = camera.height();
   const uint64_t jitterSeed = options.jitterSeed.value_or(options.seed);
   const uint64_t n = integrator.particlesPerPass(camera);
@@ -85,13 +93,22 @@ bool splatPass(const SplattingIntegrator& integrator, const Camera& camera, Film
         if (!comm.mine(uint64_t(y))) continue;  // another rank's row
         for (int x = 0; x < w; ++x) {
           const uint64_t pixel = uint64_t(y) * uint64_t(w) + uint64_t(x);
-          Sampler sampler = Sampler::make(options.sampler, options.seed, pixel, pass);
-          const Vec2 jitter = cameraJitter(sampler, options.sampler, options.seed, jitterSeed, pixel, pass);
-          SampleInfo info;
-          Color L = integrator.Li(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, &info);
-          rowRays += info.rays;
-          if (!isFinite(L)) ++rowBad, L = Color(0.0f);
-          film.add(x, y, Color(image[pixel]) + L, info.albedo, info.normal);
+          const uint32_t m = target ? std::max(1u, (*target)[pixel] - adaptive->samples(x, y)) : 1u;
+          Color sum(0.0f);
+          SampleInfo first;
+          for (uint32_t k = 0; k < m; ++k) {
+            const uint64_t stream = k == 0 ? 0 : kExtraStream + k;
+            Sampler sampler = Sampler::make(options.sampler, options.seed, pixel, pass, stream);
+            const Vec2 jitter = cameraJitter(sampler, options.sampler, options.seed, jitterSeed, pixel, pass, stream);
+            SampleInfo info;
+            Color L = integrator.Li(camera.generateRay(float(x) + jitter.x, float(y) + jitter.y), sampler, &info);
+            rowRays += info.rays;
+            if (!isFinite(L)) ++rowBad, L = Color(0.0f);
+            if (adaptive) adaptive->add(x, y, L, info.albedo, info.normal);
+            sum += L;
+            if (k == 0) first = info;
+          }
+          film.add(x, y, Color(image[pixel]) + sum / float(m), first.albedo, first.normal);
         }
       }
       rays += rowRays;
@@ -124,9 +141,22 @@ RenderStats renderSplatting(const SplattingIntegrator& integrator, const Camera&
   const int spp = std::max(1, options.spp);
   Progress progress = timed ? Progress::timed("render", options.timeLimit, options.quiet)
                             : Progress("render", pixels * uint64_t(spp), options.quiet);
-  int s = options.firstSample;
+  // Adaptive (not with afterPass): after kAdaptiveBase passes each pixel's camera side takes, beside its one
+  // estimate a pass, its share of as many again by its estimated error (render/loop/adaptive_sampling.h), kept
+  // apart from the particles' in `cameraSide` (a pixel's neighbours there: the two beside it in its row, the rank's
+  // unit): where the camera sees a mirror or glass the path tracer's estimate is most of a light tracer's error.
+  const bool adaptive = options.adaptive && !options.afterPass;
+  std::optional<Film> cameraSide;
+  if (adaptive) cameraSide.emplace(camera.width(), camera.height());
+  std::vector<uint64_t> rowIndex;
+  for (const PixelRect& r : mine) rowIndex.push_back(uint64_t(r.y0));
+  int s = options.firstSample, round = 0;
   while (true) {
-    if (!splatPass(integrator, camera, film, options, uint64_t(s), arena, rays, nonFinite, comm)) {
+    std::vector<uint32_t> target;
+    if (adaptive && s >= options.firstSample + kAdaptiveBase)
+      target = adaptiveTargets(*cameraSide, mine, rowIndex, comm, options.seed, round++, kAdaptiveExtras * double(pixels));
+    if (!splatPass(integrator, camera, film, options, uint64_t(s), arena, rays, nonFinite, comm,
+                   adaptive ? &*cameraSide : nullptr, target.empty() ? nullptr : &target)) {
       stats.cancelled = true;
       break;
     }
