@@ -205,6 +205,38 @@ uint32_t EmbreeItemBuffer::firstHit(const Vec3d& origin, const Vec3d& direction,
   return triPatch_[rh.hit.primID];
 }
 
+namespace {
+
+/// What anyPatchNear's query carries to its callback.
+struct NearQuery {
+  const std::vector<uint32_t>* triPatch;
+  const std::function<bool(uint32_t)>* test;
+  bool found = false;
+};
+
+bool nearCallback(RTCPointQueryFunctionArguments* args) {
+  auto* q = static_cast<NearQuery*>(args->userPtr);
+  if (q->found || !(*q->test)((*q->triPatch)[args->primID])) return false;
+  q->found = true;
+  args->query->radius = 0.0f;  // nothing further is wanted: shrink the query to its centre
+  return true;
+}
+
+}  // namespace
+
+bool EmbreeItemBuffer::anyPatchNear(const Vec3& centre, float radius, const std::function<bool(uint32_t)>& test) const {
+  if (triPatch_.empty()) return false;
+  RTCPointQuery query;
+  query.x = centre.x, query.y = centre.y, query.z = centre.z;
+  query.time = 0.0f;
+  query.radius = radius;
+  RTCPointQueryContext ctx;
+  rtcInitPointQueryContext(&ctx);
+  NearQuery q{&triPatch_, &test};
+  rtcPointQuery(scene_, &query, &ctx, nearCallback, &q);
+  return q.found;
+}
+
 void EmbreeItemBuffer::render(const View& view, std::vector<uint32_t>& ids) {
   profile::Scope time(profile::Render);
   ids.assign(view.pixelCount(), kNoPatch);

@@ -6,6 +6,7 @@
 /// RTC_SCENE_FLAG_ROBUST so that rays through shared edges never slip between two triangles.
 /// Ray origins are rounded to float (Embree's ray format), i.e. by ≤ half an ulp of the eye coordinates.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -45,6 +46,10 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   /// The patch first hit by the ray @p origin + t·@p direction, t in [0, @p tfar] (direction not
   /// necessarily unit), or kNoPatch; @p t receives its t. Thread-safe, like render().
   uint32_t firstHit(const Vec3d& origin, const Vec3d& direction, double tfar, double& t) const;
+  /// Calls @p test(patch) with the patch of every triangle whose bounding box may meet the ball of radius @p radius
+  /// about @p centre (Embree's point query: a superset of those that do, some patches more than once), until it
+  /// returns true. @return whether it did. Thread-safe, like render().
+  bool anyPatchNear(const Vec3& centre, float radius, const std::function<bool(uint32_t)>& test) const;
   double nearPlane() const override { return near_; }
   void setRayMode(EmbreeRayMode mode) { mode_ = mode; }
 

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 
-#include "common/patches/patch_neighbours.h"
 
 namespace firstshot {
 
@@ -31,20 +30,38 @@ ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays
   for (const Patch& p : mesh.patches)
     for (uint32_t k = 0; k < p.count; ++k) b.extend(Vec3d(p.v[k]));
   offset_ = 1e-6 * std::max(b.diagonal(), 1e-30);
-  // Patches met by a patch outside their plane: the only ones that can be partly buried.
+  // Patches met by a patch outside their plane: the only ones that can be partly buried. "Met" as
+  // patch_neighbours.h has it (bounding boxes grown by 1e-5 of the mesh's diagonal overlap), found by a point query
+  // of the ray caster's BVH about each grown box, which stops at the first patch out of the plane: a fifth of the
+  // time of listing every pair (the classroom's 120,000 patches have 11 million).
   const double planeTolerance = 1e-5 * std::max(b.diagonal(), 1e-30);
-  const PatchNeighbours nb = patchNeighbours(mesh);
+  std::vector<Vec3> lo(mesh.size()), hi(mesh.size());
+  Vec3 sceneLo(INFINITY), sceneHi(-INFINITY);
+  for (uint32_t j = 0; j < mesh.size(); ++j) {
+    const Patch& p = mesh.patches[j];
+    lo[j] = hi[j] = p.v[0];
+    for (uint32_t k = 1; k < p.count; ++k) lo[j] = glm::min(lo[j], p.v[k]), hi[j] = glm::max(hi[j], p.v[k]);
+    sceneLo = glm::min(sceneLo, lo[j]), sceneHi = glm::max(sceneHi, hi[j]);
+  }
+  const float grow = 1e-5f * glm::length(sceneHi - sceneLo);
+  for (uint32_t j = 0; j < mesh.size(); ++j) lo[j] -= grow, hi[j] += grow;
   met_.assign(mesh.size(), 0);
   tbb::parallel_for(uint32_t(0), mesh.size(), [&](uint32_t j) {
     const Patch& p = mesh.patches[j];
     const Vec3d normal = glm::normalize(Vec3d(p.normal));
-    for (uint64_t a = nb.start[j]; a < nb.start[j + 1] && !met_[j]; ++a) {
-      const Patch& q = mesh.patches[nb.adjacent[a]];
+    const auto outOfPlane = [&](uint32_t i) {
+      if (i == j || !glm::all(glm::lessThanEqual(lo[j], hi[i])) || !glm::all(glm::lessThanEqual(lo[i], hi[j])))
+        return false;
+      const Patch& q = mesh.patches[i];
       bool inPlane = std::abs(glm::dot(normal, glm::normalize(Vec3d(q.normal)))) >= 1.0 - 1e-6;
       for (uint32_t k = 0; k < q.count && inPlane; ++k)
         inPlane = std::abs(glm::dot(Vec3d(q.v[k]) - Vec3d(p.v[0]), normal)) <= planeTolerance;
-      met_[j] = !inPlane;
-    }
+      return !inPlane;
+    };
+    // The ball about the grown box, widened by another grow: a patch whose grown box meets this one's has its
+    // triangles' boxes within it.
+    const float radius = 0.5f * glm::length(hi[j] - lo[j]) * (1.0f + 1e-5f) + 2.0f * grow;
+    met_[j] = rays_.anyPatchNear(0.5f * (lo[j] + hi[j]), radius, outOfPlane);
   });
 }
 
