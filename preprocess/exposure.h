@@ -14,8 +14,9 @@
 ///
 /// Only another surface that meets or crosses a patch can bury part of it (a closed object's faces
 /// bound what it buries; a patch buried whole keeps no mask). A patch that touches nothing but
-/// coplanar patches (common/patches/patch_neighbours.h), which its hemisphere rays never hit, is therefore
-/// decided without probes: its mask is not partial.
+/// coplanar patches (touching as common/patches/patch_neighbours.h has it: bounding boxes grown by 10⁻⁵ of the
+/// diagonal overlap; found with a point query of the probes' BVH), which its hemisphere rays never hit, is
+/// therefore decided without probes: its mask is not partial.
 ///
 /// A point is decided at the centre of its cell of a lattice in the patch's plane (kLatticePerStep
 /// cells per grid step), once per cell: by the nearest probe point, or, when that point is on the

@@ -3,7 +3,8 @@
 /// Which patches touch which: the pairs whose axis-aligned bounding boxes overlap once grown by
 /// 10⁻⁵ of the mesh's diagonal (shared edges and corners, T-junctions of adaptive meshes, and
 /// surfaces that meet or cross each other). A superset of the patches that share a point, never
-/// fewer; the first-shot renderer's table visibility and the preprocessor's burial test rely on that.
+/// fewer; the first-shot renderer's table visibility relies on that, and the preprocessor's burial test
+/// (preprocess/exposure.h) takes the same grown boxes.
 #include <cstdint>
 #include <vector>
 
