@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # Equal total time: what the defaults give (--integrator auto, with a first-shot table and without) against every
 # method a user could pick without a table (path with the light tree, path with NEE to every light, the irradiance
-# cache, light tracing, BDPT). Noise = RMS over pixels of the two seeds' difference / sqrt(2), relative to the image
-# mean (firstshot-compare's nrmse / sqrt(2)); efficiency ratio = noise^2 ratio. The table's preprocessing is counted
+# cache, light tracing, BDPT). Noise = RMS over pixels of the two seeds' difference / sqrt(2), relative to the mean
+# of the pixels counted, over the pixels where the camera sees no lamp (bench/noise_lamps.py: a lamp's pixel takes
+# its value from how much of it the lamp covers, alike in every method; the scene rendered with --max-depth 0 marks
+# them); efficiency ratio = noise^2 ratio. OUT/SCENE/noise.txt has each figure over the whole picture too, and the
+# lamps' pixels' share of it. The table's preprocessing is counted
 # in the first-shot side's time: its render gets SECONDS minus the preprocessing time. "path + table" and "cache + table"
 # force the path tracer and the irradiance cache on the table (with the luminaires the preprocessor found,
 # docs/luminaires.md; their number is a column). The cache's noise leaves out its bias (its interpolation error).
@@ -33,13 +36,16 @@ if [ ${#scenes[@]} -eq 0 ]; then
 fi
 render="$build/render/firstshot-render"
 preprocess="$build/preprocess/firstshot-preprocess"
-compare="$build/bench/firstshot-compare"
 pin=(taskset -c "${CORE:-0}")
 mkdir -p "$out"
 
-# noise A B: the relative noise of one image from two seeds' images.
+# noise NAME: the relative noise of one image from the two seeds' images, outside the lamps' pixels; the line
+# "NAME OUTSIDE WHOLE LAMPS-SHARE" goes to noise.txt.
 noise() {
-  "$compare" "$1" "$2" | python3 -c 'import json,sys,math; print("%.4f" % (json.load(sys.stdin)["nrmse"] / math.sqrt(2)))'
+  local figures
+  figures=$(python3 "$here/bench/noise_lamps.py" "$dir/lamps.exr" "$dir/$1-1.exr" "$dir/$1-2.exr")
+  echo "$1 $figures" >> "$dir/noise.txt"
+  echo "${figures%% *}"
 }
 
 # run NAME TIME ARGS...: two seeds; prints the noise, or "-" when the render is refused.
@@ -53,7 +59,7 @@ run() {
       return
     fi
   done
-  noise "$dir/$name-1.exr" "$dir/$name-2.exr"
+  noise "$name"
 }
 
 table="$out/table.md"
@@ -72,6 +78,9 @@ for scene in "${scenes[@]}"; do
     continue
   fi
   prep=$(python3 -c "import time; print('%.1f' % (time.time() - $start))")
+  "${pin[@]}" "$render" "$scene" --integrator path --max-depth 0 --spp 256 --threads 1 --width "$width" --height "$height" --quiet \
+    -o "$dir/lamps.exr" > "$dir/lamps.log" 2>&1
+  rm -f "$dir/noise.txt"
   declare -A n=()
   n[path]=$(run path "$seconds" --integrator path)
   n[all]=$(run all "$seconds" --integrator path --light-sampler all)
