@@ -48,22 +48,29 @@ inline SceneDesc glassBulb() {
 
 /// A point light (2 W) in a 30 cm box of grey diffuse walls whose face towards the camera is open, on a stand in the
 /// hidden-lights room; the camera looks into the opening from 0.8 m. With @p areaLight a diffuse sphere of 2 cm
-/// radius (emission 100 W/(m² sr), ≈ 1.6 W) instead: an area light a record's rays meet by chance.
-inline SceneDesc openBox(bool areaLight = false) {
+/// radius (emission 100 W/(m² sr), ≈ 1.6 W) instead: an area light a record's rays meet by chance. With @p glassBall
+/// a clear glass ball (r = 12 cm, ior 1.5) 0.6 m in front of the opening, outside the box, in the light that leaves
+/// it, and the camera on the far side of the room looking past the ball at what it focuses on the wall behind it.
+inline SceneDesc openBox(bool areaLight = false, bool glassBall = false) {
   const std::string box =
       R"({"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.3,0.8,0.6],[1.3,0.8,0.9],[1.0,0.8,0.9]]},
          {"type": "quad", "material": "shade", "vertices": [[1.0,1.1,0.6],[1.0,1.1,0.9],[1.3,1.1,0.9],[1.3,1.1,0.6]]},
          {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,0.8,0.9],[1.0,1.1,0.9],[1.0,1.1,0.6]]},
          {"type": "quad", "material": "shade", "vertices": [[1.3,0.8,0.6],[1.3,1.1,0.6],[1.3,1.1,0.9],[1.3,0.8,0.9]]},
          {"type": "quad", "material": "shade", "vertices": [[1.0,0.8,0.6],[1.0,1.1,0.6],[1.3,1.1,0.6],[1.3,0.8,0.6]]})";
-  const std::string shade = R"("shade": {"type": "diffuse", "albedo": 0.6})";
+  const std::string shade = std::string(R"("shade": {"type": "diffuse", "albedo": 0.6})") +
+                            (glassBall ? R"(, "glass": {"type": "dielectric", "ior": 1.5})" : "");
+  const std::string shapes =
+      box + (glassBall ? R"(, {"type": "sphere", "material": "glass", "center": [1.15, 0.7, 1.3], "radius": 0.12,
+                               "subdivisions": 4, "smooth": true})"
+                       : "");
   SceneDesc d =
       areaLight ? hiddenLightsRoom(shade + R"(, "bulb": {"type": "diffuse", "emission": 100})",
-                                   box + R"(, {"type": "sphere", "material": "bulb", "center": [1.15, 0.95, 0.7],
+                                   shapes + R"(, {"type": "sphere", "material": "bulb", "center": [1.15, 0.95, 0.7],
                                               "radius": 0.02, "subdivisions": 2})")
-                : hiddenLightsRoom(shade, box + R"(], "lights": [{"type": "point", "position": [1.15, 0.95, 0.7], "power": 2})");
-  d.camera.position = Vec3d(1.35, 1.05, 1.6);
-  d.camera.lookAt = Vec3d(1.15, 0.95, 0.75);
+                : hiddenLightsRoom(shade, shapes + R"(], "lights": [{"type": "point", "position": [1.15, 0.95, 0.7], "power": 2})");
+  d.camera.position = glassBall ? Vec3d(0.5, 0.9, 0.4) : Vec3d(1.35, 1.05, 1.6);
+  d.camera.lookAt = glassBall ? Vec3d(1.15, 0.3, 2.0) : Vec3d(1.15, 0.95, 0.75);
   d.camera.fovYDeg = 60;
   return d;
 }

@@ -70,6 +70,24 @@ TEST(LuminaireRender, OpenBoxSeenInsideAsItIs) {
   expectSameImage("open box", test::withLuminaireTable(d), 400, 150, 300, 0.04);
 }
 
+// A glass ball in the light that leaves the open box, outside its box: what the ball focuses on the wall behind it is
+// found by paths from the wall through the glass into the box, a box entered from a delta vertex after a non-delta
+// one, inside which the light is met as it is (its exit light is no part of a path through glass). The path tracer
+// with the luminaire against light tracing without, beside the exit table's blur by the box (4%, as above).
+TEST(LuminaireRender, LightThroughGlassOutsideTheBox) {
+  FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.OpenBoxSeenInsideAsItIs");
+  const SceneDesc d = test::openBox(false, true);
+  const RenderScene scene = test::withLuminaireTable(d);
+  ASSERT_EQ(scene.firstShot()->luminaires.size(), 1u);
+  const Luminaire& lum = scene.firstShot()->luminaires[0];
+  ASSERT_LT(lum.hi.z, 1.3 - 0.12) << "the ball is outside the box";
+  auto on = makeIntegrator("path", pathOptions(d, true)), ref = makeIntegrator("light", pathOptions(d, false));
+  on->preprocess(scene);
+  ref->preprocess(scene);
+  test::expectBlocksAgree("light through glass outside the box, path with the luminaire against light without",
+                          test::blockMeans(*on, scene, 600), test::blockMeans(*ref, scene, 300, 2), 0.04);
+}
+
 // The ceiling straight above the bowl of the shipped bowl-lamp room (scenes/bowl-lamp-room.json), where its hot spot
 // is: an 8° view of it (16 × 16 pixels, four blocks) with the luminaire against light tracing with the bulb as a light.
 // The bulb's direct light through the opening is sampled from the bulb itself (the exit table holds only what the bowl
