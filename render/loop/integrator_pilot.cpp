@@ -47,6 +47,12 @@ constexpr double kRecordsErrorExponent = 0.5;
 /// (median 1.88; 128 × 128, one thread; bench/cache_ray_cost.sh), where its passes' rays took 0.57–1.60× (median
 /// 1.18, counted as one).
 constexpr double kFillRayCost = 1.9;
+/// A seeded preprocessing's rays grow as (its picture's pixels)^this: its records are placed by the surfaces' shape
+/// and the light, and fewer are new as the pixels grow. Measured: the Cornell box with its table 0.88 from 12 × 12 to
+/// 128 × 128 and 0.81 to 512 × 512, the glass-bulb room 0.83 from 16 × 16 to 128 × 128, the bowl-lamp room 0.76 from
+/// 12 × 12 to 128 × 128. In proportion to the pixels (as until 2026-11-30) the bowl-lamp room's fill came out at
+/// 82–85% of the render's rays, about three times its own, and the cache + table, 13× light tracing there, tied.
+constexpr double kFillGrowth = 0.8;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -328,8 +334,12 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   std::nth_element(means.begin(), means.begin() + ptrdiff_t(means.size() / 2), means.end());
   const double median = means[means.size() / 2];
   // A seeded preprocessing (the cache's fill) is charged at its share of the render: G, the render's work per pilot
-  // picture (renderWork), and its fill at the render's scale, in proportion to the pixels, at kFillRayCost a ray.
+  // picture (renderWork), and its fill grown to the render's picture (kFillGrowth), at kFillRayCost a ray, then
+  // taken at the pilot picture's share of the render's pixels, as G is.
   const double render = renderWork(budget);
+  const double fillPixels = double(fillDesc.width) * double(fillDesc.height);
+  const double fillGrowth =
+      std::pow(renderPixels / fillPixels, kFillGrowth) * double(desc.width) * double(desc.height) / renderPixels;
   for (PilotFigure& f : figures) {
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
@@ -346,7 +356,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
                          placed2 * std::pow(double(fillDesc.width) * double(fillDesc.height) / renderPixels,
                                             2.0 * kRecordsErrorExponent));
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
-                 fill = f.preprocessRays * fillScale * cost * kFillRayCost;
+                 fill = f.preprocessRays * fillGrowth * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
     f.frozen *= f.mean / median;
     f.preprocessShare = render > 0.0 ? fill / render : 1.0;

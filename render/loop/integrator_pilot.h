@@ -28,7 +28,7 @@
 /// with more passes: its noise is split into that frozen part (a third image, the second fill's records under the
 /// first image's passes, against the first), projected to the render's denser records, and the passes' (its passes
 /// take independent samples), and its efficiency is the render's, its fill charged at its share
-/// of the render's work (projected from the fill's picture in proportion to the pixels, its rays at kFillRayCost
+/// of the render's work (grown from the fill's picture to the render's as pixels^kFillGrowth, its rays at kFillRayCost
 /// each), not of a pilot image (PilotFigure::efficiency); the render's work is its samples at the first candidate's
 /// rays per sample, or where --time sized it, the time at kTimeRaysRate.
 /// The pilot picture has at most 48 × 48 pixels, the camera's aspect and field; each candidate's two images take 5%
