@@ -14,32 +14,41 @@ light's noise. One such pixel can be the whole figure: in Veach's MIS scene at 1
 covers part of one pixel, which reads about 1235 against an image mean of 1.05 and held 99.1% of the path tracer's
 squared noise at 20 s (docs/measurements.md, "Lamps in the picture").
 """
-import math
+import subprocess
 import sys
 
-from noise_outside import read
+from noise_outside import noise, read
 
 
-def noise(a, b, keep):
-    if not keep:
-        return float("nan"), 0.0
-    mean = sum(sum(a[i]) + sum(b[i]) for i in keep) / (6 * len(keep))
-    sq = sum(sum((x - y) ** 2 / 2 for x, y in zip(a[i], b[i])) for i in keep)
-    return math.sqrt(sq / (3 * len(keep))) / mean, sq
+def load(path):
+    try:
+        return read(path)[0]
+    except (subprocess.CalledProcessError, FileNotFoundError) as e:
+        print(f"noise_lamps: {path}: cannot be read ({e})", file=sys.stderr)
+        sys.exit(2)
+
+
+def squares(a, b, keep):
+    """The two images' summed squared difference / 2 over the pixels @p keep."""
+    return sum(sum((x - y) ** 2 / 2 for x, y in zip(a[i], b[i])) for i in keep)
 
 
 def main():
     if len(sys.argv) != 4:
-        sys.exit(__doc__)
-    (lamps, _), (a, _), (b, _) = read(sys.argv[1]), read(sys.argv[2]), read(sys.argv[3])
+        print(__doc__, file=sys.stderr)
+        sys.exit(2)
+    lamps, a, b = (load(p) for p in sys.argv[1:4])
     if not (len(lamps) == len(a) == len(b)):
-        sys.exit("noise_lamps: the three images differ in size")
+        print(f"noise_lamps: {sys.argv[1]}, {sys.argv[2]} and {sys.argv[3]} differ in size "
+              f"({len(lamps)}, {len(a)} and {len(b)} pixels)", file=sys.stderr)
+        sys.exit(2)
     every = range(len(a))
     outside = [i for i in every if max(lamps[i]) <= 0.0]
-    n_out, _ = noise(a, b, outside)
-    n_all, sq_all = noise(a, b, every)
-    _, sq_lamps = noise(a, b, [i for i in every if max(lamps[i]) > 0.0])
-    print(f"{n_out:.4f} {n_all:.4f} {sq_lamps / sq_all if sq_all > 0 else 0.0:.3f}")
+    n_out = noise(a, b, outside)[0] if outside else float("nan")
+    n_all = noise(a, b, every)[0]
+    sq_all = squares(a, b, every)
+    share = squares(a, b, [i for i in every if max(lamps[i]) > 0.0]) / sq_all if sq_all > 0 else 0.0
+    print(f"{n_out:.4f} {n_all:.4f} {share:.3f}")
 
 
 if __name__ == "__main__":

@@ -46,17 +46,22 @@ struct RenderRun {
   RenderStats stats;
 };
 
-/// Renders @p scene with @p integrator, already preprocessed for it.
-inline RenderRun renderWith(const Integrator& integrator, const RenderScene& scene, int spp, uint64_t seed = 1,
-                            int threads = 0) {
+/// Renders @p scene's camera view with @p integrator, already preprocessed for it, as @p ro says.
+inline RenderRun renderWith(const Integrator& integrator, const RenderScene& scene, const RenderOptions& ro) {
   const Camera camera(scene.desc().camera);
   RenderRun run{Film(camera.width(), camera.height()), {}};
+  run.stats = render(integrator, camera, run.film, ro);
+  return run;
+}
+
+/// The same at @p spp samples per pixel, seed @p seed, on @p threads threads (0: one per core).
+inline RenderRun renderWith(const Integrator& integrator, const RenderScene& scene, int spp, uint64_t seed = 1,
+                            int threads = 0) {
   RenderOptions ro;
   ro.spp = spp;
   ro.seed = seed;
   ro.threads = threads;
-  run.stats = render(integrator, camera, run.film, ro);
-  return run;
+  return renderWith(integrator, scene, ro);
 }
 
 /// Renders @p scene with the path integrator.

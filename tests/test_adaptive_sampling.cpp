@@ -28,8 +28,6 @@ RenderScene cornell() {
 /// An adaptive render of @p spp samples per pixel on average, on @p threads threads (through @p comm if given).
 Film renderAdaptive(const Integrator& integrator, const RenderScene& scene, int spp, int threads, Comm* comm = nullptr,
                     bool adaptive = true, SamplerMode sampler = SamplerMode::Sobol, uint64_t seed = 7) {
-  const Camera camera(scene.desc().camera);
-  Film film(camera.width(), camera.height());
   RenderOptions ro;
   ro.spp = spp;
   ro.seed = seed;
@@ -37,8 +35,7 @@ Film renderAdaptive(const Integrator& integrator, const RenderScene& scene, int 
   ro.adaptive = adaptive;
   ro.sampler = sampler;
   ro.comm = comm;
-  render(integrator, camera, film, ro);
-  return film;
+  return test::renderWith(integrator, scene, ro).film;
 }
 
 void addSamples(Film& film, int x, int y, int n, double spread) {

@@ -230,14 +230,11 @@ SceneDesc cornell(int w, int h, int maxDepth) {
 }
 
 Film renderCornell(const Integrator& integrator, const RenderScene& scene, SamplerMode mode, int spp, uint64_t seed) {
-  const Camera camera(scene.desc().camera);
-  Film film(camera.width(), camera.height());
   RenderOptions ro;
   ro.spp = spp;
   ro.seed = seed;
   ro.sampler = mode;
-  render(integrator, camera, film, ro);
-  return film;
+  return test::renderWith(integrator, scene, ro).film;
 }
 
 /// Relative MSE of @p img against @p ref: Σ (img − ref)² / Σ ref² over pixels and channels, less
