@@ -9,6 +9,7 @@
 
 #include "common/scene/scene_desc.h"
 #include "preprocess/preprocessor.h"
+#include "tests/render_util.h"
 #include "tests/test_util.h"
 
 namespace firstshot::test {

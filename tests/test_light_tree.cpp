@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <random>
 
 #include "render/lights/light_tree.h"
@@ -225,7 +226,8 @@ TEST(LightTree, VisibilityFactorsKeepSampleAndPmfConsistent) {
   const auto emitters = randomEmitters(200, rng);
   const std::vector<uint32_t> groupable(emitters.size(), 1);
   LightTree tree(emitters, &groupable, 4);
-  VisibilityGrid grid;
+  const auto shared = std::make_shared<VisibilityGrid>();
+  VisibilityGrid& grid = *shared;
   grid.origin = Vec3(-6.0f);
   grid.cell = 3.0f;
   grid.nx = grid.ny = grid.nz = 4;
@@ -237,7 +239,7 @@ TEST(LightTree, VisibilityFactorsKeepSampleAndPmfConsistent) {
   std::uniform_real_distribution<float> u01(0.0f, 1.0f), pos(-6.0f, 6.0f);
   std::vector<float> v(grid.rows * cut.size());
   for (float& x : v) x = u01(rng) < 0.3f ? 0.0f : u01(rng);
-  tree.setVisibility(&grid, D, v, 0.05f);
+  tree.setVisibility(shared, D, v, 0.05f);
   const LightTree plain(emitters, &groupable, 4);  // the same tree without factors, built once
   int samples = 0;
   for (int k = 0; k < 200; ++k) {

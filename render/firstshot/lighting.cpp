@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "common/lights/spot_integral.h"
 #include "common/sampling/sampling.h"
@@ -85,6 +86,16 @@ constexpr double kMaxVisible = 2.0;
 }  // namespace
 
 void FirstShotLighting::build(const RenderScene& scene) {
+  // A deterministic function of the scene: its integrators share one build (render/scene/scene_memo.h).
+  if (const std::shared_ptr<const FirstShotLighting> kept = scene.memo().find<FirstShotLighting>("")) {
+    *this = *kept;
+    return;
+  }
+  buildAnew(scene);
+  scene.memo().keep("", std::make_shared<const FirstShotLighting>(*this));
+}
+
+void FirstShotLighting::buildAnew(const RenderScene& scene) {
   scene_ = &scene;
   const FirstShotTable* t = scene.firstShot();
   side_.clear();

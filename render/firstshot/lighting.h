@@ -54,6 +54,7 @@ class FirstShotLighting {
 
   /// Recovers V_ij for every factor, sorts the samples of each patch into near and far, and sums
   /// the far ones per side of each patch's plane; no-op without a table. @p scene must outlive this.
+  /// Built once per scene: later builds copy the scene's kept lighting (SceneMemo).
   void build(const RenderScene& scene);
   /// The first-shot radiance reflected at a hit on patch hit.patch towards the local @p woLocal
   /// (W/(m² sr) per unit of the BSDF). Requires a table and a hit on a patch.
@@ -68,6 +69,7 @@ class FirstShotLighting {
   TableVisibilityMap::Cursor visibilityCursor(uint32_t patch) const { return visibilityMap_.cursor(patch); }
 
  private:
+  void buildAnew(const RenderScene& scene);
   /// Far samples of one side of a patch: E(x) ≈ average + (x − centroid)·gradient per channel.
   struct SideTerm {
     Color average{0.0f};  ///< W/m²

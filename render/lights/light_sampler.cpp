@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <string>
 
 #include "common/sampling/sampling.h"
 #include "render/firstshot/patch_emitters.h"
@@ -124,6 +126,24 @@ void LightSampler::addExits(Group& g, std::vector<LightBounds>& bounds) {
 void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
                          bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite,
                          bool luminaires) {
+  // The same arguments make the same sampler (the lighting is only kept, for the patches' radiance): a scene's
+  // integrators share one build (render/scene/scene_memo.h), its visibility factors above all.
+  std::string key{char('0' + int(strategy)), char('0' + patchEmitters), char('0' + visibility), char('0' + infinite),
+                  char('0' + luminaires), include ? '+' : '-'};
+  if (include)
+    for (uint8_t in : *include) key += in ? '1' : '0';
+  if (const std::shared_ptr<const LightSampler> kept = scene.memo().find<LightSampler>(key)) {
+    *this = *kept;
+    firstShot_ = &firstShot;
+    return;
+  }
+  buildAnew(scene, firstShot, strategy, patchEmitters, visibility, include, infinite, luminaires);
+  scene.memo().keep(key, std::make_shared<const LightSampler>(*this));
+}
+
+void LightSampler::buildAnew(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
+                             bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite,
+                             bool luminaires) {
   scene_ = &scene;
   firstShot_ = &firstShot;
   strategy_ = strategy;
@@ -167,7 +187,6 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
     }
     groups_[g].tree = LightTree(bounds[g], &groupable, kPatchLeaf);
   }
-  grid_ = VisibilityGrid();
   if (visibility) buildVisibility();
 }
 

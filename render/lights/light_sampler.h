@@ -76,6 +76,7 @@ class LightSampler {
   /// it when @p infinite.
   /// @p luminaires: the table's luminaires replace their lights for vertices outside them (their exit patches join
   /// the kept group, their lights form the Inner group); only under LightStrategy::Tree.
+  /// The same arguments on the same scene are built once: later builds copy the scene's kept sampler (SceneMemo).
   void build(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy, bool patchEmitters,
              bool visibility = true, const std::vector<uint8_t>* include = nullptr, bool infinite = false,
              bool luminaires = false);
@@ -140,7 +141,11 @@ class LightSampler {
   float selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const;
   /// The emitter index of a hit on a patch seen from @p x in its group's tree, or kNoId.
   uint32_t patchEmitter(const Hit& y, const Vec3& x) const;
-  /// Builds grid_ and sets every tree's visibility factors (light_sampler_visibility.cpp).
+  /// build() without the scene's memo.
+  void buildAnew(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
+                 bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite,
+                 bool luminaires);
+  /// Builds the visibility grid and sets every tree's visibility factors (light_sampler_visibility.cpp).
   void buildVisibility();
 
   const RenderScene* scene_ = nullptr;
@@ -155,7 +160,6 @@ class LightSampler {
   std::vector<uint8_t> lightGroup_;
   std::vector<uint32_t> lightFirst_;
   uint8_t patchGroup_ = kNone;
-  VisibilityGrid grid_;
   std::vector<uint32_t> patchSide_;
   bool luminaires_ = false;
   std::vector<uint32_t> exitEmitter_;  ///< per luminaire: its emitter in the kept group, or kNoId

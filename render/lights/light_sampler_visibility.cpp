@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "common/patches/patches.h"
 #include "common/sampling/distribution_1d.h"
@@ -44,13 +45,16 @@ void LightSampler::buildVisibility() {
   const Vec3 extent = Vec3(hi - lo);
   const float longest = std::max({extent.x, extent.y, extent.z});
   if (!(longest > 0.0f)) return;
-  grid_.cell = longest / float(kGridCells);
-  if (std::isfinite(mesh.patchSize)) grid_.cell = std::max(grid_.cell, float(mesh.patchSize));
-  grid_.origin = Vec3(lo);
-  grid_.nx = std::max(1, int(std::ceil(extent.x / grid_.cell)));
-  grid_.ny = std::max(1, int(std::ceil(extent.y / grid_.cell)));
-  grid_.nz = std::max(1, int(std::ceil(extent.z / grid_.cell)));
-  grid_.row.assign(size_t(grid_.nx) * grid_.ny * grid_.nz, -1);
+  // Shared by the trees (and by the copies of this sampler: a light sampler kept in the scene's memo).
+  const auto shared = std::make_shared<VisibilityGrid>();
+  VisibilityGrid& grid = *shared;
+  grid.cell = longest / float(kGridCells);
+  if (std::isfinite(mesh.patchSize)) grid.cell = std::max(grid.cell, float(mesh.patchSize));
+  grid.origin = Vec3(lo);
+  grid.nx = std::max(1, int(std::ceil(extent.x / grid.cell)));
+  grid.ny = std::max(1, int(std::ceil(extent.y / grid.cell)));
+  grid.nz = std::max(1, int(std::ceil(extent.z / grid.cell)));
+  grid.row.assign(size_t(grid.nx) * grid.ny * grid.nz, -1);
 
   // Receivers: in every cell that a patch's bounds touch, the centroids of the kPointsPerCell
   // such patches with the smallest hash of their ID (a deterministic, spread-out choice).
@@ -74,7 +78,7 @@ void LightSampler::buildVisibility() {
       count = std::min(count + 1, kPointsPerCell);
     }
   };
-  std::vector<Chosen> chosen(grid_.row.size());
+  std::vector<Chosen> chosen(grid.row.size());
   std::vector<std::vector<Vec3d>> pieces;
   std::vector<size_t> cells;
   for (uint32_t j = 0; j < mesh.size(); ++j) {
@@ -83,10 +87,10 @@ void LightSampler::buildVisibility() {
     double longestEdge = 0;
     for (uint32_t i = 0; i < patch.count; ++i) v[i] = Vec3d(patch.v[i]);
     for (uint32_t i = 0; i < patch.count; ++i) longestEdge = std::max(longestEdge, glm::length(v[(i + 1) % patch.count] - v[i]));
-    const bool whole = !(longestEdge > grid_.cell * (1 + 1e-4));  // (a patch of the size the cell was made from stays whole)
+    const bool whole = !(longestEdge > grid.cell * (1 + 1e-4));  // (a patch of the size the cell was made from stays whole)
     if (!whole) {
       pieces.clear();
-      subdividePolygon(v, int(patch.count), grid_.cell, pieces);
+      subdividePolygon(v, int(patch.count), grid.cell, pieces);
     }
     const size_t pieceCount = whole ? 1 : pieces.size();
     for (size_t k = 0; k < pieceCount; ++k) {
@@ -98,12 +102,12 @@ void LightSampler::buildVisibility() {
         plo = glm::min(plo, Vec3(piece[i])), phi = glm::max(phi, Vec3(piece[i])), centroid += piece[i];
       const Receiver r{pieceCount == 1 ? patch.centroid : Vec3(centroid / double(corners)), patch.normal};
       const uint64_t key = pieceCount == 1 ? hashKeys(kSeed, j) : hashKeys(kSeed, j, k);
-      const Vec3 step(grid_.cell);
+      const Vec3 step(grid.cell);
       cells.clear();
       for (float z = plo.z; z < phi.z + step.z; z += step.z)
         for (float y = plo.y; y < phi.y + step.y; y += step.y)
           for (float x = plo.x; x < phi.x + step.x; x += step.x)
-            cells.push_back(grid_.cellOf(glm::min(Vec3(x, y, z), phi)));
+            cells.push_back(grid.cellOf(glm::min(Vec3(x, y, z), phi)));
       std::sort(cells.begin(), cells.end());
       cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
       for (size_t cell : cells) chosen[cell].offer({key, r});
@@ -112,11 +116,11 @@ void LightSampler::buildVisibility() {
   std::vector<std::vector<Receiver>> receivers;
   for (size_t cell = 0; cell < chosen.size(); ++cell) {
     if (chosen[cell].count == 0) continue;
-    grid_.row[cell] = static_cast<int32_t>(receivers.size());
+    grid.row[cell] = static_cast<int32_t>(receivers.size());
     receivers.emplace_back();
     for (int m = 0; m < chosen[cell].count; ++m) receivers.back().push_back(chosen[cell].c[m].r);
   }
-  grid_.rows = receivers.size();
+  grid.rows = receivers.size();
   const float offset = 1e-4f * glm::length(extent);
 
   for (Group& g : groups_) {
@@ -131,9 +135,9 @@ void LightSampler::buildVisibility() {
       g.tree.emittersUnder(cut[k], members[k], power);
       byPower[k] = Distribution1Df(std::vector<double>(power.begin(), power.end()));
     }
-    const int rays = int(std::clamp(kRayBudget / double(grid_.rows * cut.size()), 2.0, double(kRaysPerNode)));
-    std::vector<float> v(grid_.rows * cut.size(), 1.0f);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, grid_.rows), [&](const tbb::blocked_range<size_t>& range) {
+    const int rays = int(std::clamp(kRayBudget / double(grid.rows * cut.size()), 2.0, double(kRaysPerNode)));
+    std::vector<float> v(grid.rows * cut.size(), 1.0f);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, grid.rows), [&](const tbb::blocked_range<size_t>& range) {
       for (size_t r = range.begin(); r < range.end(); ++r)
         for (size_t k = 0; k < cut.size(); ++k) {
           if (members[k].empty()) continue;
@@ -157,7 +161,7 @@ void LightSampler::buildVisibility() {
           v[r * cut.size() + k] = visible / float(rays);
         }
     });
-    g.tree.setVisibility(&grid_, D, v, kEpsilon);
+    g.tree.setVisibility(shared, D, v, kEpsilon);
   }
 }
 

@@ -182,12 +182,13 @@ void LightTree::emittersUnder(uint32_t node, std::vector<uint32_t>& emitters, st
   for (uint32_t e : emitters) power.push_back(power_[e]);
 }
 
-void LightTree::setVisibility(const VisibilityGrid* grid, int D, const std::vector<float>& cutVisibility, float epsilon) {
-  grid_ = grid;
+void LightTree::setVisibility(std::shared_ptr<const VisibilityGrid> grid, int D, const std::vector<float>& cutVisibility,
+                              float epsilon) {
+  grid_ = std::move(grid);
   const std::vector<uint32_t> cutNodes = cut(D);
   topCount_ = 0;
   for (Node& node : nodes_) node.top = node.depth <= D ? int32_t(topCount_++) : -1;
-  const size_t rows = grid ? grid->rows : 0;
+  const size_t rows = grid_ ? grid_->rows : 0;
   visibility_.assign(rows * topCount_, 0.0f);
   std::vector<float> v(nodes_.size());
   for (size_t r = 0; r < rows; ++r) {

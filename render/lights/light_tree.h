@@ -12,6 +12,7 @@
 /// LightBounds::importance; pmf() walks the same path (each emitter's bit trail) with the same
 /// arithmetic, so the probability it returns is exactly the one sample() reports.
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/util/math.h"
@@ -70,7 +71,7 @@ class LightTree {
   /// Sets the factors: @p cutVisibility[r·cut.size() + k] = v of cut node k from grid row r;
   /// the nodes above the cut get the power-weighted mean of those below. @p epsilon > 0 keeps
   /// every emitter reachable.
-  void setVisibility(const VisibilityGrid* grid, int D, const std::vector<float>& cutVisibility, float epsilon);
+  void setVisibility(std::shared_ptr<const VisibilityGrid> grid, int D, const std::vector<float>& cutVisibility, float epsilon);
 
  private:
   /// The bounds in the form the descent evaluates (LightBounds with its sphere and sin θo precomputed).
@@ -110,7 +111,7 @@ class LightTree {
   std::vector<float> leafCdf_;       ///< beside leaf_: cumulative power share within the leaf (last 1)
   const std::vector<uint32_t>* groupable_ = nullptr;  ///< during construction only
   int maxLeaf_ = 1;
-  const VisibilityGrid* grid_ = nullptr;
+  std::shared_ptr<const VisibilityGrid> grid_;  ///< shared by the sampler's trees and its copies
   std::vector<float> visibility_;    ///< per grid row: one factor per top node
   size_t topCount_ = 0;
   int depth_ = 0;

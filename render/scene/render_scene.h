@@ -16,6 +16,7 @@
 #include "render/scene/light_set.h"
 #include "render/scene/luminaire_boxes.h"
 #include "render/scene/ray.h"
+#include "render/scene/scene_memo.h"
 #include "render/scene/shading_normals.h"
 #include "render/scene/surface_textures.h"
 
@@ -87,6 +88,9 @@ class RenderScene {
   const EmbreeScene& embree() const { return *embree_; }
   /// The alpha cut-outs on the traced mesh, or nullptr when the scene has none (common/patches/patch_cutouts.h).
   const PatchCutouts* cutouts() const { return cutouts_.get(); }
+  /// Products derived from this scene that integrators share once built (render/scene/scene_memo.h): a cache,
+  /// so a const scene may fill it.
+  SceneMemo& memo() const { return memo_; }
 
  private:
   void build(const std::vector<uint32_t>& replaced);
@@ -111,6 +115,7 @@ class RenderScene {
   LuminaireBoxes luminaires_;
   std::shared_ptr<const PatchCutouts> cutouts_;  ///< alpha cut-outs on the traced mesh (null: none)
   std::unique_ptr<EmbreeScene> embree_;
+  mutable SceneMemo memo_;
 };
 
 }  // namespace firstshot
