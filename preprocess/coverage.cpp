@@ -281,8 +281,7 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
     const int j = std::min(view.height - 1, int((view.planeMax.y - w) / (view.planeMax.y - view.planeMin.y) * view.height));
     if (!(weights[v][size_t(j) * view.width + i] > 0)) continue;
     const Vec3d o = persp ? view.eye : view.eye + u * view.right + w * view.up;
-    double t = 0;
-    return rays.firstHit(o, x - o, 1.0 - 1e-5, t) == kNoPatch ? 1 : 0;
+    return rays.occluded(o, x - o, 1.0 - 1e-5) ? 0 : 1;
   }
   return -1;
 }

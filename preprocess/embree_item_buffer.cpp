@@ -205,6 +205,19 @@ uint32_t EmbreeItemBuffer::firstHit(const Vec3d& origin, const Vec3d& direction,
   return triPatch_[rh.hit.primID];
 }
 
+bool EmbreeItemBuffer::occluded(const Vec3d& origin, const Vec3d& direction, double tfar) const {
+  if (triPatch_.empty()) return false;
+  FlushDenormals ftz;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh;
+  const float org[3] = {float(origin.x), float(origin.y), float(origin.z)};
+  const float dir[3] = {float(direction.x), float(direction.y), float(direction.z)};
+  fillRay(rh, org, dir, 0.0f, float(tfar));
+  rtcOccluded1(scene_, &ctx, &rh.ray);
+  return rh.ray.tfar < 0.0f;  // Embree sets tfar to −∞ when it finds a hit
+}
+
 namespace {
 
 /// What anyPatchNear's query carries to its callback.

@@ -46,6 +46,9 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   /// The patch first hit by the ray @p origin + t·@p direction, t in [0, @p tfar] (direction not
   /// necessarily unit), or kNoPatch; @p t receives its t. Thread-safe, like render().
   uint32_t firstHit(const Vec3d& origin, const Vec3d& direction, double tfar, double& t) const;
+  /// Whether any patch meets the ray @p origin + t·@p direction, t in [0, @p tfar]: firstHit() != kNoPatch, by an
+  /// occlusion query (it stops at the first surface found, not the nearest). Thread-safe, like render().
+  bool occluded(const Vec3d& origin, const Vec3d& direction, double tfar) const;
   /// Calls @p test(patch) with the patch of every triangle whose bounding box may meet the ball of radius @p radius
   /// about @p centre (Embree's point query: a superset of those that do, some patches more than once), until it
   /// returns true. @return whether it did. Thread-safe, like render().
