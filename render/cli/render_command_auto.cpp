@@ -36,9 +36,10 @@ void RenderCommand::resolveIntegrator() {
   const bool replaces = renderScene_ && renderScene_->firstShot() && !renderScene_->firstShot()->replacedLights.empty();
   // Sensors and the preview start with the table: a choice without it is the pilot's, on the camera's pictures.
   const bool tableGiven = renderScene_ && renderScene_->firstShot() && !sensors_.active() && !preview_;
+  const bool luminaires = tableGiven && !renderScene_->luminaires().empty();
   const bool manyLights = scene_.lights.size() + (scene_.sky || scene_.environment ? 1 : 0) > 1;
-  const std::vector<PilotCandidate> candidates =
-      integrators_.autoCandidates(app_, replaces, tableGiven, manyLights, scene_.sky || scene_.environment, scene_.file);
+  const std::vector<PilotCandidate> candidates = integrators_.autoCandidates(
+      app_, replaces, tableGiven, luminaires, manyLights, scene_.sky || scene_.environment, scene_.file);
   auto say = [&](const std::string& text) {
     if (!quiet_) fmt::print(stderr, "firstshot-render: --integrator auto: {}\n", text);
   };
