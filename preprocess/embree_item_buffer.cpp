@@ -190,15 +190,25 @@ void EmbreeItemBuffer::renderMasked(const View& view, const std::vector<uint8_t>
     }
 }
 
+namespace {
+
+/// The ray @p origin + t·@p direction, t in [0, @p tfar], as Embree takes it.
+RTCRayHit rayOf(const Vec3d& origin, const Vec3d& direction, double tfar) {
+  RTCRayHit rh;
+  const float org[3] = {float(origin.x), float(origin.y), float(origin.z)};
+  const float dir[3] = {float(direction.x), float(direction.y), float(direction.z)};
+  fillRay(rh, org, dir, 0.0f, float(tfar));
+  return rh;
+}
+
+}  // namespace
+
 uint32_t EmbreeItemBuffer::firstHit(const Vec3d& origin, const Vec3d& direction, double tfar, double& t) const {
   if (triPatch_.empty()) return kNoPatch;
   FlushDenormals ftz;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  const float org[3] = {float(origin.x), float(origin.y), float(origin.z)};
-  const float dir[3] = {float(direction.x), float(direction.y), float(direction.z)};
-  fillRay(rh, org, dir, 0.0f, float(tfar));
+  RTCRayHit rh = rayOf(origin, direction, tfar);
   rtcIntersect1(scene_, &ctx, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return kNoPatch;
   t = rh.ray.tfar;
@@ -210,10 +220,7 @@ bool EmbreeItemBuffer::occluded(const Vec3d& origin, const Vec3d& direction, dou
   FlushDenormals ftz;
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
-  RTCRayHit rh;
-  const float org[3] = {float(origin.x), float(origin.y), float(origin.z)};
-  const float dir[3] = {float(direction.x), float(direction.y), float(direction.z)};
-  fillRay(rh, org, dir, 0.0f, float(tfar));
+  RTCRayHit rh = rayOf(origin, direction, tfar);
   rtcOccluded1(scene_, &ctx, &rh.ray);
   return rh.ray.tfar < 0.0f;  // Embree sets tfar to −∞ when it finds a hit
 }
