@@ -87,38 +87,31 @@ constexpr double kMaxVisible = 2.0;
 
 void FirstShotLighting::build(const RenderScene& scene) {
   // A deterministic function of the scene: its integrators share one build (render/scene/scene_memo.h).
-  if (const std::shared_ptr<const FirstShotLighting> kept = scene.memo().find<FirstShotLighting>("")) {
-    *this = *kept;
-    return;
-  }
-  buildAnew(scene);
-  scene.memo().keep("", std::make_shared<const FirstShotLighting>(*this));
+  scene_ = &scene;
+  d_ = scene.memo().find<Data>("FirstShotLighting");
+  if (d_) return;
+  d_ = compute(scene);
+  scene.memo().keep("FirstShotLighting", d_);
 }
 
-void FirstShotLighting::buildAnew(const RenderScene& scene) {
-  scene_ = &scene;
+std::shared_ptr<const FirstShotLighting::Data> FirstShotLighting::compute(const RenderScene& scene) {
+  const auto data = std::make_shared<Data>();
+  Data& d = *data;
   const FirstShotTable* t = scene.firstShot();
-  side_.clear();
-  visible_.clear();
-  visibilityMap_ = TableVisibilityMap();
-  near_.clear();
-  nearSpotStart_.clear();
-  nearSpot_.clear();
-  rows_ = TableRows();
-  if (!t) return;
-  rows_ = TableRows(*t);
+  if (!t) return data;
+  d.rows_ = TableRows(*t);
   const uint32_t n = t->mesh.size();
-  side_.assign(2 * size_t(n), SideTerm());
-  visible_.assign(rows_.factors(), -1.0f);
-  spots_.assign(t->samples.size(), SpotKernel());
+  d.side_.assign(2 * size_t(n), SideTerm());
+  d.visible_.assign(d.rows_.factors(), -1.0f);
+  d.spots_.assign(t->samples.size(), SpotKernel());
   for (size_t i = 0; i < t->samples.size(); ++i)
     if (t->samples[i].kind == LightSampleKind::Spot) {
-      SpotKernel& k = spots_[i];
+      SpotKernel& k = d.spots_[i];
       k.profile = EmissionProfile(scene.desc().lights[t->samples[i].light]);
       k.invIntegral = k.profile.integral() > 0 ? float(1.0 / k.profile.integral()) : 0.0f;
     }
-  std::vector<uint8_t> near(rows_.factors(), 0);
-  const bool haveVisible = rows_.hasStoredVisible();
+  std::vector<uint8_t> near(d.rows_.factors(), 0);
+  const bool haveVisible = d.rows_.hasStoredVisible();
   tbb::parallel_for(uint32_t(0), n, [&](uint32_t j) {
     const Patch& p = t->mesh.patches[j];
     Vec3d poly[4];
@@ -128,7 +121,7 @@ void FirstShotLighting::buildAnew(const RenderScene& scene) {
       for (uint32_t l = k + 1; l < p.count; ++l) diameter = std::max(diameter, glm::length(poly[l] - poly[k]));
     const Vec3d c(p.centroid), normal = glm::normalize(Vec3d(p.normal));
     Vec3d gradient[2][3] = {};
-    for (const TableFactor f : rows_[j]) {
+    for (const TableFactor f : d.rows_[j]) {
       const uint64_t k = f.index;
       const LightSample& s = t->samples[f.sample];
       const int side = sampleSide(s, p);
@@ -137,66 +130,69 @@ void FirstShotLighting::buildAnew(const RenderScene& scene) {
       // (as the reader already did, if it did), spots by their integrated kernel.
       double v = -1.0;
       if (s.kind == LightSampleKind::Spot) {
-        const SpotKernel& spot = spots_[f.sample];
+        const SpotKernel& spot = d.spots_[f.sample];
         const double scaledU = spotPatchIntegral(s, spot.profile, p, side) * spot.invIntegral;
         v = scaledU > 0 ? double(f.r) * p.area / scaledU : -1.0;
       } else if (s.kind != LightSampleKind::Directional) {
-        v = haveVisible ? rows_.storedVisible(k) : recoveredVisible(f.r, s, t->areaEyeOffset, p);
+        v = haveVisible ? d.rows_.storedVisible(k) : recoveredVisible(f.r, s, t->areaEyeOffset, p);
       }
       if (v >= 0 && v <= kMaxVisible) {
-        visible_[k] = float(v);
+        d.visible_[k] = float(v);
         if (glm::length(Vec3d(s.position) - c) < kNearPatches * diameter) {
           near[k] = 1;
           continue;
         }
         const Vec3d nSide = side == 0 ? normal : -normal;
-        Vec3d g = v * (s.kind == LightSampleKind::Spot ? spotKernelGradient(s, spots_[f.sample], c, nSide)
+        Vec3d g = v * (s.kind == LightSampleKind::Spot ? spotKernelGradient(s, d.spots_[f.sample], c, nSide)
                                                        : kernelGradient(s, c, nSide));
         g -= glm::dot(g, normal) * normal;  // in the plane
         for (int ch = 0; ch < 3; ++ch) gradient[side][ch] += double(s.emission[ch]) * g;
       }
-      side_[2 * size_t(j) + side].average += s.emission * f.r;
+      d.side_[2 * size_t(j) + side].average += s.emission * f.r;
     }
     for (int side = 0; side < 2; ++side)
-      for (int ch = 0; ch < 3; ++ch) side_[2 * size_t(j) + side].gradient[ch] = Vec3(gradient[side][ch]);
+      for (int ch = 0; ch < 3; ++ch) d.side_[2 * size_t(j) + side].gradient[ch] = Vec3(gradient[side][ch]);
   });
-  visibilityMap_.build(*t, visible_, scene.desc().lights.size());
-  nearSpotStart_.assign(size_t(n) + 1, 0);
+  d.visibilityMap_.build(*t, d.visible_, scene.desc().lights.size());
+  d.nearSpotStart_.assign(size_t(n) + 1, 0);
   for (uint32_t j = 0; j < n; ++j) {
-    for (const TableFactor f : rows_[j]) {
+    for (const TableFactor f : d.rows_[j]) {
       const uint64_t k = f.index;
       if (!near[k]) continue;
       const LightSample& s = t->samples[f.sample];
       if (s.kind == LightSampleKind::Spot)
-        nearSpot_.push_back(k);
+        d.nearSpot_.push_back(k);
       else if (s.kind == LightSampleKind::Point)
-        near_.addPoint(s.position, s.emission * (visible_[k] / (4.0f * kPiF)));
+        d.near_.addPoint(s.position, s.emission * (d.visible_[k] / (4.0f * kPiF)));
       else
-        near_.addArea(s.position, s.normal, s.emission * (visible_[k] * s.weight));
+        d.near_.addArea(s.position, s.normal, s.emission * (d.visible_[k] * s.weight));
     }
-    near_.endPatch();
-    nearSpotStart_[j + 1] = nearSpot_.size();
+    d.near_.endPatch();
+    d.nearSpotStart_[j + 1] = d.nearSpot_.size();
   }
+  return data;
 }
 
 Color FirstShotLighting::irradiance(const Hit& hit, bool front) const {
+  const Data& d = *d_;
   const FirstShotTable& t = *scene_->firstShot();
-  const SideTerm& far = side_[2 * size_t(hit.patch) + (front ? 0 : 1)];
+  const SideTerm& far = d.side_[2 * size_t(hit.patch) + (front ? 0 : 1)];
   const Vec3 dx = hit.p - t.mesh.patches[hit.patch].centroid;
   Color e = far.average + Color(glm::dot(dx, far.gradient[0]), glm::dot(dx, far.gradient[1]), glm::dot(dx, far.gradient[2]));
   e = glm::max(e, Color(0.0f));
   const float sign = front ? 1.0f : -1.0f;
-  e += near_.sum(hit.patch, hit.p, hit.ng * sign);
-  for (uint64_t m = nearSpotStart_[hit.patch], end = nearSpotStart_[hit.patch + 1]; m < end; ++m) {
-    const TableFactor f = rows_.at(nearSpot_[m]);
+  e += d.near_.sum(hit.patch, hit.p, hit.ng * sign);
+  for (uint64_t m = d.nearSpotStart_[hit.patch], end = d.nearSpotStart_[hit.patch + 1]; m < end; ++m) {
+    const TableFactor f = d.rows_.at(d.nearSpot_[m]);
     const LightSample& s = t.samples[f.sample];
     Vec3 wi;
-    e += s.emission * (visible_[f.index] * sampleKernel(s, spots_[f.sample], hit.p, hit.ng, sign, wi));
+    e += s.emission * (d.visible_[f.index] * sampleKernel(s, d.spots_[f.sample], hit.p, hit.ng, sign, wi));
   }
   return e;
 }
 
 Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& woLocal, const BSDF& bsdf) const {
+  const Data& d = *d_;
   if (bsdf.isDiffuse()) {
     // f = ρ/π for every sample on the viewer's side, 0 for the others.
     const bool front = woLocal.z > 0.0f;
@@ -205,11 +201,11 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
   }
   // Other BSDFs depend on each sample's direction: one term per factor, per point where V_ij is known.
   auto weight = [&](const TableFactor& factor, const LightSample& s, Vec3& wi, float& e) {
-    const float v = visible_[factor.index];
+    const float v = d.visible_[factor.index];
     if (!(v >= 0.0f)) return true;  // the patch average r_ij
     // The kernel on the sample's side of the plane.
     const float sign = glm::dot(s.position - hit.p, hit.ng) >= 0.0f ? 1.0f : -1.0f;
-    e = v * sampleKernel(s, spots_[factor.sample], hit.p, hit.ng, sign, wi);
+    e = v * sampleKernel(s, d.spots_[factor.sample], hit.p, hit.ng, sign, wi);
     return e > 0.0f;
   };
   if (bsdf.shaded()) {
@@ -222,10 +218,10 @@ Color FirstShotLighting::eval(const Hit& hit, const Frame& frame, const Vec3& wo
       e *= cosG > 0.0f ? std::abs(glm::dot(wi, frame.n)) / cosG : 0.0f;
       return e > 0.0f;
     };
-    return sumReflectedFirstShot(scene_->firstShot()->samples, rows_[hit.patch], hit.p, frame, woLocal, bsdf,
+    return sumReflectedFirstShot(scene_->firstShot()->samples, d.rows_[hit.patch], hit.p, frame, woLocal, bsdf,
                                  FirstShotProduct::EmissionLast, Color(0.0f), shadedWeight);
   }
-  return sumReflectedFirstShot(scene_->firstShot()->samples, rows_[hit.patch], hit.p, frame, woLocal, bsdf,
+  return sumReflectedFirstShot(scene_->firstShot()->samples, d.rows_[hit.patch], hit.p, frame, woLocal, bsdf,
                                FirstShotProduct::EmissionLast, Color(0.0f), weight);
 }
 

@@ -9,6 +9,7 @@
 /// the viewer contribute nothing. The sum over a patch's factors is render/firstshot/reflected.h's,
 /// which the bundle transfer shares (at the patch centroid, with the patch averages r_ij).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "common/lights/emission_profile.h"
@@ -54,7 +55,7 @@ class FirstShotLighting {
 
   /// Recovers V_ij for every factor, sorts the samples of each patch into near and far, and sums
   /// the far ones per side of each patch's plane; no-op without a table. @p scene must outlive this.
-  /// Built once per scene: later builds copy the scene's kept lighting (SceneMemo).
+  /// Built once per scene: later builds (and copies) share the scene's kept data (SceneMemo).
   void build(const RenderScene& scene);
   /// The first-shot radiance reflected at a hit on patch hit.patch towards the local @p woLocal
   /// (W/(m² sr) per unit of the BSDF). Requires a table and a hit on a patch.
@@ -64,27 +65,33 @@ class FirstShotLighting {
   Color irradiance(const Hit& hit, bool front) const;
   /// Whether scene light @p light (a replaced point or spot light) sees all, none or part of patch
   /// @p patch and its neighbours, by the table's visible fractions (render/firstshot/table_visibility.h).
-  TableVisibility visibility(uint32_t patch, uint32_t light) const { return visibilityMap_.query(patch, light); }
+  TableVisibility visibility(uint32_t patch, uint32_t light) const { return d_->visibilityMap_.query(patch, light); }
   /// The same for many lights of one patch, in ascending order.
-  TableVisibilityMap::Cursor visibilityCursor(uint32_t patch) const { return visibilityMap_.cursor(patch); }
+  TableVisibilityMap::Cursor visibilityCursor(uint32_t patch) const { return d_->visibilityMap_.cursor(patch); }
 
  private:
-  void buildAnew(const RenderScene& scene);
   /// Far samples of one side of a patch: E(x) ≈ average + (x − centroid)·gradient per channel.
   struct SideTerm {
     Color average{0.0f};  ///< W/m²
     Vec3 gradient[3] = {Vec3(0.0f), Vec3(0.0f), Vec3(0.0f)};  ///< per channel, in the patch's plane, W/m³
   };
+  /// What build() computes from the scene: immutable, shared by the copies of this lighting and the scene's memo.
+  struct Data {
+    TableRows rows_;  ///< the table's factors by patch
+    std::vector<SideTerm> side_;  ///< 2j: samples in front of patch j's plane, 2j+1: behind it
+    /// Per factor (TableFactor::index): V_ij, or a negative value for a patch-average entry.
+    std::vector<float> visible_;
+    std::vector<SpotKernel> spots_;  ///< by light sample: the spot profile (default for other kinds)
+    NearTerms near_;  ///< per patch: its near point lights and area vertices, evaluated per point
+    /// CSR over patches of their near spots (TableFactor::index): per point through sampleKernel.
+    std::vector<uint64_t> nearSpotStart_, nearSpot_;
+    TableVisibilityMap visibilityMap_;
+  };
+  /// The lighting of @p scene as build() computes it.
+  static std::shared_ptr<const Data> compute(const RenderScene& scene);
+
   const RenderScene* scene_ = nullptr;
-  TableRows rows_;  ///< the table's factors by patch
-  std::vector<SideTerm> side_;  ///< 2j: samples in front of patch j's plane, 2j+1: behind it
-  /// Per factor (TableFactor::index): V_ij, or a negative value for a patch-average entry.
-  std::vector<float> visible_;
-  std::vector<SpotKernel> spots_;  ///< by light sample: the spot profile (default for other kinds)
-  NearTerms near_;  ///< per patch: its near point lights and area vertices, evaluated per point
-  /// CSR over patches of their near spots (TableFactor::index): per point through sampleKernel.
-  std::vector<uint64_t> nearSpotStart_, nearSpot_;
-  TableVisibilityMap visibilityMap_;
+  std::shared_ptr<const Data> d_ = std::make_shared<const Data>();
 };
 
 }  // namespace firstshot

@@ -4,6 +4,8 @@
 /// sampler with its visibility factors), kept once built for the scene's lifetime: --integrator auto's pilot makes a
 /// dozen integrators over one scene, and the render one more, each of which built them again (docs/integrators.md).
 /// The products are deterministic functions of the scene and the key, so a kept one is the one a build would make.
+/// The first-shot lighting's data is shared as it is (FirstShotLighting holds it by pointer); a light sampler, a
+/// few MB, is copied out.
 #include <memory>
 #include <mutex>
 #include <string>
