@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/patches/patch_neighbours.h"
+
 namespace firstshot {
 
 bool ExposureQuery::buried(const Vec3d& x) const {
@@ -34,23 +36,14 @@ ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays
   // of the ray caster's BVH about each grown box, which stops at the first patch out of the plane: about a tenth of
   // the time of listing every pair (the classroom's 120,000 patches have 11 million pairs).
   const double planeTolerance = 1e-5 * std::max(b.diagonal(), 1e-30);
-  std::vector<Vec3> lo(mesh.size()), hi(mesh.size());
-  Vec3 sceneLo(INFINITY), sceneHi(-INFINITY);
-  for (uint32_t j = 0; j < mesh.size(); ++j) {
-    const Patch& p = mesh.patches[j];
-    lo[j] = hi[j] = p.v[0];
-    for (uint32_t k = 1; k < p.count; ++k) lo[j] = glm::min(lo[j], p.v[k]), hi[j] = glm::max(hi[j], p.v[k]);
-    sceneLo = glm::min(sceneLo, lo[j]), sceneHi = glm::max(sceneHi, hi[j]);
-  }
-  const float grow = 1e-5f * glm::length(sceneHi - sceneLo);
-  for (uint32_t j = 0; j < mesh.size(); ++j) lo[j] -= grow, hi[j] += grow;
+  float grow = 0.0f;
+  const std::vector<GrownBox> box = grownPatchBoxes(mesh, grow);
   met_.assign(mesh.size(), 0);
   tbb::parallel_for(uint32_t(0), mesh.size(), [&](uint32_t j) {
     const Patch& p = mesh.patches[j];
     const Vec3d normal = glm::normalize(Vec3d(p.normal));
     const auto outOfPlane = [&](uint32_t i) {
-      if (i == j || !glm::all(glm::lessThanEqual(lo[j], hi[i])) || !glm::all(glm::lessThanEqual(lo[i], hi[j])))
-        return false;
+      if (i == j || !box[j].overlaps(box[i])) return false;
       const Patch& q = mesh.patches[i];
       bool inPlane = std::abs(glm::dot(normal, glm::normalize(Vec3d(q.normal)))) >= 1.0 - 1e-6;
       for (uint32_t k = 0; k < q.count && inPlane; ++k)
@@ -59,8 +52,8 @@ ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays
     };
     // The ball about the grown box, widened by another grow: a patch whose grown box meets this one's has its
     // triangles' boxes within it.
-    const float radius = 0.5f * glm::length(hi[j] - lo[j]) * (1.0f + 1e-5f) + 2.0f * grow;
-    met_[j] = rays_.anyPatchNear(0.5f * (lo[j] + hi[j]), radius, outOfPlane);
+    const float radius = 0.5f * glm::length(box[j].hi - box[j].lo) * (1.0f + 1e-5f) + 2.0f * grow;
+    met_[j] = rays_.anyPatchNear(0.5f * (box[j].lo + box[j].hi), radius, outOfPlane);
   });
 }
 

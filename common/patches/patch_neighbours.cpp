@@ -21,13 +21,6 @@ namespace firstshot {
 
 namespace {
 
-struct NeighbourBox {
-  Vec3 lo{0.0f}, hi{0.0f};
-  bool overlaps(const NeighbourBox& b) const {  // (& rather than &&: no branches)
-    return (lo.x <= b.hi.x) & (b.lo.x <= hi.x) & (lo.y <= b.hi.y) & (b.lo.y <= hi.y) & (lo.z <= b.hi.z) & (b.lo.z <= hi.z);
-  }
-};
-
 /// One cell a patch's grown box overlaps.
 struct CellEntry {
   uint64_t cell;   ///< linear cell index (x · ny + y) · nz + z
@@ -56,6 +49,24 @@ void sortByCell(std::vector<CellEntry>& entries, uint64_t maxCell) {
 
 }  // namespace
 
+std::vector<GrownBox> grownPatchBoxes(const PatchMesh& mesh, float& grow) {
+  const uint32_t n = mesh.size();
+  std::vector<GrownBox> box(n);
+  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n), [&](const tbb::blocked_range<uint32_t>& r) {
+    for (uint32_t j = r.begin(); j < r.end(); ++j) {
+      const Patch& p = mesh.patches[j];
+      GrownBox b{p.v[0], p.v[0]};
+      for (uint32_t k = 1; k < p.count; ++k) b.lo = glm::min(b.lo, p.v[k]), b.hi = glm::max(b.hi, p.v[k]);
+      box[j] = b;
+    }
+  });
+  GrownBox scene{Vec3(INFINITY), Vec3(-INFINITY)};
+  for (const GrownBox& b : box) scene.lo = glm::min(scene.lo, b.lo), scene.hi = glm::max(scene.hi, b.hi);
+  grow = n > 0 ? 1e-5f * glm::length(scene.hi - scene.lo) : 0.0f;
+  for (GrownBox& b : box) b.lo -= grow, b.hi += grow;
+  return box;
+}
+
 PatchNeighbours patchNeighbours(const PatchMesh& mesh) {
   PatchNeighbours result;
   std::vector<uint64_t>& start = result.start;
@@ -63,23 +74,16 @@ PatchNeighbours patchNeighbours(const PatchMesh& mesh) {
   start.assign(size_t(n) + 1, 0);
   if (n == 0) return result;
 
-  // Boxes, their longest sides and the scene's box.
-  std::vector<NeighbourBox> box(n);
+  // Boxes, their longest sides (the grown ones') and the scene's box (the boxes' union, grown as they are).
+  float grow = 0.0f;
+  const std::vector<GrownBox> box = grownPatchBoxes(mesh, grow);
   std::vector<float> extent(n);
-  tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n), [&](const tbb::blocked_range<uint32_t>& r) {
-    for (uint32_t j = r.begin(); j < r.end(); ++j) {
-      const Patch& p = mesh.patches[j];
-      NeighbourBox b{p.v[0], p.v[0]};
-      for (uint32_t k = 1; k < p.count; ++k) b.lo = glm::min(b.lo, p.v[k]), b.hi = glm::max(b.hi, p.v[k]);
-      box[j] = b;
-      const Vec3 e = b.hi - b.lo;
-      extent[j] = std::max(e.x, std::max(e.y, e.z));
-    }
-  });
-  NeighbourBox scene{Vec3(INFINITY), Vec3(-INFINITY)};
-  for (const NeighbourBox& b : box) scene.lo = glm::min(scene.lo, b.lo), scene.hi = glm::max(scene.hi, b.hi);
-  const float grow = 1e-5f * glm::length(scene.hi - scene.lo);
-  for (NeighbourBox& b : box) b.lo -= grow, b.hi += grow;
+  for (uint32_t j = 0; j < n; ++j) {
+    const Vec3 e = box[j].hi - box[j].lo;
+    extent[j] = std::max(e.x, std::max(e.y, e.z));
+  }
+  GrownBox scene{Vec3(INFINITY), Vec3(-INFINITY)};
+  for (const GrownBox& b : box) scene.lo = glm::min(scene.lo, b.lo), scene.hi = glm::max(scene.hi, b.hi);
 
   // Cells three times the median patch (twice, or four times, made the 1M-triangle room slower), at
   // least 12 grows (so at most ~8,400 cells along an axis and 2^40 in all).
@@ -87,15 +91,15 @@ PatchNeighbours patchNeighbours(const PatchMesh& mesh) {
   float cell = std::max(extent[n / 2], 4.0f * grow) * 3.0f;
   if (!(cell > 0.0f)) cell = 1.0f;  // every patch at one point
   std::vector<float>().swap(extent);
-  const Vec3 origin = scene.lo - Vec3(2.0f * grow);
+  const Vec3 origin = scene.lo - Vec3(grow);
   auto coord = [&](float x, int axis) { return static_cast<uint64_t>(std::max(0.0f, std::floor((x - origin[axis]) / cell))); };
-  const uint64_t ny = coord(scene.hi.y + grow, 1) + 1, nz = coord(scene.hi.z + grow, 2) + 1;
-  const uint64_t maxCell = (coord(scene.hi.x + grow, 0) * ny + ny - 1) * nz + nz - 1;
+  const uint64_t ny = coord(scene.hi.y, 1) + 1, nz = coord(scene.hi.z, 2) + 1;
+  const uint64_t maxCell = (coord(scene.hi.x, 0) * ny + ny - 1) * nz + nz - 1;
   struct CellRange {
     uint64_t lo[3], hi[3];
     uint64_t count() const { return (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1); }
   };
-  auto cellsOf = [&](const NeighbourBox& b) {
+  auto cellsOf = [&](const GrownBox& b) {
     CellRange c;
     for (int a = 0; a < 3; ++a) c.lo[a] = coord(b.lo[a], a), c.hi[a] = coord(b.hi[a], a);
     return c;
@@ -124,7 +128,7 @@ PatchNeighbours patchNeighbours(const PatchMesh& mesh) {
   // The pairs (in parallel over the runs that begin in a range of entries).
   using Pair = std::pair<uint32_t, uint32_t>;
   struct Member {
-    NeighbourBox box;
+    GrownBox box;
     uint32_t patch, firstAxes;
   };
   struct Local {
