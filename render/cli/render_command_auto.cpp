@@ -95,6 +95,7 @@ void RenderCommand::resolveIntegrator() {
     withoutTable = std::make_unique<RenderScene>(scene_, patchSize_);
   IntegratorOptions base = integrators_.options(maxDepth());
   base.comm = nullptr;  // every rank runs the same pilot and makes the same choice
+  base.lightPathsCap = plan.lightPaths;  // the render's own are not capped (--light-paths given is kept)
   const PilotFactory make = [&](const PilotCandidate& c, uint64_t seed) {
     IntegratorOptions io = base;
     io.patchNee = c.patchNee;

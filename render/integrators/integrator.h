@@ -69,6 +69,9 @@ struct IntegratorOptions {
   /// with them). 0 = automatic: 8, or 1 when the scene has mirrors or glass (the camera samples then
   /// carry what is seen through them).
   int lightPathsPerPixel = 0;
+  /// Light tracing: at most this many light paths per pixel and pass where they are automatic (0: no cap). The
+  /// pilot of `--integrator auto` caps them so that its two passes fit its share (PilotPlan::lightPaths).
+  int lightPathsCap = 0;
   /// The ranks of an MPI run sharing the work (common/util/comm.h; null: this process alone). Integrators
   /// with a global state (the irradiance cache's two-pass fill, the bundle's transfer) split its
   /// computation over the ranks and exchange the results, so that every rank holds the state one

@@ -20,11 +20,19 @@ namespace {
 
 constexpr double kPilotShare = 0.05;  ///< of the render's camera samples, for the whole pilot
 constexpr double kPilotClamp = 5.0;   ///< pixel values above this many image means count as that much (pilotNoise)
+/// A relative error below this counts as this much: methods that exact (the direct light of a point over a plane by
+/// next-event estimation: two pictures alike) are equals, the cheaper the better. Without it an error of 0 made an
+/// efficiency of 0, and such scenes went to the noisiest method whose error was not quite 0.
+constexpr double kMinError = 1e-4;
 constexpr int kMaxSide = 48;          ///< the pilot picture's longer side at most, pixels
 constexpr int kMinSide = 16;          ///< its shorter side at least, pixels
 constexpr int kMinSpp = 4;            ///< samples per pixel of a pilot image at least
 constexpr int kMinPasses = 2;         ///< passes of a candidate's pilot image at least
 constexpr int kMaxPasses = 256;       ///< and at most
+/// A light path of light tracing costs about this many of the path tracer's camera samples (its rays per path 1.2–3×
+/// the path tracer's per sample on the shipped Cornell boxes and the many-lights room, a pass's camera sample on top):
+/// the pilot takes at most PilotPlan::lightPaths = spp / (this × kMinPasses) light paths per pixel and pass.
+constexpr int kLightPathCost = 2;
 /// The path tracer's rays with patch NEE count this much work each: sampling the lit patches (their light tree, each
 /// patch's first-shot light) took 1.8–3.0× the time per ray of the same path tracer without it (2.2–2.9× on six of
 /// seven scenes with their tables at 128 × 128; no ray count shows that work).
@@ -96,6 +104,7 @@ PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates, double
   plan.width = w;
   plan.height = h;
   plan.spp = int(std::floor(perImage / (double(w) * double(h))));
+  plan.lightPaths = std::max(1, plan.spp / (kLightPathCost * kMinPasses));
   plan.renderSpp = spp;
   plan.renderWork = seconds > 0.0 ? seconds * kTimeRaysRate : 0.0;
   plan.run = plan.spp >= kMinSpp;
@@ -233,16 +242,16 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   const CameraDesc desc = pilotCamera(scene.desc().camera, plan), fillDesc = pilotFillCamera(scene.desc().camera, plan);
   const Camera camera(desc);
   const std::vector<uint8_t> skip = pixelsSeenAsTheyAre(scene, desc);
-  // Every image gets the same rays: what the first candidate (the path tracer, unless the options given left it
-  // out) spends on plan.spp passes, its preprocessing shared among them; a candidate of costlier samples takes
-  // fewer passes, one of cheaper samples more. One candidate's integrators live at a time.
-  double budget = 0.0;
+  // Every image gets the same rays (the budget): what the first candidate (the path tracer, unless the options given
+  // left it out) traces in plan.spp passes and its preprocessing; a candidate of costlier samples takes fewer passes,
+  // one of cheaper samples more. One candidate's integrators live at a time.
+  double budget = 0.0, firstCost = 1.0;  // rays; the first candidate's work per ray (rayCost)
   // The render's work per pilot picture (G): its samples at the first candidate's work per sample (@p b, the budget
   // of plan.spp passes), or the time's rays; and a seeded preprocessing's picture against the pilot's.
   const double renderPixels = double(scene.desc().camera.width) * double(scene.desc().camera.height);
   auto renderWork = [&](double b) {
     return plan.renderWork > 0.0 ? plan.renderWork * double(desc.width) * double(desc.height) / renderPixels
-                                 : b * double(plan.renderSpp) / double(std::max(1, plan.spp));
+                                 : b * firstCost * double(plan.renderSpp) / double(std::max(1, plan.spp));
   };
   const double fillScale =
       double(desc.width) * double(desc.height) / (double(fillDesc.width) * double(fillDesc.height));
@@ -260,13 +269,12 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       throw std::logic_error("runPilot: a candidate without the table needs the scene without it");
     const RenderScene& theirs = candidates[c].table ? scene : *withoutTable;
     const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
-    // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past twice the
-    // budget, or past what would take the whole render once projected to it, whichever is more (at most a share of
-    // the render of 2 × its fill picture's pixels / the render's, under 1% at 128 × 128): there it outgrows the
-    // pilot, and the candidate is not measured further.
-    const double limit =
-        std::max(2.0 * budget, renderWork(budget) / (fillScale * rayCost(candidates[c], withoutTable != nullptr) *
-                                                     kFillRayCost));
+    // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past the first's
+    // work in two images, or past what would take the whole render once projected to it, whichever is more (at most a
+    // share of the render of 2 × its fill picture's pixels / the render's, under 1% at 128 × 128): there it outgrows
+    // the pilot, and the candidate is not measured further.
+    const double fillCost = rayCost(candidates[c], withoutTable != nullptr) * kFillRayCost;
+    const double limit = std::max(2.0 * budget * firstCost, renderWork(budget) / (fillScale * fillCost));
     if (c > 0) integrator->limitPreprocessRays(uint64_t(limit) + 1);
     const bool seeded = integrator->seededPreprocess();
     const CameraDesc& preprocessDesc = seeded ? fillDesc : desc;
@@ -283,10 +291,14 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       PilotImage first(*integrator, desc);
       first.renderTo(1, camera, seed, seed, passSampler, threads);
       const double cost = rayCost(candidates[c], withoutTable != nullptr);
-      const double pass = std::max(1.0, first.firstPass) * cost, preprocessing = first.rays - first.firstPass;
-      if (c == 0) budget = double(plan.spp) * (pass + preprocessing / double(plan.spp));
-      f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / pass), double(kMinPasses),
-                                     double(kMaxPasses)));
+      const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
+      if (c == 0) {
+        budget = double(plan.spp) * pass + preprocessing;
+        firstCost = cost;
+      }
+      // Two images of equal rays each; a seeded preprocessing's four (two fills) in the same rays.
+      f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / (seeded ? 2.0 * pass : pass)),
+                                     double(kMinPasses), double(kMaxPasses)));
       first.renderTo(f.spp, camera, seed, seed, passSampler, threads);
       // The second seed's image: a fresh integrator only where its preprocessing drew on the seed (the cache's
       // fill); the others render it with the first's (the same preprocessing, counted for both images).
@@ -344,7 +356,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);
-    f.efficiency = f.error > 0.0 && f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
+    f.error = std::max(f.error, kMinError);
+    f.efficiency = f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
     if (!f.seeded) continue;
     // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay, the
     // frozen part as the render's denser records have it (kRecordsErrorExponent).
@@ -369,7 +382,8 @@ double renderEfficiency(double noise, double frozen, double bias, double passRay
   if (!(fixed < render) || !(passRays > 0.0)) return 0.0;
   const double pass2 = std::max(0.0, noise * noise - frozen * frozen);
   const double e2 = frozen * frozen + bias * bias + pass2 * passRays / (render - fixed);
-  return e2 > 0.0 ? 1.0 / (e2 * render) : 0.0;
+  // The floor as the others': an error of kMinError after the passes' rays.
+  return 1.0 / (std::max(e2, kMinError * kMinError * passRays / render) * render);
 }
 
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures) {

@@ -5,9 +5,9 @@
 /// "The method chosen for the user").
 ///
 /// Each candidate renders the pilot picture twice, with seeds s and s + 1, and every image gets the same rays: what
-/// the first candidate (the path tracer) spends on the plan's samples per pixel (at least 2 passes and at most 256
-/// each), so that each is measured at
-/// equal work, as the render will compare them, and a method of cheap samples at many samples, where stratified
+/// the first candidate (the path tracer) traces in the plan's samples per pixel (at least 2 passes and at most 256
+/// each; light tracing's passes take at most PilotPlan::lightPaths light paths per pixel, so that two fit), so that
+/// each is measured at equal rays, and a method of cheap samples at many samples, where stratified
 /// samples have paid off (a pilot of equal samples took light tracing for the path tracer's better on the Cornell
 /// box: at 4 spp its error is its edges' and stratification's). Its noise is the RMS over pixels and
 /// channels of the two images' difference / √2, relative to the picture's mean: one image's error, bias aside
@@ -23,8 +23,8 @@
 /// counts do not depend on the threads (render/loop/renderer.h), so the choice is the same on every machine for
 /// a seed.
 /// An integrator whose preprocessing draws on the seed (the irradiance cache's fill) is made for a coarser picture
-/// (pilotFillCamera: a sixteenth of the pixels), so that its two fills fit in its share, and renders the pilot
-/// picture over those records, a sample that they do not cover taking one path. Its records' error does not shrink
+/// (pilotFillCamera: a sixteenth of the pixels), its four images and two fills in the rays of two images, and renders
+/// the pilot picture over those records, a sample that they do not cover taking one path. Its records' error does not shrink
 /// with more passes: its noise is split into that frozen part (a third image, the second fill's records under the
 /// first image's passes, against the first), projected to the render's denser records, and the passes' (its passes
 /// take independent samples), and its efficiency is the render's, its fill charged at its share
@@ -94,8 +94,8 @@ struct PilotFigure {
   double frozenMeasured = 0;  ///< the frozen part as measured at the fill's picture
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
   double preprocessShare = 0;
-  /// 1 / (error² · work); 0 for a black picture. For a seeded preprocessing, the render's: 1 / (e² · G), G the
-  /// render's rays per pilot picture and e² = frozen² + bias² + (noise'² − frozen²) · (its passes' rays) / (G −
+  /// 1 / (error² · work), the error at least 10⁻⁴ (methods that exact are equals); 0 for a black picture. For a
+  /// seeded preprocessing, the render's: 1 / (e² · G), G the render's rays per pilot picture and e² = frozen² + bias² + (noise'² − frozen²) · (its passes' rays) / (G −
   /// its preprocessing at the render's scale): the fill charged at its share of the render, not of a pilot image;
   /// 0 where that takes the whole render.
   double efficiency = 0;
@@ -106,6 +106,9 @@ struct PilotPlan {
   bool run = false;           ///< false: too small a budget for a pilot
   int width = 0, height = 0;  ///< pixels of the pilot picture
   int spp = 0;                ///< samples per pixel of the first candidate's images (the others: at equal rays)
+  /// Light tracing's light paths per pixel and pass at most (IntegratorOptions::lightPathsCap): spp / 4, at least 1,
+  /// so that its two passes, each a camera sample and its light paths per pixel, take about the rays of the others'.
+  int lightPaths = 1;
   int renderSpp = 0;          ///< samples per pixel of the render the pilot is for
   /// The render's work in ray-equivalents where it is given as a time (--time): its seconds at a nominal
   /// kTimeRaysRate rays per second; 0: renderSpp at the first candidate's rays per sample. Only a seeded
@@ -159,8 +162,9 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
 /// fill), per pilot picture: 1 / (e² · @p render), e² = @p frozen² + @p bias² + (@p noise² − @p frozen²) ·
 /// @p passRays / (@p render − @p fixed): @p noise (relative, the frozen part included) measured after @p passRays
 /// rays of passes, @p fixed the preprocessing's rays at the render's scale, @p render the render's rays; 0 where
-/// @p fixed takes them all. Without a fixed cost or a frozen part, 1 / (noise² · passRays): what a method without
-/// preprocessing gets.
+/// @p fixed takes them all; e² at least 10⁻⁸ · @p passRays / @p render (an error of 10⁻⁴ after the passes, the floor
+/// of PilotFigure::error: methods that exact are equals). Without a fixed cost or a frozen part,
+/// 1 / (noise² · passRays): what a method without preprocessing gets.
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
 
 /// Index of the most efficient figure (the first of equals; 0 if none has light).

@@ -47,7 +47,8 @@ int LightTracingIntegrator::pathsPerPixel(const Camera& camera) const {
   if (options_.lightPathsPerPixel > 0) return options_.lightPathsPerPixel;
   if (mirrors_) return 1;
   const uint64_t pixels = std::max<uint64_t>(1, uint64_t(camera.width()) * uint64_t(camera.height()));
-  return int(std::clamp<uint64_t>(kAutoPathsPerPass / pixels, 1, kAutoPathsPerPixel));
+  const int automatic = int(std::clamp<uint64_t>(kAutoPathsPerPass / pixels, 1, kAutoPathsPerPixel));
+  return options_.lightPathsCap > 0 ? std::min(automatic, options_.lightPathsCap) : automatic;
 }
 
 Color LightTracingIntegrator::Li(const Ray& ray, Sampler& sampler, SampleInfo* info) const {
