@@ -23,6 +23,9 @@ namespace firstshot {
 
 /// The checkpoint key's entry of a render that --integrator auto chose to make without the --firstshot table given.
 inline constexpr const char* kTableUnusedKey = "firstshot-table";
+/// The checkpoint key's entry of the hemisphere rays per record the render's cache took (IntegratorCli::recordSamples:
+/// --integrator auto may have taken more than the option's value).
+inline constexpr const char* kRecordSamplesKey = "--ic-samples";
 
 struct CheckpointCli {
   double every = 0;  ///< seconds between checkpoints; 0 = none

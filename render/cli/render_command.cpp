@@ -264,6 +264,7 @@ int RenderCommand::renderImage() {
     if (name == integrator_option::kPatchNee) value = integrators_.patchNee;
     if (name == integrator_option::kShootFirstShot) value = integrators_.shootFirstShot;
     if (name == integrator_option::kLightSampler) value = integrators_.lightSampler;
+    if (name == kRecordSamplesKey && cli.recordSamples() > 0) value = std::to_string(cli.recordSamples());
   }
   if (checkpoint_.active() && tableUnused_) checkpoint_.key.emplace_back(kTableUnusedKey, "unused");
   const auto preprocessStart = std::chrono::steady_clock::now();

@@ -57,6 +57,7 @@ void RenderCommand::resolveIntegrator() {
       if (name == integrator_option::kShootFirstShot) c.shootFromPatches = value == "patches";
       if (name == kTableUnusedKey) c.table = false;
       if (name == integrator_option::kLightSampler) c.everyLight = value == "all";
+      if (name == kRecordSamplesKey) integrators_.cli(c.integrator).setRecordSamples(std::stoi(value));
     }
     c.variesPatchNee = c.variesShoot = false;
     integrators_.choose(c);
@@ -115,6 +116,10 @@ void RenderCommand::resolveIntegrator() {
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const size_t best = bestPilotFigure(figures);
   integrators_.choose(candidates[best]);
+  // The cache's records gathered with the rays the pilot found the render's budget pays for.
+  const int recordSamples = integrators_.cli("irradiance-cache").recordSamples();
+  if (figures[best].recordSamples > 1)
+    integrators_.cli(candidates[best].integrator).setRecordSamples(recordSamples * figures[best].recordSamples);
   if (!candidates[best].table) {
     tableUnused_ = true;
     renderScene_ = std::move(withoutTable);
@@ -148,10 +153,12 @@ void RenderCommand::resolveIntegrator() {
   for (size_t i = 0; i < candidates.size(); ++i)
     if (figures[i].spp > 0 && figures[i].preprocessShare > 0.0)
       fmt::print(stderr,
-                 "  {}: filled at {} x {}, its fill projected to {:.1f}% of the render's rays, its records' error "
-                 "{:.4f} (more passes leave it; {:.4f} as measured, of which their own noise {:.4f}), its efficiency the render's\n",
-                 candidates[i].label(), fill.width, fill.height, 100.0 * figures[i].preprocessShare, figures[i].frozen,
-                 figures[i].frozenMeasured, figures[i].recordNoise);
+                 "  {}: filled at {} x {}; at {} hemisphere rays per record its fill projected to {:.1f}% of the "
+                 "render's rays, its records' error {:.4f} (more passes leave it; {:.4f} as measured at {}, of which "
+                 "their own noise {:.4f}), its efficiency the render's\n",
+                 candidates[i].label(), fill.width, fill.height, recordSamples * figures[i].recordSamples,
+                 100.0 * figures[i].preprocessShare, figures[i].frozen, figures[i].frozenMeasured, recordSamples,
+                 figures[i].recordNoise);
   fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}\n",
              candidates[best].label(),
              tableUnused_ ? "; the table given is not read: the render is the scene's as without --firstshot" : "");

@@ -68,6 +68,12 @@ class IntegratorCli {
   /// Without a first-shot table and --patch-size: true if the integrator needs the scene cut into
   /// patches as the preprocessor would (the bundle's elements), false to keep the faces whole.
   virtual bool needsPatches() const { return false; }
+  /// An integrator whose preprocessing gathers per record (the irradiance cache): its hemisphere rays per record, or
+  /// 0 for the others.
+  virtual int recordSamples() const { return 0; }
+  /// Sets them to @p samples unless the command line gave them (`--integrator auto` sizes them to a render's budget,
+  /// a resumed render takes its checkpoint's). Default: nothing.
+  virtual void setRecordSamples(int /*samples*/) {}
 
   /// Every option it reads: the shared ones (shared()), then its own (add()).
   std::vector<std::string> options() const {

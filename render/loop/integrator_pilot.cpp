@@ -61,6 +61,11 @@ constexpr double kFillRayCost = 1.9;
 /// 12 × 12 to 128 × 128. In proportion to the pixels (as until 2026-11-30) the bowl-lamp room's fill came out at
 /// 82–85% of the render's rays, about three times its own, and the cache + table, 13× light tracing there, tied.
 constexpr double kFillGrowth = 0.8;
+/// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples).
+constexpr int kMaxRecordSamples = 16;
+/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
+/// exponent still leaves the render time).
+constexpr double kMaxFillShare = 0.5;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -360,7 +365,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     f.efficiency = f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
     if (!f.seeded) continue;
     // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay, the
-    // frozen part as the render's denser records have it (kRecordsErrorExponent).
+    // frozen part as the render's denser records have it (kRecordsErrorExponent), their own noise as the render's
+    // records gather with more rays where that pays (bestRecordSamples).
     const double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * (f.mean / median) * (f.mean / median));
     // The records' own noise stays at any density; the rest (where they were placed, how they interpolate) falls.
     f.frozenMeasured = f.frozen;
@@ -371,11 +377,26 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
                  fill = f.preprocessRays * fillGrowth * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
-    f.frozen *= f.mean / median;
-    f.preprocessShare = render > 0.0 ? fill / render : 1.0;
-    f.efficiency = renderEfficiency(std::sqrt(pass2 + f.frozen * f.frozen), f.frozen, off, passRays, fill, render);
+    const double scale = f.mean / median, own = f.recordNoise * scale;
+    const double rest = std::sqrt(std::max(0.0, f.frozen * f.frozen - f.recordNoise * f.recordNoise)) * scale;
+    f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, rest, off, passRays, fill, render, f.efficiency);
+    f.frozen = std::sqrt(own * own / f.recordSamples + rest * rest);
+    f.preprocessShare = render > 0.0 ? fill * f.recordSamples / render : 1.0;
   }
   return figures;
+}
+
+int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
+                      double render, double& efficiency) {
+  int best = 1;
+  efficiency = -1.0;
+  for (int m = 1; m <= kMaxRecordSamples && (m == 1 || fill * m <= kMaxFillShare * render); m *= 2) {
+    const double frozen = std::sqrt(own * own / m + placed * placed);
+    const double e = renderEfficiency(std::sqrt(passNoise * passNoise + frozen * frozen), frozen, bias, passRays,
+                                      fill * m, render);
+    if (e > efficiency) efficiency = e, best = m;
+  }
+  return best;
 }
 
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render) {

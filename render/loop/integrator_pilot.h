@@ -92,6 +92,10 @@ struct PilotFigure {
   /// error (Integrator::perturbPreprocessing). It does not fall with more records; the rest does. 0 for the others.
   double recordNoise = 0;
   double frozenMeasured = 0;  ///< the frozen part as measured at the fill's picture
+  /// A seeded preprocessing's: how many times the hemisphere rays per record of the pilot's fill the render's should
+  /// take (1, 2, 4, … 16): the records' own noise² falls as 1/m and the fill grows m times, and the m of the best
+  /// efficiency is taken (frozen, preprocessShare and efficiency are the render's with it). 1 for the others.
+  int recordSamples = 1;
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
   double preprocessShare = 0;
   /// 1 / (error² · work), the error at least 10⁻⁴ (methods that exact are equals); 0 for a black picture. For a
@@ -166,6 +170,14 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
 /// of PilotFigure::error: methods that exact are equals). Without a fixed cost or a frozen part,
 /// 1 / (noise² · passRays): what a method without preprocessing gets.
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
+
+/// How many times the pilot's hemisphere rays per record the render's records should take (1, 2, 4, … 16, their fill
+/// at most half the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
+/// @p efficiency) when the records' own noise @p own falls as 1/√m, their placement's error @p placed stays and the
+/// fill @p fill grows m times; @p passNoise the passes' noise after @p passRays (all relative; rays as
+/// renderEfficiency's).
+int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
+                      double render, double& efficiency);
 
 /// Index of the most efficient figure (the first of equals; 0 if none has light).
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures);

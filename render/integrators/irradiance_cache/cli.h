@@ -25,6 +25,7 @@ class IrradianceCacheCli : public IntegratorCli {
               showRecords;
   bool twoPass = false, onePass = false;
   CLI::Option* ambientOption = nullptr;
+  CLI::Option* samplesOption = nullptr;
   bool configured = false;  ///< configure() ran: make() hands the settings to the integrator
 
   void add(CLI::App& app) override {
@@ -32,8 +33,10 @@ class IrradianceCacheCli : public IntegratorCli {
     const std::vector<CLI::Option*> declared = {
         app.add_option("--accuracy", settings.accuracy, "irradiance cache: a, the accuracy of eq. 5 (smaller: more records)")
             ->check(CLI::Range(1e-4, 10.0))->capture_default_str(),
-        app.add_option("--ic-samples", settings.samples, "irradiance cache: hemisphere samples per level-0 record "
-                                                         "(halved per bounce)")
+        samplesOption = app.add_option("--ic-samples", settings.samples, "irradiance cache: hemisphere samples per "
+                                                                         "level-0 record (halved per bounce; "
+                                                                         "--integrator auto takes more where the "
+                                                                         "render's budget pays for them)")
             ->check(CLI::Range(8, 1 << 20))->capture_default_str(),
         app.add_option("--bounces", settings.bounces, "irradiance cache: bounces served by the cache: records at path "
                                                       "vertices 0..B-1 (level ℓ uses a·1.4^ℓ); beyond them path tracing, "
@@ -112,6 +115,10 @@ class IrradianceCacheCli : public IntegratorCli {
   }
 
   std::string inputFile() const override { return settings.cacheFile; }
+  int recordSamples() const override { return settings.samples; }
+  void setRecordSamples(int samples) override {
+    if (!samplesOption || samplesOption->count() == 0) settings.samples = samples;
+  }
 
   /// After the render: writes the cache file and the record image (unless @p film is null: sensors),
   /// and prints a summary.
@@ -127,8 +134,9 @@ class IrradianceCacheCli : public IntegratorCli {
     for (size_t l = 0; l < s.perLevel.size(); ++l) levels += fmt::format("{}{}", l ? " + " : "", s.perLevel[l]);
     const size_t made = s.records - s.loaded;
     const double seconds = renderSeconds + s.fillSeconds;
-    fmt::print(stderr, "irradiance cache: {} records ({} by level), {} loaded, {} new ({:.0f} records/s)", s.records,
-               levels.empty() ? "0" : levels, s.loaded, made, seconds > 0 ? double(made) / seconds : 0.0);
+    fmt::print(stderr, "irradiance cache: {} records ({} by level), {} loaded, {} new ({:.0f} records/s), {} hemisphere "
+               "rays per level-0 record", s.records, levels.empty() ? "0" : levels, s.loaded, made,
+               seconds > 0 ? double(made) / seconds : 0.0, settings.samples);
     if (settings.twoPass)
       fmt::print(stderr, "; fill {:.2f} s, {:.3f} Mrays in {} sweep(s); in the {}: {} lookups without a record took a path",
                  s.fillSeconds, double(s.fillRays) * 1e-6, s.fillRounds, film ? "render" : "sensor estimate", s.missPaths);
