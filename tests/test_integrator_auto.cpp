@@ -380,6 +380,32 @@ TEST(IntegratorAuto, TheCachesRaysSizedByThePilotAreKeptOnResume) {
       << resumed.output;
 }
 
+TEST(IntegratorAuto, TheCacheNamedSizesItsRaysToTheTimeGiven) {
+  FIRSTSHOT_STATISTICS_ONLY("IntegratorPilot.TheRendersRecordsTakeTheRaysItsBudgetPaysFor");
+  // --integrator irradiance-cache with --time and no --ic-samples: a pilot of the cache alone sizes its records'
+  // rays (the Cornell box at 48 x 48 in 8 s: 2048), the checkpoint keeps them, a resumed render takes them; with
+  // --ic-samples given they are the option's.
+  const std::string dir = firstshot::test::tempDir(), scene = firstshot::test::source("scenes/cornell.json");
+  const std::string base = kRender + " " + scene + " --integrator irradiance-cache --width 48 --height 48 --seed 1 "
+                           "--threads 2 -o " + dir + "/a.exr";
+  const auto stopped =
+      firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base + " --time 8 --checkpoint 1000");
+  ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
+  const std::string says = "firstshot-render: irradiance cache: ";
+  const auto at = stopped.output.find(says);
+  ASSERT_NE(at, std::string::npos) << stopped.output;
+  const int rays = std::atoi(stopped.output.c_str() + at + says.size());
+  EXPECT_GT(rays, 512) << stopped.output;
+  const auto resumed = firstshot::test::run(base + " --time 0.2 --resume");
+  ASSERT_EQ(resumed.exitCode, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr(", " + std::to_string(rays) + " hemisphere rays per level-0 record"));
+  // Given, the option is the user's: no pilot.
+  const auto fixed = firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-1 " + base +
+                                          " --time 8 --ic-samples 64 --checkpoint 1000");
+  ASSERT_EQ(fixed.exitCode, 130) << fixed.output;
+  EXPECT_EQ(fixed.output.find(says), std::string::npos) << fixed.output;
+}
+
 TEST(IntegratorAuto, ABulbBehindGlassWithItsTableGoesToTheCache) {
   // With the table the filament's light leaves the glass as the luminaire's exit light, which the cache samples at
   // every shaded point: its records' error is small, and its fill, charged at its share of the render (305 spp of

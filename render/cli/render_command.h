@@ -42,6 +42,13 @@ class RenderCommand {
   /// (render/loop/integrator_pilot.h), and says so on stderr (render/cli/render_command_auto.cpp).
   void resolveIntegrator();
   void leaveTableUnread();  // --integrator auto: the render is the scene's without the --firstshot table
+  /// --integrator irradiance-cache with --time and no --ic-samples: its records' hemisphere rays sized to the render's
+  /// budget by a pilot of the cache alone (bestRecordSamples), or as the checkpoint resumed holds them.
+  void sizeCacheRecords();
+  /// The pilot of @p candidates candidates for this render (its samples per pixel into @p spp).
+  PilotPlan pilotPlan(size_t candidates, int& spp) const;
+  /// Makes a pilot candidate's integrator with @p base's options and the candidate's own.
+  PilotFactory pilotFactory(const IntegratorOptions& base);
   /// The longest path in bounces: --max-depth or the scene's, one less for sensors.
   int maxDepth() const;
   /// Checks the chosen integrator's options against the scene and makes it.

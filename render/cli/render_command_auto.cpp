@@ -28,7 +28,64 @@ void RenderCommand::leaveTableUnread() {
   renderScene_.reset();  // built again, without the table
 }
 
+PilotPlan RenderCommand::pilotPlan(size_t candidates, int& spp) const {
+  // With --time the samples are not known before the render: the scene's, or the time at a fixed rate of
+  // kTimeRate camera samples per second, whichever is more (the pilot must not depend on the machine).
+  constexpr double kTimeRate = 250000.0;
+  const double pixels = double(scene_.camera.width) * double(scene_.camera.height);
+  spp = spp_ > 0 ? spp_
+        : timeLimit_ > 0 ? int(std::min(1e6, std::max<double>(scene_.settings.spp, timeLimit_ * kTimeRate / pixels)))
+                         : scene_.settings.spp;
+  // Where the time sized it, the render's work is the time at a nominal ray rate (planPilot).
+  const bool timed = spp_ <= 0 && timeLimit_ > 0 && timeLimit_ * kTimeRate / pixels > scene_.settings.spp;
+  return planPilot(scene_.camera, spp, candidates, timed ? timeLimit_ : 0.0);
+}
+
+PilotFactory RenderCommand::pilotFactory(const IntegratorOptions& base) {
+  return [this, base](const PilotCandidate& c, uint64_t seed) {
+    IntegratorOptions io = base;
+    io.patchNee = c.patchNee;
+    io.shootFromPatches = c.shootFromPatches;
+    if (c.everyLight) io.lightSampler = LightStrategy::All;
+    IntegratorSetup setup{&app_, &scene_, seed, threads_, spp_, samplerMode(), true};
+    IntegratorCli& cli = integrators_.cli(c.integrator);
+    cli.configure(setup);
+    return cli.make(io);
+  };
+}
+
+void RenderCommand::sizeCacheRecords() {
+  IntegratorCli& cli = integrators_.cli("irradiance-cache");
+  if (checkpoint_.resume && !preview_ && !sensors_.active()) {  // the rays of the render being resumed
+    for (const auto& [name, value] : readCheckpointKey(checkpoint_.path(outputs_)))
+      if (name == kRecordSamplesKey) cli.setRecordSamples(std::stoi(value));
+    return;
+  }
+  if (app_.count(kRecordSamplesKey) || timeLimit_ <= 0 || preview_ || sensors_.active()) return;
+  IntegratorOptions base = integrators_.options(maxDepth());
+  base.comm = nullptr;  // every rank measures the same and sizes alike
+  PilotCandidate cache;
+  cache.integrator = "irradiance-cache";
+  cache.patchNee = base.patchNee;
+  int spp = 0;
+  const PilotPlan plan = pilotPlan(2, spp);  // the share of a pilot of two
+  if (!plan.run) return;
+  const auto start = std::chrono::steady_clock::now();
+  if (!renderScene_) buildRenderScene();
+  const std::vector<PilotFigure> figures =
+      runPilot(*renderScene_, nullptr, {cache}, plan, pilotFactory(base), seed(), samplerMode(), threads_);
+  pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const int rays = cli.recordSamples() * figures.front().recordSamples;
+  cli.setRecordSamples(rays);
+  if (!quiet_)
+    fmt::print(stderr,
+               "firstshot-render: irradiance cache: {} hemisphere rays per record for this render's budget (a pilot of "
+               "{:.2f} s: its fill projected to {:.1f}% of the render's rays; --ic-samples fixes them)\n",
+               rays, pilotSeconds_, 100.0 * figures.front().preprocessShare);
+}
+
 void RenderCommand::resolveIntegrator() {
+  if (!integrators_.isAuto() && integrators_.name == "irradiance-cache") sizeCacheRecords();
   if (!integrators_.isAuto()) return;
   // A table's options (--patch-nee, --shoot-firstshot) change nothing where it replaces no light (a table of
   // luminaires alone): their variants would be the same pictures at twice the pilot's cost.
@@ -71,16 +128,8 @@ void RenderCommand::resolveIntegrator() {
                                                     : " (for sensors; the pilot compares pictures)"));
     return;
   }
-  // With --time the samples are not known before the render: the scene's, or the time at a fixed rate of
-  // kTimeRate camera samples per second, whichever is more (the pilot must not depend on the machine).
-  constexpr double kTimeRate = 250000.0;
-  const double pixels = double(scene_.camera.width) * double(scene_.camera.height);
-  const int spp = spp_ > 0 ? spp_
-                  : timeLimit_ > 0 ? int(std::min(1e6, std::max<double>(scene_.settings.spp, timeLimit_ * kTimeRate / pixels)))
-                                   : scene_.settings.spp;
-  // Where the time sized it, the render's work is the time at a nominal ray rate (planPilot).
-  const bool timed = spp_ <= 0 && timeLimit_ > 0 && timeLimit_ * kTimeRate / pixels > scene_.settings.spp;
-  const PilotPlan plan = planPilot(scene_.camera, spp, candidates.size(), timed ? timeLimit_ : 0.0);
+  int spp = 0;
+  const PilotPlan plan = pilotPlan(candidates.size(), spp);
   if (!plan.run) {
     integrators_.choose(pathOrFirst(candidates));
     say(fmt::format("{} ({} x {} at {} spp leaves no room for a pilot)", pathOrFirst(candidates).label(),
@@ -97,16 +146,7 @@ void RenderCommand::resolveIntegrator() {
   IntegratorOptions base = integrators_.options(maxDepth());
   base.comm = nullptr;  // every rank runs the same pilot and makes the same choice
   base.lightPathsCap = plan.lightPaths;  // the render's own are not capped (--light-paths given is kept)
-  const PilotFactory make = [&](const PilotCandidate& c, uint64_t seed) {
-    IntegratorOptions io = base;
-    io.patchNee = c.patchNee;
-    io.shootFromPatches = c.shootFromPatches;
-    if (c.everyLight) io.lightSampler = LightStrategy::All;
-    IntegratorSetup setup{&app_, &scene_, seed, threads_, spp_, samplerMode(), true};
-    IntegratorCli& cli = integrators_.cli(c.integrator);
-    cli.configure(setup);
-    return cli.make(io);
-  };
+  const PilotFactory make = pilotFactory(base);
   std::vector<PilotFigure> figures;
   {
     Progress progress("integrator pilot", candidates.size(), quiet_);
@@ -131,6 +171,7 @@ void RenderCommand::resolveIntegrator() {
   for (const PilotFigure& f : figures)  // a seeded preprocessing's third and fourth images (its records' error)
     pilotRays += (f.spp > 0 ? 2.0 * f.rays : f.rays) + (f.seeded ? 2.0 * (f.rays - f.preprocessRays) : 0.0);
   const PilotFigure& chosen = figures[best];
+  const double pixels = double(scene_.camera.width) * double(scene_.camera.height);
   const double renderRays = pixels * double(spp) * figures.front().rays /
                             (double(plan.width) * double(plan.height) * double(std::max(1, figures.front().spp)));
   fmt::print(stderr,

@@ -34,9 +34,9 @@ class IrradianceCacheCli : public IntegratorCli {
         app.add_option("--accuracy", settings.accuracy, "irradiance cache: a, the accuracy of eq. 5 (smaller: more records)")
             ->check(CLI::Range(1e-4, 10.0))->capture_default_str(),
         samplesOption = app.add_option("--ic-samples", settings.samples, "irradiance cache: hemisphere samples per "
-                                                                         "level-0 record (halved per bounce; "
-                                                                         "--integrator auto takes more where the "
-                                                                         "render's budget pays for them)")
+                                                                         "level-0 record (halved per bounce; not "
+                                                                         "given, a --time render takes more where its "
+                                                                         "budget pays for them, as a pilot measures)")
             ->check(CLI::Range(8, 1 << 20))->capture_default_str(),
         app.add_option("--bounces", settings.bounces, "irradiance cache: bounces served by the cache: records at path "
                                                       "vertices 0..B-1 (level ℓ uses a·1.4^ℓ); beyond them path tracing, "
