@@ -391,7 +391,7 @@ TEST(IntegratorAuto, TheCacheNamedSizesItsRaysToTheTimeGiven) {
   const auto stopped =
       firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base + " --time 8 --checkpoint 1000");
   ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
-  const std::string says = "firstshot-render: irradiance cache: ";
+  const std::string says = "firstshot-render: irradiance-cache: ";
   const auto at = stopped.output.find(says);
   ASSERT_NE(at, std::string::npos) << stopped.output;
   const int rays = std::atoi(stopped.output.c_str() + at + says.size());

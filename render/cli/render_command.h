@@ -42,9 +42,10 @@ class RenderCommand {
   /// (render/loop/integrator_pilot.h), and says so on stderr (render/cli/render_command_auto.cpp).
   void resolveIntegrator();
   void leaveTableUnread();  // --integrator auto: the render is the scene's without the --firstshot table
-  /// --integrator irradiance-cache with --time and no --ic-samples: its records' hemisphere rays sized to the render's
-  /// budget by a pilot of the cache alone (bestRecordSamples), or as the checkpoint resumed holds them.
-  void sizeCacheRecords();
+  /// An integrator named whose records gather hemisphere rays (the irradiance cache: IntegratorCli::recordSamples),
+  /// with --time and no --ic-samples: their rays sized to the render's budget by a pilot of it alone
+  /// (bestRecordSamples), or as the checkpoint resumed holds them.
+  void sizeRecords();
   /// The pilot of @p candidates candidates for this render (its samples per pixel into @p spp).
   PilotPlan pilotPlan(size_t candidates, int& spp) const;
   /// Makes a pilot candidate's integrator with @p base's options and the candidate's own.

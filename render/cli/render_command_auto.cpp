@@ -54,8 +54,8 @@ PilotFactory RenderCommand::pilotFactory(const IntegratorOptions& base) {
   };
 }
 
-void RenderCommand::sizeCacheRecords() {
-  IntegratorCli& cli = integrators_.cli("irradiance-cache");
+void RenderCommand::sizeRecords() {
+  IntegratorCli& cli = integrators_.chosen();
   if (checkpoint_.resume && !preview_ && !sensors_.active()) {  // the rays of the render being resumed
     for (const auto& [name, value] : readCheckpointKey(checkpoint_.path(outputs_)))
       if (name == kRecordSamplesKey) cli.setRecordSamples(std::stoi(value));
@@ -64,28 +64,28 @@ void RenderCommand::sizeCacheRecords() {
   if (app_.count(kRecordSamplesKey) || timeLimit_ <= 0 || preview_ || sensors_.active()) return;
   IntegratorOptions base = integrators_.options(maxDepth());
   base.comm = nullptr;  // every rank measures the same and sizes alike
-  PilotCandidate cache;
-  cache.integrator = "irradiance-cache";
-  cache.patchNee = base.patchNee;
+  PilotCandidate alone;
+  alone.integrator = integrators_.name;
+  alone.patchNee = base.patchNee;
   int spp = 0;
   const PilotPlan plan = pilotPlan(2, spp);  // the share of a pilot of two
   if (!plan.run) return;
   const auto start = std::chrono::steady_clock::now();
   if (!renderScene_) buildRenderScene();
   const std::vector<PilotFigure> figures =
-      runPilot(*renderScene_, nullptr, {cache}, plan, pilotFactory(base), seed(), samplerMode(), threads_);
+      runPilot(*renderScene_, nullptr, {alone}, plan, pilotFactory(base), seed(), samplerMode(), threads_);
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const int rays = cli.recordSamples() * figures.front().recordSamples;
   cli.setRecordSamples(rays);
   if (!quiet_)
     fmt::print(stderr,
-               "firstshot-render: irradiance cache: {} hemisphere rays per record for this render's budget (a pilot of "
-               "{:.2f} s: its fill projected to {:.1f}% of the render's rays; --ic-samples fixes them)\n",
-               rays, pilotSeconds_, 100.0 * figures.front().preprocessShare);
+               "firstshot-render: {}: {} hemisphere rays per record for this render's budget (a pilot of {:.2f} s: its "
+               "fill projected to {:.1f}% of the render's rays; --ic-samples fixes them)\n",
+               integrators_.name, rays, pilotSeconds_, 100.0 * figures.front().preprocessShare);
 }
 
 void RenderCommand::resolveIntegrator() {
-  if (!integrators_.isAuto() && integrators_.name == "irradiance-cache") sizeCacheRecords();
+  if (!integrators_.isAuto() && integrators_.chosen().recordSamples() > 0) sizeRecords();
   if (!integrators_.isAuto()) return;
   // A table's options (--patch-nee, --shoot-firstshot) change nothing where it replaces no light (a table of
   // luminaires alone): their variants would be the same pictures at twice the pilot's cost.
@@ -157,9 +157,11 @@ void RenderCommand::resolveIntegrator() {
   const size_t best = bestPilotFigure(figures);
   integrators_.choose(candidates[best]);
   // The cache's records gathered with the rays the pilot found the render's budget pays for.
-  const int recordSamples = integrators_.cli("irradiance-cache").recordSamples();
+  std::vector<int> recordSamples(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i)
+    recordSamples[i] = integrators_.cli(candidates[i].integrator).recordSamples();
   if (figures[best].recordSamples > 1)
-    integrators_.cli(candidates[best].integrator).setRecordSamples(recordSamples * figures[best].recordSamples);
+    integrators_.cli(candidates[best].integrator).setRecordSamples(recordSamples[best] * figures[best].recordSamples);
   if (!candidates[best].table) {
     tableUnused_ = true;
     renderScene_ = std::move(withoutTable);
@@ -197,8 +199,8 @@ void RenderCommand::resolveIntegrator() {
                  "  {}: filled at {} x {}; at {} hemisphere rays per record its fill projected to {:.1f}% of the "
                  "render's rays, its records' error {:.4f} (more passes leave it; {:.4f} as measured at {}, of which "
                  "their own noise {:.4f}), its efficiency the render's\n",
-                 candidates[i].label(), fill.width, fill.height, recordSamples * figures[i].recordSamples,
-                 100.0 * figures[i].preprocessShare, figures[i].frozen, figures[i].frozenMeasured, recordSamples,
+                 candidates[i].label(), fill.width, fill.height, recordSamples[i] * figures[i].recordSamples,
+                 100.0 * figures[i].preprocessShare, figures[i].frozen, figures[i].frozenMeasured, recordSamples[i],
                  figures[i].recordNoise);
   fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}\n",
              candidates[best].label(),
