@@ -367,20 +367,18 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay, the
     // frozen part as the render's denser records have it (kRecordsErrorExponent), their own noise as the render's
     // records gather with more rays where that pays (bestRecordSamples).
-    const double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * (f.mean / median) * (f.mean / median));
+    const double scale = f.mean / median;
+    const double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * scale * scale);
     // The records' own noise stays at any density; the rest (where they were placed, how they interpolate) falls.
     f.frozenMeasured = f.frozen;
-    const double placed2 = std::max(0.0, f.frozen * f.frozen - f.recordNoise * f.recordNoise);
-    f.frozen = std::sqrt(f.recordNoise * f.recordNoise +
-                         placed2 * std::pow(double(fillDesc.width) * double(fillDesc.height) / renderPixels,
-                                            2.0 * kRecordsErrorExponent));
+    const double own = f.recordNoise * scale;
+    const double placed = std::sqrt(std::max(0.0, f.frozen * f.frozen - f.recordNoise * f.recordNoise)) *
+                          std::pow(fillPixels / renderPixels, kRecordsErrorExponent) * scale;
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
                  fill = f.preprocessRays * fillGrowth * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
-    const double scale = f.mean / median, own = f.recordNoise * scale;
-    const double rest = std::sqrt(std::max(0.0, f.frozen * f.frozen - f.recordNoise * f.recordNoise)) * scale;
-    f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, rest, off, passRays, fill, render, f.efficiency);
-    f.frozen = std::sqrt(own * own / f.recordSamples + rest * rest);
+    f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, placed, off, passRays, fill, render, f.efficiency);
+    f.frozen = std::sqrt(own * own / f.recordSamples + placed * placed);
     f.preprocessShare = render > 0.0 ? fill * f.recordSamples / render : 1.0;
   }
   return figures;
