@@ -10,6 +10,7 @@
 #include <iterator>
 #include <random>
 #include <regex>
+#include <vector>
 
 namespace firstshot::test {
 
@@ -25,6 +26,28 @@ CommandResult run(const std::string& command) {
   return r;
 }
 
+namespace {
+/// The folders tempDir() made, removed when the test program ends unless a test failed (they are then kept, and
+/// named, for a look at what it wrote). Constructed at the first tempDir(), after gtest's UnitTest, so destroyed first.
+struct TempDirs {
+  std::vector<std::filesystem::path> made;
+  ~TempDirs() {
+    const bool failed = ::testing::UnitTest::GetInstance()->Failed();
+    for (const auto& dir : made) {
+      std::error_code ec;
+      if (failed)
+        std::fprintf(stderr, "kept %s\n", dir.c_str());
+      else
+        std::filesystem::remove_all(dir, ec);
+    }
+  }
+};
+TempDirs& tempDirs() {
+  static TempDirs dirs;
+  return dirs;
+}
+}  // namespace
+
 std::string tempDir() {
   const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "firstshot";
@@ -33,6 +56,7 @@ std::string tempDir() {
   std::random_device rd;
   auto dir = std::filesystem::temp_directory_path() / ("fs_test_" + name + "_" + std::to_string(rd()));
   std::filesystem::create_directories(dir);
+  tempDirs().made.push_back(dir);
   return dir.string();
 }
 
