@@ -93,12 +93,18 @@ int numberAfter(const std::string& output, const std::string& key) {
   return at == std::string::npos ? -1 : std::atoi(output.c_str() + at + key.size());
 }
 
+/// The pilot's rays in percent of the render's, as it prints them; -1 if it did not.
+double pilotShare(const std::string& output) {
+  const auto share = output.find("% of the rays");
+  return share == std::string::npos ? -1.0 : std::atof(output.c_str() + output.rfind('(', share) + 1);
+}
+
 /// The efficiency printed in the pilot's table for @p setting (its row's last figure); -1 if it has none.
 double efficiency(const std::string& output, const std::string& setting) { return figure(output, setting); }
 
 }  // namespace
 
-TEST(IntegratorPilot, StaysWithinFivePercentOfTheCameraSamples) {
+TEST(IntegratorPilot, PlansItsImagesInFourPercentOfTheCameraSamples) {
   firstshot::CameraDesc cam;
   for (const auto& [w, h, spp, k] : std::vector<std::tuple<int, int, int, size_t>>{
            {512, 512, 64, 8}, {160, 120, 256, 4}, {128, 128, 1024, 8}, {1920, 1080, 16, 8}, {100, 300, 512, 4}}) {
@@ -107,7 +113,7 @@ TEST(IntegratorPilot, StaysWithinFivePercentOfTheCameraSamples) {
     const firstshot::PilotPlan plan = firstshot::planPilot(cam, spp, k);
     SCOPED_TRACE(testing::Message() << w << "x" << h << " " << spp << " spp, " << k << " candidates");
     ASSERT_TRUE(plan.run);
-    EXPECT_LE(double(plan.samples() * k), 0.05 * w * h * spp);
+    EXPECT_LE(double(plan.samples() * k), 0.04 * w * h * spp);  // the rest of 5% for what some take beyond
     EXPECT_LE(std::max(plan.width, plan.height), 48);
     EXPECT_GE(plan.spp, 4);
     EXPECT_NEAR(double(plan.width) / plan.height, double(w) / h, 0.05 * double(w) / h);  // the camera's aspect
@@ -290,7 +296,8 @@ TEST(IntegratorAuto, EveryImageTakesAboutTheRaysOfTheFirsts) {
   // The Cornell box with its table, 128 x 128 at 305 spp (what --time 20 sizes): 48 x 48 at 6 spp for the path
   // tracer. Light tracing's two passes at its 8 light paths per pixel took 3.6x those rays (0.193 against 0.053
   // Mrays), the path tracer without the table 1.5x (its rays weighed as work against the readers' 1.5), and the pilot
-  // 10.5-10.9% of the render's rays; the cache's fills and its four images are counted in its printed share.
+  // 10.5-10.9% of the render's rays (7.1-7.5% with the images at equal rays, the cache's fills at 512 hemisphere rays
+  // per record); the cache's fills and its four images are counted in its printed share, which is at most 5%.
   const std::string dir = firstshot::test::tempDir(), scene = dir + "/cornell.json";
   ASSERT_TRUE(copyAt305Spp("scenes/cornell.json", scene));
   ASSERT_EQ(preprocess(scene, dir + "/c.fsd").exitCode, 0);
@@ -301,9 +308,21 @@ TEST(IntegratorAuto, EveryImageTakesAboutTheRaysOfTheFirsts) {
   ASSERT_GT(path, 0.0) << r.output;
   for (const char* s : {"light --shoot-firstshot patches", "light --shoot-firstshot off", "path, no table"})
     EXPECT_LT(figure(r.output, s, 1), 1.3 * path) << s << "\n" << r.output;
-  const auto share = r.output.find("% of the rays");
-  ASSERT_NE(share, std::string::npos) << r.output;
-  EXPECT_LT(std::atof(r.output.c_str() + r.output.rfind('(', share) + 1), 8.0) << r.output;
+  EXPECT_LE(pilotShare(r.output), 5.0) << r.output;
+}
+
+TEST(IntegratorAuto, ThePilotTakesAtMostFivePercentOfTheRendersRays) {
+  // The many-lights room (64 lights), 128 x 128 at 305 spp: next-event estimation to every light takes about 27 times
+  // the path tracer's rays per pass; at the two passes each image takes at least, the pilot took 9.0% of the render's
+  // rays. A pass over a sixteenth of the pixels tells it is not worth trying, and the pilot stays within its 5%.
+  const std::string dir = firstshot::test::tempDir(), scene = dir + "/many.json";
+  ASSERT_TRUE(copyAt305Spp("scenes/many-lights.json", scene));
+  const auto r =
+      firstshot::test::run(kRender + " " + scene + " --width 128 --height 128 --time 0.01 --threads 2 -o " + dir + "/a.exr");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, testing::ContainsRegex("  path --light-sampler all +- +- +- +[0-9.]+ \\(not tried: one pass "
+                                               "takes [0-9.]+ times an image's rays\\)"));
+  EXPECT_LE(pilotShare(r.output), 5.0) << r.output;
 }
 
 // A method with a fixed cost (the cache's fill) at the render's budget: the passes' noise shrinks with the rays the
@@ -350,6 +369,12 @@ TEST(IntegratorPilot, TheRendersRecordsTakeTheRaysItsBudgetPaysFor) {
   // A fill of 30% of the render: twice the rays would pass half of it. With m = 1 the efficiency is renderEfficiency's.
   EXPECT_EQ(bestRecordSamples(0.1, 0.05, 0.0, 0.0, 1e5, 3e6, 1e7, e), 1);
   EXPECT_EQ(e, renderEfficiency(std::sqrt(0.01 + 0.0025), 0.05, 0.0, 1e5, 3e6, 1e7));
+  // Records of the pilot that gathered a quarter of the render's rays (least 4): the render's take 4 to 64 times theirs.
+  EXPECT_EQ(bestRecordSamples(0.1, 0.05, 0.0, 0.0, 1e5, 1e5 / 4, 1e7, e, 4), 64);
+  EXPECT_EQ(bestRecordSamples(0.1, 0.0, 0.05, 0.0, 1e5, 1e5 / 4, 1e7, e, 4), 4);
+  EXPECT_DOUBLE_EQ(e, renderEfficiency(std::sqrt(0.01 + 0.0025), 0.05, 0.0, 1e5, 1e5, 1e7));
+  // The least is taken whatever its fill (the render's default), more only within half the render.
+  EXPECT_EQ(bestRecordSamples(0.1, 0.05, 0.0, 0.0, 1e5, 3e6 / 4, 1e7, e, 4), 4);
   // The option given is the user's: the pilot's choice does not change it.
   for (const bool given : {false, true}) {
     CLI::App app;

@@ -21,6 +21,18 @@ const PilotCandidate& pathOrFirst(const std::vector<PilotCandidate>& candidates)
   return candidates.front();
 }
 
+/// Why the pilot has no figures of @p f (@p imageRays: the rays of one of the first candidate's images).
+std::string skipReason(const PilotFigure& f, double imageRays) {
+  switch (f.skip) {
+    case PilotSkip::Outgrown: return "its preprocessing alone outgrows the pilot";
+    case PilotSkip::PassCost:
+      return fmt::format("not tried: one pass takes {:.1f} times an image's rays", f.rays / std::max(1.0, imageRays));
+    case PilotSkip::Share:
+      return fmt::format("not tried: its images would take the pilot past its {:.0f}% of the render", 100 * kPilotShare);
+    default: return "not tried: as above";
+  }
+}
+
 }  // namespace
 
 void RenderCommand::leaveTableUnread() {
@@ -50,7 +62,11 @@ PilotFactory RenderCommand::pilotFactory(const IntegratorOptions& base) {
     IntegratorSetup setup{&app_, &scene_, seed, threads_, spp_, samplerMode(), true};
     IntegratorCli& cli = integrators_.cli(c.integrator);
     cli.configure(setup);
-    return cli.make(io);
+    const int rays = cli.recordSamples();  // the pilot's records gather a fraction of them
+    if (c.recordDivisor > 1) cli.setRecordSamples(std::max(1, rays / c.recordDivisor));
+    std::unique_ptr<Integrator> made = cli.make(io);
+    if (c.recordDivisor > 1) cli.setRecordSamples(rays);
+    return made;
   };
 }
 
@@ -67,6 +83,7 @@ void RenderCommand::sizeRecords() {
   PilotCandidate alone;
   alone.integrator = integrators_.name;
   alone.patchNee = base.patchNee;
+  alone.recordDivisor = kPilotRecordDivisor;
   int spp = 0;
   const PilotPlan plan = pilotPlan(2, spp);  // the share of a pilot of two
   if (!plan.run) return;
@@ -75,7 +92,7 @@ void RenderCommand::sizeRecords() {
   const std::vector<PilotFigure> figures =
       runPilot(*renderScene_, nullptr, {alone}, plan, pilotFactory(base), seed(), samplerMode(), threads_);
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const int rays = cli.recordSamples() * figures.front().recordSamples;
+  const int rays = cli.recordSamples() / kPilotRecordDivisor * figures.front().recordSamples;
   cli.setRecordSamples(rays);
   if (!quiet_)
     fmt::print(stderr,
@@ -95,8 +112,11 @@ void RenderCommand::resolveIntegrator() {
   const bool tableGiven = renderScene_ && renderScene_->firstShot() && !sensors_.active() && !preview_;
   const bool luminaires = tableGiven && !renderScene_->luminaires().empty();
   const bool manyLights = scene_.lights.size() + (scene_.sky || scene_.environment ? 1 : 0) > 1;
-  const std::vector<PilotCandidate> candidates = integrators_.autoCandidates(
+  std::vector<PilotCandidate> candidates = integrators_.autoCandidates(
       app_, replaces, tableGiven, luminaires, manyLights, scene_.sky || scene_.environment, scene_.file);
+  for (PilotCandidate& c : candidates)  // records whose rays the render's budget sizes: the pilot's take a fraction
+    if (integrators_.cli(c.integrator).recordSamples() > 0 && !app_.count(kRecordSamplesKey))
+      c.recordDivisor = kPilotRecordDivisor;
   auto say = [&](const std::string& text) {
     if (!quiet_) fmt::print(stderr, "firstshot-render: --integrator auto: {}\n", text);
   };
@@ -157,9 +177,9 @@ void RenderCommand::resolveIntegrator() {
   const size_t best = bestPilotFigure(figures);
   integrators_.choose(candidates[best]);
   // The cache's records gathered with the rays the pilot found the render's budget pays for.
-  std::vector<int> recordSamples(candidates.size());
+  std::vector<int> recordSamples(candidates.size());  // the pilot's hemisphere rays per record
   for (size_t i = 0; i < candidates.size(); ++i)
-    recordSamples[i] = integrators_.cli(candidates[i].integrator).recordSamples();
+    recordSamples[i] = integrators_.cli(candidates[i].integrator).recordSamples() / candidates[i].recordDivisor;
   if (figures[best].recordSamples > 1)
     integrators_.cli(candidates[best].integrator).setRecordSamples(recordSamples[best] * figures[best].recordSamples);
   if (!candidates[best].table) {
@@ -170,8 +190,7 @@ void RenderCommand::resolveIntegrator() {
 
   // The pilot's rays against the render's, priced at the first candidate's rays per camera sample (as the plan).
   double pilotRays = 0.0;
-  for (const PilotFigure& f : figures)  // a seeded preprocessing's third and fourth images (its records' error)
-    pilotRays += (f.spp > 0 ? 2.0 * f.rays : f.rays) + (f.seeded ? 2.0 * (f.rays - f.preprocessRays) : 0.0);
+  for (const PilotFigure& f : figures) pilotRays += f.pilotRays;
   const PilotFigure& chosen = figures[best];
   const double pixels = double(scene_.camera.width) * double(scene_.camera.height);
   const double renderRays = pixels * double(spp) * figures.front().rays /
@@ -187,7 +206,7 @@ void RenderCommand::resolveIntegrator() {
     if (figures[i].spp == 0)
       fmt::print(stderr, "  {:<42} {:>5} {:>9} {:>9} {:>12.3f} ({})\n", candidates[i].label(), "-", "-", "-",
                  figures[i].rays * 1e-6,
-                 figures[i].rays > 0 ? "its preprocessing alone outgrows the pilot" : "not tried: as above");
+                 skipReason(figures[i], figures.front().rays));
     else
       fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
                  figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,

@@ -18,7 +18,10 @@ namespace firstshot {
 
 namespace {
 
-constexpr double kPilotShare = 0.05;  ///< of the render's camera samples, for the whole pilot
+/// Of kPilotShare, the share of the render's rays the plan gives the candidates' images; the rest is for what some take
+/// beyond their images' rays (kMinPasses passes, the cache's four images and two fills, the probes): with all of it
+/// planned the pilot took 4.0–6.3% of the render (median 4.9%) over 56 pilots.
+constexpr double kPlannedShare = 0.04;
 constexpr double kPilotClamp = 5.0;   ///< pixel values above this many image means count as that much (pilotNoise)
 /// A relative error below this counts as this much: methods that exact (the direct light of a point over a plane by
 /// next-event estimation: two pictures alike) are equals, the cheaper the better. Without it an error of 0 made an
@@ -61,11 +64,18 @@ constexpr double kFillRayCost = 1.9;
 /// 12 × 12 to 128 × 128. In proportion to the pixels (as until 2026-11-30) the bowl-lamp room's fill came out at
 /// 82–85% of the render's rays, about three times its own, and the cache + table, 13× light tracing there, tied.
 constexpr double kFillGrowth = 0.8;
-/// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples).
-constexpr int kMaxRecordSamples = 16;
-/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
-/// exponent still leaves the render time).
+/// The render's records take more hemisphere rays than the pilot's least (PilotFigure::recordSamples) only while their
+/// fill stays within this share of the render's work (a fill projected wrong by its growth exponent still leaves the
+/// render time).
 constexpr double kMaxFillShare = 0.5;
+/// A candidate whose kMinPasses passes would take more than this many times an image's rays is not tried (NEE to each
+/// of the many-lights room's 64 lights: 20 times, the office floor's: 7; BDPT in the textured room: 2.2, tried); a
+/// pass over the seeded preprocessing's smaller picture tells (PilotFigure::probeRays).
+constexpr double kMaxMinPassesShare = 4.0;
+/// A candidate whose images would take more than this many times their plan's rays (kMinPasses passes of a costly
+/// pass, the cache's four images and two fills) is not tried where they would leave the pilot too little of its
+/// kPilotShare for the plan of the candidates after it; those within their plan are always tried.
+constexpr double kOverPlan = 1.25;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -99,7 +109,7 @@ PilotPlan planPilot(const CameraDesc& camera, int spp, size_t candidates, double
   PilotPlan plan;
   if (candidates < 2 || spp < 1 || camera.width < 1 || camera.height < 1) return plan;
   const double pixels = double(camera.width) * double(camera.height);
-  const double perImage = kPilotShare * pixels * double(spp) / (2.0 * double(candidates));  // camera samples
+  const double perImage = kPlannedShare * pixels * double(spp) / (2.0 * double(candidates));  // camera samples
   // The largest picture up to kMaxSide that still gets kMinSpp samples per pixel.
   double f = std::min(1.0, double(kMaxSide) / double(std::max(camera.width, camera.height)));
   f = std::min(f, std::sqrt(perImage / (kMinSpp * pixels)));
@@ -263,10 +273,11 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   std::vector<PilotFigure> figures;
   // Integrators (and whether they read the table) whose preprocessing outgrew the pilot: their variants are skipped.
   std::vector<std::pair<std::string, bool>> outgrown;
+  double spent = 0.0, share = 0.0;  // the pilot's rays so far, and at most (kPilotShare of the render's)
   for (size_t c = 0; c < candidates.size(); ++c) {
     const std::pair<std::string, bool> kind{candidates[c].integrator, candidates[c].table};
     if (std::find(outgrown.begin(), outgrown.end(), kind) != outgrown.end()) {
-      figures.emplace_back();
+      figures.emplace_back().skip = PilotSkip::Variant;
       if (progress) progress(c);
       continue;
     }
@@ -275,20 +286,45 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     const RenderScene& theirs = candidates[c].table ? scene : *withoutTable;
     const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
     // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past the first's
-    // work in two images, or past what would take the whole render once projected to it, whichever is more (at most a
-    // share of the render of 2 × its fill picture's pixels / the render's, under 1% at 128 × 128): there it outgrows
-    // the pilot, and the candidate is not measured further.
+    // work in two images at the pilot's whole share (kPilotShare, not the plan's), or past what would take the whole
+    // render once projected to it, whichever is more (at most a share of the render of 2 × its fill picture's pixels /
+    // the render's, under 1% at 128 × 128): there it outgrows the pilot, and the candidate is not measured further.
+    // Records that gather a fraction of the render's rays (recordDivisor) stop at that fraction: the render's records,
+    // with all their rays, would have outgrown it.
     const double fillCost = rayCost(candidates[c], withoutTable != nullptr) * kFillRayCost;
-    const double limit = std::max(2.0 * budget * firstCost, renderWork(budget) / (fillScale * fillCost));
+    const double limit = std::max(kPilotShare / kPlannedShare * 2.0 * budget * firstCost,
+                                  renderWork(budget) / (fillScale * fillCost)) /
+                         double(std::max(1, candidates[c].recordDivisor));
     if (c > 0) integrator->limitPreprocessRays(uint64_t(limit) + 1);
     const bool seeded = integrator->seededPreprocess();
     const CameraDesc& preprocessDesc = seeded ? fillDesc : desc;
     integrator->preprocessFor(theirs, preprocessDesc);
     PilotFigure f;
-    if (c > 0 && double(integrator->preprocessRayCount()) > limit) {
-      f.rays = double(integrator->preprocessRayCount());
+    const double preprocessed = double(integrator->preprocessRayCount());
+    if (c > 0 && preprocessed > limit) {
+      f.rays = f.pilotRays = preprocessed;
+      f.skip = PilotSkip::Outgrown;
       outgrown.push_back(kind);
-    } else {
+    } else if (c > 0) {  // one pass over a picture of a sixteenth of the pixels: what a pass of its costs
+      PilotImage probe(*integrator, fillDesc);
+      probe.renderTo(1, Camera(fillDesc), seed, seed, seeded ? SamplerMode::Independent : sampler, threads);
+      f.probeRays = f.pilotRays = probe.firstPass;
+      const double pass = std::max(1.0, f.probeRays * fillScale);
+      const int spp = int(std::clamp<double>(std::round((budget - preprocessed) / (seeded ? 2.0 * pass : pass)),
+                                             double(kMinPasses), double(kMaxPasses)));
+      // What its images would take: two (a seeded preprocessing's four, and its second fill).
+      const double images = seeded ? preprocessed + 4.0 * spp * pass : 2.0 * (preprocessed + spp * pass);
+      if (kMinPasses * pass > kMaxMinPassesShare * budget) {
+        f.rays = pass;  // its two passes would take the others' rays many times over
+        f.skip = PilotSkip::PassCost;
+      } else if (images > kOverPlan * 2.0 * budget &&
+                 spent + f.pilotRays + images + 2.0 * budget * double(candidates.size() - c - 1) > share) {
+        f.rays = images / 2.0;  // more than its plan, and it would leave the candidates after it less than theirs
+        f.skip = PilotSkip::Share;
+      }
+      if (f.skip != PilotSkip::None) f.pilotRays += preprocessed;
+    }
+    if (f.skip == PilotSkip::None) {
       // A seeded preprocessing's passes take independent samples: the films' per-pixel variances / samples are then
       // the passes' noise, which splits off the records' (with the render's stratified samples they overstate it, and
       // the records' part came out 0 nearly everywhere); the passes' noise so measured errs against the cache.
@@ -300,6 +336,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       if (c == 0) {
         budget = double(plan.spp) * pass + preprocessing;
         firstCost = cost;
+        share = kPilotShare * pass * double(plan.renderSpp) * renderPixels / (double(desc.width) * double(desc.height));
       }
       // Two images of equal rays each; a seeded preprocessing's four (two fills) in the same rays.
       f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / (seeded ? 2.0 * pass : pass)),
@@ -335,9 +372,14 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
         PilotImage fourth(*integrator, desc);
         fourth.renderTo(f.spp, camera, seed, seed, passSampler, threads);
         f.recordNoise = std::min(f.frozen, std::sqrt(2.0) * pilotNoise(a, fourth.image(), &skip));
+        f.pilotRays += 2.0 * (f.rays - f.preprocessRays);
       }
+      // Both images' rays; a preprocessing not drawn from the seed served both.
+      f.pilotRays += first.rays + second.rays - (seeded ? 0.0 : preprocessing);
     }
+    spent += f.pilotRays;
     f.seeded = seeded && f.spp > 0;
+    f.recordSamples = candidates[c].recordDivisor;  // the render's records as many as by default, unless sized below
     figures.push_back(f);
     if (progress) progress(c);
   }
@@ -357,7 +399,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   const double fillPixels = double(fillDesc.width) * double(fillDesc.height);
   const double fillGrowth =
       std::pow(renderPixels / fillPixels, kFillGrowth) * double(desc.width) * double(desc.height) / renderPixels;
-  for (PilotFigure& f : figures) {
+  for (size_t i = 0; i < figures.size(); ++i) {
+    PilotFigure& f = figures[i];
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);
@@ -377,7 +420,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
                  fill = f.preprocessRays * fillGrowth * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
-    f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, placed, off, passRays, fill, render, f.efficiency);
+    f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, placed, off, passRays, fill, render, f.efficiency,
+                                        candidates[i].recordDivisor);
     f.frozen = std::sqrt(own * own / f.recordSamples + placed * placed);
     f.preprocessShare = render > 0.0 ? fill * f.recordSamples / render : 1.0;
   }
@@ -385,10 +429,11 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
 }
 
 int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
-                      double render, double& efficiency) {
-  int best = 1;
+                      double render, double& efficiency, int least) {
+  least = std::max(1, least);
+  int best = least;
   efficiency = -1.0;
-  for (int m = 1; m <= kMaxRecordSamples && (m == 1 || fill * m <= kMaxFillShare * render); m *= 2) {
+  for (int m = least; m <= kMaxRecordSamples * least && (m == least || fill * m <= kMaxFillShare * render); m *= 2) {
     const double frozen = std::sqrt(own * own / m + placed * placed);
     const double e = renderEfficiency(std::sqrt(passNoise * passNoise + frozen * frozen), frozen, bias, passRays,
                                       fill * m, render);
