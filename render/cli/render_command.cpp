@@ -51,8 +51,9 @@ void RenderCommand::declareOptions() {
   integrators_.addShared(app);
   auto* sppOpt = app.add_option("--spp", spp_, "samples per pixel (default: the scene's settings.spp)")->check(CLI::Range(1, 1 << 30));
   app.add_option("--time", timeLimit_, "render passes of 1 spp until this many seconds have passed, the auto pilot "
-                                       "and the integrator's preprocessing (the cache's fill) included (the image "
-                                       "then depends on how many passes fit)")
+                                       "and the integrator's preprocessing (the cache's fill, which stops at three "
+                                       "quarters of what the pilot leaves, without --checkpoint) included (the image then "
+                                       "depends on how many passes fit)")
       ->check(CLI::Range(1e-3, 1e9))->excludes(sppOpt);
   app.add_option("--adaptive", adaptive_, "samples where the pixels' noise is (on): after 16 passes, rounds that give "
                                           "each pixel one sample and as many again by the pixels' estimated error "
@@ -268,6 +269,11 @@ int RenderCommand::renderImage() {
   }
   if (checkpoint_.active() && tableUnused_) checkpoint_.key.emplace_back(kTableUnusedKey, "unused");
   const auto preprocessStart = std::chrono::steady_clock::now();
+  // A preprocessing sized wrong (the cache's fill, its growth projected short by the pilot) must not take the time:
+  // it stops at three quarters of what is left, with what it made. Not with a checkpoint: a resumed render must fill
+  // alike.
+  if (timeLimit_ > 0 && !checkpoint_.active())
+    integrator_->limitPreprocessSeconds(std::max(1e-3, 0.75 * (timeLimit_ - pilotSeconds_)));
   integrator_->preprocess(*renderScene_);
   // --time is the whole budget: the pilot's time and the integrator's preprocessing (the irradiance cache's fill, light
   // trees) come off it; at least one pass is rendered.

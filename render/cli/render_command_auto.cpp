@@ -62,11 +62,7 @@ PilotFactory RenderCommand::pilotFactory(const IntegratorOptions& base) {
     IntegratorSetup setup{&app_, &scene_, seed, threads_, spp_, samplerMode(), true};
     IntegratorCli& cli = integrators_.cli(c.integrator);
     cli.configure(setup);
-    const int rays = cli.recordSamples();  // the pilot's records gather a fraction of them
-    if (c.recordDivisor > 1) cli.setRecordSamples(std::max(1, rays / c.recordDivisor));
-    std::unique_ptr<Integrator> made = cli.make(io);
-    if (c.recordDivisor > 1) cli.setRecordSamples(rays);
-    return made;
+    return cli.make(io);
   };
 }
 
@@ -83,7 +79,6 @@ void RenderCommand::sizeRecords() {
   PilotCandidate alone;
   alone.integrator = integrators_.name;
   alone.patchNee = base.patchNee;
-  alone.recordDivisor = kPilotRecordDivisor;
   int spp = 0;
   const PilotPlan plan = pilotPlan(2, spp);  // the share of a pilot of two
   if (!plan.run) return;
@@ -92,7 +87,7 @@ void RenderCommand::sizeRecords() {
   const std::vector<PilotFigure> figures =
       runPilot(*renderScene_, nullptr, {alone}, plan, pilotFactory(base), seed(), samplerMode(), threads_);
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const int rays = cli.recordSamples() / kPilotRecordDivisor * figures.front().recordSamples;
+  const int rays = cli.recordSamples() * figures.front().recordSamples;
   cli.setRecordSamples(rays);
   if (!quiet_)
     fmt::print(stderr,
@@ -112,11 +107,8 @@ void RenderCommand::resolveIntegrator() {
   const bool tableGiven = renderScene_ && renderScene_->firstShot() && !sensors_.active() && !preview_;
   const bool luminaires = tableGiven && !renderScene_->luminaires().empty();
   const bool manyLights = scene_.lights.size() + (scene_.sky || scene_.environment ? 1 : 0) > 1;
-  std::vector<PilotCandidate> candidates = integrators_.autoCandidates(
+  const std::vector<PilotCandidate> candidates = integrators_.autoCandidates(
       app_, replaces, tableGiven, luminaires, manyLights, scene_.sky || scene_.environment, scene_.file);
-  for (PilotCandidate& c : candidates)  // records whose rays the render's budget sizes: the pilot's take a fraction
-    if (integrators_.cli(c.integrator).recordSamples() > 0 && !app_.count(kRecordSamplesKey))
-      c.recordDivisor = kPilotRecordDivisor;
   auto say = [&](const std::string& text) {
     if (!quiet_) fmt::print(stderr, "firstshot-render: --integrator auto: {}\n", text);
   };
@@ -177,9 +169,9 @@ void RenderCommand::resolveIntegrator() {
   const size_t best = bestPilotFigure(figures);
   integrators_.choose(candidates[best]);
   // The cache's records gathered with the rays the pilot found the render's budget pays for.
-  std::vector<int> recordSamples(candidates.size());  // the pilot's hemisphere rays per record
+  std::vector<int> recordSamples(candidates.size());
   for (size_t i = 0; i < candidates.size(); ++i)
-    recordSamples[i] = integrators_.cli(candidates[i].integrator).recordSamples() / candidates[i].recordDivisor;
+    recordSamples[i] = integrators_.cli(candidates[i].integrator).recordSamples();
   if (figures[best].recordSamples > 1)
     integrators_.cli(candidates[best].integrator).setRecordSamples(recordSamples[best] * figures[best].recordSamples);
   if (!candidates[best].table) {

@@ -133,6 +133,11 @@ class Integrator {
   /// the integrator is not fit to render, and preprocessRayCount() exceeds @p rays. The irradiance cache's fill stops
   /// between its batches (the same place for any thread count); the default ignores it.
   virtual void limitPreprocessRays(uint64_t /*rays*/) {}
+  /// Lets the next preprocess() stop once it has taken @p seconds (0: no limit), for a render given a time (--time):
+  /// stopped so, the integrator stays fit to render with what it made. The irradiance cache's fill stops between its
+  /// batches, its records made for the pixels of its coarse-to-fine order so far (a sample they do not cover takes a
+  /// path); with several MPI ranks it is not stopped (the ranks would stop at different batches). Default: ignored.
+  virtual void limitPreprocessSeconds(double /*seconds*/) {}
   /// Rays traced by preprocess() or preprocessFor() (the irradiance cache's fill), not counted in the render's
   /// RenderStats::rays; 0 by default.
   virtual uint64_t preprocessRayCount() const { return 0; }

@@ -36,9 +36,11 @@ constexpr int kMaxPasses = 256;       ///< and at most
 /// the path tracer's per sample on the shipped Cornell boxes and the many-lights room, a pass's camera sample on top):
 /// the pilot takes at most PilotPlan::lightPaths = spp / (this × kMinPasses) light paths per pixel and pass.
 constexpr int kLightPathCost = 2;
-/// The path tracer's rays with patch NEE count this much work each: sampling the lit patches (their light tree, each
-/// patch's first-shot light) took 1.8–3.0× the time per ray of the same path tracer without it (2.2–2.9× on six of
-/// seven scenes with their tables at 128 × 128; no ray count shows that work).
+/// The path tracer's and the irradiance cache's rays with patch NEE count this much work each: sampling the lit
+/// patches (their light tree, each patch's first-shot light) took 1.8–3.0× the time per ray of the same path tracer
+/// without it (2.2–2.9× on six of seven scenes with their tables at 128 × 128; no ray count shows that work), and
+/// the cache's fill 2.0× (McGuire's box with its table at 1024 rays per record: 1.17 against 2.3 Mrays/s; counted at
+/// one, `--patch-nee every` took that fill, 23.5 s of a 20-s render).
 constexpr double kPatchNeeRayCost = 2.5;
 /// Where the pilot weighs reading a table against leaving it unread (the path tracer without it), the rays of a
 /// method that reads it count this much work each: its lookups (a hit's first-shot light, shooting from the lit
@@ -64,26 +66,29 @@ constexpr double kFillRayCost = 1.9;
 /// 12 × 12 to 128 × 128. In proportion to the pixels (as until 2026-11-30) the bowl-lamp room's fill came out at
 /// 82–85% of the render's rays, about three times its own, and the cache + table, 13× light tracing there, tied.
 constexpr double kFillGrowth = 0.8;
-/// The render's records take more hemisphere rays than the pilot's least (PilotFigure::recordSamples) only while their
-/// fill stays within this share of the render's work (a fill projected wrong by its growth exponent still leaves the
-/// render time).
+/// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples).
+constexpr int kMaxRecordSamples = 16;
+/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
+/// exponent still leaves the render time).
 constexpr double kMaxFillShare = 0.5;
 /// A candidate whose kMinPasses passes would take more than this many times an image's rays is not tried (NEE to each
 /// of the many-lights room's 64 lights: 20 times, the office floor's: 7; BDPT in the textured room: 2.2, tried); a
 /// pass over the seeded preprocessing's smaller picture tells (PilotFigure::probeRays).
 constexpr double kMaxMinPassesShare = 4.0;
 /// A candidate whose images would take more than this many times their plan's rays (kMinPasses passes of a costly
-/// pass, the cache's four images and two fills) is not tried where they would leave the pilot too little of its
-/// kPilotShare for the plan of the candidates after it; those within their plan are always tried.
+/// pass) is not tried where they would leave the pilot too little of its kPilotShare for the plan of the candidates
+/// after it; those within their plan are always tried, and so is a seeded preprocessing (the cache: its two fills at
+/// the render's hemisphere rays per record are its measurement; at a half or a quarter of them its fill's growth was
+/// projected short, docs/measurements.md).
 constexpr double kOverPlan = 1.25;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
-/// Work per ray of @p c's rays: kPatchNeeRayCost for the path tracer's with patch NEE, times kTableRayCost for a
-/// method reading the table where others leave it unread (@p weighTable); 1 for the others.
+/// Work per ray of @p c's rays: kPatchNeeRayCost for the path tracer's and the irradiance cache's with patch NEE,
+/// times kTableRayCost for a method reading the table where others leave it unread (@p weighTable); 1 for the others.
 double rayCost(const PilotCandidate& c, bool weighTable) {
-  const double nee = c.integrator == "path" && c.patchNee != PatchNee::Off ? kPatchNeeRayCost : 1.0;
-  return nee * (weighTable && c.table ? kTableRayCost : 1.0);
+  const bool nee = (c.integrator == "path" || c.integrator == "irradiance-cache") && c.patchNee != PatchNee::Off;
+  return (nee ? kPatchNeeRayCost : 1.0) * (weighTable && c.table ? kTableRayCost : 1.0);
 }
 
 const char* patchNeeName(PatchNee p) { return p == PatchNee::Off ? "off" : p == PatchNee::First ? "first" : "every"; }
@@ -289,12 +294,9 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     // work in two images at the pilot's whole share (kPilotShare, not the plan's), or past what would take the whole
     // render once projected to it, whichever is more (at most a share of the render of 2 × its fill picture's pixels /
     // the render's, under 1% at 128 × 128): there it outgrows the pilot, and the candidate is not measured further.
-    // Records that gather a fraction of the render's rays (recordDivisor) stop at that fraction: the render's records,
-    // with all their rays, would have outgrown it.
     const double fillCost = rayCost(candidates[c], withoutTable != nullptr) * kFillRayCost;
     const double limit = std::max(kPilotShare / kPlannedShare * 2.0 * budget * firstCost,
-                                  renderWork(budget) / (fillScale * fillCost)) /
-                         double(std::max(1, candidates[c].recordDivisor));
+                                  renderWork(budget) / (fillScale * fillCost));
     if (c > 0) integrator->limitPreprocessRays(uint64_t(limit) + 1);
     const bool seeded = integrator->seededPreprocess();
     const CameraDesc& preprocessDesc = seeded ? fillDesc : desc;
@@ -317,7 +319,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       if (kMinPasses * pass > kMaxMinPassesShare * budget) {
         f.rays = pass;  // its two passes would take the others' rays many times over
         f.skip = PilotSkip::PassCost;
-      } else if (images > kOverPlan * 2.0 * budget &&
+      } else if (!seeded && images > kOverPlan * 2.0 * budget &&
                  spent + f.pilotRays + images + 2.0 * budget * double(candidates.size() - c - 1) > share) {
         f.rays = images / 2.0;  // more than its plan, and it would leave the candidates after it less than theirs
         f.skip = PilotSkip::Share;
@@ -379,7 +381,6 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     }
     spent += f.pilotRays;
     f.seeded = seeded && f.spp > 0;
-    f.recordSamples = candidates[c].recordDivisor;  // the render's records as many as by default, unless sized below
     figures.push_back(f);
     if (progress) progress(c);
   }
@@ -420,8 +421,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
                  fill = f.preprocessRays * fillGrowth * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
-    f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, placed, off, passRays, fill, render, f.efficiency,
-                                        candidates[i].recordDivisor);
+    f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, placed, off, passRays, fill, render, f.efficiency);
     f.frozen = std::sqrt(own * own / f.recordSamples + placed * placed);
     f.preprocessShare = render > 0.0 ? fill * f.recordSamples / render : 1.0;
   }
@@ -429,11 +429,10 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
 }
 
 int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
-                      double render, double& efficiency, int least) {
-  least = std::max(1, least);
-  int best = least;
+                      double render, double& efficiency) {
+  int best = 1;
   efficiency = -1.0;
-  for (int m = least; m <= kMaxRecordSamples * least && (m == least || fill * m <= kMaxFillShare * render); m *= 2) {
+  for (int m = 1; m <= kMaxRecordSamples && (m == 1 || fill * m <= kMaxFillShare * render); m *= 2) {
     const double frozen = std::sqrt(own * own / m + placed * placed);
     const double e = renderEfficiency(std::sqrt(passNoise * passNoise + frozen * frozen), frozen, bias, passRays,
                                       fill * m, render);

@@ -37,8 +37,8 @@
 /// so that the pilot does not depend on the machine). Below 4 samples per pixel of a 16 × 16 picture there is no
 /// pilot: the path tracer renders. Past the first candidate, one pass over a sixteenth of the pixels tells what a
 /// pass costs: a candidate whose two passes would take more than four images' rays (NEE to each of many lights) is
-/// not tried, nor one whose images would take the pilot past kPilotShare (5%) of the render's rays (PilotSkip). The
-/// cache's records gather half the render's hemisphere rays in the pilot (kPilotRecordDivisor).
+/// not tried, nor one (not the cache) whose images would take the pilot past kPilotShare (5%) of the render's rays
+/// (PilotSkip).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -64,10 +64,6 @@ struct PilotCandidate {
   bool table = true;
   /// --light-sampler all: next-event estimation to every light at every vertex, not one chosen by the light tree.
   bool everyLight = false;
-  /// A seeded preprocessing's (the cache's records): the pilot's records gather 1/this of the render's hemisphere rays
-  /// (the factory makes them so), and the render's take m times the pilot's, m from this to kMaxRecordSamples × this
-  /// (PilotFigure::recordSamples); 1 where the rays are the user's (--ic-samples given): the render takes the pilot's.
-  int recordDivisor = 1;
   /// The candidate as options: "path", "path --patch-nee every", "light --shoot-firstshot off", "path, no table".
   std::string label() const;
 };
@@ -82,7 +78,7 @@ enum class PilotSkip {
   Outgrown,  ///< its preprocessing alone (the cache's fill) outgrew the pilot
   Variant,   ///< the same integrator's preprocessing outgrew it as another candidate's
   PassCost,  ///< its kMinPasses passes would take many times an image's rays
-  Share,     ///< its images would take the pilot past its share of the render
+  Share,     ///< its images would take the pilot past its share of the render (never the cache's)
 };
 
 /// What the pilot measured of one candidate.
@@ -119,9 +115,8 @@ struct PilotFigure {
   double recordNoise = 0;
   double frozenMeasured = 0;  ///< the frozen part as measured at the fill's picture
   /// A seeded preprocessing's: how many times the hemisphere rays per record of the pilot's fill the render's should
-  /// take (PilotCandidate::recordDivisor × 1, 2, 4, … 16): the records' own noise² falls as 1/m and the fill grows m
-  /// times, and the m of the best efficiency is taken (frozen, preprocessShare and efficiency are the render's with
-  /// it). 1 for the others.
+  /// take (1, 2, 4, … 16): the records' own noise² falls as 1/m and the fill grows m times, and the m of the best
+  /// efficiency is taken (frozen, preprocessShare and efficiency are the render's with it). 1 for the others.
   int recordSamples = 1;
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
   double preprocessShare = 0;
@@ -198,23 +193,13 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
 /// 1 / (noise² · passRays): what a method without preprocessing gets.
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
 
-/// The pilot's records gather 1/this of the render's default hemisphere rays per record (PilotCandidate::recordDivisor):
-/// at the render's 512 the cache's two fills took 2–4 times an image's rays, and with two variants of it the pilot
-/// passed its share of the render. Not 4: a fill's rays grow faster than its records' rays where more rays make more
-/// records (veach-bidir with its table: 5.6 times from 128 to 512 at 12 × 12, the classroom 5.2), and from a quarter
-/// the pilot took the cache + table for veach-bidir, 0.22× light tracing there.
-inline constexpr int kPilotRecordDivisor = 2;
-
-/// The render's records take at most this many times the hemisphere rays per record they take by default.
-inline constexpr int kMaxRecordSamples = 16;
-
-/// How many times the pilot's hemisphere rays per record the render's records should take (@p least × 1, 2, 4, … 16,
-/// their fill at most half the render's work beyond @p least times): the m of the best renderEfficiency (the least of
-/// equals, into @p efficiency) when the records' own noise @p own (as the pilot's records have it) falls as 1/√m,
-/// their placement's error @p placed stays and the pilot's fill @p fill grows m times; @p passNoise the passes' noise
-/// after @p passRays (all relative; rays as renderEfficiency's).
+/// How many times the pilot's hemisphere rays per record the render's records should take (1, 2, 4, … 16, their fill
+/// at most half the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
+/// @p efficiency) when the records' own noise @p own falls as 1/√m, their placement's error @p placed stays and the
+/// fill @p fill grows m times; @p passNoise the passes' noise after @p passRays (all relative; rays as
+/// renderEfficiency's).
 int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
-                      double render, double& efficiency, int least = 1);
+                      double render, double& efficiency);
 
 /// Index of the most efficient figure (the first of equals; 0 if none has light).
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures);

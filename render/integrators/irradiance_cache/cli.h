@@ -141,6 +141,9 @@ class IrradianceCacheCli : public IntegratorCli {
       fmt::print(stderr, "; fill {:.2f} s, {:.3f} Mrays in {} sweep(s); in the {}: {} lookups without a record took a path",
                  s.fillSeconds, double(s.fillRays) * 1e-6, s.fillRounds, film ? "render" : "sensor estimate", s.missPaths);
     if (s.privateRecords > 0) fmt::print(stderr, ", {} private records", s.privateRecords);
+    if (s.fillCutAt > 0)
+      fmt::print(stderr, "; the fill stopped at three quarters of the render's time after {} of {} pixels of sweep {} "
+                 "(samples its records do not cover took a path)", s.fillCutAt, s.fillPixels, s.fillRounds);
     fmt::print(stderr, "\n");
   }
 

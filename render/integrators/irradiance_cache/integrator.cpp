@@ -82,6 +82,8 @@ IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
   s.privateRecords = privateRecords_.load();
   s.missPaths = missPaths_.load();
   s.fillSeconds = fillSeconds_;
+  s.fillCutAt = fillCutAt_;
+  s.fillPixels = fillTasks_;
   s.fillRays = fillRays_;
   s.fillRounds = fillRounds_;
   s.exchangeBytes = exchangeBytes_;

@@ -105,6 +105,9 @@ struct IrradianceCacheStats {
   double fillSeconds = 0;       ///< two-pass fill
   uint64_t fillRays = 0;        ///< rays the two-pass fill traced (closest-hit and shadow)
   int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
+  /// The fill stopped at limitPreprocessSeconds() after this many pixels of its last sweep (fillRounds; 0: it did not).
+  size_t fillCutAt = 0;
+  size_t fillPixels = 0;        ///< of a sweep's pixels (tasks)
   /// With several MPI ranks (IntegratorOptions::comm): bytes this rank sent in the fill's record
   /// exchanges, and the seconds it spent in them (waiting for the other ranks included).
   uint64_t exchangeBytes = 0;
@@ -139,6 +142,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   void preprocessFor(const RenderScene& scene, const CameraDesc& camera) override;
   uint64_t preprocessRayCount() const override { return fillRays_; }
   void limitPreprocessRays(uint64_t rays) override { fillRayLimit_ = rays; }
+  void limitPreprocessSeconds(double seconds) override { fillSecondsLimit_ = seconds; }
   bool seededPreprocess() const override { return settings_.twoPass; }
   /// Every level-0 record's E_i replaced by max(0, E_i·(1 + z·s)), one normal z per record, s the RMS of
   /// spread/E over the records gathered twice (preprocessFor makes them); the octrees rebuilt. No-op without them.
@@ -271,6 +275,8 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   double fillSeconds_ = 0;
   uint64_t fillRays_ = 0;
   uint64_t fillRayLimit_ = 0;  ///< limitPreprocessRays(): the fill stops past it (0: none)
+  double fillSecondsLimit_ = 0;  ///< limitPreprocessSeconds(): the fill stops past it, fit to render (0: none)
+  size_t fillCutAt_ = 0, fillTasks_ = 0;  ///< IrradianceCacheStats::fillCutAt, fillPixels
   int fillRounds_ = 0;
   uint64_t exchangeBytes_ = 0;
   double exchangeSeconds_ = 0;

@@ -119,6 +119,8 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   loaded_ = 0;
   fillSeconds_ = 0;
   fillRounds_ = 0;
+  fillCutAt_ = 0;
+  fillTasks_ = 0;
   fillRays_ = 0;
   privateRecords_ = 0;
   missPaths_ = 0;
@@ -197,6 +199,11 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
   // One sweep over the pixels; returns the number of records added.
   std::atomic<uint64_t> rays{0};
   bool overLimit = false;  // limitPreprocessRays(): stopped past it, unfit to render
+  fillTasks_ = tasks;
+  auto pastTime = [&] {  // limitPreprocessSeconds(): one rank alone (several would stop at different batches)
+    return fillSecondsLimit_ > 0 && comm.size() == 1 &&
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > fillSecondsLimit_;
+  };
   auto sweep = [&](bool shrinkNeighbours) {
     Progress progress(shrinkNeighbours ? "irradiance cache fill" : "irradiance cache fill, gaps", tasks,
                       settings_.quiet || !comm.root());
@@ -257,6 +264,10 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
         overLimit = true;
         break;
       }
+      if (pastTime()) {  // what is made so far serves; the rest of the pixels take paths
+        fillCutAt_ = pos + count;
+        break;
+      }
     }
     return added;
   };
@@ -264,7 +275,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
   // such gaps with records that shrink nothing, so afterwards every pixel is covered and a later
   // run from the saved file adds nothing (its first sweep finds nothing to do).
   fillRounds_ = 1;
-  if (sweep(true) > 0 && settings_.neighbourClamp && !overLimit) {
+  if (sweep(true) > 0 && settings_.neighbourClamp && !overLimit && fillCutAt_ == 0) {
     fillRounds_ = 2;
     sweep(false);
   }
