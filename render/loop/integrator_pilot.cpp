@@ -73,7 +73,7 @@ constexpr int kMaxRecordSamples = 16;
 constexpr double kMaxFillShare = 0.5;
 /// A candidate whose kMinPasses passes would take more than this many times an image's rays is not tried (NEE to each
 /// of the many-lights room's 64 lights: 20 times, the office floor's: 7; BDPT in the textured room: 2.2, tried); a
-/// pass over the seeded preprocessing's smaller picture tells (PilotFigure::probeRays).
+/// pass over the seeded preprocessing's smaller picture tells.
 constexpr double kMaxMinPassesShare = 4.0;
 /// A candidate whose images would take more than this many times their plan's rays (kMinPasses passes of a costly
 /// pass) is not tried where they would leave the pilot too little of its kPilotShare for the plan of the candidates
@@ -279,6 +279,12 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   // Integrators (and whether they read the table) whose preprocessing outgrew the pilot: their variants are skipped.
   std::vector<std::pair<std::string, bool>> outgrown;
   double spent = 0.0, share = 0.0;  // the pilot's rays so far, and at most (kPilotShare of the render's)
+  // Passes of an image of @p pass rays a pass after @p preprocessing: the budget's, a seeded preprocessing's four images
+  // (two fills) in the rays of two.
+  auto passesFor = [&](double preprocessing, double pass, bool seeded) {
+    return int(std::clamp<double>(std::round((budget - preprocessing) / (seeded ? 2.0 * pass : pass)),
+                                  double(kMinPasses), double(kMaxPasses)));
+  };
   for (size_t c = 0; c < candidates.size(); ++c) {
     const std::pair<std::string, bool> kind{candidates[c].integrator, candidates[c].table};
     if (std::find(outgrown.begin(), outgrown.end(), kind) != outgrown.end()) {
@@ -310,16 +316,14 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     } else if (c > 0) {  // one pass over a picture of a sixteenth of the pixels: what a pass of its costs
       PilotImage probe(*integrator, fillDesc);
       probe.renderTo(1, Camera(fillDesc), seed, seed, seeded ? SamplerMode::Independent : sampler, threads);
-      f.probeRays = f.pilotRays = probe.firstPass;
-      const double pass = std::max(1.0, f.probeRays * fillScale);
-      const int spp = int(std::clamp<double>(std::round((budget - preprocessed) / (seeded ? 2.0 * pass : pass)),
-                                             double(kMinPasses), double(kMaxPasses)));
-      // What its images would take: two (a seeded preprocessing's four, and its second fill).
-      const double images = seeded ? preprocessed + 4.0 * spp * pass : 2.0 * (preprocessed + spp * pass);
+      f.pilotRays = probe.firstPass;
+      const double pass = std::max(1.0, probe.firstPass * fillScale);
+      // What its two images would take (not a seeded preprocessing's: it is always tried).
+      const double images = seeded ? 0.0 : 2.0 * (preprocessed + passesFor(preprocessed, pass, false) * pass);
       if (kMinPasses * pass > kMaxMinPassesShare * budget) {
         f.rays = pass;  // its two passes would take the others' rays many times over
         f.skip = PilotSkip::PassCost;
-      } else if (!seeded && images > kOverPlan * 2.0 * budget &&
+      } else if (images > kOverPlan * 2.0 * budget &&
                  spent + f.pilotRays + images + 2.0 * budget * double(candidates.size() - c - 1) > share) {
         f.rays = images / 2.0;  // more than its plan, and it would leave the candidates after it less than theirs
         f.skip = PilotSkip::Share;
@@ -340,9 +344,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
         firstCost = cost;
         share = kPilotShare * pass * double(plan.renderSpp) * renderPixels / (double(desc.width) * double(desc.height));
       }
-      // Two images of equal rays each; a seeded preprocessing's four (two fills) in the same rays.
-      f.spp = int(std::clamp<double>(std::round((budget - preprocessing) / (seeded ? 2.0 * pass : pass)),
-                                     double(kMinPasses), double(kMaxPasses)));
+      f.spp = passesFor(preprocessing, pass, seeded);  // two images of equal rays each
       first.renderTo(f.spp, camera, seed, seed, passSampler, threads);
       // The second seed's image: a fresh integrator only where its preprocessing drew on the seed (the cache's
       // fill); the others render it with the first's (the same preprocessing, counted for both images).
@@ -400,8 +402,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   const double fillPixels = double(fillDesc.width) * double(fillDesc.height);
   const double fillGrowth =
       std::pow(renderPixels / fillPixels, kFillGrowth) * double(desc.width) * double(desc.height) / renderPixels;
-  for (size_t i = 0; i < figures.size(); ++i) {
-    PilotFigure& f = figures[i];
+  for (PilotFigure& f : figures) {
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);

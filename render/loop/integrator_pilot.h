@@ -98,11 +98,10 @@ struct PilotFigure {
   /// candidates without the table are measured too, a table reader's at 1.5 times that (its lookups' time)
   double work = 0;
   double preprocessRays = 0;  ///< of those, the preprocessing's
-  /// Rays of the pass that told what one pass costs (past the first candidate: one sample per pixel of
-  /// pilotFillCamera's picture, a seeded preprocessing's over the records it made for it).
-  double probeRays = 0;
   PilotSkip skip = PilotSkip::None;  ///< why not measured (PassCost: rays are one pass's, as the probe tells)
-  double pilotRays = 0;  ///< every ray the pilot traced for it: its images, preprocessing, probe (its share)
+  /// Every ray the pilot traced for it (its share): its images, its preprocessing, and past the first candidate the
+  /// pass over pilotFillCamera's picture that told what one pass costs.
+  double pilotRays = 0;
   bool seeded = false;        ///< measured with a seeded preprocessing (the cache's fill, over pilotFillCamera) (the irradiance cache's fill)
   /// A seeded preprocessing's (the cache's records'): the part of noise' that more passes over the same records do
   /// not reduce, · mean / m, as the render's records would leave it: the relative noise between the first image and
