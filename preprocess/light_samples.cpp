@@ -2,6 +2,7 @@
 
 #include "common/util/progress.h"
 #include "preprocess/light_tessellation.h"
+#include "preprocess/sphere_light.h"
 
 namespace firstshot {
 
@@ -12,7 +13,12 @@ void areaSamples(const SceneDesc& scene, uint32_t lightIndex, double lightPatchS
                  std::vector<LightSample>& out) {
   const LightDesc& light = scene.lights[lightIndex];
   const Color le = scene.materials[scene.shapes[light.shape].material].emission;
-  const LightTessellation t = tessellateAreaLight(scene, light.shape, lightPatchSize, lightTolerance);
+  const LightTessellation t = tessellateAreaLight(scene, light.shape, lightPatchSize, lightTolerance, kLightSampleBudget, true);
+  if (lightPatchSize <= 0) {  // automatic: a sphere as isotropic samples inside it where they do (sphere_light.h)
+    const std::vector<LightSample> sphere = sphereLightSamples(scene, lightIndex, lightTolerance, t.tolerance);
+    if (!sphere.empty()) return out.insert(out.end(), sphere.begin(), sphere.end()), void();
+    reportRelaxed(scene, light.shape, t, lightTolerance);
+  }
   for (size_t i = 0; i < t.positions.size(); ++i) {
     LightSample s;
     s.kind = LightSampleKind::AreaVertex;

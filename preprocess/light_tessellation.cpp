@@ -264,8 +264,15 @@ double LightReceivers::distance(const Vec3d* poly, int count) const {
   return best;
 }
 
+void reportRelaxed(const SceneDesc& scene, int shapeIndex, const LightTessellation& t, double asked, size_t budget) {
+  if (t.tolerance > asked || t.floorRatio < kLightMinSizeRatio)
+    fmt::print(stderr, "{}: {}: {} light samples at light_tolerance {:g}, none split below 1/{:g} of a face (the budget is {}; "
+               "{:g} asked)\n", scene.file, scene.shapes[shapeIndex].name, t.positions.size(), t.tolerance, t.floorRatio, budget,
+               asked);
+}
+
 LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance,
-                                      size_t budget) {
+                                      size_t budget, bool quiet) {
   const ShapeDesc& shape = scene.shapes[shapeIndex];
   if (lightPatchSize <= 0) {
     // Within the budget: the tolerance doubled twice, then the floor raised to 1/8 of a face (the
@@ -277,9 +284,7 @@ LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, do
       LightTessellation t = automaticTessellation(scene, shape, relax * tolerance, ratio);
       t.floorRatio = ratio, t.tolerance = relax * tolerance;
       if (t.positions.size() <= budget || ratio == 1) {
-        if (relax > 1 || ratio < kLightMinSizeRatio)
-          fmt::print(stderr, "{}: {}: {} light samples at light_tolerance {:g}, none split below 1/{:g} of a face (the budget is {}; "
-                     "{:g} asked)\n", scene.file, shape.name, t.positions.size(), t.tolerance, ratio, budget, tolerance);
+        if (!quiet) reportRelaxed(scene, shapeIndex, t, tolerance, budget);
         return t;
       }
     }

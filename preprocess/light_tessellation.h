@@ -107,9 +107,15 @@ class LightReceivers {
 /// the receivers, or h reaches the floor (floor, then tolerance, relaxed while the samples exceed
 /// @p budget); an emissive mesh's samples are then merged (preprocess/light_clusters.h). Vertices are shared exactly between neighbours; hanging
 /// vertices where levels meet get weight only from their own triangles, so Σ weights = area.
-/// Same input → same output, byte for byte.
+/// Same input → same output, byte for byte. Says on stderr what the budget relaxed, if anything, unless
+/// @p quiet (reportRelaxed).
 LightTessellation tessellateAreaLight(const SceneDesc& scene, int shapeIndex, double lightPatchSize, double tolerance,
-                                      size_t budget = kLightSampleBudget);
+                                      size_t budget = kLightSampleBudget, bool quiet = false);
+
+/// One stderr line for an automatic tessellation @p t of shape @p shapeIndex whose tolerance or floor the
+/// budget relaxed from @p asked; nothing when it did not.
+void reportRelaxed(const SceneDesc& scene, int shapeIndex, const LightTessellation& t, double asked,
+                   size_t budget = kLightSampleBudget);
 
 /// Worst error of the vertex rule Σ w_i cosθ_x cosθ_L / d² of @p t against the exact
 /// ∫ cosθ_x cosθ_L / d² dA (analytic::polygonCosineSolidAngle) over @p points (position, normal), the

@@ -18,11 +18,13 @@
 namespace firstshot {
 namespace {
 
-/// The shipped bulb room; @p light is set to its emissive sphere's light, @p shape to its shape.
+/// The shipped bulb room; @p light is set to its emissive sphere's light, @p shape to its shape. The
+/// sphere is taken as any emissive mesh (as a sphere it is sampled inside: tests/test_sphere_light.cpp).
 SceneDesc bulbRoom(uint32_t& light, size_t& shape) {
   SceneDesc d = loadScene(test::source("scenes/bulb-room.json"));
   for (uint32_t i = 0; i < d.lights.size(); ++i)
     if (d.lights[i].type == LightType::Area) light = i, shape = size_t(d.lights[i].shape);
+  d.shapes[shape].type = ShapeType::Mesh;
   return d;
 }
 

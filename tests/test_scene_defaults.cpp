@@ -102,12 +102,14 @@ TEST(AutomaticPatchSize, SameImageInMillimetresAndKilometres) {
 /// A 4 × 3 × 4 m room (walls facing in) with an emissive icosphere of 20·4^@p subdivisions triangles,
 /// radius 5 cm, hanging 1.2 m above the floor.
 SceneDesc roomWithEmissiveSphere(int subdivisions) {
-  return test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.6},
+  SceneDesc d = test::sceneFromJson(R"({"materials": {"white": {"type": "diffuse", "albedo": 0.6},
       "bulb": {"type": "diffuse", "albedo": 0, "emission": 200}},
     "shapes": [{"type": "box", "material": "white", "min": [-2,0,-2], "max": [2,3,2], "flip_normals": true},
                {"type": "sphere", "material": "bulb", "center": [0.3,1.2,-0.2], "radius": 0.05, "subdivisions": )" +
                              std::to_string(subdivisions) + R"(}],
     "camera": {"position": [1.8,1.6,1.8], "look_at": [-0.5,0.8,-0.5], "fov_y": 70, "resolution": [40, 30]}})");
+  d.shapes[1].type = ShapeType::Mesh;  // any emissive mesh (a sphere is sampled inside: tests/test_sphere_light.cpp)
+  return d;
 }
 
 /// Irradiance (W/m²) at @p x facing @p n from the light's samples (the vertex rule) and exactly.

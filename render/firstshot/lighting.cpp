@@ -153,7 +153,7 @@ std::shared_ptr<const FirstShotLighting::Data> FirstShotLighting::compute(const 
     for (int side = 0; side < 2; ++side)
       for (int ch = 0; ch < 3; ++ch) d.side_[2 * size_t(j) + side].gradient[ch] = Vec3(gradient[side][ch]);
   });
-  d.visibilityMap_.build(*t, d.visible_, scene.desc().lights.size());
+  d.visibilityMap_.build(*t, d.visible_, scene.desc().lights);
   d.nearSpotStart_.assign(size_t(n) + 1, 0);
   for (uint32_t j = 0; j < n; ++j) {
     for (const TableFactor f : d.rows_[j]) {

@@ -15,13 +15,14 @@
 
 namespace firstshot {
 
-void TableVisibilityMap::build(const FirstShotTable& t, const std::vector<float>& visible, size_t sceneLights) {
+void TableVisibilityMap::build(const FirstShotTable& t, const std::vector<float>& visible, const std::vector<LightDesc>& lights) {
   const uint32_t n = t.mesh.size();
-  sampleOfLight_.assign(sceneLights, kNoId);
+  sampleOfLight_.assign(lights.size(), kNoId);
   std::vector<uint8_t> single(t.samples.size(), 0);
   for (size_t i = 0; i < t.samples.size(); ++i) {
     const LightSample& s = t.samples[i];
-    if ((s.kind == LightSampleKind::Point || s.kind == LightSampleKind::Spot) && s.light < sceneLights) {
+    if ((s.kind == LightSampleKind::Point || s.kind == LightSampleKind::Spot) && s.light < lights.size() &&
+        (lights[s.light].type == LightType::Point || lights[s.light].type == LightType::Spot)) {
       sampleOfLight_[s.light] = static_cast<uint32_t>(i);
       single[i] = 1;
     }

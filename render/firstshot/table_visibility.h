@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/scene/scene_desc.h"
 #include "common/table/firstshot.h"
 
 namespace firstshot {
@@ -35,8 +36,9 @@ class TableVisibilityMap {
   static constexpr float kVisibleTolerance = 1e-4f;
 
   /// Builds the map of @p table, whose visible fractions per factor are @p visible (V_ij, negative
-  /// where unknown), for a scene with @p sceneLights lights.
-  void build(const FirstShotTable& table, const std::vector<float>& visible, size_t sceneLights);
+  /// where unknown), for a scene of lights @p lights: only a point or spot light's sample says where
+  /// its light is seen (an area light's point samples, a sphere's, stand inside it).
+  void build(const FirstShotTable& table, const std::vector<float>& visible, const std::vector<LightDesc>& lights);
   /// The class of scene light @p light (index into SceneDesc::lights) at patch @p patch; Unknown
   /// for a light the table does not replace by one point or spot sample, or before build().
   TableVisibility query(uint32_t patch, uint32_t light) const;
