@@ -325,6 +325,19 @@ TEST(IntegratorAuto, ThePilotTakesAtMostFivePercentOfTheRendersRays) {
   EXPECT_LE(pilotShare(r.output), 5.0) << r.output;
 }
 
+// The Ward sphere, 128 x 128 at 305 spp: the cache's fill at 12 x 12 takes 4 times an image's rays, and its two fills
+// took the pilot to 7.2% of the render's rays. They must leave the pilot's share its images and the candidates' after
+// it: the fill stops there and the cache is not measured (the path tracer is 1.5 times as efficient there).
+TEST(IntegratorAuto, TheCachesFillsStopWhereThePilotWouldPassItsShare) {
+  const std::string dir = firstshot::test::tempDir(), scene = dir + "/ward.json";
+  ASSERT_TRUE(copyAt305Spp("scenes/ward-sphere.json", scene));
+  const auto r =
+      firstshot::test::run(kRender + " " + scene + " --width 128 --height 128 --time 0.01 --threads 2 -o " + dir + "/a.exr");
+  ASSERT_EQ(r.exitCode, 0) << r.output;
+  EXPECT_THAT(r.output, testing::ContainsRegex("  irradiance-cache +- +- +- +[0-9.]+ \\(its preprocessing alone outgrows"));
+  EXPECT_LE(pilotShare(r.output), 5.0) << r.output;
+}
+
 // A method with a fixed cost (the cache's fill) at the render's budget: the passes' noise shrinks with the rays the
 // fill leaves them, the records' frozen error and the bias stay.
 TEST(IntegratorPilot, AFixedCostIsChargedAtItsShareOfTheRender) {

@@ -279,14 +279,19 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   // Integrators (and whether they read the table) whose preprocessing outgrew the pilot: their variants are skipped.
   std::vector<std::pair<std::string, bool>> outgrown;
   double spent = 0.0, share = 0.0;  // the pilot's rays so far, and at most (kPilotShare of the render's)
-  // Passes of an image of @p pass rays a pass after @p preprocessing: the budget's, a seeded preprocessing's four images
-  // (two fills) in the rays of two.
+  // Passes of an image of @p pass rays a pass after @p preprocessing: imageBudget's rays, a seeded preprocessing's four
+  // images (two fills) in the rays of two. imageBudget is the budget, or where a costly candidate before (the cache's
+  // fills) left less of the pilot's share, an equal part of what is left for each candidate still to come (its
+  // passes then rounded down).
+  double imageBudget = 0.0;
   auto passesFor = [&](double preprocessing, double pass, bool seeded) {
-    return int(std::clamp<double>(std::round((budget - preprocessing) / (seeded ? 2.0 * pass : pass)),
-                                  double(kMinPasses), double(kMaxPasses)));
+    const double passes = (imageBudget - preprocessing) / (seeded ? 2.0 * pass : pass);
+    return int(std::clamp<double>(imageBudget < budget ? std::floor(passes) : std::round(passes), double(kMinPasses),
+                                  double(kMaxPasses)));
   };
   for (size_t c = 0; c < candidates.size(); ++c) {
     const std::pair<std::string, bool> kind{candidates[c].integrator, candidates[c].table};
+    imageBudget = c == 0 ? budget : std::min(budget, (share - spent) / (2.0 * double(candidates.size() - c)));
     if (std::find(outgrown.begin(), outgrown.end(), kind) != outgrown.end()) {
       figures.emplace_back().skip = PilotSkip::Variant;
       if (progress) progress(c);
@@ -301,10 +306,14 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     // render once projected to it, whichever is more (at most a share of the render of 2 × its fill picture's pixels /
     // the render's, under 1% at 128 × 128): there it outgrows the pilot, and the candidate is not measured further.
     const double fillCost = rayCost(candidates[c], withoutTable != nullptr) * kFillRayCost;
-    const double limit = std::max(kPilotShare / kPlannedShare * 2.0 * budget * firstCost,
-                                  renderWork(budget) / (fillScale * fillCost));
-    if (c > 0) integrator->limitPreprocessRays(uint64_t(limit) + 1);
     const bool seeded = integrator->seededPreprocess();
+    double limit = std::max(kPilotShare / kPlannedShare * 2.0 * budget * firstCost,
+                            renderWork(budget) / (fillScale * fillCost));
+    // A seeded preprocessing is made twice (the cache's two fills): both must leave, of the pilot's share, its own
+    // four images and two for each candidate after it at kMinPasses passes of the first candidate's.
+    const double minImages = 2.0 * kMinPasses * budget / double(std::max(1, plan.spp));
+    if (seeded) limit = std::min(limit, (share - spent - minImages * double(2 + candidates.size() - c - 1)) / 2.0);
+    if (c > 0) integrator->limitPreprocessRays(uint64_t(std::max(0.0, limit)) + 1);
     const CameraDesc& preprocessDesc = seeded ? fillDesc : desc;
     integrator->preprocessFor(theirs, preprocessDesc);
     PilotFigure f;
@@ -340,7 +349,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       const double cost = rayCost(candidates[c], withoutTable != nullptr);
       const double pass = std::max(1.0, first.firstPass), preprocessing = first.rays - first.firstPass;
       if (c == 0) {
-        budget = double(plan.spp) * pass + preprocessing;
+        budget = imageBudget = double(plan.spp) * pass + preprocessing;
         firstCost = cost;
         share = kPilotShare * pass * double(plan.renderSpp) * renderPixels / (double(desc.width) * double(desc.height));
       }

@@ -38,7 +38,8 @@
 /// pilot: the path tracer renders. Past the first candidate, one pass over a sixteenth of the pixels tells what a
 /// pass costs: a candidate whose two passes would take more than four images' rays (NEE to each of many lights) is
 /// not tried, nor one (not the cache) whose images would take the pilot past kPilotShare (5%) of the render's rays
-/// (PilotSkip).
+/// (PilotSkip); the cache's two fills stop (PilotSkip::Outgrown) where they would leave less of that share than its
+/// own images and each later candidate's at two passes, and the candidates after a costly one share what is left.
 #include <cstdint>
 #include <functional>
 #include <memory>
