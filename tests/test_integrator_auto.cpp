@@ -205,6 +205,24 @@ TEST(IntegratorPilot, TheMostEfficientWins) {
   EXPECT_EQ(firstshot::bestPilotFigure(f), 1u);  // the first of equals
 }
 
+// Where every pilot figure errs by more than its mean (Veach MIS: 1.3-25 at 2-4 passes), the figures rank nothing: the
+// candidate the caller names renders (the path tracer without the table), or the first if that one was not measured.
+// Where some are below that, the most efficient of those wins.
+TEST(IntegratorPilot, FiguresNoisierThanTheirMeansRankNothing) {
+  std::vector<firstshot::PilotFigure> f(3);
+  for (size_t i = 0; i < f.size(); ++i) f[i].spp = 2, f[i].error = 1.4 + double(i), f[i].efficiency = 1.0 + double(i);
+  EXPECT_TRUE(firstshot::pilotCannotRank(f));
+  EXPECT_EQ(firstshot::bestPilotFigure(f), 0u);
+  EXPECT_EQ(firstshot::bestPilotFigure(f, 1), 1u);
+  f[1].spp = 0;  // one not measured: the others still rank nothing, and the first renders in its place
+  EXPECT_EQ(firstshot::bestPilotFigure(f, 1), 0u);
+  f[1].spp = 2, f[1].error = 0.9;  // the one figure that ranks wins, though another's is more efficient
+  EXPECT_FALSE(firstshot::pilotCannotRank(f));
+  EXPECT_EQ(firstshot::bestPilotFigure(f), 1u);
+  f[2].error = 0.5;
+  EXPECT_EQ(firstshot::bestPilotFigure(f), 2u);
+}
+
 TEST(IntegratorAuto, TheChoiceIsTheSameForOneAndTwoThreads) {
   const std::string dir = firstshot::test::tempDir(), scene = firstshot::test::source("scenes/cornell.json");
   // --time: the pilot takes its size from the scene's 64 spp, the render itself one pass.

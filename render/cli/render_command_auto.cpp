@@ -166,7 +166,12 @@ void RenderCommand::resolveIntegrator() {
                        [&](size_t) { progress.advance(); });
   }
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const size_t best = bestPilotFigure(figures);
+  // Where the pilot's figures rank nothing, the path tracer on the scene as given: without the table if one was given
+  // (its gain unmeasured, the render exact), NEE by the light tree.
+  size_t unranked = 0;
+  for (size_t i = 0; i < candidates.size(); ++i)
+    if (candidates[i].integrator == "path" && !candidates[i].table && !candidates[i].everyLight) unranked = i;
+  const size_t best = bestPilotFigure(figures, unranked);
   integrators_.choose(candidates[best]);
   // The cache's records gathered with the rays the pilot found the render's budget pays for.
   std::vector<int> recordSamples(candidates.size());
@@ -213,8 +218,11 @@ void RenderCommand::resolveIntegrator() {
                  candidates[i].label(), fill.width, fill.height, recordSamples[i] * figures[i].recordSamples,
                  100.0 * figures[i].preprocessShare, figures[i].frozen, figures[i].frozenMeasured, recordSamples[i],
                  figures[i].recordNoise);
-  fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}\n",
+  fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}{}\n",
              candidates[best].label(),
+             pilotCannotRank(figures) ? "; every pilot figure errs by more than its mean, which ranks nothing: the "
+                                        "path tracer renders the scene as given"
+                                      : "",
              tableUnused_ ? "; the table given is not read: the render is the scene's as without --firstshot" : "");
 }
 

@@ -459,10 +459,24 @@ double renderEfficiency(double noise, double frozen, double bias, double passRay
   return 1.0 / (std::max(e2, kMinError * kMinError * passRays / render) * render);
 }
 
-size_t bestPilotFigure(const std::vector<PilotFigure>& figures) {
+bool pilotCannotRank(const std::vector<PilotFigure>& figures) {
+  bool any = false;
+  for (const PilotFigure& f : figures)
+    if (f.spp > 0) {
+      if (!(f.error > kUnrankableError)) return false;
+      any = true;
+    }
+  return any && !figures.empty() && figures.front().spp > 0;
+}
+
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures, size_t unranked) {
+  if (pilotCannotRank(figures)) return unranked < figures.size() && figures[unranked].spp > 0 ? unranked : 0;
+  // Among the figures that rank (their error at most kUnrankableError), where some were measured at all.
+  auto ranks = [&](size_t i) { return figures[i].spp == 0 || figures[i].error <= kUnrankableError; };
   size_t best = 0;
-  for (size_t i = 1; i < figures.size(); ++i)
-    if (figures[i].efficiency > figures[best].efficiency) best = i;
+  while (best + 1 < figures.size() && !ranks(best)) ++best;
+  for (size_t i = best + 1; i < figures.size(); ++i)
+    if (ranks(i) && figures[i].efficiency > figures[best].efficiency) best = i;
   return best;
 }
 

@@ -201,7 +201,19 @@ double renderEfficiency(double noise, double frozen, double bias, double passRay
 int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
                       double render, double& efficiency);
 
-/// Index of the most efficient figure (the first of equals; 0 if none has light).
-size_t bestPilotFigure(const std::vector<PilotFigure>& figures);
+/// A pilot figure's relative error (PilotFigure::error: its noise and its mean's distance from the others') above
+/// which it measures little but its few largest samples: more than its mean. Such a figure is not ranked (Veach MIS:
+/// fireflies off the glossy plates, 0.8-25 at 2-4 passes, its choice a lottery between methods 10-65 times apart at
+/// equal time; the cache's noise 0.66 there once, its mean 5.4 times off the others').
+inline constexpr double kUnrankableError = 1.0;
+
+/// Whether the figures cannot rank their candidates: every one measured errs by more than kUnrankableError (the
+/// first measured too).
+bool pilotCannotRank(const std::vector<PilotFigure>& figures);
+
+/// Index of the most efficient figure among those that err by at most kUnrankableError (the first of equals; 0 if
+/// none has light). If pilotCannotRank: @p unranked where it was measured (the caller's choice: the path tracer on
+/// the scene as given, without the table), else 0.
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures, size_t unranked = 0);
 
 }  // namespace firstshot
