@@ -207,7 +207,7 @@ void RenderCommand::resolveIntegrator() {
     else
       fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
                  figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,
-                 i == best ? " *" : "");
+                 i == best ? " *" : figures[i].error > kUnrankableError ? " (not ranked: its error exceeds its mean)" : "");
   const CameraDesc fill = pilotFillCamera(scene_.camera, plan);
   for (size_t i = 0; i < candidates.size(); ++i)
     if (figures[i].spp > 0 && figures[i].preprocessShare > 0.0)
