@@ -71,8 +71,12 @@ std::optional<SphereLightFit> fitSphereLight(const SceneDesc& scene, uint32_t li
   for (const ShapeDesc& s : scene.shapes) {
     if (scene.materials[s.material].isEmissive()) continue;
     for (const Face& f : s.faces) {
-      Vec3d poly[4];
-      for (int k = 0; k < f.count; ++k) poly[k] = s.vertices[f.v[k]];
+      Vec3d poly[4], mid(0.0);
+      for (int k = 0; k < f.count; ++k) poly[k] = s.vertices[f.v[k]], mid += poly[k];
+      mid /= double(f.count);
+      double reach = 0;  // the face's bounding sphere about its vertices' mean
+      for (int k = 0; k < f.count; ++k) reach = std::max(reach, glm::length(poly[k] - mid));
+      if (glm::length(mid - fit.centre) - reach - fit.radius >= std::max(fit.distance, fit.radius)) continue;  // far
       const double d = std::max(0.0, pointPolygonDistance(fit.centre, poly, f.count) - fit.radius);
       fit.distance = std::min(fit.distance, d);
       if (d >= fit.radius) continue;
