@@ -66,6 +66,13 @@ bool copyAt305Spp(const std::string& source, const std::string& to) {
   return true;
 }
 
+/// --integrator auto on shipped scene @p source at 305 spp (copyAt305Spp), 128 x 128, two threads: its output.
+firstshot::test::CommandResult autoAt305Spp(const std::string& source) {
+  const std::string dir = firstshot::test::tempDir(), scene = dir + "/scene.json";
+  if (!copyAt305Spp(source, scene)) return {-1, source + " has no \"spp\": 64 to raise"};
+  return firstshot::test::run(kRender + " " + scene + " --width 128 --height 128 --time 0.01 --threads 2 -o " + dir + "/a.exr");
+}
+
 /// firstshot-preprocess at its defaults: @p scene's table written to @p fsd.
 auto preprocess(const std::string& scene, const std::string& fsd) {
   return firstshot::test::run(std::string(FIRSTSHOT_PREPROCESS_EXE) + " " + scene + " --quiet -o " + fsd);
@@ -212,10 +219,7 @@ TEST(IntegratorAuto, ThePilotTakesAtMostFivePercentOfTheRendersRays) {
   // The many-lights room (64 lights), 128 x 128 at 305 spp: next-event estimation to every light takes about 27 times
   // the path tracer's rays per pass; at the two passes each image takes at least, the pilot took 9.0% of the render's
   // rays. A pass over a sixteenth of the pixels tells it is not worth trying, and the pilot stays within its 5%.
-  const std::string dir = firstshot::test::tempDir(), scene = dir + "/many.json";
-  ASSERT_TRUE(copyAt305Spp("scenes/many-lights.json", scene));
-  const auto r =
-      firstshot::test::run(kRender + " " + scene + " --width 128 --height 128 --time 0.01 --threads 2 -o " + dir + "/a.exr");
+  const auto r = autoAt305Spp("scenes/many-lights.json");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_THAT(r.output, testing::ContainsRegex("  path --light-sampler all +- +- +- +[0-9.]+ \\(not tried: one pass "
                                                "takes [0-9.]+ times an image's rays\\)"));
@@ -226,10 +230,7 @@ TEST(IntegratorAuto, ThePilotTakesAtMostFivePercentOfTheRendersRays) {
 // took the pilot to 7.2% of the render's rays. They must leave the pilot's share its images and the candidates' after
 // it: the fill stops there and the cache is not measured (the path tracer is 1.5 times as efficient there).
 TEST(IntegratorAuto, TheCachesFillsStopWhereThePilotWouldPassItsShare) {
-  const std::string dir = firstshot::test::tempDir(), scene = dir + "/ward.json";
-  ASSERT_TRUE(copyAt305Spp("scenes/ward-sphere.json", scene));
-  const auto r =
-      firstshot::test::run(kRender + " " + scene + " --width 128 --height 128 --time 0.01 --threads 2 -o " + dir + "/a.exr");
+  const auto r = autoAt305Spp("scenes/ward-sphere.json");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_THAT(r.output, testing::ContainsRegex("  irradiance-cache +- +- +- +[0-9.]+ \\(its preprocessing alone outgrows"));
   EXPECT_LE(pilotShare(r.output), 5.0) << r.output;

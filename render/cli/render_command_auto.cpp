@@ -169,7 +169,7 @@ void RenderCommand::resolveIntegrator() {
   // Where the pilot's figures rank nothing, the path tracer on the scene as given: without the table if one was given
   // (its gain unmeasured, the render exact), NEE by the light tree.
   size_t unranked = 0;
-  for (size_t i = 0; i < candidates.size(); ++i)
+  for (size_t i = 0; i < candidates.size() && unranked == 0; ++i)
     if (candidates[i].integrator == "path" && !candidates[i].table && !candidates[i].everyLight) unranked = i;
   const size_t best = bestPilotFigure(figures, unranked);
   integrators_.choose(candidates[best]);
