@@ -469,8 +469,17 @@ bool pilotCannotRank(const std::vector<PilotFigure>& figures) {
   return any && !figures.empty() && figures.front().spp > 0;
 }
 
-size_t bestPilotFigure(const std::vector<PilotFigure>& figures, size_t unranked) {
-  if (pilotCannotRank(figures)) return unranked < figures.size() && figures[unranked].spp > 0 ? unranked : 0;
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& unranked) {
+  if (pilotCannotRank(figures)) {
+    // The most efficient of the caller's fallbacks that were measured: methods the pilot cannot tell apart by
+    // their tails but that are exact and robust alike (the path tracer's two light samplers), so that the choice
+    // between them costs little whichever way the figures fall.
+    size_t best = figures.size();
+    for (size_t i : unranked)
+      if (i < figures.size() && figures[i].spp > 0 && (best == figures.size() || figures[i].efficiency > figures[best].efficiency))
+        best = i;
+    return best < figures.size() ? best : 0;
+  }
   // Among the figures that rank (their error at most kUnrankableError), where some were measured at all.
   auto ranks = [&](size_t i) { return figures[i].spp == 0 || figures[i].error <= kUnrankableError; };
   size_t best = 0;

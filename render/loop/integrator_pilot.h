@@ -212,8 +212,8 @@ inline constexpr double kUnrankableError = 1.0;
 bool pilotCannotRank(const std::vector<PilotFigure>& figures);
 
 /// Index of the most efficient figure among those that err by at most kUnrankableError (the first of equals; 0 if
-/// none has light). If pilotCannotRank: @p unranked where it was measured (the caller's choice: the path tracer on
-/// the scene as given, without the table), else 0.
-size_t bestPilotFigure(const std::vector<PilotFigure>& figures, size_t unranked = 0);
+/// none has light). If pilotCannotRank: the most efficient measured one of @p unranked (the caller's fallbacks: the
+/// path tracer on the scene as given, without the table, by either light sampler), else 0.
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& unranked = {});
 
 }  // namespace firstshot
