@@ -267,8 +267,8 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
   return r;
 }
 
-int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
-                    const EmbreeItemBuffer& rays, const Vec3d& x, double near) {
+bool pointVisibilityRay(const std::vector<View>& views, const std::vector<std::vector<double>>& weights, const Vec3d& x,
+                        double near, Vec3d& origin) {
   for (size_t v = 0; v < views.size(); ++v) {
     const View& view = views[v];
     const bool persp = view.projection == Projection::Perspective;
@@ -280,10 +280,17 @@ int pointVisibility(const std::vector<View>& views, const std::vector<std::vecto
     const int i = std::min(view.width - 1, int((u - view.planeMin.x) / (view.planeMax.x - view.planeMin.x) * view.width));
     const int j = std::min(view.height - 1, int((view.planeMax.y - w) / (view.planeMax.y - view.planeMin.y) * view.height));
     if (!(weights[v][size_t(j) * view.width + i] > 0)) continue;
-    const Vec3d o = persp ? view.eye : view.eye + u * view.right + w * view.up;
-    return rays.occluded(o, x - o, 1.0 - 1e-5) ? 0 : 1;
+    origin = persp ? view.eye : view.eye + u * view.right + w * view.up;
+    return true;
   }
-  return -1;
+  return false;
+}
+
+int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
+                    const EmbreeItemBuffer& rays, const Vec3d& x, double near) {
+  Vec3d o;
+  if (!pointVisibilityRay(views, weights, x, near, o)) return -1;
+  return rays.occluded(o, x - o, kPointRayEnd) ? 0 : 1;
 }
 
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count) {

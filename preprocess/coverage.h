@@ -59,6 +59,12 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
 /// @return 1 visible, 0 occluded, −1 if x is in no view (behind a hemicube's base, outside the window).
 int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
                     const EmbreeItemBuffer& rays, const Vec3d& x, double near);
+/// pointVisibility's ray for @p x without tracing it: false if x is in no view, else its origin into @p origin
+/// (the ray is origin + t·(x − origin), t in [0, kPointRayEnd]).
+bool pointVisibilityRay(const std::vector<View>& views, const std::vector<std::vector<double>>& weights, const Vec3d& x,
+                        double near, Vec3d& origin);
+/// How far along pointVisibility's ray an occluder counts (short of x itself).
+inline constexpr double kPointRayEnd = 1.0 - 1e-5;
 
 /// Flags in @p mask (one byte per pixel of @p view) the pixels whose centres may fall inside patch
 /// @p patch (clipped to depth ≥ @p near) and @p margin pixels around them: what the coverage of that

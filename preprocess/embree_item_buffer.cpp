@@ -225,6 +225,34 @@ bool EmbreeItemBuffer::occluded(const Vec3d& origin, const Vec3d& direction, dou
   return rh.ray.tfar < 0.0f;  // Embree sets tfar to −∞ when it finds a hit
 }
 
+void EmbreeItemBuffer::occluded(const Vec3d* origins, const Vec3d* directions, double tfar, size_t n,
+                                uint8_t* out) const {
+  if (triPatch_.empty()) {
+    std::fill(out, out + n, uint8_t(0));
+    return;
+  }
+  FlushDenormals ftz;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  for (size_t begin = 0; begin < n; begin += 16) {
+    const size_t count = std::min<size_t>(16, n - begin);
+    alignas(64) RTCRay16 packet;
+    alignas(64) int valid[16];
+    for (size_t k = 0; k < 16; ++k) {
+      valid[k] = k < count ? -1 : 0;
+      const size_t i = begin + std::min(k, count - 1);
+      RTCRayHit rh = rayOf(origins[i], directions[i], tfar);
+      packet.org_x[k] = rh.ray.org_x, packet.org_y[k] = rh.ray.org_y, packet.org_z[k] = rh.ray.org_z;
+      packet.dir_x[k] = rh.ray.dir_x, packet.dir_y[k] = rh.ray.dir_y, packet.dir_z[k] = rh.ray.dir_z;
+      packet.tnear[k] = rh.ray.tnear, packet.tfar[k] = rh.ray.tfar, packet.time[k] = 0.0f;
+      packet.mask[k] = rh.ray.mask, packet.id[k] = 0, packet.flags[k] = 0;
+    }
+    rtcOccluded16(valid, scene_, &ctx, &packet);
+    for (size_t k = 0; k < count; ++k) out[begin + k] = packet.tfar[k] < 0.0f ? 1 : 0;
+  }
+}
+
 namespace {
 
 /// What anyPatchNear's query carries to its callback.

@@ -49,6 +49,10 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   /// Whether any patch meets the ray @p origin + t·@p direction, t in [0, @p tfar]: firstHit() != kNoPatch, by an
   /// occlusion query (it stops at the first surface found, not the nearest). Thread-safe, like render().
   bool occluded(const Vec3d& origin, const Vec3d& direction, double tfar) const;
+  /// occluded() of @p n rays at once (@p origins[k] + t·@p directions[k], t in [0, @p tfar]) into @p out[k] (1:
+  /// occluded), traced in packets of 16: the same answers, faster for coherent rays (a directional light's point
+  /// tests). Thread-safe, like render().
+  void occluded(const Vec3d* origins, const Vec3d* directions, double tfar, size_t n, uint8_t* out) const;
   /// Calls @p test(patch) with the patch of every triangle whose bounding box may meet the ball of radius @p radius
   /// about @p centre (Embree's point query: a superset of those that do, some patches more than once), until it
   /// returns true. @return whether it did. Thread-safe, like render().

@@ -81,20 +81,37 @@ double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s
                             double near, const PatchMesh& mesh, uint32_t patch, bool spread,
                             const ExposureQuery* exposure, bool stratified = false) {
   const Patch& p = mesh.patches[patch];
-  // 1 visible, 0 hidden, −1 not tested (buried, in a mask's hole, or outside every view).
-  const auto visibleAt = [&](const Vec3d& x) {
-    if (exposure && exposure->buried(x)) return -1;
-    if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) return -1;
-    return pointVisibility(views, *s.weights, rays, x, near);
+  // 1 visible, 0 hidden, −1 not tested (buried, in a mask's hole, or outside every view); the rays of a batch of
+  // points are traced together (in packets: a directional light's are parallel).
+  thread_local std::vector<Vec3d> origins, directions;
+  thread_local std::vector<size_t> traced;
+  thread_local std::vector<uint8_t> occluded;
+  const auto visibleAt = [&](const std::vector<Vec3d>& xs, std::vector<int>& out) {
+    out.assign(xs.size(), -1);
+    origins.clear(), directions.clear(), traced.clear();
+    for (size_t k = 0; k < xs.size(); ++k) {
+      const Vec3d& x = xs[k];
+      if (exposure && exposure->buried(x)) continue;
+      if (rays.cutouts() && rays.cutouts()->coverage(patch, x) == 0.0f) continue;
+      Vec3d o;
+      if (!pointVisibilityRay(views, *s.weights, x, near, o)) continue;
+      origins.push_back(o), directions.push_back(x - o), traced.push_back(k);
+    }
+    occluded.resize(traced.size());
+    rays.occluded(origins.data(), directions.data(), kPointRayEnd, traced.size(), occluded.data());
+    for (size_t i = 0; i < traced.size(); ++i) out[traced[i]] = occluded[i] ? 0 : 1;
   };
   thread_local std::vector<PatchPoint> points;
+  thread_local std::vector<Vec3d> xs;
+  thread_local std::vector<int> seenAt;
   const auto fraction = [&](int strata) {
     patchPoints(p, spread, strata, points);
+    xs.clear();
+    for (const PatchPoint& q : points) xs.push_back(q.x);
+    visibleAt(xs, seenAt);
     double seen = 0, visible = 0;
-    for (const PatchPoint& q : points) {
-      const int v = visibleAt(q.x);
-      if (v >= 0) seen += q.share, visible += v * q.share;
-    }
+    for (size_t k = 0; k < points.size(); ++k)
+      if (seenAt[k] >= 0) seen += points[k].share, visible += seenAt[k] * points[k].share;
     return seen > 0 ? visible / seen : -1.0;
   };
   const double f = fraction(stratified ? kStrata : 0);
@@ -105,18 +122,24 @@ double pointVisibleFraction(const std::vector<View>& views, const SampleSetup& s
   // sixteenth of the way in: the exact rays of a window over a whole scene skip their last 10⁻⁵
   // (2 mm of a 200 m one), and a point on the edge would see past the wall it meets.
   const Vec3d c(p.centroid);
+  thread_local std::vector<Vec3d> ring;
+  thread_local std::vector<int> ringSeen;
+  ring.clear();
   for (uint32_t k = 0; k < p.count; ++k) {
     const Vec3d a(p.v[k]), b(p.v[(k + 1) % p.count]);
     for (int i = 0; i < kEdgePoints; ++i) {
       const Vec3d e = a + (i + 0.5) / kEdgePoints * (b - a);
-      const int v = visibleAt(e + (c - e) / 16.0);
-      if (v < 0 || v == int(f)) continue;
-      // The patch is partly lit: a sliver the fine grid misses too is less than one of its points'
-      // share, so it takes half of one.
-      const double fine = fraction(kFineStrata);
-      const double half = 0.5 / (kFineStrata * kFineStrata * (p.count - 2));
-      return fine == 0 ? half : fine == 1 ? 1 - half : fine;
+      ring.push_back(e + (c - e) / 16.0);
     }
+  }
+  visibleAt(ring, ringSeen);
+  for (const int v : ringSeen) {
+    if (v < 0 || v == int(f)) continue;
+    // The patch is partly lit: a sliver the fine grid misses too is less than one of its points'
+    // share, so it takes half of one.
+    const double fine = fraction(kFineStrata);
+    const double half = 0.5 / (kFineStrata * kFineStrata * (p.count - 2));
+    return fine == 0 ? half : fine == 1 ? 1 - half : fine;
   }
   return f;
 }
