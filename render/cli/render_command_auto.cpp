@@ -166,15 +166,18 @@ void RenderCommand::resolveIntegrator() {
                        [&](size_t) { progress.advance(); });
   }
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // Where the pilot's figures rank nothing, the path tracer on the scene as given: without the table if one was given
-  // (its gain unmeasured, the render exact), NEE by the light tree or to every light, whichever the pilot found the
-  // more efficient (the classroom: NEE to every light 1.6 times the light tree's efficiency, as its figures say).
+  // Where no other method's figure ranks, the path tracer on the scene as given ranks whatever its error: without the
+  // table if one was given (its gain unmeasured, the render exact), NEE by the light tree or to every light
+  // (rankedPilotFigures).
   const bool anyUnread = std::any_of(candidates.begin(), candidates.end(), [](const PilotCandidate& c) { return !c.table; });
-  std::vector<size_t> unranked;
-  for (size_t i = 0; i < candidates.size(); ++i)
-    if (candidates[i].integrator == "path" && candidates[i].table != anyUnread && candidates[i].patchNee == PatchNee::Off)
-      unranked.push_back(i);
-  const size_t best = bestPilotFigure(figures, unranked);
+  std::vector<size_t> robust;
+  std::vector<uint8_t> pathTracer(candidates.size());
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    pathTracer[i] = candidates[i].integrator == "path";
+    if (pathTracer[i] && candidates[i].table != anyUnread && candidates[i].patchNee == PatchNee::Off) robust.push_back(i);
+  }
+  const std::vector<uint8_t> ranked = rankedPilotFigures(figures, robust, pathTracer);
+  const size_t best = bestPilotFigure(figures, robust, pathTracer);
   integrators_.choose(candidates[best]);
   // The cache's records gathered with the rays the pilot found the render's budget pays for.
   std::vector<int> recordSamples(candidates.size());
@@ -210,7 +213,7 @@ void RenderCommand::resolveIntegrator() {
     else
       fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
                  figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,
-                 i == best ? " *" : figures[i].error > kUnrankableError ? " (not ranked: its error exceeds its mean)" : "");
+                 i == best ? " *" : !ranked[i] ? " (not ranked: its error exceeds its mean)" : "");
   const CameraDesc fill = pilotFillCamera(scene_.camera, plan);
   for (size_t i = 0; i < candidates.size(); ++i)
     if (figures[i].spp > 0 && figures[i].preprocessShare > 0.0)
@@ -223,9 +226,10 @@ void RenderCommand::resolveIntegrator() {
                  figures[i].recordNoise);
   fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}{}\n",
              candidates[best].label(),
-             pilotCannotRank(figures) ? "; every pilot figure errs by more than its mean, which ranks nothing: the "
-                                        "path tracer renders the scene as given, by the light sampler its figures favour"
-                                      : "",
+             chosen.error > kUnrankableError
+                 ? "; its figure errs by more than its mean, but no other method's ranks: the path tracer on the scene "
+                   "as given ranks whatever its error"
+                 : "",
              tableUnused_ ? "; the table given is not read: the render is the scene's as without --firstshot" : "");
 }
 

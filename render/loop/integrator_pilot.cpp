@@ -459,33 +459,30 @@ double renderEfficiency(double noise, double frozen, double bias, double passRay
   return 1.0 / (std::max(e2, kMinError * kMinError * passRays / render) * render);
 }
 
-bool pilotCannotRank(const std::vector<PilotFigure>& figures) {
-  bool any = false;
-  for (const PilotFigure& f : figures)
-    if (f.spp > 0) {
-      if (!(f.error > kUnrankableError)) return false;
-      any = true;
-    }
-  return any && !figures.empty() && figures.front().spp > 0;
+std::vector<uint8_t> rankedPilotFigures(const std::vector<PilotFigure>& figures, const std::vector<size_t>& robust,
+                                        const std::vector<uint8_t>& pathTracer) {
+  const size_t n = figures.size();
+  // Unmeasured figures rank (their efficiency is 0): the first of equals stays the first.
+  std::vector<uint8_t> ranked(n);
+  bool otherRanks = false;  // a figure of a method other than the path tracer's ranks by its error
+  for (size_t i = 0; i < n; ++i) {
+    ranked[i] = figures[i].spp == 0 || figures[i].error <= kUnrankableError;
+    otherRanks = otherRanks || (figures[i].spp > 0 && ranked[i] && !(i < pathTracer.size() && pathTracer[i]));
+  }
+  if (!otherRanks)
+    for (size_t i : robust)
+      if (i < n && figures[i].spp > 0) ranked[i] = 1;
+  return ranked;
 }
 
-size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& unranked) {
-  if (pilotCannotRank(figures)) {
-    // The most efficient of the caller's fallbacks that were measured: methods the pilot cannot tell apart by
-    // their tails but that are exact and robust alike (the path tracer's two light samplers), so that the choice
-    // between them costs little whichever way the figures fall.
-    size_t best = figures.size();
-    for (size_t i : unranked)
-      if (i < figures.size() && figures[i].spp > 0 && (best == figures.size() || figures[i].efficiency > figures[best].efficiency))
-        best = i;
-    return best < figures.size() ? best : 0;
-  }
-  // Among the figures that rank (their error at most kUnrankableError), where some were measured at all.
-  auto ranks = [&](size_t i) { return figures[i].spp == 0 || figures[i].error <= kUnrankableError; };
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& robust,
+                       const std::vector<uint8_t>& pathTracer) {
+  const std::vector<uint8_t> ranked = rankedPilotFigures(figures, robust, pathTracer);
   size_t best = 0;
-  while (best + 1 < figures.size() && !ranks(best)) ++best;
+  while (best < figures.size() && !ranked[best]) ++best;
+  if (best == figures.size()) return 0;  // nothing ranks
   for (size_t i = best + 1; i < figures.size(); ++i)
-    if (ranks(i) && figures[i].efficiency > figures[best].efficiency) best = i;
+    if (ranked[i] && figures[i].efficiency > figures[best].efficiency) best = i;
   return best;
 }
 

@@ -207,13 +207,19 @@ int bestRecordSamples(double passNoise, double own, double placed, double bias, 
 /// equal time; the cache's noise 0.66 there once, its mean 5.4 times off the others').
 inline constexpr double kUnrankableError = 1.0;
 
-/// Whether the figures cannot rank their candidates: every one measured errs by more than kUnrankableError (the
-/// first measured too).
-bool pilotCannotRank(const std::vector<PilotFigure>& figures);
+/// Which figures rank (1): those that err by at most kUnrankableError (and the unmeasured, whose efficiency is 0);
+/// and where no figure of another method than the path tracer's (@p pathTracer[i] 0 or absent) ranks so, the
+/// measured ones of @p robust (the caller's: the path tracer on the scene as given, without the table, by either
+/// light sampler) whatever their error. Light tracing's, BDPT's and the cache's figures mislead by their tails (Veach
+/// MIS: a lottery between methods 10-65 times apart); the path tracer's variants without the table are exact and
+/// robust alike, a choice among them costs little whichever way their figures fall, and a scene whose every figure is
+/// dim and noisy at the pilot's few passes (the classroom: 0.75-2.2 at 4-5 passes) still has them ranked.
+std::vector<uint8_t> rankedPilotFigures(const std::vector<PilotFigure>& figures, const std::vector<size_t>& robust = {},
+                                        const std::vector<uint8_t>& pathTracer = {});
 
-/// Index of the most efficient figure among those that err by at most kUnrankableError (the first of equals; 0 if
-/// none has light). If pilotCannotRank: the most efficient measured one of @p unranked (the caller's fallbacks: the
-/// path tracer on the scene as given, without the table, by either light sampler), else 0.
-size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& unranked = {});
+/// Index of the most efficient figure among those that rank (rankedPilotFigures; the first of equals; 0 if none
+/// ranks or has light).
+size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& robust = {},
+                       const std::vector<uint8_t>& pathTracer = {});
 
 }  // namespace firstshot
