@@ -86,6 +86,9 @@ TEST(IntegratorPilot, LampsLeftOutFirefliesCountWhole) {
   // Everything left out: every pixel, clamped.
   std::vector<uint8_t> all(100, 1);
   EXPECT_EQ(firstshot::pilotNoise(a, b, &all), firstshot::pilotNoise(a, b));
+  // The bulk's noise (clamp): the lamp left out and the firefly counted as 5 m, (5 m − 1)² in each channel.
+  const double clamped = 5.0 * mean - 1.0;
+  EXPECT_NEAR(firstshot::pilotNoise(a, b, &skip, true), std::sqrt(3.0 * clamped * clamped / (2.0 * 297.0)) / mean, 1e-12);
 }
 
 // A camera looking at a wall whose left half is a lamp and whose right half is plaster: the left pixels are seen as
@@ -117,15 +120,21 @@ TEST(IntegratorPilot, TheMostEfficientWins) {
 // caller's robust candidates (the path tracer without the table, by either light sampler) and no figure of a method
 // other than the path tracer ranks by its error: the classroom (0.75-2.2 at 4-5 passes, the cache outgrown) ranks
 // its path tracers, veach-bidir (light tracing 0.5-0.8, the path tracer 1.2-1.7) does not rank the path tracer.
+// Of the robust ones, only the one whose bulk (fireflies clamped) is the most efficient ranks.
 TEST(IntegratorPilot, FiguresNoisierThanTheirMeansRankOnlyThePathTracerWithoutTheTable) {
   std::vector<firstshot::PilotFigure> f(4);
-  for (size_t i = 0; i < f.size(); ++i) f[i].spp = 2, f[i].error = 1.4 + double(i), f[i].efficiency = 1.0 + double(i);
+  for (size_t i = 0; i < f.size(); ++i)
+    f[i].spp = 2, f[i].error = 1.4 + double(i), f[i].efficiency = f[i].bulkEfficiency = 1.0 + double(i);
   const std::vector<uint8_t> path = {1, 1, 1, 0};  // figure 3: light tracing, say
   EXPECT_EQ(firstshot::bestPilotFigure(f), 0u);    // nothing ranks: the first
   EXPECT_EQ(firstshot::bestPilotFigure(f, {1}, path), 1u);
   EXPECT_EQ(firstshot::bestPilotFigure(f, {1, 2}, path), 2u);  // the more efficient robust one, not light tracing (3)
   EXPECT_EQ(firstshot::bestPilotFigure(f, {2, 1}, path), 2u);
-  EXPECT_EQ(firstshot::rankedPilotFigures(f, {1, 2}, path), (std::vector<uint8_t>{0, 1, 1, 0}));
+  EXPECT_EQ(firstshot::rankedPilotFigures(f, {1, 2}, path), (std::vector<uint8_t>{0, 0, 1, 0}));
+  f[1].bulkEfficiency = 4.0;  // its fireflies aside, the other is the more efficient: it alone ranks
+  EXPECT_EQ(firstshot::rankedPilotFigures(f, {1, 2}, path), (std::vector<uint8_t>{0, 1, 0, 0}));
+  EXPECT_EQ(firstshot::bestPilotFigure(f, {1, 2}, path), 1u);
+  f[1].bulkEfficiency = 2.0;
   f[2].spp = 0, f[2].efficiency = 0.0;  // not measured: the other robust one
   EXPECT_EQ(firstshot::bestPilotFigure(f, {1, 2}, path), 1u);
   f[2].spp = 2, f[2].efficiency = 3.0;

@@ -170,13 +170,14 @@ const std::vector<uint8_t>* countedPixels(const std::vector<double>& a, const st
 
 }  // namespace
 
-double pilotNoise(const std::vector<double>& a, const std::vector<double>& b, const std::vector<uint8_t>* skip) {
+double pilotNoise(const std::vector<double>& a, const std::vector<double>& b, const std::vector<uint8_t>* skip,
+                  bool clamp) {
   if (a.empty()) return 0.0;
   skip = countedPixels(a, b, skip);
   double n = 0.0;
   const double mean = keptMean(a, b, skip, n);
   if (!(mean > 0.0)) return 0.0;
-  const double top = skip ? std::numeric_limits<double>::infinity() : kPilotClamp * mean;
+  const double top = skip && !clamp ? std::numeric_limits<double>::infinity() : kPilotClamp * mean;
   double diff2 = 0.0;
   for (size_t i = 0; i < a.size(); ++i) {
     if (skip && (*skip)[i / 3]) continue;
@@ -372,6 +373,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       f.preprocessRays = (first.preprocessing + second.preprocessing) / 2.0;
       const std::vector<double> a = first.image(), b = second.image();
       f.noise = pilotNoise(a, b, &skip);
+      f.bulkNoise = pilotNoise(a, b, &skip, true);
       double n = 0.0;
       const std::vector<uint8_t>* counted = countedPixels(a, b, &skip);
       f.mean = keptMean(a, b, counted, n);
@@ -417,6 +419,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     f.error = std::sqrt(noise * noise + off * off);
     f.error = std::max(f.error, kMinError);
     f.efficiency = f.work > 0.0 ? 1.0 / (f.error * f.error * f.work) : 0.0;
+    const double bulk = std::max(kMinError, std::hypot(f.bulkNoise * f.mean / median, off));
+    f.bulkEfficiency = f.work > 0.0 ? 1.0 / (bulk * bulk * f.work) : 0.0;
     if (!f.seeded) continue;
     // The passes' noise at the passes' work of the render (what its fill leaves); frozen part and bias stay, the
     // frozen part as the render's denser records have it (kRecordsErrorExponent), their own noise as the render's
@@ -472,6 +476,14 @@ std::vector<uint8_t> rankedPilotFigures(const std::vector<PilotFigure>& figures,
   if (!otherRanks)
     for (size_t i : robust)
       if (i < n && figures[i].spp > 0) ranked[i] = 1;
+  // Of the robust ones that rank, the one whose bulk is the most efficient (the first of equals): their figures differ
+  // most by the fireflies they meet alike, and which of them a pilot's few passes met is a lottery.
+  size_t keep = n;
+  for (size_t i : robust)
+    if (i < n && figures[i].spp > 0 && ranked[i] && (keep == n || figures[i].bulkEfficiency > figures[keep].bulkEfficiency))
+      keep = i;
+  for (size_t i : robust)
+    if (i < n && figures[i].spp > 0 && i != keep) ranked[i] = 0;
   return ranked;
 }
 

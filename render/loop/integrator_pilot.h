@@ -114,6 +114,7 @@ struct PilotFigure {
   /// error (Integrator::perturbPreprocessing). It does not fall with more records; the rest does. 0 for the others.
   double recordNoise = 0;
   double frozenMeasured = 0;  ///< the frozen part as measured at the fill's picture
+  double bulkNoise = 0;       ///< noise with pixels clamped at kPilotClamp image means (pilotNoise's clamp)
   /// A seeded preprocessing's: how many times the hemisphere rays per record of the pilot's fill the render's should
   /// take (1, 2, 4, … 16): the records' own noise² falls as 1/m and the fill grows m times, and the m of the best
   /// efficiency is taken (frozen, preprocessShare and efficiency are the render's with it). 1 for the others.
@@ -125,6 +126,10 @@ struct PilotFigure {
   /// its preprocessing at the render's scale): the fill charged at its share of the render, not of a pilot image;
   /// 0 where that takes the whole render.
   double efficiency = 0;
+  /// The efficiency of its bulk: 1 / (e² · work), e its noise with pixels clamped at kPilotClamp image means (the
+  /// fireflies, which the path tracer's variants without the table meet alike, left out) and its mean's distance
+  /// from the others', as error; what rankedPilotFigures compares those variants by. 0 where not measured.
+  double bulkEfficiency = 0;
 };
 
 /// The pilot's picture and samples.
@@ -178,7 +183,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
 /// with light), values are first clamped at 5 m, where a display that shows the mean as mid-grey (18%) turns white:
 /// a lamp seen directly, whose edge pixels alias at a pilot's few samples, then counts as the white it is shown as.
 double pilotNoise(const std::vector<double>& a, const std::vector<double>& b,
-                  const std::vector<uint8_t>* skip = nullptr);
+                  const std::vector<uint8_t>* skip = nullptr, bool clamp = false);
 
 /// The pilot picture's pixels that the camera sees as they are (1): where one of 4 rays per pixel (the centres of
 /// its 2 × 2 strata) first meets, past thin panes, an emitter or a delta surface (a mirror, glass).
