@@ -205,6 +205,11 @@ void RenderCommand::resolveIntegrator() {
              scene_.camera.width, scene_.camera.height, spp, "setting", "spp", "rel.noise", "rel.error", "Mrays/image",
              "efficiency");
   const double top = chosen.efficiency;
+  // A robust candidate that does not rank where another does lost to it on their bulk (rankedPilotFigures).
+  const auto bulkLost = [&](size_t i) {
+    const auto in = [&](size_t k) { return std::find(robust.begin(), robust.end(), k) != robust.end(); };
+    return in(i) && std::any_of(robust.begin(), robust.end(), [&](size_t k) { return k < ranked.size() && ranked[k]; });
+  };
   for (size_t i = 0; i < candidates.size(); ++i)
     if (figures[i].spp == 0)
       fmt::print(stderr, "  {:<42} {:>5} {:>9} {:>9} {:>12.3f} ({})\n", candidates[i].label(), "-", "-", "-",
@@ -213,7 +218,10 @@ void RenderCommand::resolveIntegrator() {
     else
       fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
                  figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,
-                 i == best ? " *" : !ranked[i] ? " (not ranked: its error exceeds its mean)" : "");
+                 i == best ? " *"
+                 : ranked[i] ? ""
+                 : bulkLost(i) ? " (not ranked: the other light sampler's bulk is the more efficient)"
+                               : " (not ranked: its error exceeds its mean)");
   const CameraDesc fill = pilotFillCamera(scene_.camera, plan);
   for (size_t i = 0; i < candidates.size(); ++i)
     if (figures[i].spp > 0 && figures[i].preprocessShare > 0.0)

@@ -15,7 +15,8 @@
 /// Pixels where the camera sees an emitter or a mirror or glass (4 rays per pixel, thin panes seen through) are left
 /// out of the noise and the mean: every method takes them alike (light tracing gives them to the path tracer), and a
 /// lamp's edge aliases at a pilot's few samples. The other pixels count unclamped, as the render's error is measured:
-/// a firefly of a thousand means is what makes a path tracer's picture of a lamp in a bowl unusable.
+/// a firefly of a thousand means is what makes a path tracer's picture of a lamp in a bowl unusable (only the path
+/// tracer's two light samplers are compared by their bulk, clamped: rankedPilotFigures).
 /// Its work is the rays it traced for one image (its preprocessing's too, the irradiance cache's fill), counted,
 /// not timed, the path tracer's with patch NEE at 2.5 each (its patch sampling's time per ray, which no ray count
 /// shows); efficiency = 1 / (error² · work), the inverse of the work to reach a given error, where the error
@@ -182,6 +183,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
 /// @p skip (one entry per pixel), the pixels marked 1 are left out of both. Without it (or where it leaves no pixel
 /// with light), values are first clamped at 5 m, where a display that shows the mean as mid-grey (18%) turns white:
 /// a lamp seen directly, whose edge pixels alias at a pilot's few samples, then counts as the white it is shown as.
+/// @p clamp: clamped at 5 m with @p skip too (the bulk's noise, PilotFigure::bulkNoise).
 double pilotNoise(const std::vector<double>& a, const std::vector<double>& b,
                   const std::vector<uint8_t>* skip = nullptr, bool clamp = false);
 
