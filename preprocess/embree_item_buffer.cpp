@@ -7,6 +7,7 @@
 #include <xmmintrin.h>
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -223,6 +224,30 @@ bool EmbreeItemBuffer::occluded(const Vec3d& origin, const Vec3d& direction, dou
   RTCRayHit rh = rayOf(origin, direction, tfar);
   rtcOccluded1(scene_, &ctx, &rh.ray);
   return rh.ray.tfar < 0.0f;  // Embree sets tfar to −∞ when it finds a hit
+}
+
+void EmbreeItemBuffer::firstHits(const Vec3d& origin, const Vec3d* directions, size_t n, uint32_t* out) const {
+  if (triPatch_.empty() || n == 0) {
+    std::fill(out, out + n, kNoPatch);
+    return;
+  }
+  FlushDenormals ftz;
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  alignas(32) RTCRayHit8 packet;
+  alignas(32) int valid[8];
+  for (size_t k = 0; k < 8; ++k) {
+    valid[k] = k < n ? -1 : 0;
+    const RTCRayHit rh = rayOf(origin, directions[std::min(k, n - 1)], std::numeric_limits<double>::infinity());
+    packet.ray.org_x[k] = rh.ray.org_x, packet.ray.org_y[k] = rh.ray.org_y, packet.ray.org_z[k] = rh.ray.org_z;
+    packet.ray.dir_x[k] = rh.ray.dir_x, packet.ray.dir_y[k] = rh.ray.dir_y, packet.ray.dir_z[k] = rh.ray.dir_z;
+    packet.ray.tnear[k] = rh.ray.tnear, packet.ray.tfar[k] = rh.ray.tfar, packet.ray.time[k] = 0.0f;
+    packet.ray.mask[k] = rh.ray.mask, packet.ray.id[k] = 0, packet.ray.flags[k] = 0;
+    packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect8(valid, scene_, &ctx, &packet);
+  for (size_t k = 0; k < n; ++k)
+    out[k] = packet.hit.geomID[k] == RTC_INVALID_GEOMETRY_ID ? kNoPatch : triPatch_[packet.hit.primID[k]];
 }
 
 void EmbreeItemBuffer::occluded(const Vec3d* origins, const Vec3d* directions, double tfar, size_t n,

@@ -49,6 +49,9 @@ class EmbreeItemBuffer final : public ItemBufferRenderer {
   /// Whether any patch meets the ray @p origin + t·@p direction, t in [0, @p tfar]: firstHit() != kNoPatch, by an
   /// occlusion query (it stops at the first surface found, not the nearest). Thread-safe, like render().
   bool occluded(const Vec3d& origin, const Vec3d& direction, double tfar) const;
+  /// firstHit() of @p n ≤ 8 rays from @p origin along @p directions[k], t in [0, ∞), into @p out[k] (a patch or
+  /// kNoPatch), traced as one packet. Thread-safe, like render().
+  void firstHits(const Vec3d& origin, const Vec3d* directions, size_t n, uint32_t* out) const;
   /// occluded() of @p n rays at once (@p origins[k] + t·@p directions[k], t in [0, @p tfar]) into @p out[k] (1:
   /// occluded), traced in packets of 16: the same answers, faster for coherent rays (a directional light's point
   /// tests). Thread-safe, like render().
