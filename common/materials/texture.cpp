@@ -4,6 +4,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <mutex>
@@ -50,10 +51,22 @@ TexelImage toTexels(const ModuleImage& m, const std::string& name, bool srgb) {
   if (!m.error.empty()) throw InputError("", "", "cannot read image " + name + ": " + m.error);
   std::vector<Color> texels(size_t(m.width) * size_t(m.height));
   const size_t n = size_t(m.channels);
+  // An 8-bit image has at most 256 values per channel: each decoded once (its first float as the key, so the result
+  // is srgbDecode's whatever the reader's conversion), not a pow per texel (the classroom's 3 textures: 0.1 s).
+  std::array<float, 256> key, decoded;
+  key.fill(-1.0f);
+  const auto decode = [&](float v) {
+    const double x = std::clamp(double(v), 0.0, 1.0);
+    const size_t k = size_t(std::lround(x * 255.0));
+    if (key[k] == v) return decoded[k];
+    const float d = srgbDecode(x);
+    if (key[k] < 0.0f) key[k] = v, decoded[k] = d;
+    return d;
+  };
   for (size_t i = 0; i < texels.size(); ++i)
     for (int c = 0; c < 3; ++c) {
       const float v = m.pixels[i * n + (n >= 3 ? size_t(c) : 0)];
-      texels[i][c] = m.integer && srgb ? srgbDecode(std::clamp(double(v), 0.0, 1.0)) : v;
+      texels[i][c] = m.integer && srgb ? decode(v) : v;
     }
   TexelImage im = makeTexelImage(m.width, m.height, std::move(texels), name);
   if (n == 2 || n == 4) {  // grey + alpha, RGBA: alpha is always linear (not in im.hash: hashScene adds it for cut-outs)
