@@ -1,6 +1,5 @@
 #include "preprocess/exposure.h"
 
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -34,27 +33,27 @@ ExposureCache::ExposureCache(const PatchMesh& mesh, const EmbreeItemBuffer& rays
   // Patches met by a patch outside their plane: the only ones that can be partly buried. "Met" as
   // patch_neighbours.h has it (bounding boxes grown by 1e-5 of the mesh's diagonal overlap), found by a point query
   // of the ray caster's BVH about each grown box, which stops at the first patch out of the plane: about a tenth of
-  // the time of listing every pair (the classroom's 120,000 patches have 11 million pairs).
-  const double planeTolerance = 1e-5 * std::max(b.diagonal(), 1e-30);
-  float grow = 0.0f;
-  const std::vector<GrownBox> box = grownPatchBoxes(mesh, grow);
-  met_.assign(mesh.size(), 0);
-  tbb::parallel_for(uint32_t(0), mesh.size(), [&](uint32_t j) {
-    const Patch& p = mesh.patches[j];
-    const Vec3d normal = glm::normalize(Vec3d(p.normal));
-    const auto outOfPlane = [&](uint32_t i) {
-      if (i == j || !box[j].overlaps(box[i])) return false;
-      const Patch& q = mesh.patches[i];
-      bool inPlane = std::abs(glm::dot(normal, glm::normalize(Vec3d(q.normal)))) >= 1.0 - 1e-6;
-      for (uint32_t k = 0; k < q.count && inPlane; ++k)
-        inPlane = std::abs(glm::dot(Vec3d(q.v[k]) - Vec3d(p.v[0]), normal)) <= planeTolerance;
-      return !inPlane;
-    };
-    // The ball about the grown box, widened by another grow: a patch whose grown box meets this one's has its
-    // triangles' boxes within it.
-    const float radius = 0.5f * glm::length(box[j].hi - box[j].lo) * (1.0f + 1e-5f) + 2.0f * grow;
-    met_[j] = rays_.anyPatchNear(0.5f * (box[j].lo + box[j].hi), radius, outOfPlane);
-  });
+  // the time of listing every pair (the classroom's 120,000 patches have 11 million pairs); asked only of the patches
+  // whose masks are wanted (met()).
+  planeTolerance_ = 1e-5 * std::max(b.diagonal(), 1e-30);
+  boxes_ = grownPatchBoxes(mesh, grow_);
+}
+
+bool ExposureCache::met(uint32_t j) const {
+  const Patch& p = mesh_.patches[j];
+  const Vec3d normal = glm::normalize(Vec3d(p.normal));
+  const auto outOfPlane = [&](uint32_t i) {
+    if (i == j || !boxes_[j].overlaps(boxes_[i])) return false;
+    const Patch& q = mesh_.patches[i];
+    bool inPlane = std::abs(glm::dot(normal, glm::normalize(Vec3d(q.normal)))) >= 1.0 - 1e-6;
+    for (uint32_t k = 0; k < q.count && inPlane; ++k)
+      inPlane = std::abs(glm::dot(Vec3d(q.v[k]) - Vec3d(p.v[0]), normal)) <= planeTolerance_;
+    return !inPlane;
+  };
+  // The ball about the grown box, widened by another grow: a patch whose grown box meets this one's has its
+  // triangles' boxes within it.
+  const float radius = 0.5f * glm::length(boxes_[j].hi - boxes_[j].lo) * (1.0f + 1e-5f) + 2.0f * grow_;
+  return rays_.anyPatchNear(0.5f * (boxes_[j].lo + boxes_[j].hi), radius, outOfPlane);
 }
 
 const ExposureMask& ExposureCache::mask(uint32_t patch, int side) {
@@ -65,7 +64,7 @@ const ExposureMask& ExposureCache::mask(uint32_t patch, int side) {
 void ExposureCache::compute(uint32_t patch, int side) {
   const Patch& p = mesh_.patches[patch];
   ExposureMask& m = masks_[2 * size_t(patch) + side];
-  if (!met_[patch]) return;  // nothing meets it: exposed or buried whole, never partly (exposure.h)
+  if (!met(patch)) return;  // nothing meets it: exposed or buried whole, never partly (exposure.h)
   // Probe points, evenly spread: cell centres of a grid × grid bilinear split of a quad, centroids of
   // the grid² sub-triangles of a triangle.
   const Vec3d v0(p.v[0]), v1(p.v[1]), v2(p.v[2]), v3(p.v[p.count == 4 ? 3 : 2]);
