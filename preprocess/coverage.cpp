@@ -286,13 +286,6 @@ bool pointVisibilityRay(const std::vector<View>& views, const std::vector<std::v
   return false;
 }
 
-int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
-                    const EmbreeItemBuffer& rays, const Vec3d& x, double near) {
-  Vec3d o;
-  if (!pointVisibilityRay(views, weights, x, near, o)) return -1;
-  return rays.occluded(o, x - o, kPointRayEnd) ? 0 : 1;
-}
-
 double unoccludedProjectedArea(const Vec3d& direction, const Vec3d* poly, int count) {
   return analytic::polygonProjectedArea(direction, poly, count);
 }

@@ -50,20 +50,16 @@ PatchCoverage patchCoverage(const View& view, const std::vector<double>& weights
                             const PatchMesh& mesh, uint32_t patch, double near, const ExposureQuery* exposure = nullptr,
                             const PatchCutouts* cutouts = nullptr);
 
-/// Visibility of the point @p x from the common eye of @p views (a window placed at one light
-/// sample, with its weights): the first view whose pixel under x has a non-zero weight decides, by a
-/// ray from the eye (orthographic views: from the image plane) to x traced with @p rays: x is
-/// visible unless the ray meets a patch before 1 − 1e-5 of the way. For patches too small to hold
-/// enough pixel centres, whose occluders may be made of patches smaller than a pixel too (so that
-/// the item buffer cannot propose them).
-/// @return 1 visible, 0 occluded, −1 if x is in no view (behind a hemicube's base, outside the window).
-int pointVisibility(const std::vector<View>& views, const std::vector<std::vector<double>>& weights,
-                    const EmbreeItemBuffer& rays, const Vec3d& x, double near);
-/// pointVisibility's ray for @p x without tracing it: false if x is in no view, else its origin into @p origin
-/// (the ray is origin + t·(x − origin), t in [0, kPointRayEnd]).
+/// The ray that decides the visibility of the point @p x from the common eye of @p views (a window placed at one
+/// light sample, with its weights): the first view whose pixel under x has a non-zero weight decides, by a ray from
+/// the eye (orthographic views: from the image plane) to x: x is visible unless the ray origin + t·(x − origin) meets
+/// a patch for t in [0, kPointRayEnd] (EmbreeItemBuffer::occluded, several points' rays at once). For patches too
+/// small to hold enough pixel centres, whose occluders may be made of patches smaller than a pixel too (so that the
+/// item buffer cannot propose them). @return false if x is in no view (behind a hemicube's base, outside the window),
+/// else true with the ray's origin in @p origin.
 bool pointVisibilityRay(const std::vector<View>& views, const std::vector<std::vector<double>>& weights, const Vec3d& x,
                         double near, Vec3d& origin);
-/// How far along pointVisibility's ray an occluder counts (short of x itself).
+/// How far along pointVisibilityRay's ray an occluder counts (short of x itself).
 inline constexpr double kPointRayEnd = 1.0 - 1e-5;
 
 /// Flags in @p mask (one byte per pixel of @p view) the pixels whose centres may fall inside patch

@@ -46,6 +46,35 @@ struct RaySetup {
   }
 };
 
+/// A single ray with no hit yet.
+void fillRay(RTCRayHit& rh, const float org[3], const float dir[3], float tnear, float tfar) {
+  rh.ray.org_x = org[0], rh.ray.org_y = org[1], rh.ray.org_z = org[2];
+  rh.ray.dir_x = dir[0], rh.ray.dir_y = dir[1], rh.ray.dir_z = dir[2];
+  rh.ray.tnear = tnear;
+  rh.ray.tfar = tfar;
+  rh.ray.time = 0;
+  rh.ray.mask = 0xFFFFFFFFu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+/// Lane @p k of a packet's rays (RTCRay8, RTCRay16) set to @p r.
+template <typename Rays>
+void setLane(Rays& rays, int k, const RTCRay& r) {
+  rays.org_x[k] = r.org_x, rays.org_y[k] = r.org_y, rays.org_z[k] = r.org_z;
+  rays.dir_x[k] = r.dir_x, rays.dir_y[k] = r.dir_y, rays.dir_z[k] = r.dir_z;
+  rays.tnear[k] = r.tnear, rays.tfar[k] = r.tfar, rays.time[k] = r.time;
+  rays.mask[k] = r.mask, rays.id[k] = r.id, rays.flags[k] = r.flags;
+}
+/// Lane @p k of a packet's hits (RTCHit8, RTCHit16): none yet.
+template <typename Hits>
+void clearLaneHit(Hits& hits, int k) {
+  hits.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+  hits.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
+
 /// Traces W×H tiles with packets of N = W·H rays (RTCRayHit8 or RTCRayHit16).
 template <int N, int TW, typename Packet, typename Fn>
 void tracePackets(RTCScene scene, const RaySetup& setup, const std::vector<uint32_t>& triPatch,
@@ -64,16 +93,10 @@ void tracePackets(RTCScene scene, const RaySetup& setup, const std::vector<uint3
         valid[k] = (i < v.width && j < v.height) ? -1 : 0;
         float org[3] = {0, 0, 0}, dir[3] = {0, 0, 1};
         if (valid[k]) setup(i, j, org, dir);
-        p.ray.org_x[k] = org[0], p.ray.org_y[k] = org[1], p.ray.org_z[k] = org[2];
-        p.ray.dir_x[k] = dir[0], p.ray.dir_y[k] = dir[1], p.ray.dir_z[k] = dir[2];
-        p.ray.tnear[k] = setup.tnear;
-        p.ray.tfar[k] = setup.tfar;
-        p.ray.time[k] = 0;
-        p.ray.mask[k] = 0xFFFFFFFFu;
-        p.ray.id[k] = 0;
-        p.ray.flags[k] = 0;
-        p.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-        p.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+        RTCRayHit rh;
+        fillRay(rh, org, dir, setup.tnear, setup.tfar);
+        setLane(p.ray, k, rh.ray);
+        clearLaneHit(p.hit, k);
       }
       intersect(valid, scene, &ctx, &p);
       for (int k = 0; k < N; ++k) {
@@ -98,20 +121,6 @@ void rejectCutoutHoles(const RTCFilterFunctionNArguments* args) {
                  RTCRayN_dir_z(args->ray, args->N, i));
     if (!f->first->existsOnRay(patch, o, d, RTCRayN_tfar(args->ray, args->N, i))) args->valid[i] = 0;
   }
-}
-
-/// A single ray with no hit yet.
-void fillRay(RTCRayHit& rh, const float org[3], const float dir[3], float tnear, float tfar) {
-  rh.ray.org_x = org[0], rh.ray.org_y = org[1], rh.ray.org_z = org[2];
-  rh.ray.dir_x = dir[0], rh.ray.dir_y = dir[1], rh.ray.dir_z = dir[2];
-  rh.ray.tnear = tnear;
-  rh.ray.tfar = tfar;
-  rh.ray.time = 0;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
-  rh.ray.flags = 0;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
 void initRay(RTCRayHit& rh, const RaySetup& setup, int i, int j) {
@@ -238,12 +247,8 @@ void EmbreeItemBuffer::firstHits(const Vec3d& origin, const Vec3d* directions, s
   alignas(32) int valid[8];
   for (size_t k = 0; k < 8; ++k) {
     valid[k] = k < n ? -1 : 0;
-    const RTCRayHit rh = rayOf(origin, directions[std::min(k, n - 1)], std::numeric_limits<double>::infinity());
-    packet.ray.org_x[k] = rh.ray.org_x, packet.ray.org_y[k] = rh.ray.org_y, packet.ray.org_z[k] = rh.ray.org_z;
-    packet.ray.dir_x[k] = rh.ray.dir_x, packet.ray.dir_y[k] = rh.ray.dir_y, packet.ray.dir_z[k] = rh.ray.dir_z;
-    packet.ray.tnear[k] = rh.ray.tnear, packet.ray.tfar[k] = rh.ray.tfar, packet.ray.time[k] = 0.0f;
-    packet.ray.mask[k] = rh.ray.mask, packet.ray.id[k] = 0, packet.ray.flags[k] = 0;
-    packet.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID, packet.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+    setLane(packet.ray, int(k), rayOf(origin, directions[std::min(k, n - 1)], std::numeric_limits<double>::infinity()).ray);
+    clearLaneHit(packet.hit, int(k));
   }
   rtcIntersect8(valid, scene_, &ctx, &packet);
   for (size_t k = 0; k < n; ++k)
@@ -267,11 +272,7 @@ void EmbreeItemBuffer::occluded(const Vec3d* origins, const Vec3d* directions, d
     for (size_t k = 0; k < 16; ++k) {
       valid[k] = k < count ? -1 : 0;
       const size_t i = begin + std::min(k, count - 1);
-      RTCRayHit rh = rayOf(origins[i], directions[i], tfar);
-      packet.org_x[k] = rh.ray.org_x, packet.org_y[k] = rh.ray.org_y, packet.org_z[k] = rh.ray.org_z;
-      packet.dir_x[k] = rh.ray.dir_x, packet.dir_y[k] = rh.ray.dir_y, packet.dir_z[k] = rh.ray.dir_z;
-      packet.tnear[k] = rh.ray.tnear, packet.tfar[k] = rh.ray.tfar, packet.time[k] = 0.0f;
-      packet.mask[k] = rh.ray.mask, packet.id[k] = 0, packet.flags[k] = 0;
+      setLane(packet, int(k), rayOf(origins[i], directions[i], tfar).ray);
     }
     rtcOccluded16(valid, scene_, &ctx, &packet);
     for (size_t k = 0; k < count; ++k) out[begin + k] = packet.tfar[k] < 0.0f ? 1 : 0;

@@ -174,10 +174,11 @@ void RenderCommand::resolveIntegrator() {
   std::vector<uint8_t> pathTracer(candidates.size());
   for (size_t i = 0; i < candidates.size(); ++i) {
     pathTracer[i] = candidates[i].integrator == "path";
-    if (pathTracer[i] && candidates[i].table != anyUnread && candidates[i].patchNee == PatchNee::Off) robust.push_back(i);
+    // The scene as given: the candidates that leave the table unread where there are such, else every one.
+    if (pathTracer[i] && candidates[i].table == !anyUnread && candidates[i].patchNee == PatchNee::Off) robust.push_back(i);
   }
   const std::vector<uint8_t> ranked = rankedPilotFigures(figures, robust, pathTracer);
-  const size_t best = bestPilotFigure(figures, robust, pathTracer);
+  const size_t best = bestRankedFigure(figures, ranked);
   integrators_.choose(candidates[best]);
   // The cache's records gathered with the rays the pilot found the render's budget pays for.
   std::vector<int> recordSamples(candidates.size());
@@ -206,9 +207,9 @@ void RenderCommand::resolveIntegrator() {
              "efficiency");
   const double top = chosen.efficiency;
   // A robust candidate that does not rank where another does lost to it on their bulk (rankedPilotFigures).
+  const bool robustRanks = std::any_of(robust.begin(), robust.end(), [&](size_t k) { return ranked[k] != 0; });
   const auto bulkLost = [&](size_t i) {
-    const auto in = [&](size_t k) { return std::find(robust.begin(), robust.end(), k) != robust.end(); };
-    return in(i) && std::any_of(robust.begin(), robust.end(), [&](size_t k) { return k < ranked.size() && ranked[k]; });
+    return robustRanks && std::find(robust.begin(), robust.end(), i) != robust.end();
   };
   for (size_t i = 0; i < candidates.size(); ++i)
     if (figures[i].spp == 0)

@@ -489,7 +489,10 @@ std::vector<uint8_t> rankedPilotFigures(const std::vector<PilotFigure>& figures,
 
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& robust,
                        const std::vector<uint8_t>& pathTracer) {
-  const std::vector<uint8_t> ranked = rankedPilotFigures(figures, robust, pathTracer);
+  return bestRankedFigure(figures, rankedPilotFigures(figures, robust, pathTracer));
+}
+
+size_t bestRankedFigure(const std::vector<PilotFigure>& figures, const std::vector<uint8_t>& ranked) {
   size_t best = 0;
   while (best < figures.size() && !ranked[best]) ++best;
   if (best == figures.size()) return 0;  // nothing ranks

@@ -228,5 +228,7 @@ std::vector<uint8_t> rankedPilotFigures(const std::vector<PilotFigure>& figures,
 /// ranks or has light).
 size_t bestPilotFigure(const std::vector<PilotFigure>& figures, const std::vector<size_t>& robust = {},
                        const std::vector<uint8_t>& pathTracer = {});
+/// The same from the figures that rank as rankedPilotFigures gave them (@p ranked).
+size_t bestRankedFigure(const std::vector<PilotFigure>& figures, const std::vector<uint8_t>& ranked);
 
 }  // namespace firstshot
