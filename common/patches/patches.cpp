@@ -57,7 +57,8 @@ namespace {
 /// Pieces an edge of @p len is cut into (in double: no overflow for any input).
 double edgeCells(double len, double maxEdge) { return std::max(1.0, std::ceil(len / maxEdge * (1 - 1e-12))); }
 
-/// Cells along the two directions of a quad (n along v0→v1, m along v0→v3), or k along a triangle's edges.
+}  // namespace
+
 void polygonCells(const Vec3d* v, int count, double maxEdge, double& n, double& m) {
   if (count == 4) {
     n = edgeCells(std::max(glm::length(v[1] - v[0]), glm::length(v[2] - v[3])), maxEdge);
@@ -66,8 +67,6 @@ void polygonCells(const Vec3d* v, int count, double maxEdge, double& n, double& 
     n = m = edgeCells(std::max({glm::length(v[1] - v[0]), glm::length(v[2] - v[1]), glm::length(v[0] - v[2])}), maxEdge);
   }
 }
-
-}  // namespace
 
 double subdivisionCount(const Vec3d* v, int count, double maxEdge) {
   double n, m;

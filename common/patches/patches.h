@@ -47,6 +47,10 @@ void computePatchGeometry(Patch& p, const Vec3d* exact);
 /// Appends world-space polygons to @p out; vertices are shared exactly between neighbours.
 void subdividePolygon(const Vec3d* v, int count, double maxEdge, std::vector<std::vector<Vec3d>>& out);
 
+/// The grid subdividePolygon() cuts a polygon into: @p n cells along v0→v1 and @p m along v0→v3 of a quad, or
+/// n = m = k along a triangle's edges (its k² similar triangles).
+void polygonCells(const Vec3d* v, int count, double maxEdge, double& n, double& m);
+
 /// How many pieces subdividePolygon() cuts the polygon into (a double: never overflows).
 double subdivisionCount(const Vec3d* v, int count, double maxEdge);
 

@@ -301,9 +301,12 @@ int RenderCommand::renderImage() {
     fmt::print(stderr, "firstshot-render: warning: {} samples were NaN or Inf and were recorded as 0\n", st.nonFinite);
   if (!quiet_) {
     const auto* t = renderScene_->firstShot();
-    fmt::print(stderr, "{}x{} at {} spp in {:.2f} s: {:.2f} Mrays/s; {} patches, {} lights ({} replaced by first-shot){}\n",
+    const EmbreeScene& traced = renderScene_->embree();
+    fmt::print(stderr, "{}x{} at {} spp in {:.2f} s: {:.2f} Mrays/s; {} patches{}, {} lights ({} replaced by first-shot){}\n",
                camera.width(), camera.height(), st.spp, st.seconds, st.seconds > 0 ? st.rays / st.seconds * 1e-6 : 0.0,
-               renderScene_->mesh().size(), scene_.lights.size(), t ? t->replacedLights.size() : 0,
+               renderScene_->mesh().size(),
+               traced.tracesFaces() ? fmt::format(" (traced as their {} faces)", traced.tracedPolygons()) : "",
+               scene_.lights.size(), t ? t->replacedLights.size() : 0,
                comm_.size() > 1 ? fmt::format("; {} ranks, rank 0 sent {:.2f} MB", comm_.size(), comm_.bytesSent() / 1e6) : "");
   }
   return 0;

@@ -44,10 +44,10 @@ constexpr int kLightPathCost = 2;
 constexpr double kPatchNeeRayCost = 2.5;
 /// Where the pilot weighs reading a table against leaving it unread (the path tracer without it), the rays of a
 /// method that reads it count this much work each: its lookups (a hit's first-shot light, shooting from the lit
-/// patches) took more time per ray than the same method's without the table, the path tracer's 1.52× (median of 28
-/// shipped and public scenes with their tables, 128 × 128; 0.61–2.78), light tracing's and BDPT's 1.77× and 1.70×
-/// (bench/table_ray_cost.sh).
-constexpr double kTableRayCost = 1.5;
+/// patches) took more time per ray than the same method's without the table, the path tracer's 1.33× (median of 28
+/// shipped and public scenes with their tables, 128 × 128; 0.53–2.39), light tracing's and BDPT's 1.43× and 1.46×
+/// (bench/table_ray_cost.sh; 1.52×, 1.77× and 1.70× while a table's patches were traced, not its faces).
+constexpr double kTableRayCost = 1.35;
 /// The cache's records' error falls as (records' picture's pixels)^−this: an interpolation error that falls as the
 /// records' spacing. 12 × 12 records against the render's own at 128 × 128 left 0.016 against at most 0.0051 in the
 /// glass-bulb room, 0.029 against at most 0.010 in the bowl-lamp room: at least 0.24 and 0.22. With 0.23 and the

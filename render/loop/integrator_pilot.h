@@ -97,7 +97,7 @@ struct PilotFigure {
   double error = 0;
   double rays = 0;        ///< rays per pilot image, preprocessing included
   /// The work they count: rays, the path tracer's with patch NEE at 2.5 each (the patch sampling's time), and where
-  /// candidates without the table are measured too, a table reader's at 1.5 times that (its lookups' time)
+  /// candidates without the table are measured too, a table reader's at 1.35 times that (its lookups' time)
   double work = 0;
   double preprocessRays = 0;  ///< of those, the preprocessing's
   PilotSkip skip = PilotSkip::None;  ///< why not measured (PassCost: rays are one pass's, as the probe tells)

@@ -67,6 +67,8 @@ struct EmbreeScene::Impl {
   RTCScene scene = nullptr;
   std::string lastError;
   std::vector<Vec3> patchNormals;                ///< by patch ID
+  /// Where the faces are traced (not the patches): the patch of a face's hit point (null: primitive = patch ID).
+  std::shared_ptr<const PatchLocator> locator;
   std::vector<std::vector<Vec3>> emitterNormals; ///< by emitter, by triangle
   GlassPatches glass;                            ///< the thin glass panes (transmittance())
   std::shared_ptr<const PatchCutouts> cutouts;   ///< alpha cut-outs (null: none)
@@ -79,9 +81,9 @@ struct EmbreeScene::Impl {
     hit.t = t;
     hit.p = ray.at(t);
     if (geomID == kPatchGeometry) {
-      hit.patch = primID;
+      hit.patch = locator ? locator->locate(primID, hit.p) : primID;
       hit.emitter = hit.triangle = kNoId;
-      hit.ng = patchNormals[primID];
+      hit.ng = patchNormals[hit.patch];
     } else {
       hit.patch = kNoId;
       hit.emitter = geomID - 1;
@@ -105,11 +107,21 @@ struct EmbreeScene::Impl {
 };
 
 EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass,
-                         std::shared_ptr<const PatchCutouts> cutouts)
+                         std::shared_ptr<const PatchCutouts> cutouts, std::shared_ptr<const PatchLocator> locator)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.glass = std::move(glass);
   m.cutouts = std::move(cutouts);
+  m.locator = std::move(locator);
+  if (m.locator && m.cutouts) throw std::logic_error("EmbreeScene: cut-outs filter patches: trace the patches");
+  m.patchNormals.resize(patches.size());
+  for (size_t j = 0; j < patches.size(); ++j) m.patchNormals[j] = patches.patches[j].normal;
+  if (m.locator && !m.glass.empty()) {  // the panes' filter sees faces: a face is glass where its patches are
+    std::vector<uint16_t> paneOfFace(m.locator->faces().size());
+    for (uint32_t f = 0; f < paneOfFace.size(); ++f) paneOfFace[f] = m.glass.paneOfPatch[m.locator->patchesOf(f)[0]];
+    m.glass.paneOfPatch = std::move(paneOfFace);
+  }
+  const PatchMesh& traced = m.locator ? m.locator->faces() : patches;
   m.device = rtcNewDevice("verbose=0");
   if (!m.device) throw std::runtime_error("cannot create the Embree device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
   rtcSetDeviceErrorFunction(m.device, onEmbreeError, &m.lastError);
@@ -119,23 +131,21 @@ EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh
   rtcSetSceneFlags(m.scene, RTCSceneFlags(RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
   rtcSetSceneBuildQuality(m.scene, RTC_BUILD_QUALITY_HIGH);
 
-  // Patches: one quad primitive per patch (a triangle repeats its last vertex), so primID = patch ID.
-  const size_t n = patches.size();
-  m.patchNormals.resize(n);
+  // Patches (or faces): one quad primitive each (a triangle repeats its last vertex), so primID = patch (face) ID.
+  const size_t n = traced.size();
   if (n > 0) {
     RTCGeometry g = rtcNewGeometry(m.device, RTC_GEOMETRY_TYPE_QUAD);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 4 * n));
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT4, 4 * sizeof(unsigned), n));
     m.check("creating the patch geometry");
     for (size_t j = 0; j < n; ++j) {
-      const Patch& p = patches.patches[j];
+      const Patch& p = traced.patches[j];
       for (int k = 0; k < 4; ++k) {
         const Vec3& v = p.v[k < int(p.count) ? k : int(p.count) - 1];
         vb[12 * j + 3 * k + 0] = v.x, vb[12 * j + 3 * k + 1] = v.y, vb[12 * j + 3 * k + 2] = v.z;
       }
       const unsigned b = static_cast<unsigned>(4 * j);
       ib[4 * j + 0] = b, ib[4 * j + 1] = b + 1, ib[4 * j + 2] = b + 2, ib[4 * j + 3] = p.count == 4 ? b + 3 : b + 2;
-      m.patchNormals[j] = p.normal;
       for (uint32_t k = 0; k < p.count; ++k) m.epsFloor = std::max(m.epsFloor, 1e-6f * maxAbs(p.v[k]));
     }
     if (m.cutouts) installCutoutFilter(g, *m.cutouts);
@@ -176,6 +186,12 @@ EmbreeScene::EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh
 }
 
 EmbreeScene::~EmbreeScene() = default;
+
+bool EmbreeScene::tracesFaces() const { return impl_->locator != nullptr; }
+
+size_t EmbreeScene::tracedPolygons() const {
+  return impl_->locator ? impl_->locator->faces().size() : impl_->patchNormals.size();
+}
 
 bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
   RTCIntersectContext context;

@@ -1,7 +1,8 @@
 #pragma once
 /// @file embree_scene.h
-/// The renderer's ray tracing: Embree 3 over the patch mesh (geometry 0, primitive = patch ID) and
-/// the area-light triangles (one geometry per emitter). This is the only place that knows Embree.
+/// The renderer's ray tracing: Embree 3 over the patch mesh (geometry 0, primitive = patch ID), or over the scene's
+/// faces with a PatchLocator that finds each hit's patch, and the area-light triangles (one geometry per emitter).
+/// This is the only place that knows Embree.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "common/patches/patch_cutouts.h"
 #include "common/patches/patches.h"
 #include "common/util/math.h"
+#include "render/scene/patch_locator.h"
 #include "render/scene/ray.h"
 
 namespace firstshot {
@@ -35,10 +37,16 @@ class EmbreeScene {
  public:
   /// Builds the BVH over @p patches (triangles and planar quads) and @p emitters; @p glass the
   /// patches that are thin glass panes (for transmittance()); @p cutouts the alpha cut-outs every query sees
-  /// through (render/scene/embree_cutout_filter.h; null: none, no filter), kept alive by the scene.
-  /// @throws std::runtime_error if Embree fails.
+  /// through (render/scene/embree_cutout_filter.h; null: none, no filter), kept alive by the scene. With
+  /// @p locator (built over @p patches), the BVH holds its faces instead, and a hit's patch is the one that holds
+  /// the hit point: the same hits, through fewer primitives (not with cut-outs, whose filter works by patch).
+  /// @throws std::runtime_error if Embree fails; std::logic_error for a locator with cut-outs.
   EmbreeScene(const PatchMesh& patches, const std::vector<EmitterMesh>& emitters, GlassPatches glass = {},
-              std::shared_ptr<const PatchCutouts> cutouts = nullptr);
+              std::shared_ptr<const PatchCutouts> cutouts = nullptr,
+              std::shared_ptr<const PatchLocator> locator = nullptr);
+  /// Whether the faces are traced (a PatchLocator finds the patches), and how many polygons the BVH holds.
+  bool tracesFaces() const;
+  size_t tracedPolygons() const;
   ~EmbreeScene();
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;

@@ -77,7 +77,11 @@ void RenderScene::build(const std::vector<uint32_t>& replaced) {
     for (uint32_t m : patchMaterial_) glass.paneOfPatch.push_back(paneOfMaterial[m]);
   }
   cutouts_ = PatchCutouts::build(desc_, mesh());  // alpha cut-outs: null for a scene without
-  embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes(), std::move(glass), cutouts_);
+  // Where the patches far outnumber the faces (a table's, the bundle's), the faces are traced and a locator finds
+  // each hit's patch (render/scene/patch_locator.h); not with cut-outs, whose filter works by patch.
+  std::shared_ptr<const PatchLocator> locator;
+  if (!cutouts_) locator = PatchLocator::build(desc_, mesh());
+  embree_ = std::make_unique<EmbreeScene>(mesh(), lights_.emitterMeshes(), std::move(glass), cutouts_, std::move(locator));
 }
 
 }  // namespace firstshot
