@@ -36,7 +36,8 @@ class AdaptiveMesh {
   std::vector<uint32_t> split(const std::vector<uint8_t>& split);
 
   /// The children of a split patch: 4 polygons of @p count vertices (3 or 4), counter-clockwise as
-  /// the parent; appended to @p out.
+  /// the parent; appended to @p out. The renderer finds a point's patch by this rule in the patch's own
+  /// coordinates (render/scene/patch_locator.cpp, splitChild), and checks it on every table it reads.
   static void children(const Vec3d* v, int count, std::vector<std::vector<Vec3d>>& out);
 
   /// The lines that divide a split patch among its children, read from the 4 consecutive children

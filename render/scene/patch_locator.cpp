@@ -99,9 +99,6 @@ std::unique_ptr<const PatchLocator> PatchLocator::build(const SceneDesc& scene, 
   l.grids_.resize(nf);
   for (uint32_t f = 0; f < nf; ++f) l.grids_[f].axis = uint8_t(largestAxis(l.faces_.patches[f].normal));
   l.flat_.resize(np);
-  l.area_.resize(np);
-  l.boxLo_.resize(np);
-  l.boxHi_.resize(np);
   for (uint32_t j = 0; j < np; ++j) {
     const Patch& p = patches.patches[j];
     const int axis = l.grids_[faceOf[j]].axis;
@@ -111,12 +108,6 @@ std::unique_ptr<const PatchLocator> PatchLocator::build(const SceneDesc& scene, 
     for (uint32_t i = 0; i < 4; ++i) fl.q[i] = drop(p.v[std::min(i, p.count - 1)], axis);
     for (uint32_t i = 0; i < p.count; ++i) area += cross2(fl.q[i], fl.q[(i + 1) % p.count]);
     fl.sign = area >= 0.0f ? 1.0f : -1.0f;
-    l.area_[j] = float(p.area);
-    l.boxLo_[j] = l.boxHi_[j] = fl.q[0];
-    for (uint32_t i = 1; i < p.count; ++i) {
-      l.boxLo_[j] = glm::min(l.boxLo_[j], fl.q[i]);
-      l.boxHi_[j] = glm::max(l.boxHi_[j], fl.q[i]);
-    }
   }
   l.nodes_.emplace_back();  // node 0 is a placeholder: no entry refers to it
   for (uint32_t f = 0; f < nf; ++f) {
@@ -132,6 +123,17 @@ std::unique_ptr<const PatchLocator> PatchLocator::build(const SceneDesc& scene, 
     l.cells_.push_back(items.size() == 1 ? items[0] : l.quadtree(items));
   }
   return loc;
+}
+
+void PatchLocator::box(uint32_t j, Vec2& lo, Vec2& hi) const {
+  lo = hi = flat_[j].q[0];
+  for (uint32_t i = 1; i < flat_[j].count; ++i) lo = glm::min(lo, flat_[j].q[i]), hi = glm::max(hi, flat_[j].q[i]);
+}
+
+double PatchLocator::flatArea(uint32_t j) const {
+  double a = 0.0;
+  for (uint32_t i = 0; i < flat_[j].count; ++i) a += cross2(Vec2d(flat_[j].q[i]), Vec2d(flat_[j].q[(i + 1) % flat_[j].count]));
+  return std::abs(a);
 }
 
 Vec2 PatchLocator::center(uint32_t j) const {
@@ -200,7 +202,7 @@ bool PatchLocator::fillGrid(uint32_t face, const ShapeDesc& shape, const Face& s
 uint32_t PatchLocator::refinement(const Grid& g, const std::vector<uint32_t>& items) {
   const bool triangle = g.kind == Kind::Triangle;
   double cellArea = 0.0;
-  for (uint32_t j : items) cellArea += area_[j];
+  for (uint32_t j : items) cellArea += flatArea(j);  // areas in the face's projection: their ratios are the same
   const size_t firstSplit = splits_.size();
   auto fail = [&] {
     splits_.resize(firstSplit);
@@ -210,7 +212,7 @@ uint32_t PatchLocator::refinement(const Grid& g, const std::vector<uint32_t>& it
   splits_.push_back({kEmpty, kEmpty, kEmpty, kEmpty});
   // Each patch at the depth its area tells (a quarter a split), down the path of its centre.
   for (uint32_t j : items) {
-    const double splits = 0.5 * std::log2(cellArea / double(area_[j]));
+    const double splits = 0.5 * std::log2(cellArea / flatArea(j));
     const int depth = int(std::lround(splits));
     if (depth < 1 || depth > kMaxSplits || std::abs(splits - depth) > 0.25) return fail();
     Vec2 x;
@@ -295,8 +297,9 @@ uint32_t PatchLocator::descend(uint32_t entry, bool triangle, Vec2 local) const 
 }
 
 uint32_t PatchLocator::quadtree(std::vector<uint32_t>& items) {
-  Vec2 lo = boxLo_[items[0]], hi = boxHi_[items[0]];
-  for (uint32_t j : items) lo = glm::min(lo, boxLo_[j]), hi = glm::max(hi, boxHi_[j]);
+  Vec2 lo, hi, blo, bhi;
+  box(items[0], lo, hi);
+  for (uint32_t j : items) box(j, blo, bhi), lo = glm::min(lo, blo), hi = glm::max(hi, bhi);
   const uint32_t root = uint32_t(nodes_.size());
   nodes_.emplace_back();
   buildNode(root, items, lo, hi, 0);
@@ -313,12 +316,15 @@ void PatchLocator::buildNode(uint32_t slot, std::vector<uint32_t>& items, Vec2 l
   const Vec2 mid = 0.5f * (lo + hi);
   const float tol = 1e-5f * std::max(hi.x - lo.x, hi.y - lo.y);
   std::vector<uint32_t> quadrant[4];
-  for (uint32_t j : items)
+  for (uint32_t j : items) {
+    Vec2 blo, bhi;
+    box(j, blo, bhi);
     for (int q = 0; q < 4; ++q) {
-      const bool x = (q & 1) ? boxHi_[j].x >= mid.x - tol : boxLo_[j].x <= mid.x + tol;
-      const bool y = (q & 2) ? boxHi_[j].y >= mid.y - tol : boxLo_[j].y <= mid.y + tol;
+      const bool x = (q & 1) ? bhi.x >= mid.x - tol : blo.x <= mid.x + tol;
+      const bool y = (q & 2) ? bhi.y >= mid.y - tol : blo.y <= mid.y + tol;
       if (x && y) quadrant[q].push_back(j);
     }
+  }
   if (std::all_of(quadrant, quadrant + 4, [&](const std::vector<uint32_t>& v) { return v.size() == items.size(); }))
     return leaf();  // every box spans the split: no quadrant is smaller
   const uint32_t child = uint32_t(nodes_.size());

@@ -94,7 +94,10 @@ class PatchLocator {
   /// How far @p p lies outside polygon @p fl, m; 0 inside (or on its boundary).
   static float outsideOf(const Flat& fl, Vec2 p);
   bool fillGrid(uint32_t face, const ShapeDesc& shape, const Face& sf, double patchSize);
+  /// Patch @p j's mean corner, bounding box and area (m²) in its face's projection.
   Vec2 center(uint32_t j) const;
+  void box(uint32_t j, Vec2& lo, Vec2& hi) const;
+  double flatArea(uint32_t j) const;
 
   PatchMesh faces_;
   std::vector<uint32_t> faceStart_, facePatches_;  ///< patches grouped by face
@@ -104,8 +107,6 @@ class PatchLocator {
   std::vector<uint32_t> leafPatches_;
   std::vector<std::array<uint32_t, 4>> splits_;
   std::vector<Flat> flat_;                         ///< per patch
-  std::vector<float> area_;                        ///< per patch, m²
-  std::vector<Vec2> boxLo_, boxHi_;                ///< per patch: its bounding box in its face's plane
   uint32_t gridFaces_ = 0, refinedCells_ = 0;
 };
 
