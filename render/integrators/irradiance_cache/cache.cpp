@@ -192,7 +192,7 @@ void IrradianceCache::freeze() {
   for (const std::unique_ptr<Level>& level : levels_) {
     Level& L = *level;
     std::lock_guard<std::mutex> lock(L.mutex);
-    L.isFrozen.store(false, std::memory_order_relaxed);
+    if (L.isFrozen.load(std::memory_order_relaxed)) continue;  // nothing inserted since its copy was made
     Frozen& f = L.frozen;
     f.nodes.clear(), f.tested.clear(), f.stored.clear();
     // Depth first, each node's records in its list's order (newest first), as visit() meets them.

@@ -138,8 +138,9 @@ class IrradianceCacheCli : public IntegratorCli {
                "rays per level-0 record", s.records, levels.empty() ? "0" : levels, s.loaded, made,
                seconds > 0 ? double(made) / seconds : 0.0, settings.samples);
     if (settings.twoPass)
-      fmt::print(stderr, "; fill {:.2f} s, {:.3f} Mrays in {} sweep(s); in the {}: {} lookups without a record took a path",
-                 s.fillSeconds, double(s.fillRays) * 1e-6, s.fillRounds, film ? "render" : "sensor estimate", s.missPaths);
+      fmt::print(stderr, "; fill {:.2f} s, {:.3f} Mrays in {} sweep(s), {} of its records made twice; in the {}: {} "
+                 "lookups without a record took a path", s.fillSeconds, double(s.fillRays) * 1e-6, s.fillRounds,
+                 s.fillDuplicates, film ? "render" : "sensor estimate", s.missPaths);
     if (s.privateRecords > 0) fmt::print(stderr, ", {} private records", s.privateRecords);
     if (s.fillCutAt > 0)
       fmt::print(stderr, "; the fill stopped at three quarters of the render's time after {} of {} pixels of sweep {} "

@@ -17,6 +17,7 @@ struct IrradianceCacheIntegrator::Context {
   Mode mode;
   std::unique_ptr<IrradianceCache> overlay;  ///< private records (created on the first one)
   uint64_t rays = 0;
+  uint64_t lookups = 0;  ///< irradiance lookups in the cache (a fill task that made none met no surface it serves)
 };
 
 enum class IrradianceCacheIntegrator::RayKind : uint8_t {

@@ -86,6 +86,8 @@ IrradianceCacheStats IrradianceCacheIntegrator::stats() const {
   s.fillPixels = fillTasks_;
   s.fillRays = fillRays_;
   s.fillRounds = fillRounds_;
+  s.fillMade = madeRecords_;
+  s.fillDuplicates = duplicateRecords_;
   s.exchangeBytes = exchangeBytes_;
   s.exchangeSeconds = exchangeSeconds_;
   return s;
@@ -261,6 +263,7 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
   const uint64_t key = sampler.nextBits();
   IrradianceEstimate est;
   const int32_t zone = zoneOf(hit.p);
+  ++ctx.lookups;
   cache_->lookup(level, hit.p, n, settings_.gradients, est, 1.0f, zone);
   if (ctx.overlay) ctx.overlay->lookup(level, hit.p, n, settings_.gradients, est, 1.0f, zone);
   if (est.count > 0) return est.value();

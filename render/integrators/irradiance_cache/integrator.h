@@ -105,6 +105,9 @@ struct IrradianceCacheStats {
   double fillSeconds = 0;       ///< two-pass fill
   uint64_t fillRays = 0;        ///< rays the two-pass fill traced (closest-hit and shadow)
   int fillRounds = 0;           ///< fill sweeps (the last one finds every pixel covered)
+  /// Records the fill's tasks made, and of them those an earlier task of the same batch had made already (dropped at
+  /// the merge: work done twice, which the batches' sizes keep small).
+  uint64_t fillMade = 0, fillDuplicates = 0;
   /// The fill stopped at limitPreprocessSeconds() after this many pixels of its last sweep (fillRounds; 0: it did not).
   size_t fillCutAt = 0;
   size_t fillPixels = 0;        ///< of a sweep's pixels (tasks)
@@ -248,10 +251,11 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   void fill(size_t tasks, const RayTask& task);
   /// The records of one fill task, per level in the order it made them.
   using MadeRecords = std::vector<std::vector<IrradianceRecord>>;
-  /// Sends made[i] for the tasks @p mine (batch offsets from task @p pos) to every rank and fills in
-  /// the other ranks' tasks of the batch. Returns the first interrupt signal any rank reported (0:
+  /// Sends made[i] and looked[i] (whether the task looked the cache up) for the tasks @p mine (batch offsets from task
+  /// @p pos) to every rank and fills in the other ranks' tasks of the batch. Returns the first interrupt signal any rank reported (0:
   /// none; then @p made is incomplete).
-  int exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine, std::vector<MadeRecords>& made);
+  int exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine, std::vector<MadeRecords>& made,
+                      std::vector<uint8_t>& looked);
 
   IntegratorOptions options_;
   IrradianceCacheSettings settings_;
@@ -277,6 +281,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   uint64_t fillRayLimit_ = 0;  ///< limitPreprocessRays(): the fill stops past it (0: none)
   double fillSecondsLimit_ = 0;  ///< limitPreprocessSeconds(): the fill stops past it, fit to render (0: none)
   size_t fillCutAt_ = 0, fillTasks_ = 0;  ///< IrradianceCacheStats::fillCutAt, fillPixels
+  uint64_t madeRecords_ = 0, duplicateRecords_ = 0;  ///< IrradianceCacheStats::fillMade, fillDuplicates
   int fillRounds_ = 0;
   uint64_t exchangeBytes_ = 0;
   double exchangeSeconds_ = 0;

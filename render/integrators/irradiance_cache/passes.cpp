@@ -36,7 +36,22 @@ constexpr int kSpreadEvery = 2;
 /// sensor inside a closed object (a grid crossing furniture) filled the inside with small records, 5 M
 /// rays per task on many-lights where a task in the open took under 0.7 M.
 constexpr uint64_t kRayTaskBudget = uint64_t(1) << 20;
-constexpr size_t kMaxBatch = 256;           ///< fill tasks merged at once (batches grow 1, 2, 4, ... to this)
+constexpr size_t kMaxBatch = 256;           ///< fill tasks merged at once at most
+
+/// The next batch's size after one of @p batch tasks whose records were @p made, @p duplicates of them covered at the
+/// merge by an earlier task's (work done twice: each task of a batch traces against the cache as the batch found it).
+/// Doubled while at most a quarter were duplicates, halved where more than half were, kept otherwise, and kept where
+/// no task of it looked the cache up (@p looked: pixels that see nothing say nothing of the next ones). The first
+/// pixels' records make the deeper levels' all over the room, and batches doubled regardless (1, 2, 4, ...) made them
+/// once a task: McGuire's box with its table at 2048 rays per record, whose first 15 pixels see nothing, made them 16
+/// times over, 46.1 Mrays for the 11.2 its records took one task at a time. It depends on the records alone, as they
+/// do not on the threads: the same batches on every machine.
+size_t nextBatch(size_t batch, size_t made, size_t duplicates, bool looked) {
+  if (!looked) return batch;
+  if (4 * duplicates <= made) return std::min(2 * batch, kMaxBatch);
+  if (2 * duplicates > made) return std::max<size_t>(1, batch / 2);
+  return batch;
+}
 
 /// Pixel indices coarse to fine: every 16th pixel of every 16th row, then the new pixels of the
 /// grids of spacing 8, 4, 2 and 1, each in row order.
@@ -123,6 +138,8 @@ void IrradianceCacheIntegrator::setup(const RenderScene& scene) {
   fillTasks_ = 0;
   fillRays_ = 0;
   privateRecords_ = 0;
+  madeRecords_ = 0;
+  duplicateRecords_ = 0;
   missPaths_ = 0;
   exchangeBytes_ = 0;
   exchangeSeconds_ = 0;
@@ -208,9 +225,8 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
     Progress progress(shrinkNeighbours ? "irradiance cache fill" : "irradiance cache fill, gaps", tasks,
                       settings_.quiet || !comm.root());
     size_t added = 0;
-    size_t batch = 1;
     cache_->freeze();
-    for (size_t pos = 0; pos < tasks; pos += batch, batch = std::min(2 * batch, kMaxBatch)) {
+    for (size_t pos = 0, batch = 1, next = 1; pos < tasks; pos += batch, batch = next) {
       // SIGINT/SIGTERM: the fill stops between batches (common/util/interrupt.h). With several ranks
       // only at the exchange, where every rank learns of it, so that none waits for the others.
       if (comm.size() == 1) throwIfInterrupted();
@@ -221,6 +237,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
       // Each task traces its pixel against the cache as it was at the start of the batch,
       // keeping the records it has to make to itself...
       std::vector<MadeRecords> made(count);
+      std::vector<uint8_t> looked(count, 0);  // the tasks that looked the cache up
       arena.execute([&] {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, mine.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
           enableFlushToZero();
@@ -240,6 +257,7 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
             } catch (const Interrupted&) {
               break;  // gather() stopped the task; the flag stays set, so it is thrown below (on every rank)
             }
+            looked[i] = ctx.lookups > 0;
             if (ctx.overlay)
               for (int l = 0; l < ctx.overlay->levels(); ++l) made[i].push_back(ctx.overlay->records(l));
           }
@@ -247,17 +265,25 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
       });
       if (comm.size() == 1) {
         throwIfInterrupted();
-      } else if (const int signal = exchangeRecords(comm, pos, mine, made)) {
+      } else if (const int signal = exchangeRecords(comm, pos, mine, made, looked)) {
         throw Interrupted(signal, "no output written");
       }
       // ...then the records are merged in task order, each unless an earlier one covers it.
+      size_t madeHere = 0, duplicates = 0;
       for (const MadeRecords& m : made)
         for (int l = 0; l < int(m.size()); ++l)
-          for (const IrradianceRecord& r : m[size_t(l)])
-            if (!cache_->covers(l, r.p, r.n, r.zone)) {
-              cache_->insert(l, r, settings_.neighbourClamp, shrinkNeighbours);
-              ++added;
+          for (const IrradianceRecord& r : m[size_t(l)]) {
+            ++madeHere;
+            if (cache_->covers(l, r.p, r.n, r.zone)) {
+              ++duplicates;
+              continue;
             }
+            cache_->insert(l, r, settings_.neighbourClamp, shrinkNeighbours);
+            ++added;
+          }
+      madeRecords_ += madeHere;
+      duplicateRecords_ += duplicates;
+      next = nextBatch(count, madeHere, duplicates, std::find(looked.begin(), looked.end(), 1) != looked.end());
       cache_->freeze();  // the next batch's tasks only read it
       progress.advance(count);
       if (fillRayLimit_ > 0 && rays.load() > fillRayLimit_) {
@@ -320,10 +346,10 @@ void IrradianceCacheIntegrator::rebuildCache(const std::function<void(int, size_
 }
 
 int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine,
-                                               std::vector<MadeRecords>& made) {
+                                               std::vector<MadeRecords>& made, std::vector<uint8_t>& looked) {
   const auto start = std::chrono::steady_clock::now();
   // Per rank: its interrupt signal (0: none), then per task of its own, in order: the task's
-  // number, its levels, and each level's records in the order the task made them.
+  // number, whether it looked the cache up, its levels, and each level's records in the order the task made them.
   // The flag is read once: set after the tasks ended, it leaves their records complete.
   const int32_t mySignal = int32_t(interruptSignal());
   ByteWriter out;
@@ -331,6 +357,7 @@ int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std
   if (mySignal == 0)
     for (const size_t i : mine) {
       out.put<uint64_t>(pos + i);
+      out.put<uint8_t>(looked[i]);
       out.put<uint32_t>(uint32_t(made[i].size()));
       for (const auto& level : made[i]) out.putVector(level);
     }
@@ -346,6 +373,7 @@ int IrradianceCacheIntegrator::exchangeRecords(Comm& comm, size_t pos, const std
     for (size_t i = 0; i < made.size(); ++i) {
       if (comm.owner(pos + i) != r) continue;
       if (in.get<uint64_t>() != pos + i) throw std::runtime_error("irradiance cache: exchange between ranks out of order");
+      looked[i] = in.get<uint8_t>();
       made[i].resize(in.get<uint32_t>());
       for (auto& level : made[i]) level = in.getVector<IrradianceRecord>();
     }
