@@ -127,7 +127,10 @@ void LightSampler::build(const RenderScene& scene, const FirstShotLighting& firs
                          bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite,
                          bool luminaires) {
   // The same arguments make the same sampler (the lighting is only kept, for the patches' radiance): a scene's
-  // integrators share one build (render/scene/scene_memo.h), its visibility factors above all.
+  // integrators share one build (render/scene/scene_memo.h), its visibility factors above all. Luminaires asked for
+  // in a scene without them (or for another strategy than the tree) change nothing: the key says so, or the pilot
+  // built the patches' visibility twice (Bitterli's box with its table: 0.95 s each, of a 3.1-s pilot).
+  luminaires = luminaires && strategy == LightStrategy::Tree && !scene.luminaires().empty();
   std::string key{char('0' + int(strategy)), char('0' + patchEmitters), char('0' + visibility), char('0' + infinite),
                   char('0' + luminaires), include ? '+' : '-'};
   if (include)
