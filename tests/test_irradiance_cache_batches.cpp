@@ -1,8 +1,8 @@
 // The two-pass fill's batches: each task of a batch traces against the cache as the batch found it, so records that
 // two tasks of one batch both need are made twice and one is dropped at the merge. The first pixels' records make the
 // deeper levels' records all over the room; batches that grew regardless (1, 2, 4, ...) made those once a task. The
-// batches grow only while few records are made twice, and not while the cache is empty: a camera whose first rows
-// see nothing (the first batches make no record) and the Cornell box seen whole both make each record about once.
+// batches grow only while few records are made twice, and not after a batch whose pixels all saw nothing: a camera
+// whose first rows see nothing and the Cornell box seen whole both make each record about once.
 // (That the batches, like the records, do not depend on the threads: test_irradiance_cache_file.cpp's images.)
 #include <gtest/gtest.h>
 

@@ -158,7 +158,7 @@ void LightSampler::buildAnew(const RenderScene& scene, const FirstShotLighting& 
   lightGroup_.assign(n, kNone);
   lightFirst_.assign(n, 0);
   included_.assign(n, 1);
-  luminaires_ = luminaires && strategy == LightStrategy::Tree && !scene.luminaires().empty();
+  luminaires_ = luminaires;  // as build() reduced it to what the scene has
   exitEmitter_.clear();
   if (include)
     for (size_t l = 0; l < n; ++l) included_[l] = l < include->size() && (*include)[l] != 0;

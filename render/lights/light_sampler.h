@@ -141,7 +141,7 @@ class LightSampler {
   float selectProbability(const Group& g, const Vec3& x, const Vec3& n, uint32_t emitter) const;
   /// The emitter index of a hit on a patch seen from @p x in its group's tree, or kNoId.
   uint32_t patchEmitter(const Hit& y, const Vec3& x) const;
-  /// build() without the scene's memo.
+  /// build() without the scene's memo; @p luminaires as build() reduced it (only with the tree, where the scene has some).
   void buildAnew(const RenderScene& scene, const FirstShotLighting& firstShot, LightStrategy strategy,
                  bool patchEmitters, bool visibility, const std::vector<uint8_t>* include, bool infinite,
                  bool luminaires);

@@ -252,8 +252,8 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// The records of one fill task, per level in the order it made them.
   using MadeRecords = std::vector<std::vector<IrradianceRecord>>;
   /// Sends made[i] and looked[i] (whether the task looked the cache up) for the tasks @p mine (batch offsets from task
-  /// @p pos) to every rank and fills in the other ranks' tasks of the batch. Returns the first interrupt signal any rank reported (0:
-  /// none; then @p made is incomplete).
+  /// @p pos) to every rank and fills in the other ranks' tasks of the batch. Returns the first interrupt signal any
+  /// rank reported (0: none; then @p made is incomplete).
   int exchangeRecords(Comm& comm, size_t pos, const std::vector<size_t>& mine, std::vector<MadeRecords>& made,
                       std::vector<uint8_t>& looked);
 

@@ -279,8 +279,8 @@ void IrradianceCacheIntegrator::fill(size_t tasks, const RayTask& task) {
               continue;
             }
             cache_->insert(l, r, settings_.neighbourClamp, shrinkNeighbours);
-            ++added;
           }
+      added += madeHere - duplicates;
       madeRecords_ += madeHere;
       duplicateRecords_ += duplicates;
       next = nextBatch(count, madeHere, duplicates, std::find(looked.begin(), looked.end(), 1) != looked.end());
