@@ -246,7 +246,7 @@ TEST(IntegratorAuto, TheCachesRaysSizedByThePilotAreKeptOnResume) {
   const std::string dir = firstshot::test::tempDir();
   const std::string base = kRender + " " + scene + " --width 128 --height 128 --seed 1 --threads 2 -o " + dir + "/a.exr";
   const auto stopped =
-      firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base + " --time 20 --checkpoint 1000");
+      firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-1 " + base + " --time 20 --checkpoint 1000");
   ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
   ASSERT_EQ(choice(stopped.output), "irradiance-cache") << stopped.output;
   const int rays = numberAfter(stopped.output, "  irradiance-cache: filled at 12 x 12; at ");
@@ -268,7 +268,7 @@ TEST(IntegratorAuto, TheCacheNamedSizesItsRaysToTheTimeGiven) {
   const std::string base = kRender + " " + scene + " --integrator irradiance-cache --width 48 --height 48 --seed 1 "
                            "--threads 2 -o " + dir + "/a.exr";
   const auto stopped =
-      firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-2 " + base + " --time 8 --checkpoint 1000");
+      firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-1 " + base + " --time 8 --checkpoint 1000");
   ASSERT_EQ(stopped.exitCode, 130) << stopped.output;
   const std::string says = "firstshot-render: irradiance-cache: ";
   const int rays = numberAfter(stopped.output, says);
