@@ -206,3 +206,30 @@ TEST(IntegratorPilot, TheRendersRecordsTakeTheRaysItsBudgetPaysFor) {
     EXPECT_EQ(cli.recordSamples(), given ? 256 : 2048);
   }
 }
+
+// Under --time the records' fill at the pilot's choice of rays is projected in this machine's seconds (the pilot's
+// fills' time, grown as their rays): where it would pass the three quarters of the time at which the fill stops
+// (its later pixels then path traced), the records take half the rays, or a quarter, … down to a quarter of the
+// pilot's, the largest count whose fill takes at most half the time.
+TEST(IntegratorPilot, TheRecordsTakeFewerRaysWhereThisMachinesFillWouldBeStopped) {
+  using firstshot::recordSamplesForTime;
+  firstshot::PilotFigure f;
+  f.recordSamples = 4;
+  f.fillSeconds = 0.1;  // 0.4 s of fill at 4 times the pilot's rays
+  EXPECT_EQ(recordSamplesForTime(f, 20.0), 4.0);
+  EXPECT_EQ(recordSamplesForTime(f, 0.54), 4.0);  // 0.4 s within 0.75 x 0.54 s: it ends, however little is left
+  EXPECT_EQ(recordSamplesForTime(f, 0.5), 2.0);   // 0.4 s past 0.375 s; at 2, 0.2 s: within half of 0.5 s
+  EXPECT_EQ(recordSamplesForTime(f, 0.4), 2.0);
+  EXPECT_EQ(recordSamplesForTime(f, 0.39), 1.0);  // at 2, 0.2 s: past half; at 1, 0.1 s
+  EXPECT_EQ(recordSamplesForTime(f, 0.19), 0.5);
+  EXPECT_EQ(recordSamplesForTime(f, 0.01), 0.25);  // none fits: a quarter of the pilot's rays
+  f.recordSamples = 1;
+  EXPECT_EQ(recordSamplesForTime(f, 0.14), 1.0);  // 0.1 s within 0.105 s
+  EXPECT_EQ(recordSamplesForTime(f, 0.12), 0.5);
+  EXPECT_EQ(recordSamplesForTime(f, 0.09), 0.25);
+  // Not measured (not a seeded preprocessing) or no time given: the pilot's choice.
+  f.fillSeconds = 0.0;
+  EXPECT_EQ(recordSamplesForTime(f, 0.01), 1.0);
+  f.fillSeconds = 0.1;
+  EXPECT_EQ(recordSamplesForTime(f, 0.0), 1.0);
+}

@@ -273,7 +273,7 @@ int RenderCommand::renderImage() {
   // it stops at three quarters of what is left, with what it made. Not with a checkpoint: a resumed render must fill
   // alike.
   if (timeLimit_ > 0 && !checkpoint_.active())
-    integrator_->limitPreprocessSeconds(std::max(1e-3, 0.75 * (timeLimit_ - pilotSeconds_)));
+    integrator_->limitPreprocessSeconds(std::max(1e-3, kFillTimeShare * (timeLimit_ - pilotSeconds_)));
   integrator_->preprocess(*renderScene_);
   // --time is the whole budget: the pilot's time and the integrator's preprocessing (the irradiance cache's fill, light
   // trees) come off it; at least one pass is rendered.

@@ -46,6 +46,15 @@ class RenderCommand {
   /// with --time and no --ic-samples: their rays sized to the render's budget by a pilot of it alone
   /// (bestRecordSamples), or as the checkpoint resumed holds them.
   void sizeRecords();
+  /// The chosen cache's records at @p f's rays per record (@p pilotRays × f.recordSamples), or where this machine's
+  /// fill would take more than half the time left, fewer (recordSamplesForTime); says so on stderr. Only where --time
+  /// stops a fill (one rank, no checkpoint).
+  void fitRecordsToTime(const PilotFigure& f, int pilotRays);
+  /// --integrator auto's report on stderr: the pilot's figures of @p candidates, which rank, the one chosen (@p best),
+  /// the cache's fill as projected (@p recordSamples: each candidate's hemisphere rays per record in the pilot).
+  void printPilot(const std::vector<PilotCandidate>& candidates, const std::vector<PilotFigure>& figures,
+                  const PilotPlan& plan, int spp, const std::vector<uint8_t>& ranked, const std::vector<size_t>& robust,
+                  size_t best, const std::vector<int>& recordSamples) const;
   /// The pilot of @p candidates candidates for this render (its samples per pixel into @p spp).
   PilotPlan pilotPlan(size_t candidates, int& spp) const;
   /// Makes a pilot candidate's integrator with @p base's options and the candidate's own.

@@ -87,13 +87,32 @@ void RenderCommand::sizeRecords() {
   const std::vector<PilotFigure> figures =
       runPilot(*renderScene_, nullptr, {alone}, plan, pilotFactory(base), seed(), samplerMode(), threads_);
   pilotSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const int rays = cli.recordSamples() * figures.front().recordSamples;
-  cli.setRecordSamples(rays);
+  const int pilotRays = cli.recordSamples();
   if (!quiet_)
     fmt::print(stderr,
                "firstshot-render: {}: {} hemisphere rays per record for this render's budget (a pilot of {:.2f} s: its "
                "fill projected to {:.1f}% of the render's rays; --ic-samples fixes them)\n",
-               integrators_.name, rays, pilotSeconds_, 100.0 * figures.front().preprocessShare);
+               integrators_.name, pilotRays * figures.front().recordSamples, pilotSeconds_,
+               100.0 * figures.front().preprocessShare);
+  fitRecordsToTime(figures.front(), pilotRays);
+}
+
+void RenderCommand::fitRecordsToTime(const PilotFigure& f, int pilotRays) {
+  IntegratorCli& cli = integrators_.chosen();
+  const int nominal = pilotRays * f.recordSamples;
+  cli.setRecordSamples(nominal);
+  if (timeLimit_ <= 0 || checkpoint_.active() || comm_.size() > 1) return;  // as limitPreprocessSeconds
+  const double seconds = timeLimit_ - pilotSeconds_;
+  const double m = recordSamplesForTime(f, seconds);
+  if (m >= f.recordSamples) return;
+  const int rays = std::max(1, int(std::lround(pilotRays * m)));
+  cli.setRecordSamples(rays);
+  if (!quiet_)
+    fmt::print(stderr,
+               "firstshot-render: {}: {} hemisphere rays per record, not {}: on this machine the pilot's fills project "
+               "the render's to {:.1f} s at {} (at {}: {:.1f} s) of the {:.1f} s left\n",
+               integrators_.name, rays, nominal, f.fillSeconds * f.recordSamples, nominal, rays,
+               f.fillSeconds * m, seconds);
 }
 
 void RenderCommand::resolveIntegrator() {
@@ -184,14 +203,18 @@ void RenderCommand::resolveIntegrator() {
   std::vector<int> recordSamples(candidates.size());
   for (size_t i = 0; i < candidates.size(); ++i)
     recordSamples[i] = integrators_.cli(candidates[i].integrator).recordSamples();
-  if (figures[best].recordSamples > 1)
-    integrators_.cli(candidates[best].integrator).setRecordSamples(recordSamples[best] * figures[best].recordSamples);
   if (!candidates[best].table) {
     tableUnused_ = true;
     renderScene_ = std::move(withoutTable);
   }
-  if (quiet_) return;
+  if (!quiet_) printPilot(candidates, figures, plan, spp, ranked, robust, best, recordSamples);
+  if (figures[best].seeded) fitRecordsToTime(figures[best], recordSamples[best]);
+}
 
+void RenderCommand::printPilot(const std::vector<PilotCandidate>& candidates, const std::vector<PilotFigure>& figures,
+                               const PilotPlan& plan, int spp, const std::vector<uint8_t>& ranked,
+                               const std::vector<size_t>& robust, size_t best,
+                               const std::vector<int>& recordSamples) const {
   // The pilot's rays against the render's, priced at the first candidate's rays per camera sample (as the plan).
   double pilotRays = 0.0;
   for (const PilotFigure& f : figures) pilotRays += f.pilotRays;

@@ -141,6 +141,8 @@ class Integrator {
   /// Rays traced by preprocess() or preprocessFor() (the irradiance cache's fill), not counted in the render's
   /// RenderStats::rays; 0 by default.
   virtual uint64_t preprocessRayCount() const { return 0; }
+  /// Seconds those rays took on this machine (the irradiance cache's fill, its setup left out); 0 by default.
+  virtual double preprocessSeconds() const { return 0.0; }
   /// True if preprocess() draws random numbers of the seed the integrator was made for (the irradiance cache's
   /// fill), so that renders of another seed need another integrator; false by default: one preprocessed
   /// integrator renders any seed (RenderOptions::seed).

@@ -67,11 +67,10 @@ constexpr double kFillRayCost = 1.9;
 /// 2026-11-30) the bowl-lamp room's fill came out at 82–85% of the render's rays, about three times its own, and the
 /// cache + table, 13× light tracing there, tied.
 constexpr double kFillGrowth = 0.83;
-/// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples).
-constexpr int kMaxRecordSamples = 16;
-/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
-/// exponent still leaves the render time).
-constexpr double kMaxFillShare = 0.5;
+/// The pilot's fills take this many times the seconds per ray of the render's fill: so grown, their time projected
+/// the render's fill at 0.97-1.66 times its real time, median 1.24, over six scenes with their tables forced to the
+/// cache at 20 s (2026-12-02, the 43rd session). PilotFigure::fillSeconds is divided by it.
+constexpr double kPilotFillSlowdown = 1.25;
 /// A candidate whose kMinPasses passes would take more than this many times an image's rays is not tried (NEE to each
 /// of the many-lights room's 64 lights: 20 times, the office floor's: 7; BDPT in the textured room: 2.2, tried); a
 /// pass over the seeded preprocessing's smaller picture tells.
@@ -363,6 +362,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       if (seeded) {
         other = make(candidates[c], seed + 1);
         other->preprocessFor(theirs, preprocessDesc);
+        f.fillSeconds = (integrator->preprocessSeconds() + other->preprocessSeconds()) / 2.0;
       }
       PilotImage second(other ? *other : *integrator, desc);
       // The second image's camera samples at the first's positions in their pixels: the edges' aliasing, which the
@@ -415,6 +415,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   const double fillGrowth =
       std::pow(renderPixels / fillPixels, kFillGrowth) * double(desc.width) * double(desc.height) / renderPixels;
   for (PilotFigure& f : figures) {
+    f.fillSeconds *= std::pow(renderPixels / fillPixels, kFillGrowth) / kPilotFillSlowdown;
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);
@@ -454,6 +455,14 @@ int bestRecordSamples(double passNoise, double own, double placed, double bias, 
     if (e > efficiency) efficiency = e, best = m;
   }
   return best;
+}
+
+double recordSamplesForTime(const PilotFigure& f, double seconds) {
+  const double m = f.recordSamples;
+  if (!(f.fillSeconds > 0.0) || !(seconds > 0.0) || f.fillSeconds * m <= kFillTimeShare * seconds) return m;
+  double fewer = m / 2.0;
+  while (fewer > kLeastRecordSamples && f.fillSeconds * fewer > kMaxFillShare * seconds) fewer /= 2.0;
+  return std::max(fewer, kLeastRecordSamples);
 }
 
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render) {

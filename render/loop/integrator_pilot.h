@@ -104,7 +104,7 @@ struct PilotFigure {
   /// Every ray the pilot traced for it (its share): its images, its preprocessing, and past the first candidate the
   /// pass over pilotFillCamera's picture that told what one pass costs.
   double pilotRays = 0;
-  bool seeded = false;        ///< measured with a seeded preprocessing (the cache's fill, over pilotFillCamera) (the irradiance cache's fill)
+  bool seeded = false;        ///< measured with a seeded preprocessing (the cache's fill, over pilotFillCamera)
   /// A seeded preprocessing's (the cache's records'): the part of noise' that more passes over the same records do
   /// not reduce, · mean / m, as the render's records would leave it: the relative noise between the first image and
   /// the second fill's records under the first image's passes, × (fill pixels / render pixels)^0.5; 0 for the
@@ -122,6 +122,10 @@ struct PilotFigure {
   int recordSamples = 1;
   /// A seeded preprocessing's rays projected to the render, as a fraction of the render's rays (0 for the others).
   double preprocessShare = 0;
+  /// A seeded preprocessing's: the render's fill at the pilot's hemisphere rays per record, in seconds of this
+  /// machine: the pilot's two fills' mean time grown as their rays are to the render's picture (kFillGrowth), less
+  /// what a ray of the pilot's small fill costs more (kPilotFillSlowdown); 0 for the others. It decides only the rays per record under --time (recordSamplesForTime), never the choice.
+  double fillSeconds = 0;
   /// 1 / (error² · work), the error at least 10⁻⁴ (methods that exact are equals); 0 for a black picture. For a
   /// seeded preprocessing, the render's: 1 / (e² · G), G the render's rays per pilot picture and e² = frozen² + bias² + (noise'² − frozen²) · (its passes' rays) / (G −
   /// its preprocessing at the render's scale): the fill charged at its share of the render, not of a pilot image;
@@ -200,13 +204,33 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
 /// 1 / (noise² · passRays): what a method without preprocessing gets.
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
 
+/// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples)
+inline constexpr int kMaxRecordSamples = 16;
+/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
+/// exponent still leaves the render time).
+inline constexpr double kMaxFillShare = 0.5;
+
 /// How many times the pilot's hemisphere rays per record the render's records should take (1, 2, 4, … 16, their fill
-/// at most half the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
+/// at most kMaxFillShare of the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
 /// @p efficiency) when the records' own noise @p own falls as 1/√m, their placement's error @p placed stays and the
 /// fill @p fill grows m times; @p passNoise the passes' noise after @p passRays (all relative; rays as
 /// renderEfficiency's).
 int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
                       double render, double& efficiency);
+
+/// The share of a --time render's seconds past which its fill stops with what it made (Integrator::
+/// limitPreprocessSeconds); the pixels it did not reach are path traced.
+inline constexpr double kFillTimeShare = 0.75;
+/// The fewest hemisphere rays per record recordSamplesForTime takes, as a multiple of the pilot's (512 → 128).
+inline constexpr double kLeastRecordSamples = 0.25;
+
+/// The multiple of the pilot's hemisphere rays per record the render's records take on this machine with @p seconds
+/// left: f.recordSamples (the choice at the nominal ray rate) where its fill, as f.fillSeconds projects it, ends
+/// within kFillTimeShare of them; else the largest of its halves, down to kLeastRecordSamples, whose fill takes at
+/// most kMaxFillShare of them (kLeastRecordSamples where none does). A fill stopped at kFillTimeShare leaves its
+/// later pixels to the path tracer, which in a room lit through a lamp's bowl is hundreds of times noisier; fewer
+/// rays per record only double their own noise² at each halving.
+double recordSamplesForTime(const PilotFigure& f, double seconds);
 
 /// A pilot figure's relative error (PilotFigure::error: its noise and its mean's distance from the others') above
 /// which it measures little but its few largest samples: more than its mean. Such a figure is not ranked (Veach MIS:

@@ -144,6 +144,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// auto's pilot renders a finer picture over them).
   void preprocessFor(const RenderScene& scene, const CameraDesc& camera) override;
   uint64_t preprocessRayCount() const override { return fillRays_; }
+  double preprocessSeconds() const override { return fillSeconds_; }
   void limitPreprocessRays(uint64_t rays) override { fillRayLimit_ = rays; }
   void limitPreprocessSeconds(double seconds) override { fillSecondsLimit_ = seconds; }
   bool seededPreprocess() const override { return settings_.twoPass; }
