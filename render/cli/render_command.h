@@ -47,8 +47,8 @@ class RenderCommand {
   /// (bestRecordSamples), or as the checkpoint resumed holds them.
   void sizeRecords();
   /// The chosen cache's records at @p f's rays per record (@p pilotRays × f.recordSamples), or where this machine's
-  /// fill would take more than half the time left, fewer (recordSamplesForTime); says so on stderr. Only where --time
-  /// stops a fill (one rank, no checkpoint).
+  /// fill would be stopped by --time (past kFillTimeShare of the time left), fewer (recordSamplesForTime); says so on
+  /// stderr. Only where --time stops a fill (one rank, no checkpoint).
   void fitRecordsToTime(const PilotFigure& f, int pilotRays);
   /// --integrator auto's report on stderr: the pilot's figures of @p candidates, which rank, the one chosen (@p best),
   /// the cache's fill as projected (@p recordSamples: each candidate's hemisphere rays per record in the pilot).

@@ -71,6 +71,13 @@ constexpr double kFillGrowth = 0.83;
 /// the render's fill at 0.97-1.66 times its real time, median 1.24, over six scenes with their tables forced to the
 /// cache at 20 s (2026-12-02, the 43rd session). PilotFigure::fillSeconds is divided by it.
 constexpr double kPilotFillSlowdown = 1.25;
+/// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples)
+constexpr int kMaxRecordSamples = 16;
+/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
+/// exponent still leaves the render time); recordSamplesForTime keeps it within this share of the render's seconds.
+constexpr double kMaxFillShare = 0.5;
+/// The fewest hemisphere rays per record recordSamplesForTime takes, as a multiple of the pilot's (512 → 128).
+constexpr double kLeastRecordSamples = 0.25;
 /// A candidate whose kMinPasses passes would take more than this many times an image's rays is not tried (NEE to each
 /// of the many-lights room's 64 lights: 20 times, the office floor's: 7; BDPT in the textured room: 2.2, tried); a
 /// pass over the seeded preprocessing's smaller picture tells.
@@ -412,10 +419,10 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
   // taken at the pilot picture's share of the render's pixels, as G is.
   const double render = renderWork(budget);
   const double fillPixels = double(fillDesc.width) * double(fillDesc.height);
-  const double fillGrowth =
-      std::pow(renderPixels / fillPixels, kFillGrowth) * double(desc.width) * double(desc.height) / renderPixels;
+  const double fillRaysGrowth = std::pow(renderPixels / fillPixels, kFillGrowth);  // the fill's rays, grown
+  const double fillGrowth = fillRaysGrowth * double(desc.width) * double(desc.height) / renderPixels;
   for (PilotFigure& f : figures) {
-    f.fillSeconds *= std::pow(renderPixels / fillPixels, kFillGrowth) / kPilotFillSlowdown;
+    f.fillSeconds *= fillRaysGrowth / kPilotFillSlowdown;
     if (f.spp == 0 || !(median > 0.0)) continue;
     const double noise = f.noise * f.mean / median, off = (f.mean - median) / median;
     f.error = std::sqrt(noise * noise + off * off);

@@ -124,7 +124,8 @@ struct PilotFigure {
   double preprocessShare = 0;
   /// A seeded preprocessing's: the render's fill at the pilot's hemisphere rays per record, in seconds of this
   /// machine: the pilot's two fills' mean time grown as their rays are to the render's picture (kFillGrowth), less
-  /// what a ray of the pilot's small fill costs more (kPilotFillSlowdown); 0 for the others. It decides only the rays per record under --time (recordSamplesForTime), never the choice.
+  /// what a ray of the pilot's small fill costs more (kPilotFillSlowdown); 0 for the others. It decides only the rays
+  /// per record under --time (recordSamplesForTime), never the choice.
   double fillSeconds = 0;
   /// 1 / (error² · work), the error at least 10⁻⁴ (methods that exact are equals); 0 for a black picture. For a
   /// seeded preprocessing, the render's: 1 / (e² · G), G the render's rays per pilot picture and e² = frozen² + bias² + (noise'² − frozen²) · (its passes' rays) / (G −
@@ -204,12 +205,6 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
 /// 1 / (noise² · passRays): what a method without preprocessing gets.
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
 
-/// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples)
-inline constexpr int kMaxRecordSamples = 16;
-/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
-/// exponent still leaves the render time).
-inline constexpr double kMaxFillShare = 0.5;
-
 /// How many times the pilot's hemisphere rays per record the render's records should take (1, 2, 4, … 16, their fill
 /// at most kMaxFillShare of the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
 /// @p efficiency) when the records' own noise @p own falls as 1/√m, their placement's error @p placed stays and the
@@ -221,8 +216,6 @@ int bestRecordSamples(double passNoise, double own, double placed, double bias, 
 /// The share of a --time render's seconds past which its fill stops with what it made (Integrator::
 /// limitPreprocessSeconds); the pixels it did not reach are path traced.
 inline constexpr double kFillTimeShare = 0.75;
-/// The fewest hemisphere rays per record recordSamplesForTime takes, as a multiple of the pilot's (512 → 128).
-inline constexpr double kLeastRecordSamples = 0.25;
 
 /// The multiple of the pilot's hemisphere rays per record the render's records take on this machine with @p seconds
 /// left: f.recordSamples (the choice at the nominal ray rate) where its fill, as f.fillSeconds projects it, ends
