@@ -224,10 +224,10 @@ void RenderCommand::printPilot(const std::vector<PilotCandidate>& candidates, co
                             (double(plan.width) * double(plan.height) * double(std::max(1, figures.front().spp)));
   fmt::print(stderr,
              "firstshot-render: --integrator auto: pilot at {} x {}, each setting's two images at equal rays, {:.2f} s "
-             "({:.1f}% of the rays of {} x {} at {} spp):\n  {:<42} {:>5} {:>9} {:>9} {:>12} {:>11}\n",
+             "({:.1f}% of the rays of {} x {} at {} spp):\n  {:<42} {:>5} {:>9} {:>9} {:>12} {:>11} {:>10}\n",
              plan.width, plan.height, pilotSeconds_, renderRays > 0 ? 100.0 * pilotRays / renderRays : 0.0,
              scene_.camera.width, scene_.camera.height, spp, "setting", "spp", "rel.noise", "rel.error", "Mrays/image",
-             "efficiency");
+             "efficiency", "render err");
   const double top = chosen.efficiency;
   // A robust candidate that does not rank where another does lost to it on their bulk (rankedPilotFigures).
   const bool robustRanks = std::any_of(robust.begin(), robust.end(), [&](size_t k) { return ranked[k] != 0; });
@@ -240,8 +240,9 @@ void RenderCommand::printPilot(const std::vector<PilotCandidate>& candidates, co
                  figures[i].rays * 1e-6,
                  skipReason(figures[i], figures.front().rays));
     else
-      fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>10.3g}{}\n", candidates[i].label(),
-                 figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6, top > 0 ? figures[i].efficiency / top : 0.0,
+      fmt::print(stderr, "  {:<42} {:>5} {:>9.4f} {:>9.4f} {:>12.3f} {:>11.3g} {:>10.4f}{}\n", candidates[i].label(),
+                 figures[i].spp, figures[i].noise, figures[i].error, figures[i].rays * 1e-6,
+                 top > 0 ? figures[i].efficiency / top : 0.0, figures[i].renderError,
                  i == best ? " *"
                  : ranked[i] ? ""
                  : bulkLost(i) ? " (not ranked: the other light sampler's bulk is the more efficient)"
@@ -256,7 +257,8 @@ void RenderCommand::printPilot(const std::vector<PilotCandidate>& candidates, co
                  candidates[i].label(), fill.width, fill.height, recordSamples[i] * figures[i].recordSamples,
                  100.0 * figures[i].preprocessShare, figures[i].frozen, figures[i].frozenMeasured, recordSamples[i],
                  figures[i].recordNoise);
-  fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it){}{}\n",
+  fmt::print(stderr, "firstshot-render: --integrator auto chose {} (efficiency = 1/(error² · rays), relative to it; render err: "
+             "the render's relative error so projected){}{}\n",
              candidates[best].label(),
              chosen.error > kUnrankableError
                  ? "; its figure errs by more than its mean, but no other method's ranks: the path tracer on the scene "

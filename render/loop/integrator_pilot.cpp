@@ -448,6 +448,8 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     f.frozen = std::sqrt(own * own / f.recordSamples + placed * placed);
     f.preprocessShare = render > 0.0 ? fill * f.recordSamples / render : 1.0;
   }
+  for (PilotFigure& f : figures)
+    if (f.efficiency > 0.0 && render > 0.0) f.renderError = 1.0 / std::sqrt(f.efficiency * render);
   return figures;
 }
 

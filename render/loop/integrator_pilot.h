@@ -136,6 +136,10 @@ struct PilotFigure {
   /// fireflies, which the path tracer's variants without the table meet alike, left out) and its mean's distance
   /// from the others', as error; what rankedPilotFigures compares those variants by. 0 where not measured.
   double bulkEfficiency = 0;
+  /// The relative error the render is projected to reach with it: √(1 / (efficiency · G)), G the render's work per
+  /// pilot picture (its time at kTimeRaysRate where --time sized it), so at the nominal ray rate, not this machine's;
+  /// 0 where not measured.
+  double renderError = 0;
 };
 
 /// The pilot's picture and samples.
