@@ -213,6 +213,15 @@ TEST(IntegratorAuto, EveryImageTakesAboutTheRaysOfTheFirsts) {
   for (const char* s : {"light --shoot-firstshot patches", "light --shoot-firstshot off", "path, no table"})
     EXPECT_LT(figure(r.output, s, 2), 1.3 * path) << s << "\n" << r.output;
   EXPECT_LE(pilotShare(r.output), 5.0) << r.output;
+  // The projected render error is √(1 / (efficiency · G)), G the same for all: error² × the efficiency relative to
+  // the choice is the chosen one's error² (to the printed digits).
+  const double chosen = figure(r.output, choice(r.output), 0);
+  ASSERT_GT(chosen, 0.0) << r.output;
+  for (const char* s : {"path --patch-nee off", "light --shoot-firstshot patches", "path, no table"}) {
+    const double e = figure(r.output, s, 0), eff = figure(r.output, s, 1);
+    ASSERT_GT(e, 0.0) << s << "\n" << r.output;
+    EXPECT_NEAR(e * std::sqrt(eff), chosen, 0.02 * chosen + 1e-4) << s << "\n" << r.output;
+  }
 }
 
 TEST(IntegratorAuto, ThePilotTakesAtMostFivePercentOfTheRendersRays) {
