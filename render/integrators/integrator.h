@@ -152,6 +152,12 @@ class Integrator {
   /// samples, the picture differs from the unperturbed one by what those values' own noise does to it, which more of
   /// them at the same precision would not reduce (--integrator auto's pilot). The default does nothing.
   virtual void perturbPreprocessing(uint64_t /*seed*/) {}
+  /// Where a seeded preprocessing's render takes a path for a sample its results do not cover (a lookup that finds
+  /// no record of the irradiance cache's), that path draws its numbers from a stream keyed by the sample and
+  /// @p salt, not from the sample's own, so that the rest of the sample stays as it is and another salt redraws the
+  /// path alone: the pilot tells so what those paths' noise adds to the difference between two preprocessings'
+  /// pictures over the same samples. 0 (the default state): from the sample's own. The default does nothing.
+  virtual void keyMissPaths(uint64_t /*salt*/) {}
   /// The light sampler with which the integrator's paths choose lights for next-event estimation,
   /// over every light (kept and replaced); its lighting() is the first-shot lighting the integrator
   /// built. Both are built once by preprocess() (or preprocessRays()) and shared: the sensors' NEE

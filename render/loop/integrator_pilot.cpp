@@ -88,6 +88,9 @@ constexpr double kMaxMinPassesShare = 4.0;
 /// the render's hemisphere rays per record are its measurement; at a half or a quarter of them its fill's growth was
 /// projected short, docs/measurements.md).
 constexpr double kOverPlan = 1.25;
+/// A seeded preprocessing's images draw the paths of samples its records miss from a stream of their own
+/// (Integrator::keyMissPaths) keyed by this, and by this + 1 where they are redrawn.
+constexpr uint64_t kMissSalt = 0x6d697373;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -309,6 +312,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       throw std::logic_error("runPilot: a candidate without the table needs the scene without it");
     const RenderScene& theirs = candidates[c].table ? scene : *withoutTable;
     const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
+    integrator->keyMissPaths(kMissSalt);
     // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past the first's
     // work in two images at the pilot's whole share (kPilotShare, not the plan's), or past what would take the whole
     // render once projected to it, whichever is more (at most a share of the render of 2 × its fill picture's pixels /
@@ -368,6 +372,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       std::unique_ptr<Integrator> other;
       if (seeded) {
         other = make(candidates[c], seed + 1);
+        other->keyMissPaths(kMissSalt);
         other->preprocessFor(theirs, preprocessDesc);
         f.fillSeconds = (integrator->preprocessSeconds() + other->preprocessSeconds()) / 2.0;
       }
@@ -388,13 +393,35 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       if (seeded) {  // the records' part of the noise: the second fill's records under the first image's passes
         PilotImage third(*other, desc);
         third.renderTo(f.spp, camera, seed, seed, passSampler, threads);
-        f.frozen = std::min(f.noise, pilotNoise(a, third.image(), &skip));
+        const std::vector<double> c3 = third.image();
+        // Where one fill's records miss a sample and the other's do not, the sample's path (pass noise, which the
+        // render's passes, over denser records, average away) differs from a record's value, often by far more
+        // than the records differ: the pixels where either fill's picture changes as those paths alone are redrawn
+        // are left out of the records' part.
+        std::vector<uint8_t> leftOut = skip;
+        for (Integrator* fill : {integrator.get(), other.get()}) {
+          fill->keyMissPaths(kMissSalt + 1);
+          PilotImage redrawn(*fill, desc);
+          redrawn.renderTo(f.spp, camera, seed, seed, passSampler, threads);
+          const std::vector<double> r = redrawn.image(), &was = fill == other.get() ? c3 : a;
+          for (size_t i = 0; i < r.size(); ++i)
+            if (r[i] != was[i]) leftOut[i / 3] = 1;
+          fill->keyMissPaths(kMissSalt);
+          f.pilotRays += redrawn.rays - redrawn.preprocessing;
+        }
+        double kept = 0.0, all = 0.0;
+        for (size_t i = 0; i < skip.size(); ++i) kept += !leftOut[i], all += !skip[i];
+        f.missShare = all > 0.0 ? 1.0 - kept / all : 0.0;
+        const double frozen = pilotNoise(a, c3, kept > 0.0 ? &leftOut : &skip);
         // Of that, the records' own noise: the first image's passes again over its records, each value drawn once
         // more from its own error. Their difference is one copy of that noise (the third image's holds two).
         integrator->perturbPreprocessing(seed + 2);
         PilotImage fourth(*integrator, desc);
         fourth.renderTo(f.spp, camera, seed, seed, passSampler, threads);
-        f.recordNoise = std::min(f.frozen, std::sqrt(2.0) * pilotNoise(a, fourth.image(), &skip));
+        // The frozen part at least that.
+        f.recordNoise = std::sqrt(2.0) * pilotNoise(a, fourth.image(), &skip);
+        f.frozen = std::min(f.noise, std::max(frozen, f.recordNoise));
+        f.recordNoise = std::min(f.recordNoise, f.frozen);
         f.pilotRays += 2.0 * (f.rays - f.preprocessRays);
       }
       // Both images' rays; a preprocessing not drawn from the seed served both.

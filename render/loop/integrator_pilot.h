@@ -115,6 +115,9 @@ struct PilotFigure {
   /// error (Integrator::perturbPreprocessing). It does not fall with more records; the rest does. 0 for the others.
   double recordNoise = 0;
   double frozenMeasured = 0;  ///< the frozen part as measured at the fill's picture
+  /// A seeded preprocessing's: the share of the counted pixels left out of the frozen part, those where a sample
+  /// either fill's records miss took a path (which the render's passes average away, pass noise); 0 for the others.
+  double missShare = 0;
   double bulkNoise = 0;       ///< noise with pixels clamped at kPilotClamp image means (pilotNoise's clamp)
   /// A seeded preprocessing's: how many times the hemisphere rays per record of the pilot's fill the render's should
   /// take (1, 2, 4, … 16): the records' own noise² falls as 1/m and the fill grows m times, and the m of the best

@@ -245,8 +245,8 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
                                             Sampler& sampler, Context& ctx) const {
   // E = π·L(ω) for ω distributed as cosθ/π: one path, with every light this vertex counted
   // (direct_) weighted 0 where the path meets it, everything else counted from the next hit on.
-  auto pathIrradiance = [&] {
-    const Vec3 w = Frame(n).toWorld(squareToCosineHemisphere(sampler.next2D()));
+  auto pathIrradiance = [&](Sampler& from) {
+    const Vec3 w = Frame(n).toWorld(squareToCosineHemisphere(from.next2D()));
     PathVertex prev;
     prev.delta = false;
     prev.p = hit.p;
@@ -256,9 +256,10 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     prev.countedInfinite = true;
     prev.countedExits = true;
     return kPiF *
-           continuation_.trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, sampler, ctx.rays);
+           continuation_.trace(Ray(hit.spawnOrigin(w), w), Color(1.0f), level + 1, prev, false, from, ctx.rays);
   };
-  if (level >= settings_.bounces) return settings_.pathContinuation ? pathIrradiance() : kPiF * settings_.ambient;
+  if (level >= settings_.bounces)
+    return settings_.pathContinuation ? pathIrradiance(sampler) : kPiF * settings_.ambient;
   // Drawn whether or not a record is made, so that the path does not depend on the cache.
   const uint64_t key = sampler.nextBits();
   IrradianceEstimate est;
@@ -274,10 +275,12 @@ Color IrradianceCacheIntegrator::irradiance(const Hit& hit, const Vec3& n, int l
     // records) would serve it only; unbiased, as past the last level.
     if (pathOnMiss_ && settings_.pathContinuation) {
       ++missPaths_;
-      return pathIrradiance();
+      if (missSalt_ == 0) return pathIrradiance(sampler);
+      Sampler keyed = Sampler::fromKey(hashKeys(key, missSalt_));
+      return pathIrradiance(keyed);
     }
   } else if (pathOnMiss_ && taskRayBudget_ > 0 && ctx.rays > taskRayBudget_ && settings_.pathContinuation) {
-    return pathIrradiance();  // a fill task over its budget
+    return pathIrradiance(sampler);  // a fill task over its budget
   }
 
   Sampler rs = Sampler::fromKey(key);

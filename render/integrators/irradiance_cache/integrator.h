@@ -151,6 +151,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   /// Every level-0 record's E_i replaced by max(0, E_i·(1 + z·s)), one normal z per record, s the RMS of
   /// spread/E over the records gathered twice (preprocessFor makes them); the octrees rebuilt. No-op without them.
   void perturbPreprocessing(uint64_t seed) override;
+  void keyMissPaths(uint64_t salt) override { missSalt_ = salt; }
   std::string name() const override { return "irradiance-cache"; }
   bool supportsSensors() const override { return true; }
   /// The path continuation's light sampler, over every light (after preprocess() or preprocessRays()).
@@ -275,6 +276,7 @@ class IrradianceCacheIntegrator : public PacketIntegrator {
   bool pathOnMiss_ = false;               ///< after a two-pass fill: a miss takes one path (frozen, or over budget)
   int spreadEvery_ = 0;  ///< preprocessFor: about one level-0 record in this many is gathered twice (0: none)
   static constexpr uint64_t kSpreadSalt = 0x5eedf00du;
+  uint64_t missSalt_ = 0;  ///< keyMissPaths(): a miss's path draws from the lookup's key and this (0: the sample's)
   uint64_t taskRayBudget_ = 0;            ///< preprocessRays' fill: rays per task before misses take paths (0: none)
   size_t loaded_ = 0;
   double fillSeconds_ = 0;
