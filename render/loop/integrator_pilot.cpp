@@ -73,8 +73,12 @@ constexpr double kFillGrowth = 0.83;
 constexpr double kPilotFillSlowdown = 1.25;
 /// The render's records may take up to this many times the hemisphere rays the pilot's took (PilotFigure::recordSamples)
 constexpr int kMaxRecordSamples = 16;
-/// and only while their fill stays within this share of the render's work (a fill projected wrong by its growth
-/// exponent still leaves the render time); recordSamplesForTime keeps it within this share of the render's seconds.
+/// and only while their fill stays within kMaxRecordsFillShare of the render's work (a fill projected wrong by its
+/// growth exponent still leaves the render time); where recordSamplesForTime finds this machine's fill past
+/// kFillTimeShare of the render's seconds, it keeps it within kMaxFillShare of them. At 0.5 of the work Bitterli's
+/// box with its table kept 512 rays per record (its fill projected to 29.8%, 25% of the time), where 1024 (48% of the
+/// time) left 0.0073 against 0.0103 (docs/measurements.md).
+constexpr double kMaxRecordsFillShare = 0.75;
 constexpr double kMaxFillShare = 0.5;
 /// The fewest hemisphere rays per record recordSamplesForTime takes, as a multiple of the pilot's (512 → 128).
 constexpr double kLeastRecordSamples = 0.25;
@@ -91,6 +95,14 @@ constexpr double kOverPlan = 1.25;
 /// A seeded preprocessing's images draw the paths of samples its records miss from a stream of their own
 /// (Integrator::keyMissPaths) keyed by this, and by this + 1 where they are redrawn.
 constexpr uint64_t kMissSalt = 0x6d697373;
+/// A seeded preprocessing's passes' rate: its fill's picture over the first fill's records, two seeds, the render's
+/// sampler, at kRateFew and kRateMany passes; the noise falls as passes^−rate, rate within [0.5, 1]. The cache's
+/// passes (a smooth lookup and the direct light, few dimensions) gain from the render's stratified samples far more
+/// than the pilot's two independent passes show: in Bitterli's box the render's passes left 0.0015 of its 0.0103 where
+/// the pilot projected 0.0074 at passes^−0.5, and it took 512 rays per record where 1024 reached 0.0073 (1.99× the
+/// efficiency); measured rates elsewhere 0.65–0.97 (docs/measurements.md).
+constexpr int kRateFew = 4, kRateMany = 32;
+constexpr double kMinPassRate = 0.5, kMaxPassRate = 1.0;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -413,6 +425,25 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
         for (size_t i = 0; i < skip.size(); ++i) kept += !leftOut[i], all += !skip[i];
         f.missShare = all > 0.0 ? 1.0 - kept / all : 0.0;
         const double frozen = pilotNoise(a, c3, kept > 0.0 ? &leftOut : &skip);
+        // How the render's stratified passes converge over the same records (fill.passRate).
+        {
+          const Camera fillCamera(fillDesc);
+          const std::vector<uint8_t> fillSkip = pixelsSeenAsTheyAre(scene, fillDesc);
+          PilotImage one(*integrator, fillDesc), two(*integrator, fillDesc);
+          double few = 0.0;
+          for (const int passes : {kRateFew, kRateMany}) {
+            one.renderTo(passes, fillCamera, seed, seed, sampler, threads);
+            two.renderTo(passes, fillCamera, seed + 1, seed, sampler, threads);
+            const double noise = pilotNoise(one.image(), two.image(), &fillSkip);
+            if (passes == kRateFew) {
+              few = noise;
+            } else if (few > 0.0 && noise > 0.0) {
+              f.passRate = std::clamp(std::log(few / noise) / std::log(double(kRateMany) / double(kRateFew)),
+                                      kMinPassRate, kMaxPassRate);
+            }
+          }
+          f.pilotRays += one.rays + two.rays - one.preprocessing - two.preprocessing;
+        }
         // Of that, the records' own noise: the first image's passes again over its records, each value drawn once
         // more from its own error. Their difference is one copy of that noise (the third image's holds two).
         integrator->perturbPreprocessing(seed + 2);
@@ -462,7 +493,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     // frozen part as the render's denser records have it (kRecordsErrorExponent), their own noise as the render's
     // records gather with more rays where that pays (bestRecordSamples).
     const double scale = f.mean / median;
-    const double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * scale * scale);
+    double pass2 = std::max(0.0, noise * noise - f.frozen * f.frozen * scale * scale);
     // The records' own noise stays at any density; the rest (where they were placed, how they interpolate) falls.
     f.frozenMeasured = f.frozen;
     const double own = f.recordNoise * scale;
@@ -471,6 +502,11 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
     const double cost = f.rays > 0.0 ? f.work / f.rays : 1.0,
                  fill = f.preprocessRays * fillGrowth * cost * kFillRayCost;
     const double passRays = (f.rays - f.preprocessRays) * cost;
+    // The render's passes gain from its stratified samples as passes^−passRate: beyond the 1/√ of more rays, by the
+    // render pixel's samples against the pilot pixel's (at the pilot's records' rays).
+    const double finer =
+        passRays > 0.0 ? (render - fill) / passRays * double(desc.width) * double(desc.height) / renderPixels : 0.0;
+    if (finer > 1.0) pass2 *= std::pow(finer, -(2.0 * f.passRate - 1.0));
     f.recordSamples = bestRecordSamples(std::sqrt(pass2), own, placed, off, passRays, fill, render, f.efficiency);
     f.frozen = std::sqrt(own * own / f.recordSamples + placed * placed);
     f.preprocessShare = render > 0.0 ? fill * f.recordSamples / render : 1.0;
@@ -484,7 +520,7 @@ int bestRecordSamples(double passNoise, double own, double placed, double bias, 
                       double render, double& efficiency) {
   int best = 1;
   efficiency = -1.0;
-  for (int m = 1; m <= kMaxRecordSamples && (m == 1 || fill * m <= kMaxFillShare * render); m *= 2) {
+  for (int m = 1; m <= kMaxRecordSamples && (m == 1 || fill * m <= kMaxRecordsFillShare * render); m *= 2) {
     const double frozen = std::sqrt(own * own / m + placed * placed);
     const double e = renderEfficiency(std::sqrt(passNoise * passNoise + frozen * frozen), frozen, bias, passRays,
                                       fill * m, render);

@@ -118,6 +118,10 @@ struct PilotFigure {
   /// A seeded preprocessing's: the share of the counted pixels left out of the frozen part, those where a sample
   /// either fill's records miss took a path (which the render's passes average away, pass noise); 0 for the others.
   double missShare = 0;
+  /// A seeded preprocessing's: its passes' noise falls as passes^−this with the render's sampler, over the same
+  /// records (its fill's picture at 4 and 32 passes, two seeds; within [0.5, 1]); its projection to the render gains
+  /// so beyond the 1/√ of more rays. 0.5 for the others (not measured).
+  double passRate = 0.5;
   double bulkNoise = 0;       ///< noise with pixels clamped at kPilotClamp image means (pilotNoise's clamp)
   /// A seeded preprocessing's: how many times the hemisphere rays per record of the pilot's fill the render's should
   /// take (1, 2, 4, … 16): the records' own noise² falls as 1/m and the fill grows m times, and the m of the best
@@ -213,7 +217,7 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
 
 /// How many times the pilot's hemisphere rays per record the render's records should take (1, 2, 4, … 16, their fill
-/// at most kMaxFillShare of the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
+/// at most kMaxRecordsFillShare, 0.75, of the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
 /// @p efficiency) when the records' own noise @p own falls as 1/√m, their placement's error @p placed stays and the
 /// fill @p fill grows m times; @p passNoise the passes' noise after @p passRays (all relative; rays as
 /// renderEfficiency's).
