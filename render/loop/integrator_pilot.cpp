@@ -10,6 +10,8 @@
 #include <utility>
 
 #include "common/util/interrupt.h"
+#include "render/loop/pilot_image.h"
+#include "render/loop/pilot_records.h"
 #include "render/loop/renderer.h"
 #include "render/output/film.h"
 #include "render/scene/camera.h"
@@ -92,17 +94,6 @@ constexpr double kMaxMinPassesShare = 4.0;
 /// the render's hemisphere rays per record are its measurement; at a half or a quarter of them its fill's growth was
 /// projected short, docs/measurements.md).
 constexpr double kOverPlan = 1.25;
-/// A seeded preprocessing's images draw the paths of samples its records miss from a stream of their own
-/// (Integrator::keyMissPaths) keyed by this, and by this + 1 where they are redrawn.
-constexpr uint64_t kMissSalt = 0x6d697373;
-/// A seeded preprocessing's passes' rate: its fill's picture over the first fill's records, two seeds, the render's
-/// sampler, at kRateFew and kRateMany passes; the noise falls as passes^−rate, rate within [0.5, 1]. The cache's
-/// passes (a smooth lookup and the direct light, few dimensions) gain from the render's stratified samples far more
-/// than the pilot's two independent passes show: in Bitterli's box the render's passes left 0.0015 of its 0.0103 where
-/// the pilot projected 0.0074 at passes^−0.5, and it took 512 rays per record where 1024 reached 0.0073 (1.99× the
-/// efficiency); measured rates elsewhere 0.65–0.97 (docs/measurements.md).
-constexpr int kRateFew = 4, kRateMany = 32;
-constexpr double kMinPassRate = 0.5, kMaxPassRate = 1.0;
 constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the pilot picture's sides divided by this
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
@@ -233,51 +224,6 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
   return skip;
 }
 
-namespace {
-
-/// One pilot image in the making: passes of 1 spp at sample indices 0, 1, ... of a preprocessed integrator.
-struct PilotImage {
-  const Integrator& integrator;
-  Film film;
-  double rays = 0;       ///< traced so far, the integrator's preprocessing included
-  double preprocessing = 0;  ///< of those, the preprocessing's
-  double firstPass = 0;  ///< rays of its first pass
-  int passes = 0;
-
-  PilotImage(const Integrator& i, const CameraDesc& desc)
-      : integrator(i), film(desc.width, desc.height), rays(double(i.preprocessRayCount())), preprocessing(rays) {}
-  /// Renders passes until @p total are done, their camera samples at the positions in their pixels that seed
-  /// @p jitterSeed draws.
-  void renderTo(int total, const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode sampler,
-                int threads) {
-    for (; passes < total; ++passes) {
-      RenderOptions ro = RenderOptions::pass(passes, seed);
-      ro.jitterSeed = jitterSeed;
-      ro.sampler = sampler;
-      ro.threads = threads;
-      ro.quiet = true;
-      ro.cancel = &interruptFlag();  // SIGINT/SIGTERM stop the pilot too (thrown by runPilot)
-      const double r = double(render(integrator, camera, film, ro).rays);
-      throwIfInterrupted("no output written (interrupted in the integrator pilot)");
-      if (passes == 0) firstPass = r;
-      rays += r;
-    }
-  }
-  /// The film's means, interleaved RGB (a non-finite value as 0).
-  std::vector<double> image() const {
-    std::vector<double> out;
-    out.reserve(size_t(film.width()) * size_t(film.height()) * 3);
-    for (int y = 0; y < film.height(); ++y)
-      for (int x = 0; x < film.width(); ++x) {
-        const Vec3d m = film.mean(x, y);
-        for (int ch = 0; ch < 3; ++ch) out.push_back(std::isfinite(m[ch]) ? m[ch] : 0.0);
-      }
-    return out;
-  }
-};
-
-}  // namespace
-
 std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* withoutTable,
                                   const std::vector<PilotCandidate>& candidates, const PilotPlan& plan,
                                   const PilotFactory& make, uint64_t seed, SamplerMode sampler, int threads,
@@ -324,7 +270,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       throw std::logic_error("runPilot: a candidate without the table needs the scene without it");
     const RenderScene& theirs = candidates[c].table ? scene : *withoutTable;
     const std::unique_ptr<Integrator> integrator = make(candidates[c], seed);
-    integrator->keyMissPaths(kMissSalt);
+    integrator->keyMissPaths(kPilotMissSalt);
     // Past the first candidate, whose rays set the budget: preprocessing (the cache's fill) stops past the first's
     // work in two images at the pilot's whole share (kPilotShare, not the plan's), or past what would take the whole
     // render once projected to it, whichever is more (at most a share of the render of 2 × its fill picture's pixels /
@@ -384,7 +330,7 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       std::unique_ptr<Integrator> other;
       if (seeded) {
         other = make(candidates[c], seed + 1);
-        other->keyMissPaths(kMissSalt);
+        other->keyMissPaths(kPilotMissSalt);
         other->preprocessFor(theirs, preprocessDesc);
         f.fillSeconds = (integrator->preprocessSeconds() + other->preprocessSeconds()) / 2.0;
       }
@@ -402,59 +348,9 @@ std::vector<PilotFigure> runPilot(const RenderScene& scene, const RenderScene* w
       double n = 0.0;
       const std::vector<uint8_t>* counted = countedPixels(a, b, &skip);
       f.mean = keptMean(a, b, counted, n);
-      if (seeded) {  // the records' part of the noise: the second fill's records under the first image's passes
-        PilotImage third(*other, desc);
-        third.renderTo(f.spp, camera, seed, seed, passSampler, threads);
-        const std::vector<double> c3 = third.image();
-        // Where one fill's records miss a sample and the other's do not, the sample's path (pass noise, which the
-        // render's passes, over denser records, average away) differs from a record's value, often by far more
-        // than the records differ: the pixels where either fill's picture changes as those paths alone are redrawn
-        // are left out of the records' part.
-        std::vector<uint8_t> leftOut = skip;
-        for (Integrator* fill : {integrator.get(), other.get()}) {
-          fill->keyMissPaths(kMissSalt + 1);
-          PilotImage redrawn(*fill, desc);
-          redrawn.renderTo(f.spp, camera, seed, seed, passSampler, threads);
-          const std::vector<double> r = redrawn.image(), &was = fill == other.get() ? c3 : a;
-          for (size_t i = 0; i < r.size(); ++i)
-            if (r[i] != was[i]) leftOut[i / 3] = 1;
-          fill->keyMissPaths(kMissSalt);
-          f.pilotRays += redrawn.rays - redrawn.preprocessing;
-        }
-        double kept = 0.0, all = 0.0;
-        for (size_t i = 0; i < skip.size(); ++i) kept += !leftOut[i], all += !skip[i];
-        f.missShare = all > 0.0 ? 1.0 - kept / all : 0.0;
-        const double frozen = pilotNoise(a, c3, kept > 0.0 ? &leftOut : &skip);
-        // How the render's stratified passes converge over the same records (fill.passRate).
-        {
-          const Camera fillCamera(fillDesc);
-          const std::vector<uint8_t> fillSkip = pixelsSeenAsTheyAre(scene, fillDesc);
-          PilotImage one(*integrator, fillDesc), two(*integrator, fillDesc);
-          double few = 0.0;
-          for (const int passes : {kRateFew, kRateMany}) {
-            one.renderTo(passes, fillCamera, seed, seed, sampler, threads);
-            two.renderTo(passes, fillCamera, seed + 1, seed, sampler, threads);
-            const double noise = pilotNoise(one.image(), two.image(), &fillSkip);
-            if (passes == kRateFew) {
-              few = noise;
-            } else if (few > 0.0 && noise > 0.0) {
-              f.passRate = std::clamp(std::log(few / noise) / std::log(double(kRateMany) / double(kRateFew)),
-                                      kMinPassRate, kMaxPassRate);
-            }
-          }
-          f.pilotRays += one.rays + two.rays - one.preprocessing - two.preprocessing;
-        }
-        // Of that, the records' own noise: the first image's passes again over its records, each value drawn once
-        // more from its own error. Their difference is one copy of that noise (the third image's holds two).
-        integrator->perturbPreprocessing(seed + 2);
-        PilotImage fourth(*integrator, desc);
-        fourth.renderTo(f.spp, camera, seed, seed, passSampler, threads);
-        // The frozen part at least that.
-        f.recordNoise = std::sqrt(2.0) * pilotNoise(a, fourth.image(), &skip);
-        f.frozen = std::min(f.noise, std::max(frozen, f.recordNoise));
-        f.recordNoise = std::min(f.recordNoise, f.frozen);
-        f.pilotRays += 2.0 * (f.rays - f.preprocessRays);
-      }
+      if (seeded)  // the records' part of the noise
+        measureRecords(*integrator, *other, a,
+                       PilotPicture{scene, desc, fillDesc, skip, seed, passSampler, sampler, threads}, f);
       // Both images' rays; a preprocessing not drawn from the seed served both.
       f.pilotRays += first.rays + second.rays - (seeded ? 0.0 : preprocessing);
     }
