@@ -253,8 +253,8 @@ void RenderCommand::printPilot(const std::vector<PilotCandidate>& candidates, co
       fmt::print(stderr,
                  "  {}: filled at {} x {}; at {} hemisphere rays per record its fill projected to {:.1f}% of the "
                  "render's rays, its records' error {:.4f} (more passes leave it; {:.4f} as measured at {}, of which "
-                 "their own noise {:.4f}; the {:.1f}% of the pixels where a sample they miss took a path left out), its "
-                 "passes' noise falling as passes^-{:.2f}, its efficiency the render's\n",
+                 "their own noise {:.4f}; the {:.1f}% of the pixels where a sample they miss took a path left "
+                 "out), its passes' noise falling as passes^-{:.2f}, its efficiency the render's\n",
                  candidates[i].label(), fill.width, fill.height, recordSamples[i] * figures[i].recordSamples,
                  100.0 * figures[i].preprocessShare, figures[i].frozen, figures[i].frozenMeasured, recordSamples[i],
                  figures[i].recordNoise, 100.0 * figures[i].missShare, figures[i].passRate);

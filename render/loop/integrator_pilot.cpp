@@ -9,11 +9,9 @@
 #include <string>
 #include <utility>
 
-#include "common/util/interrupt.h"
 #include "render/loop/pilot_image.h"
 #include "render/loop/pilot_records.h"
 #include "render/loop/renderer.h"
-#include "render/output/film.h"
 #include "render/scene/camera.h"
 
 namespace firstshot {

@@ -217,8 +217,8 @@ std::vector<uint8_t> pixelsSeenAsTheyAre(const RenderScene& scene, const CameraD
 double renderEfficiency(double noise, double frozen, double bias, double passRays, double fixed, double render);
 
 /// How many times the pilot's hemisphere rays per record the render's records should take (1, 2, 4, … 16, their fill
-/// at most kMaxRecordsFillShare, 0.75, of the render's work beyond 1): the m of the best renderEfficiency (the least of equals, into
-/// @p efficiency) when the records' own noise @p own falls as 1/√m, their placement's error @p placed stays and the
+/// at most kMaxRecordsFillShare, 0.75, of the render's work beyond 1): the m of the best renderEfficiency (the least
+/// of equals, into @p efficiency) when the records' own noise @p own falls as 1/√m, their placement's error @p placed stays and the
 /// fill @p fill grows m times; @p passNoise the passes' noise after @p passRays (all relative; rays as
 /// renderEfficiency's).
 int bestRecordSamples(double passNoise, double own, double placed, double bias, double passRays, double fill,
