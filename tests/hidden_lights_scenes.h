@@ -39,9 +39,10 @@ inline SceneDesc bowlLamp() {
 }
 
 /// A filament (r = 8 cm, so that the path tracer's BSDF samples find it) inside a clear glass envelope (r = 20 cm,
-/// ior 1.5) hanging at 1.1 m.
-inline SceneDesc glassBulb() {
-  return hiddenLightsRoom(R"("glass": {"type": "dielectric", "ior": 1.5}, "filament": {"type": "diffuse", "emission": 12})",
+/// ior 1.5) hanging at 1.1 m; with @p roughness > 0 a frosted one (rough glass).
+inline SceneDesc glassBulb(double roughness = 0) {
+  return hiddenLightsRoom(R"("glass": {"type": "dielectric", "ior": 1.5, "roughness": )" + std::to_string(roughness) +
+                              R"(}, "filament": {"type": "diffuse", "emission": 12})",
               R"({"type": "sphere", "material": "glass", "center": [1.2, 1.1, 1.0], "radius": 0.2, "subdivisions": 3, "smooth": true},
                  {"type": "sphere", "material": "filament", "center": [1.2, 1.1, 1.0], "radius": 0.08, "subdivisions": 2})");
 }

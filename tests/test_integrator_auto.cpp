@@ -18,6 +18,7 @@
 #include "tests/test_util.h"
 
 using ::testing::HasSubstr;
+using ::testing::StartsWith;
 
 namespace {
 
@@ -344,26 +345,26 @@ TEST(IntegratorAuto, ABowlLampWithItsTableGoesToTheCache) {
   EXPECT_EQ(choice(r.output), "irradiance-cache") << r.output;
 }
 
-TEST(IntegratorAuto, VeachBidirWithItsTableGoesToLightTracingWithoutIt) {
+TEST(IntegratorAuto, VeachBidirWithItsTableGoesToLightTracing) {
   FIRSTSHOT_STATISTICS_ONLY("IntegratorAuto.ATableOfLuminairesAloneIsNotTriedTwice");
   // veach-bidir as it ships (../shared/scenes, skipped where absent), with its table at the defaults (a luminaire
   // about the wall lamp), 128 x 128 with the 12.4 s that 20 s leave after its preprocessing. Light tracing is the
-  // best method there, and the table makes it worse: at 12 s each, outside the glass egg, plain light tracing 0.0574
-  // against 0.0621 with the table (--shoot-firstshot off) and 0.0691 (patches) (docs/measurements.md). Without plain
-  // light tracing among its candidates the pilot took light tracing with the table. Stopped after the render's first
-  // pass; both seeds.
+  // best method there. With its wall lamp split where that pays, the table makes it better: at 20 s each, outside the
+  // glass egg, 0.0457 with the table (--shoot-firstshot off), 0.0470 (patches), 0.0495 without; BDPT with the table
+  // 0.0577 (docs/measurements.md, "Luminaires in BDPT; split where it pays"). While every luminaire was split the
+  // table made it worse (0.0621 and 0.0691 against 0.0574 at 12 s), and the pilot had to have plain light tracing
+  // among its candidates. Stopped after the render's first pass; seeds 1 to 4.
   const std::string scene = firstshot::test::source("../shared/scenes/veach-bidir/scene.xml");
   if (!std::filesystem::exists(scene)) GTEST_SKIP() << scene << " is absent (the public scenes live in ../shared/scenes)";
   const std::string dir = firstshot::test::tempDir();
   const auto p = preprocess(scene, dir + "/t.fsd");
   ASSERT_EQ(p.exitCode, 0) << p.output;
-  for (const char* seed : {"1", "2"}) {
+  for (const char* seed : {"1", "2", "3", "4"}) {
     const auto r = firstshot::test::run("FIRSTSHOT_TEST_INTERRUPT=render-pass-1 " + kRender + " " + scene +
                                         " --firstshot " + dir + "/t.fsd --width 128 --height 128 --time 12.4 --seed " +
                                         seed + " --threads 2 --checkpoint 1000 -o " + dir + "/a.exr");
     ASSERT_EQ(r.exitCode, 130) << r.output;
-    EXPECT_EQ(choice(r.output), "light, no table") << r.output;
-    EXPECT_THAT(r.output, HasSubstr("the table given is not read")) << r.output;
+    EXPECT_THAT(choice(r.output), StartsWith("light")) << r.output;
   }
 }
 

@@ -40,7 +40,7 @@ const std::map<std::string, std::vector<std::string>> kUses = {
     {"light", {"--primary", "--light-sampler", "--patch-nee", "--light-visibility", "--table-visibility",
                "--shoot-firstshot", "--light-paths", "--luminaires"}},
     {"bundle", {"--primary", "--table-visibility", "--iterations", "--bundle-resolution", "--bundle-directions"}},
-    {"bdpt", {"--light-sampler", "--light-visibility", "--table-visibility", "--shoot-firstshot"}},
+    {"bdpt", {"--light-sampler", "--light-visibility", "--table-visibility", "--shoot-firstshot", "--luminaires"}},
 };
 
 bool uses(const std::string& integrator, const std::string& option) {

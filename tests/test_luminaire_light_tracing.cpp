@@ -6,10 +6,13 @@
 
 #include <fmt/core.h>
 
+#include <tbb/global_control.h>
+
 #include <atomic>
 #include <cmath>
 #include <utility>
 
+#include "render/integrators/common/luminaire_split.h"
 #include "render/integrators/light/integrator.h"
 #include "tests/block_compare.h"
 #include "tests/hidden_lights_scenes.h"
@@ -20,11 +23,13 @@ using namespace firstshot;
 namespace {
 
 /// Max depth 32 for both integrators: the exit distribution holds every bounce inside the box, which a shorter
-/// path would cut (test_luminaire_render.cpp).
+/// path would cut (test_luminaire_render.cpp). With @p luminaires every luminaire is split (what these tests check),
+/// not only where the split pays.
 IntegratorOptions options(bool luminaires) {
   IntegratorOptions io;
   io.maxDepth = 32;
   io.luminaires = luminaires;
+  io.splitEveryLuminaire = luminaires;
   return io;
 }
 
@@ -139,6 +144,58 @@ TEST(LuminaireLightTracing, InnerParticlesStayInTheirBox) {
       EXPECT_GT(exitPaths.load(), 100);
       EXPECT_GT(longExit.load(), 10);
     }
+  }
+}
+
+// Where light tracing and BDPT split a luminaire's light (luminaire_split.h): each split as the measured parts say,
+// (√A + √(f·B))² < A + B, the lights' share in [kMinInnerShare, 1]; the same parts for one thread and two; and where
+// the camera looks into the open box (its inside the lights' part), at the filament's glass (no exit part) or past the
+// box at the wall its point light lights straight through the opening, nothing is split; with a spot light aimed at
+// the box's back wall instead (no light straight out, the inside hidden) it is.
+TEST(LuminaireLightTracing, SplitWhereItPays) {
+  struct Case {
+    const char* name;
+    SceneDesc d;
+    int split;  // expected: 1 split, 0 not
+  };
+  const SceneDesc away = test::openBox(false, true);  // the camera beside the box, looking past it
+  SceneDesc spot = test::openBox();
+  spot.camera = away.camera;
+  spot.lights[0].type = LightType::Spot;
+  spot.lights[0].direction = Vec3d(0, 0, -1);  // at the back wall 0.1 m away, within its 15 cm
+  for (const Case& c : {Case{"open box", test::openBox(), 0}, Case{"glass bulb", test::glassBulb(), 0},
+                        Case{"open box from beside", away, 0}, Case{"spot in the open box from beside", spot, 1}}) {
+    const RenderScene scene = test::withLuminaireTable(c.d);
+    LightTracingIntegrator lt(options(false));
+    lt.preprocess(scene);
+    uint64_t rays = 0;
+    std::vector<LuminaireSplit> one, two;
+    {
+      tbb::global_control g(tbb::global_control::max_allowed_parallelism, 1);
+      one = measureLuminaireSplits(scene, lt.particleEmitters(), 32, rays);
+    }
+    {
+      tbb::global_control g(tbb::global_control::max_allowed_parallelism, 2);
+      two = measureLuminaireSplits(scene, lt.particleEmitters(), 32, rays);
+    }
+    ASSERT_EQ(one.size(), scene.luminaires().items().size()) << c.name;
+    for (size_t i = 0; i < one.size(); ++i) {
+      const Luminaire& lum = scene.luminaires().items()[i];
+      const double f = test::gray(lum.exitPower) / test::gray(lum.power);
+      const LuminaireSplit& s = one[i];
+      EXPECT_EQ(s.inner, two[i].inner) << c.name;
+      EXPECT_EQ(s.exit, two[i].exit) << c.name;
+      const double a = std::sqrt(s.inner), b = std::sqrt(f * s.exit);
+      EXPECT_EQ(s.split, s.exit > 0 && (a + b) * (a + b) < s.inner + s.exit) << c.name;
+      if (s.split) {
+        EXPECT_GE(s.innerShare, EmissionSampler::kMinInnerShare) << c.name;
+        EXPECT_LE(s.innerShare, 1.0) << c.name;
+      }
+      fmt::print("{}: f {:.3f}, inner part {:.4g}, exit part {:.4g}: {}, lights' share {:.3f}\n", c.name, f, s.inner,
+                 s.exit, s.split ? "split" : "not split", s.innerShare);
+    }
+    ASSERT_EQ(one.size(), 1u) << c.name;
+    EXPECT_EQ(int(one[0].split), c.split) << c.name;
   }
 }
 

@@ -64,9 +64,9 @@ struct IntegratorOptionsCli {
                                                     "start from the patches the table lights (patches) or the "
                                                     "table is ignored (off; docs/light-tracing.md, docs/bdpt.md)")
         ->check(CLI::IsMember({"patches", "off"}))->capture_default_str();
-    app.add_option(kLuminaires, luminaires, "path, irradiance-cache and light with --firstshot: sample (path, cache) "
-                                            "or shoot from (light) the table's luminaires' exit patches and see through "
-                                            "their boxes (on), or take their lights as ordinary lights (off; "
+    app.add_option(kLuminaires, luminaires, "path, irradiance-cache, light and bdpt with --firstshot: sample (path, "
+                                            "cache, bdpt) or shoot from (light, bdpt) the table's luminaires' exit "
+                                            "patches and see through their boxes (on), or take their lights as ordinary lights (off; "
                                             "docs/luminaires.md)")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
   }

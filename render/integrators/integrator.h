@@ -56,6 +56,9 @@ struct IntegratorOptions {
   /// With a table that has luminaires (common/table/luminaire.h): sample their exit patches and see through their boxes
   /// (render/scene/luminaire_boxes.h). The path tracer's walk takes them; false: their lights are ordinary lights.
   bool luminaires = true;
+  /// Light tracing and BDPT with luminaires: split every luminaire's light at its box (tests), not only those whose
+  /// split pays on the camera's picture (render/integrators/common/luminaire_split.h).
+  bool splitEveryLuminaire = false;
   /// With a first-shot table, where the small lights are sampled with shadow rays (PrimaryMode::Exact):
   /// no shadow ray to a point or spot light the table finds visible from the whole patch or from
   /// none of it (FirstShotLighting::visibility).

@@ -63,4 +63,9 @@ float ExitEmission::pdfDirection(uint32_t e, const Vec3& d) const {
   return float(q * kBins * kInvPi) * std::abs(d[p.face / 2]);
 }
 
+Color ExitEmission::radiance(uint32_t e, const Vec3& d) const {
+  const uint32_t i = boxes_->exitLuminaire(e);
+  return boxes_->items()[i].radianceAt(e - boxes_->exitFirst(i), d);
+}
+
 }  // namespace firstshot

@@ -45,6 +45,8 @@ class ExitEmission {
   /// The solid-angle density with which sampleDirection() draws the unit direction @p d from exit patch @p e, 1/sr
   /// (0 into the box).
   float pdfDirection(uint32_t e, const Vec3& d) const;
+  /// The radiance leaving exit patch @p e along the unit direction @p d (its bin's; 0 into the box), W/(m² sr).
+  Color radiance(uint32_t e, const Vec3& d) const;
 
  private:
   const LuminaireBoxes* boxes_ = nullptr;

@@ -79,17 +79,29 @@ EmissionSampler::EmissionSampler(const RenderScene& scene, const FirstShotLighti
   finish();
 }
 
-void EmissionSampler::addExits(const LuminaireBoxes& boxes) {
+void EmissionSampler::addExits(const LuminaireBoxes& boxes, const std::vector<double>& innerShares) {
   if (boxes.empty()) return;
   exits_ = ExitEmission(boxes);
   exitBegin_ = uint32_t(power_.size());
-  for (uint32_t e = 0; e < exits_.count(); ++e) power_.push_back(exits_.power(e));
-  // A luminaire's lights' particles light the inside of its box and, straight out of it, the room (the direct
-  // light, not in its exit distribution): they are chosen by the share of their power that does not leave it after a
-  // bounce inside (at least kMinInnerShare), their power weight growing to match.
+  const size_t n = boxes.items().size();
+  split_.assign(n, true);
+  for (size_t i = 0; i < n && !innerShares.empty(); ++i) split_[i] = innerShares[i] > 0;
+  luminairePower_.assign(n, 0.0);
+  for (uint32_t e = 0; e < exits_.count(); ++e) {
+    const uint32_t i = boxes.exitLuminaire(e);
+    power_.push_back(split_[i] ? exits_.power(e) : 0.0);
+    luminairePower_[i] += power_.back();
+  }
+  // A split luminaire's lights' particles light the inside of its box and, straight out of it, the room (the direct
+  // light, not in its exit distribution): they are chosen by the share given, or by the share of their power that
+  // does not leave it after a bounce inside (at least kMinInnerShare), their power weight growing to match.
   for (uint32_t l = 0; l < lightCount_; ++l) {
     const int i = boxes.ofLight(l);
-    if (i < 0) continue;
+    if (i < 0 || !split_[size_t(i)]) continue;
+    if (!innerShares.empty()) {
+      power_[l] *= innerShares[size_t(i)];
+      continue;
+    }
     const Luminaire& lum = boxes.items()[size_t(i)];
     const double emitted = mean(lum.power), left = mean(lum.exitPower);
     power_[l] *= emitted > 0 ? std::clamp(1.0 - left / emitted, kMinInnerShare, 1.0) : 1.0;

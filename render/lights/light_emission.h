@@ -91,12 +91,17 @@ class EmissionSampler {
   bool sampleOrigin(const Vec2d& uPair, EmissionSample& out) const;
 
   /// Adds the exit patches of @p boxes (which must outlive the sampler) as emitters numbered from exitBegin() on, with
-  /// the power of their exit distributions. A luminaire's lights, whose particles then light the inside of its box
-  /// and the room straight from the light, are chosen by the share of their power that the exit distribution does
-  /// not hold (1 − exitPower/power, at least kMinInnerShare):
-  /// power() is then that share of their power, and their particles' power grows to match. Nothing if @p boxes is
-  /// empty.
-  void addExits(const LuminaireBoxes& boxes);
+  /// the power of their exit distributions, for the luminaires it splits (splits()): @p innerShares, per luminaire,
+  /// its lights' choice weight as a share of their power (render/integrators/common/luminaire_split.h), or 0 where it
+  /// is not split (its exit patches then have no power, its lights all theirs). Empty: every luminaire split, its
+  /// lights chosen by the share of their power that the exit distribution does not hold (1 − exitPower/power, at least
+  /// kMinInnerShare). A split luminaire's lights' particles light the inside of its box and the room straight from
+  /// the light: power() is their share of their power, and their particles' power grows to match. Nothing if @p boxes
+  /// is empty.
+  void addExits(const LuminaireBoxes& boxes, const std::vector<double>& innerShares = {});
+  /// Whether addExits() split luminaire @p luminaire's light at its box (its lights' particles end where they leave
+  /// it after a bounce inside, its exit patches emit the rest).
+  bool splits(int luminaire) const { return luminaire >= 0 && size_t(luminaire) < split_.size() && split_[size_t(luminaire)]; }
   /// The least share of a luminaire's light's power its choice keeps (addExits): a clear glass bulb sends almost all
   /// of it out, and the camera still sees the inside.
   static constexpr double kMinInnerShare = 0.05;
@@ -120,6 +125,12 @@ class EmissionSampler {
   uint32_t exitBegin() const { return exitBegin_; }
   /// The exit patches' emission (empty without addExits()).
   const ExitEmission& exits() const { return exits_; }
+  /// Probability of choosing one of luminaire @p luminaire's exit patches (their pdfChoice() together).
+  float luminaireChoice(uint32_t luminaire) const {
+    return choice_.total() > 0 ? float(luminairePower_[luminaire] / choice_.total()) : 0.0f;
+  }
+  /// Exit patch emitter @p e: the radiance it sends in the unit direction @p d (its bin's; 0 into the box), W/(m² sr).
+  Color exitRadiance(uint32_t e, const Vec3& d) const { return exits_.radiance(e - exitBegin_, d); }
   /// Number of patch-side emitters (table mode), after the lightCount() lights.
   uint32_t patchSideCount() const { return uint32_t(patchSides_.size()); }
   bool isDirectional(uint32_t e) const;
@@ -162,6 +173,8 @@ class EmissionSampler {
   std::vector<double> power_;  ///< by emitter
   Distribution1D choice_;      ///< the emitters by power_ (finish())
   ExitEmission exits_;         ///< addExits()
+  std::vector<double> luminairePower_;  ///< addExits(): per luminaire, its exit patches' choice weight (Σ power_)
+  std::vector<bool> split_;             ///< addExits(): per luminaire, whether it is split
   uint32_t exitBegin_ = 0;     ///< the first exit patch's emitter number
   Vec3 centre_{0.0f};          ///< bounding sphere, m
   float radius_ = 0;

@@ -48,6 +48,12 @@ constexpr double kPatchNeeRayCost = 2.5;
 /// shipped and public scenes with their tables, 128 × 128; 0.53–2.39), light tracing's and BDPT's 1.43× and 1.46×
 /// (bench/table_ray_cost.sh; 1.52×, 1.77× and 1.70× while a table's patches were traced, not its faces).
 constexpr double kTableRayCost = 1.35;
+/// BDPT's rays count this much work each: joining its subpaths evaluates two BSDFs and every strategy's MIS densities
+/// per connection, work no ray count shows; its time per ray was 1.34 times the path tracer's and 1.17 times light
+/// tracing's (medians over 24 shipped and public scenes without a table, bench/table_ray_cost.sh: 0.40–2.48 and
+/// 1.01–1.90). Counted at one, the pilot took BDPT with veach-bidir's table for seed 1 (figure 1 against light
+/// tracing's 0.959), where at 20 s it is 0.63 times light tracing's efficiency with the table.
+constexpr double kBdptRayCost = 1.3;
 /// The cache's records' error falls as (records' picture's pixels)^−this: an interpolation error that falls as the
 /// records' spacing. 12 × 12 records against the render's own at 128 × 128 left 0.016 against at most 0.0051 in the
 /// glass-bulb room, 0.029 against at most 0.010 in the bowl-lamp room: at least 0.24 and 0.22. With 0.23 and the
@@ -96,10 +102,12 @@ constexpr int kFillDivisor = 4;       ///< a seeded preprocessing's picture: the
 constexpr int kMinFillSide = 4;       ///< and at least this many pixels each
 
 /// Work per ray of @p c's rays: kPatchNeeRayCost for the path tracer's and the irradiance cache's with patch NEE,
-/// times kTableRayCost for a method reading the table where others leave it unread (@p weighTable); 1 for the others.
+/// kBdptRayCost for BDPT's, times kTableRayCost for a method reading the table where others leave it unread
+/// (@p weighTable); 1 for the others.
 double rayCost(const PilotCandidate& c, bool weighTable) {
   const bool nee = (c.integrator == "path" || c.integrator == "irradiance-cache") && c.patchNee != PatchNee::Off;
-  return (nee ? kPatchNeeRayCost : 1.0) * (weighTable && c.table ? kTableRayCost : 1.0);
+  const double own = nee ? kPatchNeeRayCost : c.integrator == "bdpt" ? kBdptRayCost : 1.0;
+  return own * (weighTable && c.table ? kTableRayCost : 1.0);
 }
 
 const char* patchNeeName(PatchNee p) { return p == PatchNee::Off ? "off" : p == PatchNee::First ? "first" : "every"; }

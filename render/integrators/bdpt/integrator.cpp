@@ -3,15 +3,22 @@
 
 #include <algorithm>
 
+#include "render/integrators/bdpt/luminaire_paths.h"
 #include "render/integrators/bdpt/mis.h"
 #include "render/integrators/bdpt/strategies.h"
 #include "render/integrators/bdpt/subpaths.h"
 #include "render/integrators/common/camera_splat.h"
+#include "render/integrators/common/luminaire_split.h"
 
 namespace firstshot {
 
 void BdptIntegrator::preprocess(const RenderScene& scene) {
   ShootingIntegrator::preprocess(scene);
+  luminaires_ = options_.luminaires && !scene.luminaires().empty();
+  withExits_ = EmissionSampler();
+  if (luminaires_) {
+    withExits_ = emittersWithExits(scene, shooting_.emission(), options_.maxDepth, options_.splitEveryLuminaire);
+  }
   deltaParticles_ = false;
   if (!shooting_.tableMode()) return;
   bool mirrors = false;
@@ -34,7 +41,7 @@ Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
 void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode,
                                     uint64_t pass, uint64_t begin, uint64_t end, std::vector<Splat>& out,
                                     uint64_t& rays) const {
-  const BdptDensities densities(*scene_, emission(), camera), deltaDensities(*scene_, deltaFirst_, camera);
+  const BdptDensities densities(*scene_, emitters(), camera), deltaDensities(*scene_, deltaFirst_, camera);
   Workspace ws;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler = Sampler::make(mode, seed, i, pass, kStream);
@@ -52,8 +59,9 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
   const Ray ray = camera.generateRay(float(pixel % uint32_t(camera.width())) + jitter.x,
                                      float(pixel / uint32_t(camera.width())) + jitter.y);
   traceCameraPath(densities, ray, maxDepth + 1, options_.rrDepth, sampler, ws.camera, rays);
-  const LightPathOptions walk{maxDepth, options_.rrDepth, /*sqrtSurvival=*/false};
-  if (!traceLightPath(*scene_, emission(), walk, sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
+  LightPathOptions walk{maxDepth, options_.rrDepth, /*sqrtSurvival=*/false};
+  if (luminaires_) walk.luminaires = &scene_->luminaires();  // a luminaire's light ends where its exit patches take it
+  if (!traceLightPath(*scene_, emitters(), walk, sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
   toBdptLightPath(densities, ws.lightRaw, ws.light);
   const int nt = int(ws.camera.size()), ns = int(ws.light.size());
   const std::span<const SubpathVertex> cameraPath(ws.camera), lightPath(ws.light);
@@ -62,7 +70,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
   while (m < ws.camera.size() && ws.camera[m].delta) ++m;
 
   // A path that ends on a lit patch (table mode) has one bounce more than s + t − 2: the patch's.
-  const EmissionSampler& em = emission();
+  const EmissionSampler& em = emitters();
   const int lightExtra = ns > 0 && em.isPatch(ws.light[0].light) ? 1 : 0;
 
   // t ≥ 2: this pixel's sample.
@@ -74,16 +82,21 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
       if (s == 0) {
         if (t - 2 + (pt.hit.onPatch() ? 1 : 0) > maxDepth) continue;  // a lit patch's emission
         c = connectEmission(densities, pt, shooting_.tableMode() && size_t(t - 1) > m);
+        if (maxComponent(c) > 0.0f && !pt.hit.onPatch() && !counts(densities.lightOf(pt), {}, 0, cameraPath, t))
+          c = Color(0.0f);
         if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, 0, t);
       } else if (s == 1) {
         SubpathVertex sampled;
         c = connectLightSample(densities, pt, sampler, sampled, rays);
-        if (t - 1 + (em.isPatch(sampled.light) ? 1 : 0) > maxDepth) c = Color(0.0f);
+        if (t - 1 + (em.isPatch(sampled.light) ? 1 : 0) > maxDepth ||
+            (maxComponent(c) > 0.0f && !counts(sampled.light, std::span<const SubpathVertex>(&sampled, 1), 1, cameraPath, t)))
+          c = Color(0.0f);
         if (maxComponent(c) > 0.0f)
           c *= misWeight(densities, std::span<const SubpathVertex>(&sampled, 1), cameraPath, 1, t);
       } else if (s + t - 2 + lightExtra > maxDepth) {
         continue;
       } else {
+        if (!counts(ws.light[0].light, lightPath, s, cameraPath, t)) continue;
         c = connectVertices(densities, ws.light[size_t(s - 1)], pt, rays);
         if (maxComponent(c) > 0.0f) c *= misWeight(densities, lightPath, cameraPath, s, t);
       }
@@ -102,11 +115,19 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
   // t = 1: light vertices s − 1 ≥ 1 joined to the pinhole, over the N light subpaths of the pass.
   const float invN = 1.0f / float(particlesPerPass(camera));
   for (int s = 2; s <= ns && s - 1 + lightExtra <= maxDepth; ++s) {
+    if (!counts(ws.light[0].light, lightPath, s, cameraPath.first(1), 1)) continue;
     Splat splat;
     if (!connectToCamera(*scene_, ws.lightRaw[size_t(s - 1)], camera, splat.pixel, splat.L, rays, true)) continue;
     splat.L *= misWeight(densities, lightPath, cameraPath.first(1), s, 1) * invN;
     out.push_back(splat);
   }
+}
+
+bool BdptIntegrator::counts(uint32_t l, std::span<const SubpathVertex> light, int s,
+                            std::span<const SubpathVertex> camera, int t) const {
+  if (!luminaires_ || l >= emitters().lightCount()) return true;
+  const int i = scene_->luminaires().ofLight(l);
+  return !emitters().splits(i) || !exitPatchesPath(scene_->luminaires(), l, light, s, camera, t);
 }
 
 Color BdptIntegrator::deltaFirstStrategies(const BdptDensities& deltaDensities, size_t m, Sampler& deltaSampler,

@@ -48,7 +48,8 @@ float misWeight(const BdptDensities& densities, std::span<const SubpathVertex> l
     const float rev = i == s - 1 ? qsRev : i == s - 2 ? qsMinusRev : light[size_t(i)].pdfRev;
     r *= remap0(rev) / remap0(light[size_t(i)].pdfFwd);
     const bool delta = i == s - 1 ? false : light[size_t(i)].delta;
-    const bool deltaBefore = i > 0 ? light[size_t(i - 1)].delta : light[0].deltaLight;
+    // i = 0: a camera subpath meeting the light, which no camera subpath does at an exit patch.
+    const bool deltaBefore = i > 0 ? light[size_t(i - 1)].delta : light[0].deltaLight || light[0].exitPatch;
     if (!delta && !deltaBefore) sum += r * r;
   }
   return 1.0f / (1.0f + sum);

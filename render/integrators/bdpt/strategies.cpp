@@ -9,6 +9,32 @@
 
 namespace firstshot {
 
+namespace {
+
+/// s = 1 at an exit patch: its luminaire kept, the patch chosen again as the path tracer's next-event estimation
+/// chooses it for a receiver at @p x (LuminaireBoxes::choosePatch: mostly by what the patches send towards x), a point
+/// uniform on it; @p es's probabilities are the choice's. The MIS weights keep the densities of a light subpath's
+/// origin (the exit patches' own s = 0 is none, so no weight reads this choice's): any weights that sum to one over a
+/// path's strategies keep the sum unbiased.
+bool chooseExitPatch(const BdptDensities& densities, const Vec3& x, Sampler& sampler, EmissionSample& es) {
+  const EmissionSampler& emission = densities.emission();
+  const LuminaireBoxes& boxes = densities.scene().luminaires();
+  const uint32_t luminaire = boxes.exitLuminaire(es.light - emission.exitBegin());
+  float u = sampler.next1D(), p = 0.0f;
+  uint32_t k = 0;
+  const Vec2 uPos = sampler.next2D();
+  if (!boxes.choosePatch(luminaire, x, u, k, p)) return false;
+  es.light = emission.exitBegin() + boxes.exitFirst(luminaire) + k;
+  const ExitPatch& patch = emission.exits().patch(es.light - emission.exitBegin());
+  es.p = patch.point(uPos);
+  es.n = patch.normal;
+  es.pdfLight = emission.luminaireChoice(luminaire) * p;
+  es.pdfPos = 1.0f / patch.area;
+  return es.pdfLight > 0.0f;
+}
+
+}  // namespace
+
 Color connectEmission(const BdptDensities& densities, const SubpathVertex& pt, bool patchEmits) {
   if (pt.kind != SubpathVertex::Kind::Surface) return Color(0.0f);
   const EmissionSampler& emission = densities.emission();
@@ -27,6 +53,7 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
   EmissionSample es;
   const EmissionSampler& emission = densities.emission();
   if (pt.delta || !emission.sampleOrigin(uPair, es)) return Color(0.0f);
+  if (emission.isExit(es.light) && !chooseExitPatch(densities, pt.hit.p, sampler, es)) return Color(0.0f);
   sampled = SubpathVertex();
   sampled.kind = SubpathVertex::Kind::Light;
   sampled.light = es.light;
@@ -35,12 +62,13 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
   sampled.pdfFwd = es.pdfLight * es.pdfPos;
   sampled.deltaLight = es.deltaPosition || es.deltaDirection;
   sampled.deltaDirection = es.deltaDirection;
+  sampled.exitPatch = emission.isExit(es.light);
 
   // Incident radiance-like weight from the light, over p_light (and p_pos): Le·G/p or I/(d²·p) or E/p.
   Vec3 wi;
   float distance = std::numeric_limits<float>::infinity();
   Color incident(0.0f);
-  if (emission.isPatch(es.light)) {
+  if (emission.isExit(es.light) || emission.isPatch(es.light)) {  // an exit patch (0 into its box) or a lit patch
     const Vec3 d = es.p - pt.hit.p;
     const float dist2 = glm::dot(d, d);
     if (!(dist2 > 0.0f)) return Color(0.0f);
@@ -48,8 +76,13 @@ Color connectLightSample(const BdptDensities& densities, const SubpathVertex& pt
     wi = d / distance;
     const float cosLight = -glm::dot(es.n, wi);
     if (!(cosLight > 0.0f)) return Color(0.0f);
-    incident = emission.patchRadiance(es.light, es.p, -wi) * (cosLight / (dist2 * es.pdfLight * es.pdfPos));
-    if (maxComponent(incident) > 0.0f) incident *= emission.coverage(es.light, es.p, -wi);  // its probe ray only then
+    const float toIncident = cosLight / (dist2 * es.pdfLight * es.pdfPos);
+    if (emission.isExit(es.light)) {
+      incident = emission.exitRadiance(es.light, -wi) * toIncident;
+    } else {
+      incident = emission.patchRadiance(es.light, es.p, -wi) * toIncident;
+      if (maxComponent(incident) > 0.0f) incident *= emission.coverage(es.light, es.p, -wi);  // its probe ray only then
+    }
   } else if (es.deltaDirection) {
     const RenderLight& light = densities.scene().lights().lights()[es.light];
     wi = -light.direction;

@@ -46,6 +46,7 @@ void toBdptLightPath(const BdptDensities& densities, const std::vector<LightVert
       v.light = lv.light;
       v.deltaLight = lv.delta;
       v.deltaDirection = densities.emission().isDirectional(lv.light);
+      v.exitPatch = densities.emission().isExit(lv.light);
     } else {
       v.delta = lv.delta;
     }

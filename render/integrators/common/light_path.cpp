@@ -33,7 +33,8 @@ bool traceLightPath(const RenderScene& scene, const EmissionSampler& emission, c
   // bounce off a non-delta surface inside it (the exit particles carry that light). A particle that leaves it straight
   // from the light, or after delta bounces only (through glass, off mirrors), goes on: neither light is in the exit
   // distribution.
-  const int inner = options.luminaires && es.light < emission.lightCount() ? options.luminaires->ofLight(es.light) : -1;
+  int inner = options.luminaires && es.light < emission.lightCount() ? options.luminaires->ofLight(es.light) : -1;
+  if (!emission.splits(inner)) inner = -1;  // an unsplit luminaire's particles carry all its light
   const Luminaire* box = inner >= 0 ? &options.luminaires->items()[size_t(inner)] : nullptr;
   SubpathWalk walk(scene, Ray(es.deltaPosition || es.deltaDirection ? es.p : v0.hit.spawnOrigin(es.d), es.d), es.power,
                    {maxDepth, rrDepth, start, TransportMode::Importance, options.sqrtSurvival});

@@ -32,6 +32,9 @@ struct SubpathVertex {
   bool delta = false;         ///< a delta BSDF (mirror, glass): no connection through it
   bool deltaLight = false;    ///< Kind::Light: a point, spot or directional light
   bool deltaDirection = false;  ///< Kind::Light: a directional light (hit.ng is its travel direction)
+  /// Kind::Light: a luminaire's exit patch (EmissionSampler::isExit), on a face of its box in empty space, which no
+  /// camera subpath meets (rays see through the box): no strategy s = 0 makes its paths.
+  bool exitPatch = false;
 
   /// True if densities towards the vertex are per unit area of a surface (take its cosine).
   bool onSurface() const { return kind == Kind::Surface || (kind == Kind::Light && !deltaLight); }

@@ -6,6 +6,7 @@
 
 #include "render/firstshot/patch_emitters.h"
 #include "render/integrators/common/camera_splat.h"
+#include "render/integrators/common/luminaire_split.h"
 
 namespace firstshot {
 
@@ -20,8 +21,7 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   luminaires_ = options_.luminaires && !scene.luminaires().empty();
   withExits_ = EmissionSampler();
   if (luminaires_) {
-    withExits_ = shooting_.emission();
-    withExits_.addExits(scene.luminaires());
+    withExits_ = emittersWithExits(scene, shooting_.emission(), options_.maxDepth, options_.splitEveryLuminaire);
   }
   if (!shooting_.tableMode()) return;
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
