@@ -29,9 +29,12 @@ struct ParticleScene::Impl {
   }
 };
 
-ParticleScene::ParticleScene(const SceneDesc& scene) : impl_(std::make_unique<Impl>()) {
+ParticleScene::ParticleScene(const SceneDesc& scene) : ParticleScene(scene, Vec3(-INFINITY), Vec3(INFINITY)) {}
+
+ParticleScene::ParticleScene(const SceneDesc& scene, const Vec3& lo, const Vec3& hi) : impl_(std::make_unique<Impl>()) {
   scene.bounds(lo_, hi_);
   Impl& m = *impl_;
+  const Vec3d boxLo(lo), boxHi(hi);
   for (const ShapeDesc& s : scene.shapes)
     for (const Face& f : s.faces)
       for (int k = 1; k + 1 < int(f.count); ++k) {  // a fan: quads are planar and convex (common/scene/scene_desc.h)
@@ -39,6 +42,8 @@ ParticleScene::ParticleScene(const SceneDesc& scene) : impl_(std::make_unique<Im
         const Vec3d n = glm::cross(b - a, c - a);
         const double len = glm::length(n);
         if (!(len > 0)) continue;
+        const Vec3d tlo = glm::min(a, glm::min(b, c)), thi = glm::max(a, glm::max(b, c));
+        if (glm::any(glm::lessThan(thi, boxLo)) || glm::any(glm::greaterThan(tlo, boxHi))) continue;
         for (const Vec3d& v : {a, b, c}) m.vertices.insert(m.vertices.end(), {float(v.x), float(v.y), float(v.z)});
         m.material.push_back(s.material);
         m.normal.push_back(Vec3(n / len));

@@ -304,7 +304,8 @@ std::vector<Luminaire> makeLuminaires(const SceneDesc& scene, const std::vector<
     {
       Progress progress("luminaire " + lums[i].name, (particles + kLuminaireChunk - 1) / kLuminaireChunk,
                         options.quiet);
-      traceExitDistribution(scene, geometry, lums[i], uint32_t(i), particles, options.seed, &progress);
+      const ParticleScene inBox(scene, lums[i].lo, lums[i].hi);  // its rays end where they leave the box
+      traceExitDistribution(scene, inBox, lums[i], uint32_t(i), particles, options.seed, &progress);
       progress.finish();
     }
     if (seconds) seconds->push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());

@@ -105,7 +105,8 @@ TEST(LuminaireRender, SplitAsMeasuredAsWithItsLightAsALight) {
   for (const char* integrator : {"light", "bdpt"}) {
     auto on = makeIntegrator(integrator, pathOptions(d, true, false));
     on->preprocess(scene);
-    test::expectBlocksAgree(std::string("spot in the open box, ") + integrator + " split as measured against light without",
+    test::expectBlocksAgree(std::string("spot in the open box, ") + integrator +
+                                " split as measured against light without",
                             test::blockMeans(*on, scene, 600), refBlocks, 0.04);
   }
 }
@@ -174,10 +175,10 @@ TEST(LuminaireRender, GlassBulbLessNoisy) {
 }
 
 // The shipped fixture room (scenes/fixture-room.json): 14 bulbs in a cove under a shelf along the walls and 3 lamps
-// in shades open at top and bottom, each found as a luminaire at the defaults. At 32 × 24, path tracing and BDPT with them
-// against light tracing without (σ from the passes), beside the exit table's own bias: the patch × direction bins
-// blur the light the shades' insides send out, measured −1.25% in the lower right block (the largest; 8192 against
-// 3 × 4096 spp, docs/luminaires.md), so 2% of it is allowed beside the noise.
+// in shades open at top and bottom, each found as a luminaire at the defaults. At 32 × 24, path tracing and BDPT with
+// them against light tracing without (σ from the passes), beside the exit table's own bias: the patch × direction
+// bins blur the light the shades' insides send out, measured −1.25% in the lower right block (the largest; 8192
+// against 3 × 4096 spp, docs/luminaires.md), so 2% of it is allowed beside the noise.
 TEST(LuminaireRender, FixtureRoomCovesAndShades) {
   FIRSTSHOT_STATISTICS_ONLY("LuminaireRender.BowlLampAsWithItsLightsAsLights and OpenBoxSeenInsideAsItIs");
   SceneDesc d = loadScene(test::source("scenes/fixture-room.json"));
@@ -194,8 +195,8 @@ TEST(LuminaireRender, FixtureRoomCovesAndShades) {
   // each luminaire split where that pays (render/integrators/common/luminaire_split.h), as a render does.
   auto bdpt = makeIntegrator("bdpt", pathOptions(d, true, false));
   bdpt->preprocess(scene);
-  test::expectBlocksAgree("fixture room, bdpt with the luminaires against light without", test::blockMeans(*bdpt, scene, 300),
-                          refBlocks, 0.02);
+  test::expectBlocksAgree("fixture room, bdpt with the luminaires against light without",
+                          test::blockMeans(*bdpt, scene, 300), refBlocks, 0.02);
 }
 
 // A point light (100 W) at the centre of a clear glass sphere (r = 10 cm, ior 1.5) 2 m above a white floor: light

@@ -66,8 +66,8 @@ struct IntegratorOptionsCli {
         ->check(CLI::IsMember({"patches", "off"}))->capture_default_str();
     app.add_option(kLuminaires, luminaires, "path, irradiance-cache, light and bdpt with --firstshot: sample (path, "
                                             "cache, bdpt) or shoot from (light, bdpt) the table's luminaires' exit "
-                                            "patches and see through their boxes (on), or take their lights as ordinary lights (off; "
-                                            "docs/luminaires.md)")
+                                            "patches and see through their boxes (on), or take their lights as "
+                                            "ordinary lights (off; docs/luminaires.md)")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
   }
 

@@ -101,7 +101,9 @@ class EmissionSampler {
   void addExits(const LuminaireBoxes& boxes, const std::vector<double>& innerShares = {});
   /// Whether addExits() split luminaire @p luminaire's light at its box (its lights' particles end where they leave
   /// it after a bounce inside, its exit patches emit the rest).
-  bool splits(int luminaire) const { return luminaire >= 0 && size_t(luminaire) < split_.size() && split_[size_t(luminaire)]; }
+  bool splits(int luminaire) const {
+    return luminaire >= 0 && size_t(luminaire) < split_.size() && split_[size_t(luminaire)];
+  }
   /// The least share of a luminaire's light's power its choice keeps (addExits): a clear glass bulb sends almost all
   /// of it out, and the camera still sees the inside.
   static constexpr double kMinInnerShare = 0.05;

@@ -88,8 +88,9 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
       } else if (s == 1) {
         SubpathVertex sampled;
         c = connectLightSample(densities, pt, sampler, sampled, rays);
+        const std::span<const SubpathVertex> light(&sampled, 1);
         if (t - 1 + (em.isPatch(sampled.light) ? 1 : 0) > maxDepth ||
-            (maxComponent(c) > 0.0f && !counts(sampled.light, std::span<const SubpathVertex>(&sampled, 1), 1, cameraPath, t)))
+            (maxComponent(c) > 0.0f && !counts(sampled.light, light, 1, cameraPath, t)))
           c = Color(0.0f);
         if (maxComponent(c) > 0.0f)
           c *= misWeight(densities, std::span<const SubpathVertex>(&sampled, 1), cameraPath, 1, t);

@@ -34,8 +34,9 @@
 /// With luminaires (IntegratorOptions::luminaires and a table that has them) the emitters are light tracing's
 /// (emittersWithExits, common/luminaire_split.h): a luminaire whose split pays on the camera's picture is split at
 /// its box, its exit patches' light subpaths and samples (s = 1) carrying the light that leaves the box after a bounce
-/// inside it, and its lights' strategies only the other paths (exitPatchesPath, luminaire_paths.h). No camera subpath meets an exit patch (s = 0): rays see through the boxes,
-/// and a camera looking into a shade sees its inside lit by its lights (docs/bdpt.md, "Luminaires").
+/// inside it, and its lights' strategies only the other paths (exitPatchesPath, luminaire_paths.h). No camera
+/// subpath meets an exit patch (s = 0): rays see through the boxes, and a camera looking into a shade sees its inside
+/// lit by its lights (docs/bdpt.md, "Luminaires").
 #include <vector>
 
 #include "render/integrators/bdpt/densities.h"
@@ -50,7 +51,8 @@ class BdptIntegrator : public ShootingIntegrator {
   using ShootingIntegrator::ShootingIntegrator;
   /// The shooting integrators' preprocess(), then (table mode) the delta-first emitters.
   void preprocess(const RenderScene& scene) override;
-  /// The emitters of the light subpaths and of s = 1: emission(), with the luminaires' exit patches where they are used.
+  /// The emitters of the light subpaths and of s = 1: emission(), with the luminaires' exit patches where they are
+  /// used.
   const EmissionSampler& emitters() const { return luminaires_ ? withExits_ : emission(); }
   /// The AOVs of the camera ray's first hit; radiance 0 (the splats carry it).
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
