@@ -1,10 +1,13 @@
 // Whether light tracing and BDPT split a luminaire's light at its box (luminaire_split.h).
 #include "render/integrators/common/luminaire_split.h"
 
+#include <fmt/core.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <string>
 
 #include "render/integrators/common/camera_splat.h"
 #include "render/integrators/common/light_path.h"
@@ -80,13 +83,24 @@ std::vector<LuminaireSplit> measureLuminaireSplits(const RenderScene& scene, con
 
 EmissionSampler emittersWithExits(const RenderScene& scene, const EmissionSampler& plain, int maxDepth, bool everyOne) {
   EmissionSampler out = plain;
-  std::vector<double> shares;
-  if (!everyOne) {
+  if (everyOne) {
+    out.addExits(scene.luminaires());
+    return out;
+  }
+  // Measured once per scene and emitters (the scene's memo): the pilot's light and BDPT candidates and the render
+  // would each measure the same.
+  const std::string key = fmt::format("LuminaireSplits/{}/{}/{}/{:a}", maxDepth, plain.lightCount(),
+                                      plain.patchSideCount(), plain.totalPower());
+  std::shared_ptr<const std::vector<double>> shares = scene.memo().find<std::vector<double>>(key);
+  if (!shares) {
+    auto made = std::make_shared<std::vector<double>>();
     uint64_t rays = 0;
     for (const LuminaireSplit& s : measureLuminaireSplits(scene, plain, maxDepth, rays))
-      shares.push_back(s.split ? s.innerShare : 0.0);
+      made->push_back(s.split ? s.innerShare : 0.0);
+    shares = made;
+    scene.memo().keep(key, shares);
   }
-  out.addExits(scene.luminaires(), shares);
+  out.addExits(scene.luminaires(), *shares);
   return out;
 }
 
