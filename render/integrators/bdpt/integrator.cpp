@@ -8,17 +8,11 @@
 #include "render/integrators/bdpt/strategies.h"
 #include "render/integrators/bdpt/subpaths.h"
 #include "render/integrators/common/camera_splat.h"
-#include "render/integrators/common/luminaire_split.h"
 
 namespace firstshot {
 
 void BdptIntegrator::preprocess(const RenderScene& scene) {
   ShootingIntegrator::preprocess(scene);
-  luminaires_ = options_.luminaires && !scene.luminaires().empty();
-  withExits_ = EmissionSampler();
-  if (luminaires_) {
-    withExits_ = emittersWithExits(scene, shooting_.emission(), options_.maxDepth, options_.splitEveryLuminaire);
-  }
   deltaParticles_ = false;
   if (!shooting_.tableMode()) return;
   bool mirrors = false;
@@ -41,7 +35,7 @@ Color BdptIntegrator::Li(const Ray& ray, Sampler&, SampleInfo* info) const {
 void BdptIntegrator::splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode,
                                     uint64_t pass, uint64_t begin, uint64_t end, std::vector<Splat>& out,
                                     uint64_t& rays) const {
-  const BdptDensities densities(*scene_, emitters(), camera), deltaDensities(*scene_, deltaFirst_, camera);
+  const BdptDensities densities(*scene_, particleEmitters(), camera), deltaDensities(*scene_, deltaFirst_, camera);
   Workspace ws;
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler = Sampler::make(mode, seed, i, pass, kStream);
@@ -61,7 +55,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
   traceCameraPath(densities, ray, maxDepth + 1, options_.rrDepth, sampler, ws.camera, rays);
   LightPathOptions walk{maxDepth, options_.rrDepth, /*sqrtSurvival=*/false};
   if (luminaires_) walk.luminaires = &scene_->luminaires();  // a luminaire's light ends where its exit patches take it
-  if (!traceLightPath(*scene_, emitters(), walk, sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
+  if (!traceLightPath(*scene_, particleEmitters(), walk, sampler, ws.lightRaw, rays)) ws.lightRaw.clear();
   toBdptLightPath(densities, ws.lightRaw, ws.light);
   const int nt = int(ws.camera.size()), ns = int(ws.light.size());
   const std::span<const SubpathVertex> cameraPath(ws.camera), lightPath(ws.light);
@@ -70,7 +64,7 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
   while (m < ws.camera.size() && ws.camera[m].delta) ++m;
 
   // A path that ends on a lit patch (table mode) has one bounce more than s + t − 2: the patch's.
-  const EmissionSampler& em = emitters();
+  const EmissionSampler& em = particleEmitters();
   const int lightExtra = ns > 0 && em.isPatch(ws.light[0].light) ? 1 : 0;
 
   // t ≥ 2: this pixel's sample.
@@ -126,9 +120,10 @@ void BdptIntegrator::sample(const BdptDensities& densities, const BdptDensities&
 
 bool BdptIntegrator::counts(uint32_t l, std::span<const SubpathVertex> light, int s,
                             std::span<const SubpathVertex> camera, int t) const {
-  if (!luminaires_ || l >= emitters().lightCount()) return true;
+  if (!luminaires_ || l >= particleEmitters().lightCount()) return true;
   const int i = scene_->luminaires().ofLight(l);
-  return !emitters().splits(i) || !exitPatchesPath(scene_->luminaires(), l, light, s, camera, t);
+  return !particleEmitters().splits(i) ||
+         !exitPatchesPath(scene_->luminaires().items()[size_t(i)], light, s, camera, t);
 }
 
 Color BdptIntegrator::deltaFirstStrategies(const BdptDensities& deltaDensities, size_t m, Sampler& deltaSampler,

@@ -51,9 +51,6 @@ class BdptIntegrator : public ShootingIntegrator {
   using ShootingIntegrator::ShootingIntegrator;
   /// The shooting integrators' preprocess(), then (table mode) the delta-first emitters.
   void preprocess(const RenderScene& scene) override;
-  /// The emitters of the light subpaths and of s = 1: emission(), with the luminaires' exit patches where they are
-  /// used.
-  const EmissionSampler& emitters() const { return luminaires_ ? withExits_ : emission(); }
   /// The AOVs of the camera ray's first hit; radiance 0 (the splats carry it).
   Color Li(const Ray& ray, Sampler& sampler, SampleInfo* info = nullptr) const override;
   std::string name() const override { return "bdpt"; }
@@ -92,10 +89,6 @@ class BdptIntegrator : public ShootingIntegrator {
   bool deltaParticles_ = false;
   /// Their emitters: the replaced area lights (LightSet indices, the others without power).
   EmissionSampler deltaFirst_;
-  /// Whether the luminaires are used (IntegratorOptions::luminaires, a table that has them); then emission() with
-  /// their exit patches (EmissionSampler::addExits).
-  bool luminaires_ = false;
-  EmissionSampler withExits_;
   /// Whether a strategy whose light is LightSet light @p l makes the path of @p light[0 .. s) and @p camera[t−1 .. 0]
   /// for this integrator: not where the exit patches make it (exitPatchesPath).
   bool counts(uint32_t l, std::span<const SubpathVertex> light, int s, std::span<const SubpathVertex> camera,

@@ -3,11 +3,8 @@
 
 namespace firstshot {
 
-bool exitPatchesPath(const LuminaireBoxes& boxes, uint32_t l, std::span<const SubpathVertex> light, int s,
+bool exitPatchesPath(const Luminaire& box, std::span<const SubpathVertex> light, int s,
                      std::span<const SubpathVertex> camera, int t) {
-  const int i = boxes.ofLight(l);
-  if (i < 0) return false;
-  const Luminaire& box = boxes.items()[size_t(i)];
   enum class State { Inside, Scattered, Room, Left } state = State::Inside;
   // Left: out of the box after a non-delta vertex in it; joinable: the vertex before this one is the exit point or a
   // non-delta hit; hits: vertices past the box.

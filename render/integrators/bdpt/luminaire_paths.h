@@ -9,14 +9,13 @@
 #include <span>
 
 #include "render/integrators/common/subpath_vertex.h"
-#include "render/scene/luminaire_boxes.h"
+#include "common/table/luminaire.h"
 
 namespace firstshot {
 
 /// True if the path of light vertices @p light[0 .. s) then camera vertices @p camera[t−1 .. 0] (s = 0: camera vertex
-/// t−1 lies on the light) is the exit patches' (above) for the luminaire of LightSet light @p l. False for a light of
-/// no luminaire.
-bool exitPatchesPath(const LuminaireBoxes& boxes, uint32_t l, std::span<const SubpathVertex> light, int s,
+/// t−1 lies on the light), whose light is one of luminaire @p box's, is the exit patches' (above).
+bool exitPatchesPath(const Luminaire& box, std::span<const SubpathVertex> light, int s,
                      std::span<const SubpathVertex> camera, int t);
 
 }  // namespace firstshot

@@ -15,6 +15,11 @@ class ShootingIntegrator : public SplattingIntegrator {
   explicit ShootingIntegrator(const IntegratorOptions& options) : options_(options) {}
   /// The emitters particles leave: every light, or in table mode the kept lights and lit patch sides.
   const EmissionSampler& emission() const { return shooting_.emission(); }
+  /// What the particles leave: emission(), and with the luminaires their exit patches too (emittersWithExits,
+  /// luminaire_split.h: each luminaire split where that pays).
+  const EmissionSampler& particleEmitters() const { return luminaires_ ? withExits_ : shooting_.emission(); }
+  /// Whether the particles use the luminaires' exit distributions (preprocess()).
+  bool usesLuminaires() const { return luminaires_; }
   /// Keeps @p scene (which must outlive the integrator's use), builds its first-shot lighting and
   /// the emitters. An integrator that overrides it calls it first.
   void preprocess(const RenderScene& scene) override;
@@ -24,6 +29,9 @@ class ShootingIntegrator : public SplattingIntegrator {
   const RenderScene* scene_ = nullptr;
   FirstShotLighting lighting_;  ///< the table's lighting (table mode: the lit patches' emission), built once
   ShootingEmitters shooting_;   ///< the emitters; in table mode also the small lights' own part
+  /// IntegratorOptions::luminaires and the scene has luminaires: the particles leave withExits_.
+  bool luminaires_ = false;
+  EmissionSampler withExits_;  ///< emission() and the luminaires' exit patches
 };
 
 }  // namespace firstshot

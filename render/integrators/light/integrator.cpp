@@ -6,7 +6,6 @@
 
 #include "render/firstshot/patch_emitters.h"
 #include "render/integrators/common/camera_splat.h"
-#include "render/integrators/common/luminaire_split.h"
 
 namespace firstshot {
 
@@ -18,11 +17,6 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   mirrors_ = false;
   for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
   polished_ = mayBePolished(scene);
-  luminaires_ = options_.luminaires && !scene.luminaires().empty();
-  withExits_ = EmissionSampler();
-  if (luminaires_) {
-    withExits_ = emittersWithExits(scene, shooting_.emission(), options_.maxDepth, options_.splitEveryLuminaire);
-  }
   if (!shooting_.tableMode()) return;
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
   smallAreaLights_ = deltaFirst_.totalPower() > 0;

@@ -82,10 +82,6 @@ class LightTracingIntegrator : public ShootingIntegrator {
   /// The light subpaths' walk: IntegratorOptions::maxDepth and rrDepth, and with the luminaires the boxes that end
   /// their lights' particles.
   LightPathOptions pathOptions() const;
-  /// What the particles leave: emission(), and with the luminaires their exit patches too.
-  const EmissionSampler& particleEmitters() const { return luminaires_ ? withExits_ : shooting_.emission(); }
-  /// Whether the particles use the luminaires' exit distributions (preprocess()).
-  bool usesLuminaires() const { return luminaires_; }
 
   /// pathsPerPixel() of the automatic setting in scenes without mirrors or glass: the error at a
   /// given time stops falling near it on the fixture room (docs/light-tracing.md).
@@ -128,9 +124,6 @@ class LightTracingIntegrator : public ShootingIntegrator {
   /// Table mode: the replaced area lights (with polished surfaces every replaced light), for particles whose first
   /// hit is delta (or polished).
   EmissionSampler deltaFirst_;
-  /// IntegratorOptions::luminaires and the scene has luminaires: the particles leave withExits_.
-  bool luminaires_ = false;
-  EmissionSampler withExits_;  ///< emission() and the luminaires' exit patches
 };
 
 }  // namespace firstshot
