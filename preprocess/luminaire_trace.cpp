@@ -212,6 +212,22 @@ float slabExit(const Vec3& lo, const Vec3& hi, const Vec3& o, const Vec3& d, int
   return std::max(t, 0.0f);
 }
 
+/// Σ σ_i / Σ S_i over bins i of the luminance S_i = Σ y (over n particles), σ_i² = Σ y² − S_i²/n from the sums of
+/// squares @p q: the power-weighted mean of the bins' relative standard errors (Luminaire::cellError).
+double weightedRelativeError(const std::vector<double>& s, const std::vector<double>& q, double n) {
+  double sigma = 0, total = 0;
+  for (size_t i = 0; i < s.size(); ++i) sigma += std::sqrt(std::max(0.0, q[i] - s[i] * s[i] / n)), total += s[i];
+  return total > 0 ? sigma / total : 0.0;
+}
+
+/// Luminance and its square summed per bin, for weightedRelativeError.
+struct BinSums {
+  std::vector<double> s, q;
+  explicit BinSums(size_t bins) : s(bins, 0.0), q(bins, 0.0) {}
+  void add(size_t i, double y) { s[i] += y, q[i] += y * y; }
+  double error(double n) const { return weightedRelativeError(s, q, n); }
+};
+
 /// The particles that leave a box after delta bounces only: their power per goniophotometric bin, and the normal
 /// equations of the point nearest their lines, Σ y·(I − d·dᵀ)·c = Σ y·(I − d·dᵀ)·x (y a particle's luminance, x its
 /// exit point, d its direction).
@@ -314,6 +330,8 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
   std::vector<double> squares(chunks, 0.0);                       // per chunk: Σ luminance² (one chunk's fallback)
   Vec3d direct(0.0);  // W, Σ over the particles that left straight from a light (not in the table)
   SpecularSums specular;  // the particles that left after delta bounces only
+  // The table's own error: per exit patch and bin, per face and bin, per intensity bin.
+  BinSums cells(size_t(Luminaire::kBins) * patches), far(6 * size_t(Luminaire::kBins)), gonio(Luminaire::kGonioBins);
   // Chunks in blocks: each chunk keeps its exits, then the block is added up in chunk order.
   const uint64_t block = 64;
   std::vector<std::vector<ParticleExit>> exits(block);
@@ -341,11 +359,15 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
           continue;
         }
         if (e.kind == ParticleExit::Kind::Specular) {
+          gonio.add(size_t(Luminaire::gonioBin(e.direction)), luminance(e.power));
           specular.add(e);
           continue;
         }
         for (int k = 0; k < 3; ++k) sum[3 * size_t(e.cell) + size_t(k)] += double(e.power[k]);
         const double y = luminance(e.power);
+        const uint32_t bin = e.cell % uint32_t(Luminaire::kBins);
+        cells.add(e.cell, y);
+        far.add(size_t(lum.patch(e.cell / uint32_t(Luminaire::kBins)).face) * Luminaire::kBins + bin, y);
         chunkY[c] += y;
         squares[c] += y * y;
       }
@@ -367,6 +389,7 @@ void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry
   lum.exitPower = Color(exitPower);
   lum.directPower = Color(direct / n);
   specular.finish(lum, n);
+  lum.cellError = float(cells.error(n)), lum.farError = float(far.error(n)), lum.intensityError = float(gonio.error(n));
   // Relative standard error of the mean luminance leaving: from the chunks' sums (a ratio estimator, so a shorter last
   // chunk counts for its size), or from the particles themselves when there is one chunk.
   double total = 0, squaresTotal = 0;

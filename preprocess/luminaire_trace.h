@@ -121,9 +121,10 @@ std::vector<BSDF> makeLuminaireBSDFs(const SceneDesc& scene);
 
 /// Traces @p particles particles (particle i's numbers from Sampler::sobol(seed, index, i), kLuminaireChunk per chunk) from
 /// the lights of @p lum through its box, and fills its radiance, power, exitPower, directPower, specularPower, centre,
-/// intensity, particles and relError: the radiance and exitPower hold the particles that met a non-delta surface
-/// inside the box, directPower those that met nothing (the renderer samples the lights themselves for that light),
-/// specularPower and intensity those that met delta surfaces only (glass, mirrors), about the centre. The
+/// intensity, particles, relError and the table's own errors (cellError, farError, intensityError): the radiance and
+/// exitPower hold the particles that met a non-delta surface inside the box, directPower those that met nothing (the
+/// renderer samples the lights themselves for that light), specularPower and intensity those that met delta surfaces
+/// only (glass, mirrors), about the centre. The
 /// chunks run in parallel (TBB) and are summed in double in chunk order: the result does not depend on the number of
 /// threads. @p progress, when not null, advances by one per chunk.
 void traceExitDistribution(const SceneDesc& scene, const ParticleScene& geometry, Luminaire& lum, uint32_t index,

@@ -323,11 +323,14 @@ std::string luminaireSummary(const Luminaire& lum, double seconds) {
       specular > 0 ? fmt::format(", {:.4f} through glass or off mirrors, an intensity about ({:.4g}, {:.4g}, {:.4g}) m",
                                  specular, lum.centre.x, lum.centre.y, lum.centre.z)
                    : std::string();
+  std::string table = fmt::format("its table's standard error {:.1f}% per exit patch and bin, {:.1f}% per face and bin",
+                                  100.0 * lum.cellError, 100.0 * lum.farError);
+  if (specular > 0) table += fmt::format(", at most {:.1f}% per intensity bin", 100.0 * lum.intensityError);
   return fmt::format("luminaire {}: {} light{}, box {:.4g} × {:.4g} × {:.4g} m, {} exit patches, {} particles, "
                      "exit/emitted power {:.4f} (and {:.4f} straight from the lights, sampled as lights{}), "
-                     "relative error {:.2e}, {:.2f} s",
+                     "relative error {:.2e} ({}), {:.2f} s",
                      lum.name, lum.lights.size(), lum.lights.size() == 1 ? "" : "s", e.x, e.y, e.z, lum.patchCount(),
-                     lum.particles, ratio, direct, specularPart, lum.relError, seconds);
+                     lum.particles, ratio, direct, specularPart, lum.relError, table, seconds);
 }
 
 }  // namespace firstshot

@@ -136,7 +136,7 @@ TEST(FsdFile, WrongVersion) {
   b[8] = 1;  // a table from before the exposed-part factors: refused, with what to do
   writeBytes(dir + "/old.fsd", b);
   EXPECT_THAT(readError(dir + "/old.fsd"),
-              HasSubstr("format version 1, this build reads version 7: run firstshot-preprocess again"));
+              HasSubstr("format version 1, this build reads version 8: run firstshot-preprocess again"));
 }
 
 TEST(FsdFile, Truncated) {

@@ -273,9 +273,79 @@ TEST(LuminairePreprocess, SameForAnyThreadCount) {
     EXPECT_EQ(one[i].specularPower, two[i].specularPower);
     EXPECT_EQ(one[i].centre, two[i].centre);
     EXPECT_EQ(one[i].relError, two[i].relError);
+    EXPECT_EQ(one[i].cellError, two[i].cellError);
+    EXPECT_EQ(one[i].farError, two[i].farError);
+    EXPECT_EQ(one[i].intensityError, two[i].intensityError);
   }
   EXPECT_GT(luminance(one[0].exitPower) + luminance(one[1].exitPower), 0.0f);
   EXPECT_GT(luminance(one[0].specularPower) + luminance(one[1].specularPower), 0.0f);
+}
+
+namespace {
+
+/// Luminance power per bin of two tables of the same luminaire: per (face, direction bin) of the exit radiance
+/// (@p far), or per intensity bin; then Σ (√π/2)·|a − b| / Σ (a + b)/2, the power-weighted mean relative standard
+/// error one table's bins show against the other's (E|a − b| = 2σ/√π for two independent normal estimates of σ each).
+double measuredError(const Luminaire& a, const Luminaire& b, bool far) {
+  auto bins = [&](const Luminaire& l) {
+    std::vector<double> p;
+    if (!far) {
+      for (int i = 0; i < Luminaire::kGonioBins; ++i)
+        p.push_back(luminance(Color(l.intensity[3 * size_t(i)], l.intensity[3 * size_t(i) + 1],
+                                    l.intensity[3 * size_t(i) + 2])));
+      return p;
+    }
+    p.assign(6 * size_t(Luminaire::kBins), 0.0);
+    for (uint32_t k = 0; k < l.patchCount(); ++k)
+      for (int i = 0; i < Luminaire::kBins; ++i) {
+        const size_t c = 3 * (size_t(Luminaire::kBins) * k + size_t(i));
+        const Color L(l.radiance[c], l.radiance[c + 1], l.radiance[c + 2]);
+        p[size_t(l.patch(k).face) * Luminaire::kBins + size_t(i)] += luminance(L) * l.patch(k).area;
+      }
+    return p;
+  };
+  const std::vector<double> pa = bins(a), pb = bins(b);
+  double dev = 0, total = 0;
+  for (size_t i = 0; i < pa.size(); ++i)
+    dev += 0.5 * std::sqrt(kPi) * std::abs(pa[i] - pb[i]), total += 0.5 * (pa[i] + pb[i]);
+  return total > 0 ? dev / total : 0.0;
+}
+
+}  // namespace
+
+// The exit table's stated error is what two tables traced with other random numbers show: the grey open box's far field
+// within 20% (two pairs of seeds; most of its bins hold hundreds of particles), and an upper bound of the glass ball's
+// intensity, whose Sobol'-stratified bins are nearly exact.
+TEST(LuminairePreprocess, StatedErrorBoundsTheTablesSpread) {
+  const SceneDesc s = load(scene(0.5, false, true));
+  const std::vector<uint32_t> small = smallLights(s, s.settings.smallLightMaxSolidAngle);
+  for (uint64_t seed : {1, 3}) {
+    LuminaireOptions o = options(65536);
+    o.seed = seed;
+    const std::vector<Luminaire> one = makeLuminaires(s, small, o);
+    o.seed = seed + 1;
+    const std::vector<Luminaire> two = makeLuminaires(s, small, o);
+    ASSERT_EQ(one.size(), 2u);
+    ASSERT_EQ(two.size(), 2u);
+    const Luminaire* box = holding(one, 0);
+    const Luminaire* ball = holding(one, 1);
+    ASSERT_TRUE(box && ball);
+    const size_t b = size_t(box - one.data()), g = size_t(ball - one.data());
+    const double stated = 0.5 * (one[b].farError + two[b].farError);
+    const double measured = measuredError(one[b], two[b], true);
+    std::printf("far field: stated %.4f, measured %.4f; per patch and bin stated %.4f\n", stated, measured,
+                0.5 * (one[b].cellError + two[b].cellError));
+    EXPECT_GT(stated, 0.0);
+    EXPECT_LT(measured, 1.2 * stated);
+    EXPECT_GT(measured, 0.8 * stated);
+    EXPECT_GT(one[b].cellError, one[b].farError) << "a face's bin adds its patches' particles";
+    const double statedI = 0.5 * (one[g].intensityError + two[g].intensityError);
+    const double measuredI = measuredError(one[g], two[g], false);
+    std::printf("intensity: stated %.4f, measured %.4f\n", statedI, measuredI);
+    EXPECT_GT(statedI, 0.0);
+    EXPECT_LT(measuredI, 1.2 * statedI);
+    EXPECT_EQ(one[b].intensityError, 0.0f) << "the box has no specular light";
+  }
 }
 
 namespace {
@@ -338,6 +408,9 @@ TEST(LuminairePreprocess, FsdRoundTripAndRefusals) {
     EXPECT_EQ(std::memcmp(&a.centre, &b.centre, sizeof a.centre), 0);
     ASSERT_EQ(a.intensity.size(), b.intensity.size());
     EXPECT_EQ(std::memcmp(a.intensity.data(), b.intensity.data(), a.intensity.size() * sizeof(float)), 0);
+    EXPECT_EQ(a.cellError, b.cellError);
+    EXPECT_EQ(a.farError, b.farError);
+    EXPECT_EQ(a.intensityError, b.intensityError);
   }
   writeFirstShot(dir + "/copy.fsd", r);
   EXPECT_EQ(readBytes(path), readBytes(dir + "/copy.fsd"));
@@ -350,16 +423,24 @@ TEST(LuminairePreprocess, FsdRoundTripAndRefusals) {
   uint64_t len;
   std::memcpy(&len, good.data() + lenAt, 8);
   ASSERT_EQ(lenAt + 8 + len, good.size() - 16);  // the last section
-  {  // the last luminaire's centre (before its intensity count and values, the last of the section) out of its box
+  {  // the last luminaire's centre (before its intensity count and values and its three errors, the last of the
+     // section) out of its box
     std::vector<char> bad = good;
-    const size_t centreAt = good.size() - 16 - 4 * 3 * size_t(Luminaire::kGonioBins) - 8 - 12;
+    const size_t centreAt = good.size() - 16 - 12 - 4 * 3 * size_t(Luminaire::kGonioBins) - 8 - 12;
     const float far = 1e6f;
     std::memcpy(bad.data() + centreAt, &far, 4);
     writeResealed(dir + "/centre.fsd", bad);
     EXPECT_THAT(readError(dir + "/centre.fsd"), HasSubstr("LUMN"));
     EXPECT_THAT(readError(dir + "/centre.fsd"), HasSubstr("a centre outside its box"));
   }
-  {  // the section cut short by its last intensity value (length field and checksum made to agree)
+  {  // the last luminaire's intensity error (the section's last value) negative
+    std::vector<char> bad = good;
+    const float negative = -0.5f;
+    std::memcpy(bad.data() + good.size() - 16 - 4, &negative, 4);
+    writeResealed(dir + "/error.fsd", bad);
+    EXPECT_THAT(readError(dir + "/error.fsd"), HasSubstr("an exit table error negative"));
+  }
+  {  // the section cut short by its last value (length field and checksum made to agree)
     std::vector<char> cut(good.begin(), good.end() - 20);
     cut.insert(cut.end(), good.end() - 16, good.end());
     const uint64_t shorter = len - 4;

@@ -20,9 +20,10 @@ namespace {
 /// 5: the luminaires' exit distributions (common/table/luminaire.h), section LUMN.
 /// 6: a luminaire's exit distribution without its lights' direct light (LUMN: directPower after exitPower).
 /// 7: nor its specular light (LUMN: specularPower, centre and intensity after the relative error).
+/// 8: the exit distribution's own error (LUMN: cellError, farError, intensityError after the intensity).
 constexpr BinaryFormat kFormat{.magic = {"FSHOTFSD", 8},
                                .endMarker = {"FSHOTEND", 8},
-                               .version = 7,
+                               .version = 8,
                                .headerBytes = 48,  // magic, version, flags, scene, settings and patch hashes
                                .noun = "first-shot file",
                                .identity = "a first-shot (.fsd) file",
@@ -83,6 +84,10 @@ void readLuminaires(BinaryReader& in, FirstShotTable& t) {
     in.array(l.intensity, m, "LUMN");
     for (float v : l.intensity)
       if (!(v >= 0.0f) || !std::isfinite(v)) in.fail("LUMN", which + ": an intensity negative or not finite (corrupt file)");
+    l.cellError = in.get<float>("LUMN"), l.farError = in.get<float>("LUMN"), l.intensityError = in.get<float>("LUMN");
+    for (float e : {l.cellError, l.farError, l.intensityError})
+      if (!std::isfinite(e) || !(e >= 0.0f))
+        in.fail("LUMN", which + ": an exit table error negative or not finite (corrupt file)");
   }
   in.leave("LUMN");
 }
@@ -201,6 +206,7 @@ void writeFirstShot(const std::string& path, const FirstShotTable& t) {
       o.put(gonio ? glm::clamp(l.centre, l.lo, l.hi) : 0.5f * (l.lo + l.hi));
       o.put<uint64_t>(3 * uint64_t(Luminaire::kGonioBins));
       o.array(gonio ? l.intensity : std::vector<float>(3 * size_t(Luminaire::kGonioBins), 0.0f));
+      o.put(l.cellError), o.put(l.farError), o.put(gonio ? l.intensityError : 0.0f);
     }
     o.endSection();
   });

@@ -74,6 +74,13 @@ struct Luminaire {
   /// Relative standard error of the exit power's luminance, from the particles (the table's own noise per patch and
   /// bin is larger: see docs/luminaires.md).
   float relError = 0.0f;
+  /// The table's own error, each a power-weighted mean of relative standard errors Σ σ_i / Σ S_i over bins i of the
+  /// luminance S_i, σ_i from the particles taken as independent (where the Sobol' numbers stratify a bin, as the
+  /// specular light's, the true error is smaller; the exit radiance's far field shows it as stated: tests/
+  /// test_luminaire_preprocess.cpp): per exit patch and direction bin (cellError: what a point beside the box sees),
+  /// per face and direction bin (farError: a face's far field, what a point a few box sizes away sees), and per
+  /// direction bin of the specular intensity (intensityError). 0 where nothing left that way.
+  float cellError = 0.0f, farError = 0.0f, intensityError = 0.0f;
 
   uint32_t patchCount() const;
   /// The number of the first exit patch of face @p f (f = 6: patchCount()).
