@@ -35,6 +35,8 @@ class ExitEmission {
 
   /// Number of exit patches (LuminaireBoxes::exitCount).
   uint32_t count() const { return uint32_t(patches_.size()); }
+  /// The luminaires whose exit patches these are (null before construction from them).
+  const LuminaireBoxes* boxes() const { return boxes_; }
   /// Exit patch @p e's rectangle.
   const ExitPatch& patch(uint32_t e) const { return patches_[e]; }
   /// Power leaving exit patch @p e (mean RGB of Luminaire::patchPower), W.

@@ -135,6 +135,14 @@ void EmissionSampler::addLights(EmitterSet set) {
 
 void EmissionSampler::finish() { choice_ = Distribution1D(power_); }
 
+void EmissionSampler::reweight(const std::vector<double>& factor) {
+  for (size_t e = 0; e < power_.size() && e < factor.size(); ++e) power_[e] *= factor[e];
+  std::fill(luminairePower_.begin(), luminairePower_.end(), 0.0);
+  for (uint32_t e = 0; e < exits_.count(); ++e)
+    luminairePower_[exits_.boxes()->exitLuminaire(e)] += power_[exitBegin_ + e];
+  finish();
+}
+
 bool EmissionSampler::isDirectional(uint32_t e) const {
   return e < lightCount_ && lights_->lights()[e].type == LightType::Directional;
 }

@@ -108,6 +108,11 @@ class EmissionSampler {
   /// of it out, and the camera still sees the inside.
   static constexpr double kMinInnerShare = 0.05;
 
+  /// Multiplies emitter @p e's choice weight by @p factor[e] (> 0 keeps it unbiased: a particle's power is over its
+  /// choice's probability), one per emitter (emitterCount()).
+  void reweight(const std::vector<double>& factor);
+  /// Number of emitters: lights, patch sides, exit patches.
+  size_t emitterCount() const { return power_.size(); }
   /// Probability of choosing emitter @p e (its share of the power).
   float pdfChoice(size_t e) const { return choice_.total() > 0 ? float(power_[e] / choice_.total()) : 0.0f; }
   /// Area density of sampleOrigin()'s point on emitter @p e, 1/m² (1 for point and spot: a delta
