@@ -9,8 +9,8 @@
 #include <cstring>
 #include <memory>
 
-#include "render/integrators/light/emitter_importance.h"
-#include "render/integrators/light/integrator.h"
+#include "render/integrators/common/emitter_importance.h"
+#include "render/integrators/common/shooting_integrator.h"
 #include "tests/block_compare.h"
 #include "tests/hidden_lights_scenes.h"
 #include "tests/light_tracing_util.h"
@@ -28,17 +28,17 @@ SceneDesc twoRooms() {
                                               {"type": "point", "position": [6, 1, 1], "power": 50})");
 }
 
-std::unique_ptr<Integrator> light(const RenderScene& scene, bool camera) {
+std::unique_ptr<Integrator> shooting(const std::string& name, const RenderScene& scene, bool camera) {
   IntegratorOptions io;
   io.maxDepth = scene.desc().settings.maxDepth;
   io.cameraEmitterChoice = camera;
-  auto lt = makeIntegrator("light", io);
-  lt->preprocess(scene);
-  return lt;
+  auto i = makeIntegrator(name, io);
+  i->preprocess(scene);
+  return i;
 }
 
 const EmitterImportance& importance(const Integrator& i) {
-  return dynamic_cast<const LightTracingIntegrator&>(i).emitterImportance();
+  return dynamic_cast<const ShootingIntegrator&>(i).emitterImportance();
 }
 
 }  // namespace
@@ -51,7 +51,7 @@ TEST(LightEmitterChoice, LightInAnotherRoomKeepsATenth) {
   for (int threads : {1, 2}) {
     tbb::global_control cap(tbb::global_control::max_allowed_parallelism, size_t(threads));
     const RenderScene scene(d, d.settings.patchSize);  // its own memo: measured again
-    const auto lt = light(scene, true);
+    const auto lt = shooting("light", scene, true);
     const EmitterImportance& m = importance(*lt);
     ASSERT_GE(m.groups.size(), 2u);
     const EmitterGroupMoment &room = m.groups[0], &other = m.groups[1];
@@ -71,17 +71,22 @@ TEST(LightEmitterChoice, LightInAnotherRoomKeepsATenth) {
   EXPECT_EQ(std::memcmp(factors[0].data(), factors[1].data(), factors[0].size() * sizeof(double)), 0);
 }
 
-// The same image as the power choice's (every 8 × 8 block within 3σ; the two with other seeds), and its pixels' variance per pass lower by
-// more than 4× (projected ≈ 10×: the room's light gets 10× the particles).
+// The same image as the power choice's (every 8 × 8 block within 3σ; the two with other seeds), and its pixels'
+// variance per pass lower by more than 4× (light tracing: projected ≈ 10×, the room's light gets 10× the particles;
+// BDPT: its light subpaths, and its strategy s = 1, which chooses the lights as they do).
 TEST(LightEmitterChoice, SameImageLessNoise) {
   FIRSTSHOT_STATISTICS_ONLY("LightEmitterChoice.LightInAnotherRoomKeepsATenth");
   const SceneDesc d = twoRooms();
   const RenderScene scene(d, d.settings.patchSize);
-  const auto camera = light(scene, true), power = light(scene, false);
-  test::expectBlocksAgree("emitters by the camera against by power", test::blockMeans(*camera, scene, 400),
-                          test::blockMeans(*power, scene, 400, 2));
-  const test::Moments vc = test::pixelVariance(*camera, scene, 40), vp = test::pixelVariance(*power, scene, 40);
-  fmt::print("pixel variance per pass: by the camera {:.4g} ± {:.2g}, by power {:.4g} ± {:.2g} (ratio {:.2f})\n",
-             vc.mean(), vc.se(), vp.mean(), vp.se(), vp.mean() / vc.mean());
-  EXPECT_GT(vp.mean() - 3 * vp.se(), 4.0 * (vc.mean() + 3 * vc.se()));
+  for (const std::string name : {"light", "bdpt"}) {
+    const auto camera = shooting(name, scene, true), power = shooting(name, scene, false);
+    EXPECT_NEAR(importance(*camera).groups.at(1).newChoice, kDefensiveShare * 10.0 / 11.0, 1e-6) << name;
+    const int passes = name == "light" ? 400 : 200;
+    test::expectBlocksAgree(name + ", emitters by the camera against by power", test::blockMeans(*camera, scene, passes),
+                            test::blockMeans(*power, scene, passes, 2));
+    const test::Moments vc = test::pixelVariance(*camera, scene, 40), vp = test::pixelVariance(*power, scene, 40);
+    fmt::print("{}, pixel variance per pass: by the camera {:.4g} ± {:.2g}, by power {:.4g} ± {:.2g} (ratio {:.2f})\n",
+               name, vc.mean(), vc.se(), vp.mean(), vp.se(), vp.mean() / vc.mean());
+    EXPECT_GT(vp.mean() - 3 * vp.se(), 4.0 * (vc.mean() + 3 * vc.se())) << name;
+  }
 }

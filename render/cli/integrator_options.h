@@ -23,7 +23,7 @@ namespace firstshot {
 struct IntegratorOptionsCli {
   static constexpr const char* kAuto = "auto";  ///< --integrator auto
   std::string name = "auto", primary = "exact", lightSampler = "tree", patchNee = "off", lightVisibility = "on",
-              shootFirstShot = "patches", tableVisibility = "on", luminaires = "on";
+              shootFirstShot = "patches", tableVisibility = "on", luminaires = "on", emitterChoice = "camera";
   /// One command line per line of integratorTable(), in its order.
   std::vector<std::unique_ptr<IntegratorCli>> clis;
 
@@ -69,6 +69,10 @@ struct IntegratorOptionsCli {
                                             "patches and see through their boxes (on), or take their lights as "
                                             "ordinary lights (off; docs/luminaires.md)")
         ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
+    app.add_option(kEmitterChoice, emitterChoice, "light and bdpt: the particles' lights chosen by what the camera "
+                                                  "sees of each one's light (camera) or by their power (power; "
+                                                  "docs/light-tracing.md)")
+        ->check(CLI::IsMember({"camera", "power"}))->capture_default_str();
   }
 
   /// Declares every integrator's own options.
@@ -220,6 +224,7 @@ struct IntegratorOptionsCli {
     io.tableVisibility = tableVisibility == "on";
     io.shootFromPatches = shootFirstShot == "patches";
     io.luminaires = luminaires == "on";
+    io.cameraEmitterChoice = emitterChoice == "camera";
     return io;
   }
 };

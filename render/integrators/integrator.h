@@ -75,8 +75,8 @@ struct IntegratorOptions {
   /// Light tracing: at most this many light paths per pixel and pass where they are automatic (0: no cap). The
   /// pilot of `--integrator auto` caps them so that its two passes fit its share (PilotPlan::lightPaths).
   int lightPathsCap = 0;
-  /// Light tracing: choose the particles' emitters by what the camera sees of each one's light (a short measuring
-  /// run, render/integrators/light/emitter_importance.h), not by their power alone.
+  /// Light tracing and BDPT: choose the particles' emitters by what the camera sees of each one's light (a short
+  /// measuring run, render/integrators/common/emitter_importance.h), not by their power alone.
   bool cameraEmitterChoice = true;
   /// The ranks of an MPI run sharing the work (common/util/comm.h; null: this process alone). Integrators
   /// with a global state (the irradiance cache's two-pass fill, the bundle's transfer) split its

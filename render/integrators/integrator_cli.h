@@ -34,6 +34,7 @@ inline constexpr const char* kLightVisibility = "--light-visibility"; ///< Integ
 inline constexpr const char* kTableVisibility = "--table-visibility"; ///< IntegratorOptions::tableVisibility
 inline constexpr const char* kShootFirstShot = "--shoot-firstshot";   ///< IntegratorOptions::shootFromPatches
 inline constexpr const char* kLuminaires = "--luminaires";           ///< IntegratorOptions::luminaires
+inline constexpr const char* kEmitterChoice = "--emitter-choice";   ///< IntegratorOptions::cameraEmitterChoice
 }  // namespace integrator_option
 
 /// What the tool has resolved when the chosen integrator's options are checked (IntegratorCli::configure).

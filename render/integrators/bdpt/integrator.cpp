@@ -13,6 +13,21 @@ namespace firstshot {
 
 void BdptIntegrator::preprocess(const RenderScene& scene) {
   ShootingIntegrator::preprocess(scene);
+  // The light subpaths' emitters chosen by what their vertices joined to the pinhole (strategy t = 1) show.
+  const Camera camera(scene.desc().camera);
+  LightPathOptions walk{options_.maxDepth, options_.rrDepth, /*sqrtSurvival=*/false};
+  if (luminaires_) walk.luminaires = &scene.luminaires();
+  chooseEmitters("bdpt", walk, [&](const std::vector<LightVertex>& path, uint64_t& rays) {
+    double sum = 0;
+    for (size_t k = 1; k < path.size(); ++k) {
+      uint32_t pixel = 0;
+      Color L(0.0f);
+      if (!connectToCamera(scene, path[k], camera, pixel, L, rays, true)) continue;
+      const double v = (double(L.x) + L.y + L.z) / 3.0;
+      sum += v * v;
+    }
+    return sum;
+  });
   deltaParticles_ = false;
   if (!shooting_.tableMode()) return;
   bool mirrors = false;

@@ -24,11 +24,7 @@ class LightCli : public IntegratorCli {
                                                  "2^21 per pass, or 1 in scenes with mirrors or glass; "
                                                  "docs/light-tracing.md)")
         ->check(CLI::Range(0, 4096))->capture_default_str();
-    app.add_option("--emitter-choice", emitterChoice_, "light: the particles' emitters chosen by what the camera sees of "
-                                                       "each one's light (camera) or by their power (power; "
-                                                       "docs/light-tracing.md)")
-        ->check(CLI::IsMember({"camera", "power"}))->default_str("camera");
-    own_ = {"--light-paths", "--emitter-choice"};
+    own_ = {"--light-paths"};
   }
 
   /// @throws InputError (--light-paths) when the splats of a pass would not fit in memory.
@@ -43,19 +39,18 @@ class LightCli : public IntegratorCli {
   std::unique_ptr<Integrator> make(const IntegratorOptions& options) const override {
     IntegratorOptions o = options;
     if (lightPaths_ > 0) o.lightPathsPerPixel = lightPaths_;
-    if (!emitterChoice_.empty()) o.cameraEmitterChoice = emitterChoice_ == "camera";
     return std::make_unique<LightTracingIntegrator>(o);
   }
 
  protected:
   std::vector<std::string> shared() const override {
     using namespace integrator_option;
-    return {kPrimary, kLightSampler, kPatchNee, kLightVisibility, kTableVisibility, kShootFirstShot, kLuminaires};
+    return {kPrimary,         kLightSampler, kPatchNee,     kLightVisibility,
+            kTableVisibility, kShootFirstShot, kLuminaires, kEmitterChoice};
   }
 
  private:
   int lightPaths_ = 0;  ///< IntegratorOptions::lightPathsPerPixel
-  std::string emitterChoice_;  ///< IntegratorOptions::cameraEmitterChoice where given (camera, power)
 };
 
 }  // namespace firstshot

@@ -1,16 +1,11 @@
 // Light tracing: light subpaths connected to the pinhole camera.
 #include "render/integrators/light/integrator.h"
 
-#include <fmt/core.h>
-
 #include <algorithm>
 #include <cmath>
-#include <memory>
-#include <string>
 
 #include "render/firstshot/patch_emitters.h"
 #include "render/integrators/common/camera_splat.h"
-#include "render/integrators/light/emitter_importance.h"
 
 namespace firstshot {
 
@@ -22,7 +17,9 @@ void LightTracingIntegrator::preprocess(const RenderScene& scene) {
   mirrors_ = false;
   for (size_t m = 0; m < scene.desc().materials.size(); ++m) mirrors_ = mirrors_ || scene.bsdf(uint32_t(m)).hasDelta();
   polished_ = mayBePolished(scene);
-  chooseEmitters(scene);
+  const Camera camera(scene.desc().camera);
+  chooseEmitters("light", pathOptions(),
+                 [&](const std::vector<LightVertex>& path, uint64_t& rays) { return splatMoment(path, camera, rays); });
   if (!shooting_.tableMode()) return;
   deltaFirst_ = EmissionSampler(scene.lights(), scene.desc(), EmitterSet::ReplacedAreaLights);
   smallAreaLights_ = deltaFirst_.totalPower() > 0;
@@ -47,27 +44,6 @@ double LightTracingIntegrator::splatMoment(const std::vector<LightVertex>& path,
     sum += v * v;
   }
   return sum;
-}
-
-void LightTracingIntegrator::chooseEmitters(const RenderScene& scene) {
-  chosen_ = particleEmitters();
-  importance_ = std::make_shared<const EmitterImportance>();
-  if (!options_.cameraEmitterChoice) return;
-  // Measured once per scene and emitters (the scene's memo): the pilot's light tracing candidates and the render.
-  const EmissionSampler& e = particleEmitters();
-  const std::string key = fmt::format("EmitterImportance/{}/{}/{}/{}/{:a}/{}", options_.maxDepth, e.lightCount(),
-                                      e.patchSideCount(), e.exits().count(), e.totalPower(), polished_);
-  importance_ = scene.memo().find<EmitterImportance>(key);
-  if (!importance_) {
-    const Camera camera(scene.desc().camera);
-    uint64_t rays = 0;
-    auto made = std::make_shared<const EmitterImportance>(measureEmitterImportance(
-        scene, e, pathOptions(), luminaires_,
-        [&](const std::vector<LightVertex>& path, uint64_t& r) { return splatMoment(path, camera, r); }, rays));
-    importance_ = made;
-    scene.memo().keep(key, importance_);
-  }
-  if (!importance_->factor.empty()) chosen_.reweight(importance_->factor);
 }
 
 bool LightTracingIntegrator::pathTraced(const Hit& hit, const BSDF& bsdf) const {
@@ -180,7 +156,7 @@ void LightTracingIntegrator::splatParticles(const Camera& camera, uint64_t seed,
   deltaFirst.deltaFirstHitOnly = true;
   deltaFirst.polishedFirstHit = polished_;
   deltaFirst.luminaires = nullptr;  // replaced lights only: none is a luminaire's
-  const EmissionSampler& emission = chosen_;
+  const EmissionSampler& emission = particleEmitters();
   for (uint64_t i = begin; i < end; ++i) {
     Sampler sampler = particleSampler(mode, seed, i, pass, n, kParticleStream);
     if (traceLightPath(*scene_, emission, po, sampler, path, rays, i, n)) {

@@ -50,7 +50,6 @@
 #include "render/integrators/common/light_path.h"
 #include "render/integrators/common/path_walk.h"
 #include "render/integrators/common/shooting_integrator.h"
-#include "render/integrators/light/emitter_importance.h"
 #include "render/lights/light_emission.h"
 
 namespace firstshot {
@@ -79,9 +78,6 @@ class LightTracingIntegrator : public ShootingIntegrator {
   int pathsPerPixel(const Camera& camera) const;
   void splatParticles(const Camera& camera, uint64_t seed, uint64_t jitterSeed, SamplerMode mode, uint64_t pass,
                       uint64_t begin, uint64_t end, std::vector<Splat>& out, uint64_t& rays) const override;
-
-  /// How preprocess() chose the particles' emitters (no groups: by power, IntegratorOptions::cameraEmitterChoice).
-  const EmitterImportance& emitterImportance() const { return *importance_; }
 
   /// The light subpaths' walk: IntegratorOptions::maxDepth and rrDepth, and with the luminaires the boxes that end
   /// their lights' particles.
@@ -119,15 +115,10 @@ class LightTracingIntegrator : public ShootingIntegrator {
   /// Table mode, first hit @p x (not pathTraced) of @p ray: the small lights' own part of the pixel.
   Color smallLightsAt(const Ray& ray, const Hit& x, Sampler& sampler, uint64_t& rays) const;
 
-  /// The emitters the particles leave: particleEmitters(), chosen by what the camera sees of each one's light
-  /// (IntegratorOptions::cameraEmitterChoice; emitter_importance.h) or by power.
-  void chooseEmitters(const RenderScene& scene);
   /// Σ over the splats of @p path (as splatParticles() makes them) of their grey value², adding the connections'
   /// rays to @p rays.
   double splatMoment(const std::vector<LightVertex>& path, const Camera& camera, uint64_t& rays) const;
 
-  EmissionSampler chosen_;  ///< chooseEmitters()
-  std::shared_ptr<const EmitterImportance> importance_;  ///< its measurement (no groups: the power choice)
   PathWalk fallback_;  ///< for camera rays whose first hit is a delta surface, over lighting_
   bool mirrors_ = false;  ///< the scene has a delta (mirror, glass) material
   bool polished_ = false;  ///< the scene may have polished points (a pbr material below or with a roughness texture)

@@ -1,5 +1,5 @@
 // Light tracing's emitters chosen by what the camera sees of their light (emitter_importance.h).
-#include "render/integrators/light/emitter_importance.h"
+#include "render/integrators/common/emitter_importance.h"
 
 #include <tbb/parallel_for.h>
 
