@@ -1,5 +1,5 @@
 // Light tracing's emitters chosen by what the camera sees of their light (render/integrators/light/
-// emitter_importance.h): a light in a closed room the camera is not in keeps a tenth of its particles, the measurement
+// emitter_importance.h): a light in a closed room the camera is not in keeps its defensive share, the measurement
 // is the same for any thread count, and the image is the power choice's, less noisy.
 #include <gtest/gtest.h>
 
@@ -44,8 +44,8 @@ const EmitterImportance& importance(const Integrator& i) {
 }  // namespace
 
 // The other room's light: no particle of it reaches the camera, so its group measures 0 and keeps the defensive
-// tenth of its power choice; the room's light takes the rest. The factors are the same on one and two threads.
-TEST(LightEmitterChoice, LightInAnotherRoomKeepsATenth) {
+// share of its power choice; the room's light takes the rest. The factors are the same on one and two threads.
+TEST(LightEmitterChoice, LightInAnotherRoomKeepsItsDefensiveShare) {
   const SceneDesc d = twoRooms();
   std::vector<double> factors[2];
   for (int threads : {1, 2}) {
@@ -57,7 +57,7 @@ TEST(LightEmitterChoice, LightInAnotherRoomKeepsATenth) {
     const EmitterGroupMoment &room = m.groups[0], &other = m.groups[1];
     EXPECT_NEAR(room.choice, 1.0 / 11.0, 1e-6);
     EXPECT_NEAR(other.choice, 10.0 / 11.0, 1e-6);
-    EXPECT_GT(other.particles, 0.8 * double(kImportanceParticles));
+    EXPECT_GT(other.particles, 0.8 * double(importanceParticles(2)));
     EXPECT_EQ(other.moment, 0.0);
     EXPECT_GT(room.moment, 0.0);
     EXPECT_DOUBLE_EQ(other.newChoice, kDefensiveShare * other.choice);
@@ -72,10 +72,10 @@ TEST(LightEmitterChoice, LightInAnotherRoomKeepsATenth) {
 }
 
 // The same image as the power choice's (every 8 × 8 block within 3σ; the two with other seeds), and its pixels'
-// variance per pass lower by more than 4× (light tracing: projected ≈ 10×, the room's light gets 10× the particles;
+// variance per pass lower by more than 4× (light tracing: the room's light gets 8× the particles;
 // BDPT: its light subpaths, and its strategy s = 1, which chooses the lights as they do).
 TEST(LightEmitterChoice, SameImageLessNoise) {
-  FIRSTSHOT_STATISTICS_ONLY("LightEmitterChoice.LightInAnotherRoomKeepsATenth");
+  FIRSTSHOT_STATISTICS_ONLY("LightEmitterChoice.LightInAnotherRoomKeepsItsDefensiveShare");
   const SceneDesc d = twoRooms();
   const RenderScene scene(d, d.settings.patchSize);
   for (const std::string name : {"light", "bdpt"}) {

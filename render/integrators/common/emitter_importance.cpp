@@ -37,7 +37,9 @@ EmitterImportance measureEmitterImportance(const RenderScene& scene, const Emiss
   out.groups.assign(groupCount, EmitterGroupMoment());
   for (uint32_t e = 0; e < emitters; ++e) out.groups[group[e]].choice += emission.pdfChoice(e);
 
-  const uint64_t chunks = kImportanceParticles / kImportanceChunk;
+  const uint64_t particles = importanceParticles(size_t(std::count_if(
+      out.groups.begin(), out.groups.end(), [](const EmitterGroupMoment& g) { return g.choice > 0; })));
+  const uint64_t chunks = particles / kImportanceChunk;
   // Per chunk and group: particles, Σ splat moments, rays.
   std::vector<double> sums(3 * groupCount * chunks, 0.0);
   tbb::parallel_for(uint64_t(0), chunks, [&](uint64_t c) {
@@ -46,7 +48,7 @@ EmitterImportance measureEmitterImportance(const RenderScene& scene, const Emiss
     for (uint64_t i = c * kImportanceChunk; i < (c + 1) * kImportanceChunk; ++i) {
       Sampler sampler(kImportanceSeed, i, 0, kImportanceStream);
       uint64_t r = 0;
-      const bool traced = traceLightPath(scene, emission, walk, sampler, path, r, i, kImportanceParticles);
+      const bool traced = traceLightPath(scene, emission, walk, sampler, path, r, i, particles);
       if (!traced || path.empty()) continue;  // no emitter known: its rays count nowhere (a few, at most)
       const size_t g = group[path[0].light];
       const double m = splat(path, r);
@@ -64,7 +66,7 @@ EmitterImportance measureEmitterImportance(const RenderScene& scene, const Emiss
   const double meanRays = totalParticles > 0 ? totalRays / totalParticles : 1.0;
   double norm = 0, before = 0, after = 0, cost = 0;
   for (EmitterGroupMoment& g : out.groups) {
-    g.moment = g.choice * g.moment / double(kImportanceParticles);
+    g.moment = g.choice * g.moment / double(particles);
     // A group's cost from its own particles where it has a few hundred, else the run's mean.
     g.rays = g.particles >= 256 ? std::max(1.0, g.rays / g.particles) : meanRays;
     norm += std::sqrt(g.moment / g.rays);
