@@ -18,15 +18,7 @@ void BdptIntegrator::preprocess(const RenderScene& scene) {
   LightPathOptions walk{options_.maxDepth, options_.rrDepth, /*sqrtSurvival=*/false};
   if (luminaires_) walk.luminaires = &scene.luminaires();
   chooseEmitters("bdpt", walk, [&](const std::vector<LightVertex>& path, uint64_t& rays) {
-    double sum = 0;
-    for (size_t k = 1; k < path.size(); ++k) {
-      uint32_t pixel = 0;
-      Color L(0.0f);
-      if (!connectToCamera(scene, path[k], camera, pixel, L, rays, true)) continue;
-      const double v = (double(L.x) + L.y + L.z) / 3.0;
-      sum += v * v;
-    }
-    return sum;
+    return cameraSplatMoment(scene, path, 1, camera, true, rays);
   });
   deltaParticles_ = false;
   if (!shooting_.tableMode()) return;

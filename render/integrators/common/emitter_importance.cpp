@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/integrators/common/camera_splat.h"
+
 namespace firstshot {
 
 namespace {
@@ -15,6 +17,20 @@ constexpr uint64_t kImportanceStream = 0x4549;  // "EI"
 constexpr uint64_t kImportanceSeed = 0x456d4963;
 
 }  // namespace
+
+double cameraSplatMoment(const RenderScene& scene, const std::vector<LightVertex>& path, size_t first,
+                         const Camera& camera, bool panes, uint64_t& rays, const std::function<bool(size_t)>& skip) {
+  double sum = 0;
+  for (size_t k = first; k < path.size(); ++k) {
+    if (skip && skip(k)) continue;
+    uint32_t pixel = 0;
+    Color L(0.0f);
+    if (!connectToCamera(scene, path[k], camera, pixel, L, rays, panes)) continue;
+    const double v = (double(L.x) + L.y + L.z) / 3.0;
+    sum += v * v;
+  }
+  return sum;
+}
 
 EmitterImportance measureEmitterImportance(const RenderScene& scene, const EmissionSampler& emission,
                                            const LightPathOptions& walk, bool luminaires, const PathSplatMoment& splat,

@@ -20,6 +20,7 @@
 
 #include "render/integrators/common/light_path.h"
 #include "render/lights/light_emission.h"
+#include "render/scene/camera.h"
 #include "render/scene/render_scene.h"
 
 namespace firstshot {
@@ -56,12 +57,16 @@ struct EmitterImportance {
   double gain = 1;
 };
 
-/// The measuring run's particles for @p groups emitter groups (a multiple of 1024).
+/// The measuring run's particles for @p groups emitter groups (a multiple of 1024, as its bounds and step are).
 inline uint64_t importanceParticles(size_t groups) {
-  const uint64_t n = std::clamp<uint64_t>(kImportanceParticlesPerGroup * groups, kImportanceParticles,
-                                          kMaxImportanceParticles);
-  return (n + 1023) / 1024 * 1024;
+  return std::clamp<uint64_t>(kImportanceParticlesPerGroup * groups, kImportanceParticles, kMaxImportanceParticles);
 }
+
+/// A PathSplatMoment's sum for @p path: Σ over its vertices from @p first on, but those @p skip names, of the grey
+/// value² of their connection to @p camera's pinhole (connectToCamera, @p panes as it takes them).
+double cameraSplatMoment(const RenderScene& scene, const std::vector<LightVertex>& path, size_t first,
+                         const Camera& camera, bool panes, uint64_t& rays,
+                         const std::function<bool(size_t)>& skip = nullptr);
 
 /// Measures @p emission's groups (a luminaire's when @p luminaires) with particles traced by @p walk and scored by
 /// @p splat, and returns the factors. @p rays counts the run's rays.

@@ -34,16 +34,11 @@ double LightTracingIntegrator::splatMoment(const std::vector<LightVertex>& path,
                                            uint64_t& rays) const {
   const EmissionSampler& emission = particleEmitters();
   const uint32_t e = path[0].light;
-  double sum = 0;
-  for (size_t k = emission.isPatch(e) || emission.isExit(e) ? 1 : 0; k < path.size(); ++k) {
-    if (polished_ && k > 0 && pathTraced(path[k].hit, scene_->bsdfAt(path[k].hit))) continue;
-    uint32_t pixel = 0;
-    Color L(0.0f);
-    if (!connectToCamera(*scene_, path[k], camera, pixel, L, rays, false)) continue;
-    const double v = (double(L.x) + L.y + L.z) / 3.0;
-    sum += v * v;
-  }
-  return sum;
+  // As splatParticles() splats the path: a patch's or exit's vertex 0 not, no vertex that Li() path traces.
+  return cameraSplatMoment(*scene_, path, emission.isPatch(e) || emission.isExit(e) ? 1 : 0, camera, false, rays,
+                           [&](size_t k) {
+                             return polished_ && k > 0 && pathTraced(path[k].hit, scene_->bsdfAt(path[k].hit));
+                           });
 }
 
 bool LightTracingIntegrator::pathTraced(const Hit& hit, const BSDF& bsdf) const {
